@@ -1,0 +1,13 @@
+# Every third-party library comes from Debian's packages (see README for the apt line).
+find_package(Threads REQUIRED)
+find_package(embree 3 REQUIRED)
+find_package(TBB REQUIRED)
+find_package(TinyGLTF REQUIRED)
+find_package(tinyobjloader REQUIRED)
+find_package(OpenEXR REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json REQUIRED)
+find_package(fmt REQUIRED)
+find_package(spdlog REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)

@@ -1,0 +1,59 @@
+#include "core/image.h"
+
+#include <stb_image_write.h>
+
+#include <ImfArray.h>
+#include <ImfRgbaFile.h>
+
+#include <cmath>
+
+#include "core/error.h"
+
+namespace multiray {
+
+namespace {
+uint8_t encode_srgb(float v) {
+  v = std::clamp(v, 0.0f, 1.0f);
+  const float s = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+  return uint8_t(std::lround(s * 255.0f));
+}
+}  // namespace
+
+std::vector<uint8_t> to_srgb8(const Framebuffer& fb, float exposure) {
+  std::vector<uint8_t> out(fb.pixels.size() * 3);
+  for (size_t i = 0; i < fb.pixels.size(); ++i) {
+    const Vec3 c = fb.pixels[i] * exposure;
+    out[3 * i + 0] = encode_srgb(c.x);
+    out[3 * i + 1] = encode_srgb(c.y);
+    out[3 * i + 2] = encode_srgb(c.z);
+  }
+  return out;
+}
+
+void write_png_rgb8(const std::string& path, int width, int height,
+                    const std::vector<uint8_t>& rgb) {
+  if (!stbi_write_png(path.c_str(), width, height, 3, rgb.data(), width * 3))
+    throw InputError("cannot write PNG '" + path + "'");
+}
+
+void write_png(const std::string& path, const Framebuffer& fb, float exposure) {
+  write_png_rgb8(path, fb.width, fb.height, to_srgb8(fb, exposure));
+}
+
+void write_exr(const std::string& path, const Framebuffer& fb) {
+  try {
+    Imf::Array2D<Imf::Rgba> px(fb.height, fb.width);
+    for (int y = 0; y < fb.height; ++y)
+      for (int x = 0; x < fb.width; ++x) {
+        const Vec3 c = fb.at(x, y);
+        px[y][x] = Imf::Rgba(c.x, c.y, c.z, 1.0f);
+      }
+    Imf::RgbaOutputFile file(path.c_str(), fb.width, fb.height, Imf::WRITE_RGBA);
+    file.setFrameBuffer(&px[0][0], 1, size_t(fb.width));
+    file.writePixels(fb.height);
+  } catch (const std::exception& e) {
+    throw InputError("cannot write EXR '" + path + "': " + e.what());
+  }
+}
+
+}  // namespace multiray

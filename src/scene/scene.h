@@ -1,0 +1,71 @@
+// The scene every device renders: one flat triangle soup with per-triangle materials.
+// Node hierarchies and instances are baked into world space by the loaders, so the
+// CPU (Embree) and OpenCL backends see the same simple arrays. Built once, read-only
+// while rendering.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+
+namespace multiray {
+
+// Linear-RGB texture, wrapped (repeat) and bilinearly filtered.
+struct Texture {
+  int width = 0, height = 0;
+  std::vector<Vec3> texels;  // row-major, v = 0 at the top row (glTF convention)
+  Vec3 sample(Vec2 uv) const;
+};
+
+// One material model for every loader (a subset of glTF's metallic-roughness):
+// - transmission > 0: rough dielectric (GGX) with index `ior`;
+// - otherwise a stochastic mix: conductor (GGX, F0 = base colour) with probability
+//   `metallic`, Lambertian diffuse with `base_color` otherwise.
+// `emission` (radiance, W/(sr m^2) in scene units) makes every triangle using it an
+// area light.
+struct Material {
+  std::string name;
+  Vec3 base_color{0.8f, 0.8f, 0.8f};
+  int base_color_texture = -1;  // index into Scene::textures or -1
+  Vec3 emission{0, 0, 0};
+  float metallic = 0.0f;
+  float roughness = 1.0f;  // perceptual roughness; GGX alpha = roughness^2
+  float transmission = 0.0f;
+  float ior = 1.5f;
+};
+
+// Pinhole camera. `fov_y_deg` is the full vertical field of view.
+struct Camera {
+  Vec3 eye{0, 0, 1};
+  Vec3 target{0, 0, 0};
+  Vec3 up{0, 1, 0};
+  float fov_y_deg = 45.0f;
+};
+
+struct Scene {
+  std::string name;  // file name or "cornell-box"
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;  // empty, or one per position (shading normals)
+  std::vector<Vec2> uvs;      // empty, or one per position
+  std::vector<uint32_t> indices;       // three per triangle, into positions
+  std::vector<uint32_t> material_ids;  // one per triangle, into materials
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  Vec3 environment{0, 0, 0};    // constant radiance of rays that leave the scene
+  std::vector<Camera> cameras;  // cameras found in the file (may be empty)
+
+  size_t triangle_count() const { return indices.size() / 3; }
+  Bounds3 bounds() const;
+  // A camera that frames the whole scene from the front (+z side, looking at -z).
+  Camera default_camera(float aspect) const;
+};
+
+// Checks the invariants every backend relies on and throws InputError naming the first
+// violation: indices in range, finite positions/normals/uvs, material ids in range,
+// attribute arrays of matching size, at least one triangle of non-zero area.
+// Degenerate (zero-area) triangles are allowed; they are never hit.
+void validate(const Scene& scene);
+
+}  // namespace multiray
