@@ -1,0 +1,151 @@
+#include "device/cpu/cpu_device.h"
+
+#include <pthread.h>
+#include <sched.h>
+
+#include <atomic>
+#include <optional>
+#include <thread>
+
+#include <oneapi/tbb/blocked_range2d.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_scheduler_observer.h>
+
+#include "core/clock.h"
+#include "core/error.h"
+#include "device/cpu/cgroup_quota.h"
+
+namespace multiray {
+
+namespace {
+
+// Prepares every thread that enters the device's arena: float mode, core pinning, quota.
+class ThreadSetup : public oneapi::tbb::task_scheduler_observer {
+ public:
+  ThreadSetup(oneapi::tbb::task_arena& arena, std::vector<int> cores, const CgroupQuota* quota)
+      : task_scheduler_observer(arena), cores_(std::move(cores)), quota_(quota) {
+    observe(true);
+  }
+  ~ThreadSetup() override { observe(false); }
+
+  void on_scheduler_entry(bool) override { prepare_current_thread(); }
+
+  void prepare_current_thread() const {
+    set_fast_float_mode();
+    if (!cores_.empty()) {
+      cpu_set_t set;
+      CPU_ZERO(&set);
+      for (int c : cores_) CPU_SET(c, &set);
+      pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
+    }
+    if (quota_) quota_->join_current_thread();
+  }
+
+ private:
+  std::vector<int> cores_;
+  const CgroupQuota* quota_;
+};
+
+}  // namespace
+
+struct CpuDevice::Impl {
+  Impl(const RenderScene& rs, const CpuDeviceOptions& o, const std::string& name)
+      : tracer(rs), opts(o), arena(o.threads, 1) {
+    if (o.quota > 0) quota.emplace(name, o.quota * o.threads);
+    setup.emplace(arena, o.cores, quota ? &*quota : nullptr);
+  }
+  ~Impl() {
+    setup.reset();
+    // The threads that ran the arena may still be in the quota group; move out the ones we
+    // can reach (the caller's), the rest leave when the process ends.
+    if (quota) CgroupQuota::leave_current_thread();
+  }
+  PathTracer tracer;
+  CpuDeviceOptions opts;
+  std::optional<CgroupQuota> quota;  // declared before `setup`, which points to it
+  oneapi::tbb::task_arena arena;
+  std::optional<ThreadSetup> setup;
+  std::atomic<double> speed{1.0};
+};
+
+CpuDevice::CpuDevice(const RenderScene& rs, CpuDeviceOptions opts, std::string spec) {
+  if (opts.threads < 1 || opts.threads > 1024)
+    throw InputError("cpu device: threads must be in 1..1024, got " + std::to_string(opts.threads));
+  const int ncpu = int(std::thread::hardware_concurrency());
+  for (int c : opts.cores)
+    if (c < 0 || (ncpu > 0 && c >= ncpu))
+      throw InputError("cpu device: core " + std::to_string(c) + " does not exist (this machine has " +
+                       std::to_string(ncpu) + ")");
+  if (!(opts.speed > 0 && opts.speed <= 1))
+    throw InputError("cpu device: speed must be in (0, 1], got " + std::to_string(opts.speed));
+  static std::atomic<int> counter{0};
+  impl_ = std::make_unique<Impl>(rs, opts, "cpu" + std::to_string(counter++));
+  impl_->speed = opts.speed;
+  info_.type = "cpu";
+  info_.spec = std::move(spec);
+  info_.threads = opts.threads;
+  info_.emulated_speed = opts.speed;
+  info_.cpu_quota = opts.quota;
+  info_.name = "cpu (" + std::to_string(opts.threads) + (opts.threads == 1 ? " thread" : " threads");
+  if (!opts.cores.empty()) {
+    info_.name += ", cores";
+    for (int c : opts.cores) info_.name += " " + std::to_string(c);
+  }
+  if (opts.quota > 0) info_.name += ", quota " + std::to_string(opts.quota).substr(0, 4);
+  if (opts.speed < 1) info_.name += ", emulated speed " + std::to_string(opts.speed).substr(0, 4);
+  info_.name += ")";
+}
+
+CpuDevice::~CpuDevice() = default;
+
+void CpuDevice::set_emulated_speed(double speed) {
+  impl_->speed = speed;
+  info_.emulated_speed = speed;
+}
+
+DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int index) {
+  DeviceReport report;
+  const Stopwatch frame_clock;
+  impl_->setup->prepare_current_thread();
+  const int tile = std::max(1, impl_->opts.tile);
+  try {
+    WorkUnit unit;
+    while (source.next(index, unit)) {
+      const Stopwatch unit_clock;
+      const ViewSetup& view = job.views.at(unit.view);
+      Framebuffer& out = job.outputs->at(unit.view);
+      std::atomic<uint64_t> samples{0}, rays{0};
+      const PixelRect r = unit.rect;
+      impl_->arena.execute([&] {
+        oneapi::tbb::parallel_for(
+            oneapi::tbb::blocked_range2d<int>(r.y0, r.y1, tile, r.x0, r.x1, tile),
+            [&](const oneapi::tbb::blocked_range2d<int>& b) {
+              const PixelRect sub{b.cols().begin(), b.rows().begin(), b.cols().end(), b.rows().end()};
+              const KernelStats ks = impl_->tracer.render_rect(view, job.settings, sub, out);
+              samples += ks.samples;
+              rays += ks.rays;
+            });
+      });
+      const double busy = unit_clock.elapsed_ms();
+      emulate_slowdown(busy, impl_->speed.load());
+      UnitReport ur;
+      ur.unit = unit;
+      ur.busy_ms = busy;
+      ur.time_ms = unit_clock.elapsed_ms();
+      ur.samples = samples;
+      report.units.push_back(ur);
+      report.busy_ms += busy;
+      report.samples += samples;
+      report.rays += rays;
+      report.pixels += uint64_t(r.area());
+    }
+  } catch (const std::exception& e) {
+    report.failed = true;
+    report.error = e.what();
+  }
+  report.wall_ms = frame_clock.elapsed_ms();
+  return report;
+}
+
+}  // namespace multiray

@@ -1,0 +1,38 @@
+// CPU device: the Embree path tracer run by a oneTBB task arena of N threads, optionally
+// pinned to given cores and optionally throttled by a cgroup CPU quota.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "device/device.h"
+
+namespace multiray {
+
+struct CpuDeviceOptions {
+  int threads = 1;
+  std::vector<int> cores;       // empty: not pinned
+  double speed = 1.0;           // emulated speed factor (idle after each unit), (0, 1]
+  double quota = 0.0;           // fraction of one core per thread via cgroup v1; 0 = none
+  int tile = 16;                // side of the pixel blocks handed to the threads
+};
+
+class CpuDevice : public Device {
+ public:
+  // `rs` must outlive the device; several CPU devices share one RenderScene (one BVH).
+  // Throws InputError when the options are impossible on this machine (e.g. core id out
+  // of range) and DeviceError when a requested quota cannot be applied.
+  CpuDevice(const RenderScene& rs, CpuDeviceOptions opts, std::string spec);
+  ~CpuDevice() override;
+
+  const DeviceInfo& info() const override { return info_; }
+  DeviceReport render(const FrameJob& job, WorkSource& source, int index) override;
+  void set_emulated_speed(double speed) override;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  DeviceInfo info_;
+};
+
+}  // namespace multiray

@@ -1,0 +1,85 @@
+#include "render/accel.h"
+
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
+#include <cstring>
+#include <string>
+
+#include "core/error.h"
+
+namespace multiray {
+
+void set_fast_float_mode() {
+  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+Accel::Accel(const Scene& scene) {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw DeviceError("Embree: cannot create a device");
+  scene_ = rtcNewScene(device_);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Embree reads vertices with 16-byte loads, so its buffers (allocated here) are padded;
+  // the Scene's own arrays are not, so they are copied.
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), scene.positions.size()));
+  auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), scene.triangle_count()));
+  if (!vertices || !indices) throw DeviceError("Embree: out of memory for the scene buffers");
+  std::memcpy(vertices, scene.positions.data(), scene.positions.size() * sizeof(Vec3));
+  std::memcpy(indices, scene.indices.data(), scene.indices.size() * sizeof(uint32_t));
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(scene_, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(scene_);
+  if (rtcGetDeviceError(device_) != RTC_ERROR_NONE)
+    throw DeviceError("Embree: building the BVH failed");
+}
+
+Accel::~Accel() {
+  if (scene_) rtcReleaseScene(scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+bool Accel::intersect(const Ray& ray, Hit& hit) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.org.x, rh.ray.org_y = ray.org.y, rh.ray.org_z = ray.org.z;
+  rh.ray.dir_x = ray.dir.x, rh.ray.dir_y = ray.dir.y, rh.ray.dir_z = ray.dir.z;
+  rh.ray.tnear = ray.tmin;
+  rh.ray.tfar = ray.tmax;
+  rh.ray.time = 0;
+  rh.ray.mask = ~0u;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &ctx, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit.t = rh.ray.tfar;
+  hit.prim = rh.hit.primID;
+  hit.u = rh.hit.u;
+  hit.v = rh.hit.v;
+  return true;
+}
+
+bool Accel::occluded(const Ray& ray) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay r;
+  r.org_x = ray.org.x, r.org_y = ray.org.y, r.org_z = ray.org.z;
+  r.dir_x = ray.dir.x, r.dir_y = ray.dir.y, r.dir_z = ray.dir.z;
+  r.tnear = ray.tmin;
+  r.tfar = ray.tmax;
+  r.time = 0;
+  r.mask = ~0u;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(scene_, &ctx, &r);
+  return r.tfar < 0.0f;
+}
+
+}  // namespace multiray

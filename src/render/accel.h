@@ -1,0 +1,45 @@
+// Ray queries against the scene, on Embree 3. One Accel is built per Scene and shared
+// read-only by every CPU device and thread (Embree queries are thread-safe).
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include "core/math.h"
+#include "scene/scene.h"
+
+namespace multiray {
+
+struct Ray {
+  Vec3 org, dir;
+  float tmin = 0.0f, tmax = INFINITY;
+};
+
+struct Hit {
+  float t = INFINITY;
+  uint32_t prim = 0;  // triangle index in Scene
+  float u = 0, v = 0;  // barycentrics of vertices 1 and 2
+};
+
+class Accel {
+ public:
+  // Builds a high-quality BVH over `scene` (which must outlive the Accel).
+  explicit Accel(const Scene& scene);
+  ~Accel();
+  Accel(const Accel&) = delete;
+  Accel& operator=(const Accel&) = delete;
+
+  // Closest hit along `ray` within [tmin, tmax]; false if none.
+  bool intersect(const Ray& ray, Hit& hit) const;
+  // True if anything lies along `ray` within [tmin, tmax].
+  bool occluded(const Ray& ray) const;
+
+ private:
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+};
+
+// Sets flush-to-zero and denormals-are-zero on the calling thread, as Embree recommends
+// for speed. Call once per rendering thread (cheap; idempotent).
+void set_fast_float_mode();
+
+}  // namespace multiray

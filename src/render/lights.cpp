@@ -1,0 +1,54 @@
+#include "render/lights.h"
+
+#include <algorithm>
+
+#include "render/sampling.h"
+
+namespace multiray {
+
+LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
+  std::vector<double> power;
+  std::vector<float> area;
+  double total = 0;
+  for (size_t t = 0; t < scene.triangle_count(); ++t) {
+    const Material& m = scene.materials[scene.material_ids[t]];
+    if (max_component(m.emission) <= 0) continue;
+    const Vec3 a = scene.positions[scene.indices[3 * t]], b = scene.positions[scene.indices[3 * t + 1]],
+               c = scene.positions[scene.indices[3 * t + 2]];
+    const float ar = 0.5f * length(cross(b - a, c - a));
+    if (!(ar > 0)) continue;
+    tris_.push_back(uint32_t(t));
+    area.push_back(ar);
+    power.push_back(double(ar) * std::max(luminance(m.emission), 1e-6f));
+    total += power.back();
+  }
+  pdf_by_prim_.assign(scene.triangle_count(), 0.0f);
+  double acc = 0;
+  for (size_t i = 0; i < tris_.size(); ++i) {
+    acc += power[i];
+    cdf_.push_back(float(acc / total));
+    pdf_by_prim_[tris_[i]] = float(power[i] / total) / area[i];
+  }
+  if (!cdf_.empty()) cdf_.back() = 1.0f;
+}
+
+LightSample LightSampler::sample(float u, float u1, float u2) const {
+  const size_t i = std::min(size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()),
+                            tris_.size() - 1);
+  const uint32_t t = tris_[i];
+  const Vec3 a = scene_.positions[scene_.indices[3 * t]], b = scene_.positions[scene_.indices[3 * t + 1]],
+             c = scene_.positions[scene_.indices[3 * t + 2]];
+  const Vec2 bc = sample_triangle(u1, u2);
+  LightSample s;
+  s.point = a * (1.0f - bc.x - bc.y) + b * bc.x + c * bc.y;
+  s.normal = normalize(cross(b - a, c - a));
+  s.radiance = scene_.materials[scene_.material_ids[t]].emission;
+  s.pdf_area = pdf_by_prim_[t];
+  return s;
+}
+
+float LightSampler::pdf_area(uint32_t prim) const {
+  return prim < pdf_by_prim_.size() ? pdf_by_prim_[prim] : 0.0f;
+}
+
+}  // namespace multiray

@@ -1,0 +1,37 @@
+// Emissive triangles as area lights, chosen in proportion to their power
+// (area x luminance of emission), for next-event estimation.
+#pragma once
+
+#include <vector>
+
+#include "core/math.h"
+#include "scene/scene.h"
+
+namespace multiray {
+
+struct LightSample {
+  Vec3 point;
+  Vec3 normal;  // geometric, the emitting side
+  Vec3 radiance;
+  float pdf_area = 0;  // selection probability / triangle area
+};
+
+class LightSampler {
+ public:
+  explicit LightSampler(const Scene& scene);
+
+  bool empty() const { return tris_.empty(); }
+  // Picks a light triangle with `u` and a point on it with (u1, u2).
+  LightSample sample(float u, float u1, float u2) const;
+  // Area density with which sample() would have produced a point on triangle `prim`
+  // (0 if it is not a light).
+  float pdf_area(uint32_t prim) const;
+
+ private:
+  const Scene& scene_;
+  std::vector<uint32_t> tris_;        // emissive triangle indices
+  std::vector<float> cdf_;            // cumulative power, last element = 1
+  std::vector<float> pdf_by_prim_;    // per scene triangle, selection prob / area
+};
+
+}  // namespace multiray

@@ -1,0 +1,76 @@
+// Unidirectional path tracer with next-event estimation, multiple importance sampling
+// (power heuristic) and Russian roulette. It renders the samples of a rectangle of one
+// view and knows nothing of devices or balancers; every path's random numbers come from
+// (pixel, sample, frame, view), so the result is the same whoever renders which pixel.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/image.h"
+#include "core/rect.h"
+#include "render/accel.h"
+#include "render/lights.h"
+#include "scene/scene.h"
+
+namespace multiray {
+
+struct RenderSettings {
+  int spp = 16;           // samples per pixel
+  int max_bounces = 8;    // scattering events per path
+  int rr_start = 3;       // first bounce at which Russian roulette may end a path
+  uint64_t seed = 0;      // changes every random number (for variance tests)
+};
+
+// One view of one frame: what the camera sees and the size of its image.
+struct ViewSetup {
+  Camera camera;
+  int width = 0, height = 0;
+  uint32_t view = 0;
+  uint32_t frame = 0;
+};
+
+struct KernelStats {
+  uint64_t samples = 0;  // camera paths
+  uint64_t rays = 0;     // closest-hit plus shadow rays
+  KernelStats& operator+=(const KernelStats& o) {
+    samples += o.samples, rays += o.rays;
+    return *this;
+  }
+};
+
+// Optional record of every ray traced, for the raw-Embree throughput benchmark.
+struct RayLog {
+  std::vector<Ray> closest, shadow;
+};
+
+// The scene as the CPU kernels need it: geometry, BVH and light sampler, built once.
+struct RenderScene {
+  explicit RenderScene(const Scene& s) : scene(s), accel(s), lights(s) {}
+  const Scene& scene;
+  Accel accel;
+  LightSampler lights;
+};
+
+class PathTracer {
+ public:
+  explicit PathTracer(const RenderScene& rs);
+
+  // Renders every pixel of `rect` into `out` (the view's full-size image). Safe to call
+  // concurrently for disjoint rectangles. `log`, if given, must not be shared by threads.
+  KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, PixelRect rect,
+                          Framebuffer& out, RayLog* log = nullptr) const;
+
+  // Radiance arriving at the camera along `ray` (one path).
+  Vec3 radiance(Ray ray, class Rng& rng, const RenderSettings& settings, KernelStats& stats,
+                RayLog* log) const;
+
+ private:
+  const RenderScene& rs_;
+  float eps_;  // ray-origin offset, scaled to the scene
+};
+
+// Primary ray through image position (px, py) in pixels (fractional; y down).
+Ray camera_ray(const Camera& cam, int width, int height, float px, float py);
+
+}  // namespace multiray

@@ -1,0 +1,128 @@
+#include "scene/camera_path.h"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+
+namespace multiray {
+
+CameraPath CameraPath::fixed(const Camera& cam) {
+  CameraPath p;
+  p.kind_ = Kind::Fixed;
+  p.base_ = cam;
+  return p;
+}
+
+CameraPath CameraPath::orbit(const Camera& base, float period_frames) {
+  CameraPath p;
+  p.kind_ = Kind::Orbit;
+  p.base_ = base;
+  p.period_ = period_frames > 0 ? period_frames : 100.0f;
+  return p;
+}
+
+CameraPath CameraPath::keyframes(std::vector<Keyframe> keys) {
+  if (keys.empty()) throw InputError("camera path has no keyframes");
+  for (size_t i = 1; i < keys.size(); ++i)
+    if (!(keys[i].frame > keys[i - 1].frame))
+      throw InputError("camera path keyframes must have increasing frame numbers");
+  CameraPath p;
+  p.kind_ = Kind::Keys;
+  p.keys_ = std::move(keys);
+  return p;
+}
+
+namespace {
+
+Vec3 catmull_rom(Vec3 p0, Vec3 p1, Vec3 p2, Vec3 p3, float t) {
+  const float t2 = t * t, t3 = t2 * t;
+  return (p1 * 2.0f + (p2 - p0) * t + (p0 * 2.0f - p1 * 5.0f + p2 * 4.0f - p3) * t2 +
+          (p1 * 3.0f - p0 - p2 * 3.0f + p3) * t3) *
+         0.5f;
+}
+
+Vec3 read_vec3(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.contains(key) || !j[key].is_array() || j[key].size() != 3)
+    throw InputError(where + ": '" + key + "' must be an array of 3 numbers");
+  Vec3 v;
+  for (int i = 0; i < 3; ++i) {
+    if (!j[key][i].is_number()) throw InputError(where + ": '" + key + "' must hold numbers");
+    v[i] = j[key][i].get<float>();
+  }
+  if (!is_finite(v)) throw InputError(where + ": '" + key + "' is not finite");
+  return v;
+}
+
+}  // namespace
+
+CameraPath CameraPath::from_json_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot open camera path '" + path + "'");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw InputError("camera path '" + path + "' is not valid JSON");
+  }
+  if (!j.is_object() || !j.contains("keyframes") || !j["keyframes"].is_array())
+    throw InputError("camera path '" + path + "' needs a \"keyframes\" array");
+  std::vector<Keyframe> keys;
+  for (size_t i = 0; i < j["keyframes"].size(); ++i) {
+    const auto& k = j["keyframes"][i];
+    const std::string where = "camera path '" + path + "' keyframe " + std::to_string(i);
+    if (!k.is_object() || !k.contains("frame") || !k["frame"].is_number())
+      throw InputError(where + ": needs a numeric 'frame'");
+    Keyframe kf;
+    kf.frame = k["frame"].get<float>();
+    kf.camera.eye = read_vec3(k, "eye", where);
+    kf.camera.target = read_vec3(k, "target", where);
+    kf.camera.up = k.contains("up") ? read_vec3(k, "up", where) : Vec3(0, 1, 0);
+    kf.camera.fov_y_deg = k.value("fov", 45.0f);
+    if (!(kf.camera.fov_y_deg > 0 && kf.camera.fov_y_deg < 180))
+      throw InputError(where + ": 'fov' must be between 0 and 180 degrees");
+    keys.push_back(kf);
+  }
+  try {
+    return keyframes(std::move(keys));
+  } catch (const InputError& e) {
+    throw InputError("'" + path + "': " + e.what());
+  }
+}
+
+Camera CameraPath::at(int frame) const {
+  switch (kind_) {
+    case Kind::Fixed:
+      return base_;
+    case Kind::Orbit: {
+      Camera c = base_;
+      const float angle = 2.0f * kPi * float(frame) / period_;
+      const Vec3 d = base_.eye - base_.target;
+      const float cs = std::cos(angle), sn = std::sin(angle);
+      c.eye = base_.target + Vec3(cs * d.x + sn * d.z, d.y, -sn * d.x + cs * d.z);
+      return c;
+    }
+    case Kind::Keys: {
+      const float f = float(frame);
+      if (f <= keys_.front().frame) return keys_.front().camera;
+      if (f >= keys_.back().frame) return keys_.back().camera;
+      size_t i = 0;
+      while (keys_[i + 1].frame < f) ++i;
+      const float t = (f - keys_[i].frame) / (keys_[i + 1].frame - keys_[i].frame);
+      const Camera& a = keys_[i > 0 ? i - 1 : i].camera;
+      const Camera& b = keys_[i].camera;
+      const Camera& c = keys_[i + 1].camera;
+      const Camera& d = keys_[std::min(i + 2, keys_.size() - 1)].camera;
+      Camera out;
+      out.eye = catmull_rom(a.eye, b.eye, c.eye, d.eye, t);
+      out.target = catmull_rom(a.target, b.target, c.target, d.target, t);
+      out.up = normalize(lerp(b.up, c.up, t));
+      out.fov_y_deg = b.fov_y_deg + (c.fov_y_deg - b.fov_y_deg) * t;
+      return out;
+    }
+  }
+  return base_;
+}
+
+}  // namespace multiray
