@@ -110,13 +110,20 @@ Camera CameraPath::at(int frame) const {
       size_t i = 0;
       while (keys_[i + 1].frame < f) ++i;
       const float t = (f - keys_[i].frame) / (keys_[i + 1].frame - keys_[i].frame);
-      const Camera& a = keys_[i > 0 ? i - 1 : i].camera;
       const Camera& b = keys_[i].camera;
       const Camera& c = keys_[i + 1].camera;
-      const Camera& d = keys_[std::min(i + 2, keys_.size() - 1)].camera;
+      // Beyond the ends, phantom keys mirror the neighbour, so motion at a constant speed
+      // stays exactly linear.
+      auto before = [&](auto member) {
+        return i > 0 ? keys_[i - 1].camera.*member : b.*member * 2.0f - c.*member;
+      };
+      auto after = [&](auto member) {
+        return i + 2 < keys_.size() ? keys_[i + 2].camera.*member : c.*member * 2.0f - b.*member;
+      };
       Camera out;
-      out.eye = catmull_rom(a.eye, b.eye, c.eye, d.eye, t);
-      out.target = catmull_rom(a.target, b.target, c.target, d.target, t);
+      out.eye = catmull_rom(before(&Camera::eye), b.eye, c.eye, after(&Camera::eye), t);
+      out.target =
+          catmull_rom(before(&Camera::target), b.target, c.target, after(&Camera::target), t);
       out.up = normalize(lerp(b.up, c.up, t));
       out.fov_y_deg = b.fov_y_deg + (c.fov_y_deg - b.fov_y_deg) * t;
       return out;

@@ -1,0 +1,25 @@
+// The CLI's sub-commands. Each registers its options on a CLI11 sub-app and returns the
+// function that runs it (returning the process exit code).
+#pragma once
+
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+#include "app/options.h"
+
+namespace multiray::app {
+
+using Runner = std::function<int()>;
+
+// Adds the options shared by render and bench to `cmd`, storing into `o`.
+void add_common_options(CLI::App& cmd, CommonOptions& o);
+
+Runner add_render_command(CLI::App& app);
+Runner add_bench_command(CLI::App& app);
+Runner add_devices_command(CLI::App& app);
+
+// True when stderr is a terminal (progress lines are drawn only then).
+bool stderr_is_tty();
+
+}  // namespace multiray::app

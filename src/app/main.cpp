@@ -1,0 +1,56 @@
+// multiray: render frames split across several devices, and measure how well the load
+// balancers keep them finishing together. A thin shell over the library.
+#include <cstdio>
+#include <exception>
+
+#include <fmt/core.h>
+#include <oneapi/tbb/global_control.h>
+
+#include "app/commands.h"
+#include "core/error.h"
+
+int main(int argc, char** argv) {
+  using namespace multiray;
+  CLI::App app{
+      "multiray: a ray tracer that splits every frame across CPU cores and other devices and "
+      "balances the work so they all finish together.\n\nExamples:\n"
+      "  multiray render --res 640x360 --spp 16 --out out\n"
+      "  multiray render scene.gltf --frames 100 --camera-path orbit --devices "
+      "cpu:threads=1:cores=0,cpu:threads=1:cores=1\n"
+      "  multiray bench --devices cpu:threads=1,cpu:threads=1:speed=0.33 --frames 100 "
+      "--camera-path orbit --json bench.json --report report\n"
+      "  multiray devices\n",
+      "multiray"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "multiray 0.1.0");
+  app::Runner render = app::add_render_command(app);
+  app::Runner bench = app::add_bench_command(app);
+  app::Runner devices = app::add_devices_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    fmt::print(stderr, "multiray: error: {} (see multiray --help)\n", e.what());
+    return 2;
+  }
+  try {
+    if (app.got_subcommand("render")) return render();
+    if (app.got_subcommand("bench")) return bench();
+    if (app.got_subcommand("devices")) return devices();
+  } catch (const InputError& e) {
+    fmt::print(stderr, "multiray: error: {}\n", e.what());
+    return 2;
+  } catch (const DeviceError& e) {
+    fmt::print(stderr, "multiray: device error: {}\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "multiray: internal error: {}\n", e.what());
+    return 4;
+  }
+  return 0;
+}

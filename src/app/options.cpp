@@ -1,0 +1,142 @@
+#include "app/options.h"
+
+#include <cmath>
+#include <sstream>
+#include <thread>
+
+#include "core/error.h"
+#include "device/device_factory.h"
+#include "scene/builders.h"
+#include "scene/loaders.h"
+
+namespace multiray::app {
+
+namespace {
+
+// Strict numeric parsing: the whole token must be a finite number.
+double to_number(const std::string& tok, const std::string& what) {
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(tok, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (tok.empty() || used != tok.size() || !std::isfinite(v))
+    throw InputError(what + ": '" + tok + "' is not a number");
+  return v;
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, sep)) out.push_back(item);
+  if (!s.empty() && s.back() == sep) out.push_back("");
+  return out;
+}
+
+}  // namespace
+
+Resolution parse_resolution(const std::string& text) {
+  const auto x = text.find('x');
+  if (x == std::string::npos) throw InputError("--res '" + text + "' must look like 640x360");
+  const double w = to_number(text.substr(0, x), "--res width");
+  const double h = to_number(text.substr(x + 1), "--res height");
+  constexpr int kMax = 16384;
+  if (w < 1 || h < 1 || w != std::floor(w) || h != std::floor(h))
+    throw InputError("--res '" + text + "': width and height must be whole numbers of at least 1");
+  if (w > kMax || h > kMax)
+    throw InputError("--res '" + text + "': at most " + std::to_string(kMax) + " pixels per side");
+  return {int(w), int(h)};
+}
+
+Camera parse_camera(const std::string& text) {
+  const auto parts = split(text, ',');
+  if (parts.size() != 10)
+    throw InputError("--camera needs 10 numbers: eye x,y,z, target x,y,z, up x,y,z, fov (got " +
+                     std::to_string(parts.size()) + ")");
+  float v[10];
+  for (int i = 0; i < 10; ++i) v[i] = float(to_number(parts[size_t(i)], "--camera"));
+  Camera c{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
+  if (!(c.fov_y_deg > 0 && c.fov_y_deg < 180)) throw InputError("--camera: fov must be in (0, 180) degrees");
+  if (length(c.target - c.eye) == 0) throw InputError("--camera: eye and target are the same point");
+  if (length(cross(c.target - c.eye, c.up)) == 0)
+    throw InputError("--camera: up is parallel to the viewing direction");
+  return c;
+}
+
+std::vector<Perturbation> parse_perturbations(const std::vector<std::string>& items,
+                                              int device_count) {
+  std::vector<Perturbation> out;
+  for (const std::string& it : items) {
+    const auto p = split(it, ':');
+    if (p.size() != 3) throw InputError("--perturb '" + it + "' must look like FRAME:DEVICE:SPEED, e.g. 50:0:0.5");
+    const double f = to_number(p[0], "--perturb frame"), d = to_number(p[1], "--perturb device"),
+                 s = to_number(p[2], "--perturb speed");
+    if (f < 0 || f != std::floor(f)) throw InputError("--perturb '" + it + "': frame must be a whole number >= 0");
+    if (d < 0 || d != std::floor(d) || d >= device_count)
+      throw InputError("--perturb '" + it + "': device must be 0.." + std::to_string(device_count - 1));
+    if (!(s > 0 && s <= 1)) throw InputError("--perturb '" + it + "': speed must be in (0, 1] (emulated)");
+    out.push_back({int(f), int(d), s});
+  }
+  return out;
+}
+
+std::vector<Device*> Setup::device_ptrs() const {
+  std::vector<Device*> out;
+  for (const auto& d : devices) out.push_back(d.get());
+  return out;
+}
+
+std::vector<ViewSetup> Setup::views_for(int frame) const {
+  ViewSetup v;
+  v.camera = path.at(frame);
+  v.width = res.width;
+  v.height = res.height;
+  v.view = 0;
+  v.frame = uint32_t(frame);
+  return {v};
+}
+
+Setup make_setup(const CommonOptions& o) {
+  Setup s;
+  s.res = parse_resolution(o.resolution);
+  if (o.spp < 1 || o.spp > 1 << 20) throw InputError("--spp must be in 1..1048576");
+  if (o.bounces < 0 || o.bounces > 1024) throw InputError("--bounces must be in 0..1024");
+  if (o.frames < 1 || o.frames > 1000000) throw InputError("--frames must be in 1..1000000");
+  s.settings.spp = o.spp;
+  s.settings.max_bounces = o.bounces;
+  s.settings.seed = o.seed;
+  std::optional<Camera> cli_camera;
+  if (!o.camera.empty()) cli_camera = parse_camera(o.camera);
+  // "threads=0" means every hardware thread; resolved here so the spec stays readable.
+  std::string devices = o.devices;
+  const std::string all = "threads=" + std::to_string(std::max(1u, std::thread::hardware_concurrency()));
+  for (size_t p; (p = devices.find("threads=0")) != std::string::npos &&
+                 (p + 9 == devices.size() || devices[p + 9] == ':' || devices[p + 9] == ',');)
+    devices.replace(p, 9, all);
+  const auto specs = parse_device_specs(devices);  // check syntax before loading the scene
+  s.perturbations = parse_perturbations(o.perturb, int(specs.size()));
+
+  s.scene = std::make_unique<Scene>(o.scene_path.empty() ? make_cornell_box() : load_scene(o.scene_path));
+  const float aspect = float(s.res.width) / float(s.res.height);
+  const Camera base = cli_camera ? *cli_camera
+                      : !s.scene->cameras.empty() ? s.scene->cameras.front()
+                                                  : s.scene->default_camera(aspect);
+  const std::string& cp = o.camera_path;
+  if (cp == "fixed") {
+    s.path = CameraPath::fixed(base);
+  } else if (cp == "orbit" || cp.rfind("orbit:", 0) == 0) {
+    const double period = cp == "orbit" ? 100.0 : to_number(cp.substr(6), "--camera-path orbit period");
+    if (!(period > 0)) throw InputError("--camera-path: the orbit period must be > 0 frames");
+    s.path = CameraPath::orbit(base, float(period));
+  } else {
+    s.path = CameraPath::from_json_file(cp);
+  }
+  s.render_scene = std::make_unique<RenderScene>(*s.scene);
+  for (const DeviceSpec& d : specs) s.devices.push_back(create_device(d, *s.render_scene));
+  return s;
+}
+
+}  // namespace multiray::app

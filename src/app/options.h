@@ -1,0 +1,57 @@
+// Parsing and checking of the CLI's values, and building a ready-to-render setup from them.
+// Everything here throws InputError with a one-line message on bad input.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/engine.h"
+#include "render/path_tracer.h"
+#include "scene/camera_path.h"
+#include "scene/scene.h"
+
+namespace multiray::app {
+
+// Options shared by `render` and `bench`.
+struct CommonOptions {
+  std::string scene_path;       // empty: built-in Cornell box
+  std::string resolution = "640x360";
+  int spp = 16;
+  int bounces = 8;
+  int frames = 1;
+  std::string camera;           // "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov" or empty
+  std::string camera_path = "fixed";  // fixed | orbit | orbit:PERIOD | FILE.json
+  std::string devices = "cpu:threads=0";  // threads=0: all hardware threads
+  uint64_t seed = 0;
+  std::vector<std::string> perturb;  // FRAME:DEVICE:SPEED
+};
+
+struct Resolution {
+  int width = 0, height = 0;
+};
+
+Resolution parse_resolution(const std::string& text);
+Camera parse_camera(const std::string& text);
+std::vector<Perturbation> parse_perturbations(const std::vector<std::string>& items, int device_count);
+
+// The loaded scene and everything derived from the options; owns the devices.
+struct Setup {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<RenderScene> render_scene;
+  std::vector<std::unique_ptr<Device>> devices;
+  CameraPath path;
+  Resolution res;
+  RenderSettings settings;
+  std::vector<Perturbation> perturbations;
+
+  std::vector<Device*> device_ptrs() const;
+  std::vector<ViewSetup> views_for(int frame) const;
+};
+
+// Validates every option before loading anything expensive, then loads the scene and
+// creates the devices.
+Setup make_setup(const CommonOptions& o);
+
+}  // namespace multiray::app

@@ -1,0 +1,91 @@
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "app/stats_json.h"
+#include "core/error.h"
+
+namespace multiray::app {
+
+bool stderr_is_tty() { return isatty(STDERR_FILENO) == 1; }
+
+void add_common_options(CLI::App& cmd, CommonOptions& o) {
+  cmd.add_option("scene", o.scene_path,
+                 "Scene file (.gltf, .glb, .obj, .ply); omitted: the built-in Cornell box");
+  cmd.add_option("--res", o.resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
+  cmd.add_option("--spp", o.spp, "Samples per pixel")->capture_default_str();
+  cmd.add_option("--bounces", o.bounces, "Maximum scattering events per path")->capture_default_str();
+  cmd.add_option("--frames", o.frames, "Number of frames to render")->capture_default_str();
+  cmd.add_option("--camera", o.camera,
+                 "Camera as ex,ey,ez,tx,ty,tz,ux,uy,uz,fov (eye, target, up, vertical fov in "
+                 "degrees); default: the scene's first camera, else one framing the scene");
+  cmd.add_option("--camera-path", o.camera_path,
+                 "Animation: fixed, orbit (100 frames per turn), orbit:PERIOD, or a keyframe "
+                 "JSON file {\"keyframes\":[{\"frame\":0,\"eye\":[..],\"target\":[..],\"up\":[..],"
+                 "\"fov\":45},...]}")
+      ->capture_default_str();
+  cmd.add_option("--devices", o.devices,
+                 "Comma-separated devices, each TYPE[:KEY=VALUE...], e.g. "
+                 "cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.33. cpu keys: threads "
+                 "(0 = all), cores (0, 0+1, 0-3), speed (emulated slowdown, (0,1]), quota "
+                 "(real cgroup throttle, (0,1] of a core), tile")
+      ->capture_default_str();
+  cmd.add_option("--seed", o.seed, "Seed for all random numbers")->capture_default_str();
+  cmd.add_option("--perturb", o.perturb,
+                 "FRAME:DEVICE:SPEED, repeatable: from FRAME on, DEVICE runs at emulated SPEED");
+}
+
+Runner add_render_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("render", "Render frames to PNG (and EXR) files");
+  auto o = std::make_shared<CommonOptions>();
+  auto out_dir = std::make_shared<std::string>("out");
+  auto exr = std::make_shared<bool>(false);
+  auto balancer = std::make_shared<std::string>("hybrid");
+  auto quiet = std::make_shared<bool>(false);
+  add_common_options(*cmd, *o);
+  cmd->add_option("--out", *out_dir, "Output folder (created if missing)")->capture_default_str();
+  cmd->add_flag("--exr", *exr, "Also write linear-light OpenEXR files");
+  cmd->add_option("--balancer", *balancer,
+                  "How work is split between devices: uniform, static[:ratios=A/B/..], "
+                  "queue[:tile=N:batch=N], semi-static[:alpha=A], dlb, hybrid")
+      ->capture_default_str();
+  cmd->add_flag("-q,--quiet", *quiet, "No per-frame lines");
+  return [=]() -> int {
+    Setup s = make_setup(*o);
+    Engine engine(s.device_ptrs(), make_balancer_or_throw(*balancer, int(s.devices.size())));
+    engine.set_perturbations(s.perturbations);
+    std::error_code ec;
+    std::filesystem::create_directories(*out_dir, ec);
+    if (ec) throw InputError("cannot create output folder '" + *out_dir + "': " + ec.message());
+    nlohmann::json frames = nlohmann::json::array();
+    for (int f = 0; f < o->frames; ++f) {
+      if (stderr_is_tty()) fmt::print(stderr, "\rrendering frame {}/{} ...", f + 1, o->frames);
+      const FrameRecord rec = engine.render_frame(f, s.views_for(f), s.settings);
+      const std::string base = fmt::format("{}/frame_{:04d}", *out_dir, f);
+      write_png(base + ".png", engine.images()[0]);
+      if (*exr) write_exr(base + ".exr", engine.images()[0]);
+      if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
+      for (const auto& m : rec.messages) fmt::print(stderr, "multiray: warning: {}\n", m);
+      uint64_t samples = 0, rays = 0;
+      for (const auto& d : rec.devices) samples += d.samples, rays += d.rays;
+      if (!*quiet)
+        fmt::print("frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%  -> {}.png\n",
+                   f, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
+                   100.0 * rec.imbalance, base);
+      frames.push_back(frame_to_json(rec));
+    }
+    nlohmann::json doc{{"scene", s.scene->name},
+                       {"devices", devices_to_json(s.devices)},
+                       {"balancer", engine.balancer().name()},
+                       {"frames", frames}};
+    std::ofstream(*out_dir + "/stats.json") << doc.dump(1) << "\n";
+    return 0;
+  };
+}
+
+}  // namespace multiray::app
