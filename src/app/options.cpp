@@ -36,6 +36,12 @@ std::vector<std::string> split(const std::string& s, char sep) {
   return out;
 }
 
+bool has_emitter(const Scene& scene) {
+  for (const Material& m : scene.materials)
+    if (max_component(m.emission) > 0) return true;
+  return false;
+}
+
 }  // namespace
 
 Resolution parse_resolution(const std::string& text) {
@@ -133,6 +139,19 @@ Setup make_setup(const CommonOptions& o) {
     s.path = CameraPath::orbit(base, float(period));
   } else {
     s.path = CameraPath::from_json_file(cp);
+  }
+  if (o.env != "auto") {
+    const auto parts = split(o.env, ',');
+    if (parts.size() != 1 && parts.size() != 3)
+      throw InputError("--env '" + o.env + "' must be one number or R,G,B");
+    for (int c = 0; c < 3; ++c) {
+      const double v = to_number(parts[parts.size() == 1 ? 0 : size_t(c)], "--env");
+      if (v < 0) throw InputError("--env must not be negative");
+      s.scene->environment[c] = float(v);
+    }
+  } else if (max_component(s.scene->environment) <= 0 && !has_emitter(*s.scene)) {
+    s.scene->environment = Vec3(1.0f);
+    s.notes.push_back("the scene has no lights; using a white sky (radiance 1), see --env");
   }
   s.render_scene = std::make_unique<RenderScene>(*s.scene);
   for (const DeviceSpec& d : specs) s.devices.push_back(create_device(d, *s.render_scene));

@@ -25,6 +25,7 @@ struct CommonOptions {
   std::string camera_path = "fixed";  // fixed | orbit | orbit:PERIOD | FILE.json
   std::string devices = "cpu:threads=0";  // threads=0: all hardware threads
   uint64_t seed = 0;
+  std::string env = "auto";  // constant sky radiance "R,G,B" or "V"; auto: the scene's, or 1 if it has no light
   std::vector<std::string> perturb;  // FRAME:DEVICE:SPEED
 };
 
@@ -45,6 +46,7 @@ struct Setup {
   Resolution res;
   RenderSettings settings;
   std::vector<Perturbation> perturbations;
+  std::vector<std::string> notes;  // things the user should know (e.g. a sky was added)
 
   std::vector<Device*> device_ptrs() const;
   std::vector<ViewSetup> views_for(int frame) const;

@@ -35,6 +35,10 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                  "(0 = all), cores (0, 0+1, 0-3), speed (emulated slowdown, (0,1]), quota "
                  "(real cgroup throttle, (0,1] of a core), tile")
       ->capture_default_str();
+  cmd.add_option("--env", o.env,
+                 "Constant sky radiance: V or R,G,B; auto = the scene's own, or 1 when the scene "
+                 "has no lights")
+      ->capture_default_str();
   cmd.add_option("--seed", o.seed, "Seed for all random numbers")->capture_default_str();
   cmd.add_option("--perturb", o.perturb,
                  "FRAME:DEVICE:SPEED, repeatable: from FRAME on, DEVICE runs at emulated SPEED");
@@ -59,6 +63,7 @@ Runner add_render_command(CLI::App& app) {
     Setup s = make_setup(*o);
     Engine engine(s.device_ptrs(), make_balancer_or_throw(*balancer, int(s.devices.size())));
     engine.set_perturbations(s.perturbations);
+    for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
     std::error_code ec;
     std::filesystem::create_directories(*out_dir, ec);
     if (ec) throw InputError("cannot create output folder '" + *out_dir + "': " + ec.message());

@@ -98,6 +98,7 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
   for (const auto& r : reports) total_samples += r.samples;
   std::vector<double> live_times;
   rec.devices.resize(n);
+  rendered_.assign(n, {});
   for (size_t i = 0; i < n; ++i) {
     const DeviceReport& r = reports[i];
     DeviceFrameRecord& d = rec.devices[i];
@@ -112,8 +113,10 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
     s.alive = alive_[i];
     s.time_ms = r.wall_ms, s.busy_ms = r.busy_ms;
     s.samples = double(r.samples), s.pixels = double(r.pixels);
-    for (const UnitReport& u : r.units)
+    for (const UnitReport& u : r.units) {
       s.items.push_back({source.items()[u.unit.id], u.time_ms, double(u.samples)});
+      rendered_[i].push_back(source.items()[u.unit.id]);
+    }
   }
   imbalance_of(live_times, rec.imbalance, rec.deviation);
   clock.restart();

@@ -30,6 +30,8 @@ class Engine {
 
   const std::vector<Framebuffer>& images() const { return images_; }
   const balance::Plan& last_plan() const { return last_plan_; }
+  // The items each device actually rendered in the last frame (after pulls and steals).
+  const std::vector<std::vector<balance::WorkItem>>& last_rendered() const { return rendered_; }
   balance::Balancer& balancer() { return *balancer_; }
   void set_perturbations(std::vector<Perturbation> p) { perturbations_ = std::move(p); }
   bool alive(int device) const { return alive_[size_t(device)]; }
@@ -41,6 +43,7 @@ class Engine {
   std::vector<bool> alive_;
   std::vector<Perturbation> perturbations_;
   balance::Plan last_plan_;
+  std::vector<std::vector<balance::WorkItem>> rendered_;
 };
 
 }  // namespace multiray

@@ -1,0 +1,98 @@
+// Path-tracer throughput against raw Embree on the same rays (issue 2's goal: >= 60%).
+//
+// 1. Render the frame once with a ray log, single-threaded, to capture every ray the path
+//    tracer traces (closest-hit and shadow rays).
+// 2. Time, alternately and `reps` times each, (a) the path tracer rendering that frame
+//    without the log and (b) Embree alone intersecting the logged rays (rtcIntersect1 for
+//    closest-hit, rtcOccluded1 for shadow rays). Both run on one thread of this process;
+//    times are wall-clock around each pass (steady_clock).
+// 3. Report paths/s and rays/s of both and the ratio of the medians.
+//
+// Usage: bench_throughput [SCENE] [--res WxH] [--spp N] [--bounces N] [--reps N]
+// Default scene: the Dabrovic Sponza from ../shared/data, else the built-in Cornell box.
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+
+#include "core/clock.h"
+#include "render/path_tracer.h"
+#include "scene/builders.h"
+#include "scene/loaders.h"
+
+using namespace multiray;
+
+namespace {
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string scene_path = std::string(MULTIRAY_SHARED_DATA_DIR) + "/meshes/dabrovic_sponza/sponza.obj";
+  int w = 1280, h = 720, spp = 1, bounces = 8, reps = 3;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&] { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
+    if (a == "--res") {
+      const std::string r = next();
+      if (std::sscanf(r.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1) return 2;
+    } else if (a == "--spp") spp = std::stoi(next());
+    else if (a == "--bounces") bounces = std::stoi(next());
+    else if (a == "--reps") reps = std::max(1, std::stoi(next()));
+    else scene_path = a;
+  }
+  Scene scene;
+  if (std::filesystem::exists(scene_path)) {
+    scene = load_scene(scene_path);
+  } else {
+    fmt::print("note: {} not found; using the built-in Cornell box\n", scene_path);
+    scene = make_cornell_box();
+  }
+  set_fast_float_mode();
+  const RenderScene rs(scene);
+  const PathTracer pt(rs);
+  ViewSetup view;
+  view.camera = !scene.cameras.empty() ? scene.cameras[0] : scene.default_camera(float(w) / h);
+  if (scene.name == "sponza.obj")  // inside the atrium, looking along the nave
+    view.camera = Camera{{-10.0f, 3.0f, 0.0f}, {10.0f, 5.0f, 0.0f}, {0, 1, 0}, 60.0f};
+  view.width = w, view.height = h;
+  RenderSettings settings{.spp = spp, .max_bounces = bounces};
+  Framebuffer fb(w, h);
+
+  RayLog log;
+  pt.render_rect(view, settings, {0, 0, w, h}, fb, &log);
+  const double paths = double(w) * h * spp;
+  const double rays = double(log.closest.size() + log.shadow.size());
+  fmt::print("scene {} ({} triangles), {}x{}, {} spp, {} bounces, 1 thread\n", scene.name,
+             scene.triangle_count(), w, h, spp, bounces);
+  fmt::print("rays per frame: {} closest-hit + {} shadow = {:.2f} per path\n", log.closest.size(),
+             log.shadow.size(), rays / paths);
+
+  std::vector<double> pt_ms, raw_ms;
+  volatile size_t sink = 0;
+  for (int r = 0; r < reps; ++r) {
+    Stopwatch a;
+    pt.render_rect(view, settings, {0, 0, w, h}, fb);
+    pt_ms.push_back(a.elapsed_ms());
+    Stopwatch b;
+    size_t hits = 0;
+    Hit hit;
+    for (const Ray& ray : log.closest) hits += rs.accel.intersect(ray, hit);
+    for (const Ray& ray : log.shadow) hits += rs.accel.occluded(ray);
+    raw_ms.push_back(b.elapsed_ms());
+    sink = sink + hits;
+  }
+  const double pt_med = median(pt_ms), raw_med = median(raw_ms);
+  fmt::print("path tracer : {:8.1f} ms median of {}  {:6.3f} Mpaths/s  {:6.3f} Mrays/s\n", pt_med,
+             reps, paths / pt_med / 1e3, rays / pt_med / 1e3);
+  fmt::print("raw Embree  : {:8.1f} ms median of {}                    {:6.3f} Mrays/s\n", raw_med,
+             reps, rays / raw_med / 1e3);
+  fmt::print("ratio (path tracer rays/s / raw Embree rays/s): {:.2f}\n", raw_med / pt_med);
+  return 0;
+}

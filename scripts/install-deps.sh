@@ -1,0 +1,22 @@
+#!/bin/sh
+# Installs multiray's build and test dependencies from Debian 12's packages. Idempotent:
+# when everything is present it only runs dpkg-query (well under a second).
+set -eu
+PACKAGES="build-essential cmake pkg-config clang-format libembree-dev libtbb-dev \
+  libtinyobjloader-dev libtinygltf-dev libstb-dev libopenexr-dev libcli11-dev \
+  nlohmann-json3-dev libfmt-dev libspdlog-dev libgtest-dev libgmock-dev libbenchmark-dev \
+  assimp-testmodels"
+missing=""
+for p in $PACKAGES; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed"; then
+    missing="$missing $p"
+  fi
+done
+if [ -z "$missing" ]; then
+  exit 0
+fi
+echo "multiray: installing missing packages:$missing"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+$SUDO apt-get update -q
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends $missing

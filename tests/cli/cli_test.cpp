@@ -1,0 +1,108 @@
+// The multiray command line, run as a user would: bad input gets one clear line on stderr
+// and a non-zero exit, never a crash or a hang; good input writes images and stats.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out;  // stdout and stderr together
+};
+
+// Runs multiray with `args` (shell words) under a 120 s timeout.
+Result run(const std::string& args) {
+  const std::string cmd = "timeout 120 " + std::string(MULTIRAY_BIN) + " " + args + " 2>&1";
+  Result r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+std::string temp_file(const std::string& name, const std::string& content) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path, std::ios::binary) << content;
+  return path;
+}
+
+// One error line, exit code 2, and the message mentions `word`.
+void expect_input_error(const std::string& args, const std::string& word) {
+  const Result r = run(args);
+  EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr(word)) << args;
+  EXPECT_THAT(r.out, ::testing::StartsWith("multiray: error: ")) << args;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << args << "\n" << r.out;
+}
+
+TEST(Cli, HelpExplainsCommandsAndOptions) {
+  const Result r = run("render --help");
+  EXPECT_EQ(r.code, 0);
+  for (const char* opt : {"--res", "--spp", "--bounces", "--frames", "--camera-path", "--out",
+                          "--exr", "--devices", "--balancer"})
+    EXPECT_THAT(r.out, ::testing::HasSubstr(opt));
+  EXPECT_EQ(run("--help").code, 0);
+}
+
+TEST(Cli, RendersDefaultSceneToPngAndStats) {
+  const std::string dir = ::testing::TempDir() + "/cli_out";
+  std::filesystem::remove_all(dir);
+  const Result r = run("render --res 32x24 --spp 1 --frames 2 --exr --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(std::filesystem::file_size(dir + "/frame_0000.png") > 100);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/frame_0001.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/frame_0001.exr"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/stats.json"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("frame    1"));
+}
+
+TEST(Cli, BadOptionsAndValues) {
+  expect_input_error("render --no-such-option", "no-such-option");
+  expect_input_error("render --res 0x10", "--res");
+  expect_input_error("render --res 100000x100000", "--res");
+  expect_input_error("render --res axb", "--res");
+  expect_input_error("render --spp 0", "--spp");
+  expect_input_error("render --spp abc", "spp");
+  expect_input_error("render --camera 1,2,3", "--camera");
+  expect_input_error("render --camera-path /nonexistent/path.json", "path.json");
+  expect_input_error("render --devices gpu:0", "gpu");
+  expect_input_error("render --devices cpu:threads=x", "threads");
+  expect_input_error("render --devices cpu:speed=2", "speed");
+  expect_input_error("render --devices cpu:colour=red", "colour");
+  expect_input_error("render --devices cpu,cpu --perturb 5:7:0.5", "--perturb");
+  expect_input_error("render --perturb 5:0", "--perturb");
+  expect_input_error("render --balancer nonsense", "--balancer");
+}
+
+TEST(Cli, BadSceneFiles) {
+  expect_input_error("render /nonexistent/scene.obj --res 8x8", "scene.obj");
+  expect_input_error("render " + temp_file("bad.xyz", "hello") + " --res 8x8", "bad.xyz");
+  expect_input_error("render " + temp_file("empty.ply", "") + " --res 8x8", "empty.ply");
+  expect_input_error(
+      "render " + temp_file("trunc.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                          "property float y\nproperty float z\nelement face 1\n"
+                                          "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n") +
+          " --res 8x8",
+      "trunc.ply");
+  expect_input_error("render " + temp_file("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n") + " --res 8x8",
+                     "nan.obj");
+  expect_input_error("render " + temp_file("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n") + " --res 8x8",
+                     "range.obj");
+  expect_input_error("render " + temp_file("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n") + " --res 8x8",
+                     "flat.obj");
+  expect_input_error("render " + temp_file("broken.gltf", "{\"asset\": {\"version\": \"2.0\"") + " --res 8x8",
+                     "broken.gltf");
+}
+
+}  // namespace

@@ -1,0 +1,117 @@
+// The engine over real CPU devices: the image never depends on the balancer or the
+// number of devices, every pixel is rendered once, and failures are survived.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "balance/balancer.h"
+#include "device/cpu/cpu_device.h"
+#include "engine/engine.h"
+#include "scene/builders.h"
+
+namespace multiray {
+namespace {
+
+constexpr int kW = 53, kH = 31;
+
+std::vector<ViewSetup> views(const Scene& s, int frame) {
+  ViewSetup v;
+  v.camera = s.cameras[0];
+  v.width = kW, v.height = kH, v.frame = uint32_t(frame);
+  return {v};
+}
+
+// Renders frames 0..frames-1 and returns the last image.
+std::vector<Vec3> render_with(const RenderScene& rs, const std::string& spec, int devices, int frames,
+                              std::vector<double> speeds = {}) {
+  std::vector<std::unique_ptr<CpuDevice>> owned;
+  std::vector<Device*> ptrs;
+  for (int i = 0; i < devices; ++i) {
+    CpuDeviceOptions o;
+    o.speed = i < int(speeds.size()) ? speeds[size_t(i)] : 1.0;
+    owned.push_back(std::make_unique<CpuDevice>(rs, o, "cpu"));
+    ptrs.push_back(owned.back().get());
+  }
+  Engine engine(ptrs, balance::make_balancer(spec, devices));
+  RenderSettings settings{.spp = 1, .max_bounces = 4};
+  for (int f = 0; f < frames; ++f) {
+    const FrameRecord rec = engine.render_frame(f, views(rs.scene, f), settings);
+    uint64_t pixels = 0;
+    for (const auto& d : rec.devices) pixels += d.pixels;
+    EXPECT_EQ(pixels, uint64_t(kW) * kH) << spec << " frame " << f;  // each pixel once
+  }
+  return engine.images()[0].pixels;
+}
+
+TEST(Engine, ImageIsBitIdenticalForEveryBalancerAndDeviceCount) {
+  const Scene scene = make_cornell_box();
+  const RenderScene rs(scene);
+  const auto reference = render_with(rs, "uniform", 1, 3);
+  for (const std::string& name : balance::balancer_names())
+    for (int devices : {1, 2, 5}) {
+      const auto img = render_with(rs, name, devices, 3);
+      ASSERT_EQ(img.size(), reference.size());
+      EXPECT_EQ(std::memcmp(img.data(), reference.data(), img.size() * sizeof(Vec3)), 0)
+          << name << " on " << devices << " devices";
+    }
+}
+
+TEST(Engine, RecordsTimesSharesAndImbalance) {
+  const Scene scene = make_cornell_box();
+  const RenderScene rs(scene);
+  CpuDevice fast(rs, {}, "cpu"), slow(rs, CpuDeviceOptions{.speed = 0.25}, "cpu:speed=0.25");
+  Engine engine({&fast, &slow}, balance::make_balancer("uniform", 2));
+  const FrameRecord rec = engine.render_frame(0, views(scene, 0), RenderSettings{.spp = 2});
+  ASSERT_EQ(rec.devices.size(), 2u);
+  EXPECT_NEAR(rec.devices[0].work_share + rec.devices[1].work_share, 1.0, 1e-9);
+  // The emulated quarter-speed device takes clearly longer for a similar share.
+  EXPECT_GT(rec.devices[1].time_ms, 2.0 * rec.devices[1].busy_ms);
+  EXPECT_GT(rec.imbalance, 0.3);
+  EXPECT_GE(rec.frame_ms, rec.devices[1].time_ms * 0.99);
+}
+
+// A device that throws mid-frame loses nothing: its work is re-rendered, it is dropped,
+// and the image equals a healthy run's.
+class FailingDevice : public Device {
+ public:
+  explicit FailingDevice(const RenderScene& rs) : inner_(rs, {}, "cpu") {
+    info_ = inner_.info();
+    info_.name = "failing test device";
+  }
+  const DeviceInfo& info() const override { return info_; }
+  void set_emulated_speed(double) override {}
+  DeviceReport render(const FrameJob& job, WorkSource& source, int index) override {
+    DeviceReport r;
+    WorkUnit u;
+    if (source.next(index, u)) {  // takes one unit and "loses" it
+      r.failed = true;
+      r.error = "injected failure";
+    }
+    (void)job;
+    return r;
+  }
+
+ private:
+  CpuDevice inner_;
+  DeviceInfo info_;
+};
+
+TEST(Engine, FailedDeviceIsDroppedAndItsWorkRedone) {
+  const Scene scene = make_cornell_box();
+  const RenderScene rs(scene);
+  const auto reference = render_with(rs, "uniform", 1, 1);
+  CpuDevice good(rs, {}, "cpu");
+  FailingDevice bad(rs);
+  Engine engine({&good, &bad}, balance::make_balancer("uniform", 2));
+  const FrameRecord rec = engine.render_frame(0, views(scene, 0), RenderSettings{.spp = 1, .max_bounces = 4});
+  EXPECT_FALSE(engine.alive(1));
+  ASSERT_EQ(rec.messages.size(), 1u);
+  EXPECT_NE(rec.messages[0].find("injected failure"), std::string::npos);
+  EXPECT_EQ(std::memcmp(engine.images()[0].pixels.data(), reference.data(), reference.size() * sizeof(Vec3)), 0);
+  // Next frame runs on the survivor alone.
+  const FrameRecord next = engine.render_frame(1, views(scene, 1), RenderSettings{.spp = 1, .max_bounces = 4});
+  EXPECT_EQ(next.devices[0].pixels, uint64_t(kW) * kH);
+}
+
+}  // namespace
+}  // namespace multiray
