@@ -54,6 +54,10 @@ int main(int argc, char** argv) {
     fmt::print("note: {} not found; using the built-in Cornell box\n", scene_path);
     scene = make_cornell_box();
   }
+  // A sky for scenes without lights (as the CLI does), so paths bounce as in real use.
+  bool lit = max_component(scene.environment) > 0;
+  for (const Material& m : scene.materials) lit |= max_component(m.emission) > 0;
+  if (!lit) scene.environment = Vec3(1.0f);
   set_fast_float_mode();
   const RenderScene rs(scene);
   const PathTracer pt(rs);

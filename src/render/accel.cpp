@@ -63,6 +63,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
   hit.prim = rh.hit.primID;
   hit.u = rh.hit.u;
   hit.v = rh.hit.v;
+  hit.ng = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   return true;
 }
 

@@ -18,6 +18,7 @@ struct Hit {
   float t = INFINITY;
   uint32_t prim = 0;  // triangle index in Scene
   float u = 0, v = 0;  // barycentrics of vertices 1 and 2
+  Vec3 ng;             // unnormalised geometric normal, along cross(v1 - v0, v2 - v0)
 };
 
 class Accel {

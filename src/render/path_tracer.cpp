@@ -8,15 +8,21 @@
 
 namespace multiray {
 
-Ray camera_ray(const Camera& cam, int width, int height, float px, float py) {
-  const Vec3 forward = normalize(cam.target - cam.eye);
-  const Vec3 right = normalize(cross(forward, cam.up));
-  const Vec3 up = cross(right, forward);
+PinholeCamera::PinholeCamera(const Camera& cam, int width, int height)
+    : eye(cam.eye), forward(normalize(cam.target - cam.eye)) {
+  right = normalize(cross(forward, cam.up));
+  up = cross(right, forward);
   const float tan_half = std::tan(0.5f * cam.fov_y_deg * kPi / 180.0f);
-  const float aspect = float(width) / float(height);
-  const float sx = (2.0f * px / float(width) - 1.0f) * aspect * tan_half;
-  const float sy = (1.0f - 2.0f * py / float(height)) * tan_half;
-  return Ray{cam.eye, normalize(forward + right * sx + up * sy)};
+  scale_y = tan_half;
+  scale_x = tan_half * float(width) / float(height);
+  inv_w_ = 2.0f / float(width);
+  inv_h_ = 2.0f / float(height);
+}
+
+Ray PinholeCamera::ray(float px, float py) const {
+  const float sx = (px * inv_w_ - 1.0f) * scale_x;
+  const float sy = (1.0f - py * inv_h_) * scale_y;
+  return Ray{eye, normalize(forward + right * sx + up * sy)};
 }
 
 PathTracer::PathTracer(const RenderScene& rs) : rs_(rs) {
@@ -32,24 +38,18 @@ struct Shading {
   uint32_t material;
 };
 
-Shading shade_point(const Scene& s, const Ray& ray, const Hit& hit) {
-  const uint32_t* idx = &s.indices[3 * size_t(hit.prim)];
-  const Vec3 a = s.positions[idx[0]], b = s.positions[idx[1]], c = s.positions[idx[2]];
+Shading shade_point(const std::vector<TriangleShading>& data, const Ray& ray, const Hit& hit) {
+  const TriangleShading& d = data[hit.prim];
   const float w = 1.0f - hit.u - hit.v;
   Shading sh;
   sh.p = ray.org + ray.dir * hit.t;
-  sh.ng = normalize(cross(b - a, c - a));
-  sh.ns = sh.ng;
-  if (!s.normals.empty()) {
-    const Vec3 n = s.normals[idx[0]] * w + s.normals[idx[1]] * hit.u + s.normals[idx[2]] * hit.v;
-    if (dot(n, n) > 0) sh.ns = normalize(n);
-    if (dot(sh.ns, sh.ng) < 0) sh.ns = -sh.ns;
-  }
-  if (!s.uvs.empty()) {
-    const Vec2 ta = s.uvs[idx[0]], tb = s.uvs[idx[1]], tc = s.uvs[idx[2]];
-    sh.uv = {ta.x * w + tb.x * hit.u + tc.x * hit.v, ta.y * w + tb.y * hit.u + tc.y * hit.v};
-  }
-  sh.material = s.material_ids[hit.prim];
+  sh.ng = normalize(hit.ng);
+  const Vec3 n = d.normal[0] * w + d.normal[1] * hit.u + d.normal[2] * hit.v;
+  sh.ns = dot(n, n) > 0 ? normalize(n) : sh.ng;
+  if (dot(sh.ns, sh.ng) < 0) sh.ns = -sh.ns;
+  sh.uv = {d.uv[0].x * w + d.uv[1].x * hit.u + d.uv[2].x * hit.v,
+           d.uv[0].y * w + d.uv[1].y * hit.u + d.uv[2].y * hit.v};
+  sh.material = d.material;
   return sh;
 }
 
@@ -69,7 +69,7 @@ Vec3 PathTracer::radiance(Ray ray, Rng& rng, const RenderSettings& settings, Ker
       L += beta * scene.environment;  // the environment is never light-sampled: weight 1
       break;
     }
-    Shading sh = shade_point(scene, ray, hit);
+    Shading sh = shade_point(rs_.shading, ray, hit);
     const Material& mat = scene.materials[sh.material];
     const Vec3 wo_world = -ray.dir;
     const bool front = dot(sh.ng, wo_world) > 0;
@@ -147,6 +147,7 @@ KernelStats PathTracer::render_rect(const ViewSetup& view, const RenderSettings&
                                     PixelRect rect, Framebuffer& out, RayLog* log) const {
   KernelStats stats;
   const float inv_spp = 1.0f / float(settings.spp);
+  const PinholeCamera camera(view.camera, view.width, view.height);
   for (int y = rect.y0; y < rect.y1; ++y)
     for (int x = rect.x0; x < rect.x1; ++x) {
       const uint32_t pixel = uint32_t(y) * uint32_t(view.width) + uint32_t(x);
@@ -154,7 +155,7 @@ KernelStats PathTracer::render_rect(const ViewSetup& view, const RenderSettings&
       for (int s = 0; s < settings.spp; ++s) {
         Rng rng = Rng::for_path(pixel, uint32_t(s), view.frame, view.view, settings.seed);
         const float jx = rng.next(), jy = rng.next();
-        const Ray r = camera_ray(view.camera, view.width, view.height, float(x) + jx, float(y) + jy);
+        const Ray r = camera.ray(float(x) + jx, float(y) + jy);
         sum += radiance(r, rng, settings, stats, log);
       }
       out.at(x, y) = sum * inv_spp;

@@ -11,6 +11,7 @@
 #include "core/rect.h"
 #include "render/accel.h"
 #include "render/lights.h"
+#include "render/shading_data.h"
 #include "scene/scene.h"
 
 namespace multiray {
@@ -46,10 +47,12 @@ struct RayLog {
 
 // The scene as the CPU kernels need it: geometry, BVH and light sampler, built once.
 struct RenderScene {
-  explicit RenderScene(const Scene& s) : scene(s), accel(s), lights(s) {}
+  explicit RenderScene(const Scene& s)
+      : scene(s), accel(s), lights(s), shading(build_shading_data(s)) {}
   const Scene& scene;
   Accel accel;
   LightSampler lights;
+  std::vector<TriangleShading> shading;
 };
 
 class PathTracer {
@@ -70,7 +73,17 @@ class PathTracer {
   float eps_;  // ray-origin offset, scaled to the scene
 };
 
-// Primary ray through image position (px, py) in pixels (fractional; y down).
-Ray camera_ray(const Camera& cam, int width, int height, float px, float py);
+// A Camera prepared for generating rays in an image of width x height pixels.
+struct PinholeCamera {
+  PinholeCamera(const Camera& cam, int width, int height);
+  // Primary ray through image position (px, py) in pixels (fractional; y down).
+  Ray ray(float px, float py) const;
+
+  Vec3 eye, forward, right, up;
+  float scale_x, scale_y;  // image-plane half extents at distance 1
+
+ private:
+  float inv_w_, inv_h_;
+};
 
 }  // namespace multiray

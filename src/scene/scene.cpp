@@ -9,15 +9,19 @@ namespace multiray {
 
 Vec3 Texture::sample(Vec2 uv) const {
   if (width <= 0 || height <= 0) return Vec3(1.0f);
+  // Texel centres sit at half-integers; fx lies in [-0.5, width - 0.5), so the left
+  // neighbour is in [-1, width - 1] and wrapping needs a compare, not a (slow) modulo.
   const float fx = (uv.x - std::floor(uv.x)) * float(width) - 0.5f;
   const float fy = (uv.y - std::floor(uv.y)) * float(height) - 0.5f;
   const float x0f = std::floor(fx), y0f = std::floor(fy);
   const float tx = fx - x0f, ty = fy - y0f;
-  auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
-  const int x0 = wrap(int(x0f), width), x1 = wrap(int(x0f) + 1, width);
-  const int y0 = wrap(int(y0f), height), y1 = wrap(int(y0f) + 1, height);
-  auto t = [&](int x, int y) { return texels[size_t(y) * width + x]; };
-  return lerp(lerp(t(x0, y0), t(x1, y0), tx), lerp(t(x0, y1), t(x1, y1), tx), ty);
+  int x0 = int(x0f), y0 = int(y0f);
+  x0 = x0 < 0 ? width - 1 : std::min(x0, width - 1);
+  y0 = y0 < 0 ? height - 1 : std::min(y0, height - 1);
+  const int x1 = x0 + 1 < width ? x0 + 1 : 0, y1 = y0 + 1 < height ? y0 + 1 : 0;
+  const Vec3* row0 = &texels[size_t(y0) * size_t(width)];
+  const Vec3* row1 = &texels[size_t(y1) * size_t(width)];
+  return lerp(lerp(row0[x0], row0[x1], tx), lerp(row1[x0], row1[x1], tx), ty);
 }
 
 Bounds3 Scene::bounds() const {
