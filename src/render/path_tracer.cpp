@@ -38,6 +38,12 @@ struct Shading {
   uint32_t material;
 };
 
+Vec2 interpolate_uv(const TriangleShading& d, const Hit& hit) {
+  const float w = 1.0f - hit.u - hit.v;
+  return {d.uv[0].x * w + d.uv[1].x * hit.u + d.uv[2].x * hit.v,
+          d.uv[0].y * w + d.uv[1].y * hit.u + d.uv[2].y * hit.v};
+}
+
 Shading shade_point(const std::vector<TriangleShading>& data, const Ray& ray, const Hit& hit) {
   const TriangleShading& d = data[hit.prim];
   const float w = 1.0f - hit.u - hit.v;
@@ -47,120 +53,183 @@ Shading shade_point(const std::vector<TriangleShading>& data, const Ray& ray, co
   const Vec3 n = d.normal[0] * w + d.normal[1] * hit.u + d.normal[2] * hit.v;
   sh.ns = dot(n, n) > 0 ? normalize(n) : sh.ng;
   if (dot(sh.ns, sh.ng) < 0) sh.ns = -sh.ns;
-  sh.uv = {d.uv[0].x * w + d.uv[1].x * hit.u + d.uv[2].x * hit.v,
-           d.uv[0].y * w + d.uv[1].y * hit.u + d.uv[2].y * hit.v};
+  sh.uv = interpolate_uv(d, hit);
   sh.material = d.material;
   return sh;
 }
 
 }  // namespace
 
-Vec3 PathTracer::radiance(Ray ray, Rng& rng, const RenderSettings& settings, KernelStats& stats,
-                          RayLog* log) const {
-  const Scene& scene = rs_.scene;
-  Vec3 L(0.0f), beta(1.0f);
+// The state of one camera path between bounces. Paths advance in batches (a wavefront):
+// all rays of a batch are traced, then all hits shaded, then all shadow rays traced. The
+// arithmetic per path is exactly the depth-first loop's, so images are unchanged, but the
+// cache misses of different paths' shading overlap instead of queueing one after another.
+struct PathState {
+  explicit PathState(Rng r) : rng(r) {}
+  Ray ray;
+  Vec3 L{0.0f}, beta{1.0f};
+  Rng rng;
   float prev_pdf = 0;
   bool prev_specular = true;  // the camera ray counts as specular: emission seen directly
-  for (int depth = 0;; ++depth) {
-    Hit hit;
-    ++stats.rays;
-    if (log) log->closest.push_back(ray);
-    if (!rs_.accel.intersect(ray, hit)) {
-      L += beta * scene.environment;  // the environment is never light-sampled: weight 1
-      break;
-    }
-    Shading sh = shade_point(rs_.shading, ray, hit);
-    const Material& mat = scene.materials[sh.material];
-    const Vec3 wo_world = -ray.dir;
-    const bool front = dot(sh.ng, wo_world) > 0;
+  bool alive = true;
+  int depth = 0;
+  bool has_shadow = false;  // a next-event ray is waiting to be traced
+  Ray shadow;
+  Vec3 shadow_contribution;
+};
 
-    if (front && max_component(mat.emission) > 0) {
-      if (prev_specular) {
-        L += beta * mat.emission;
-      } else {
-        const float cos_l = dot(sh.ng, wo_world);
-        const float pdf_light = rs_.lights.pdf_area(hit.prim) * hit.t * hit.t / cos_l;
-        L += beta * mat.emission * power_heuristic(prev_pdf, pdf_light);
-      }
-    }
-    if (depth >= settings.max_bounces) break;
+void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settings) const {
+  const Scene& scene = rs_.scene;
+  if (!hit) {
+    p.L += p.beta * scene.environment;  // the environment is never light-sampled: weight 1
+    p.alive = false;
+    return;
+  }
+  Shading sh = shade_point(rs_.shading, p.ray, *hit);
+  const Material& mat = scene.materials[sh.material];
+  const Vec3 wo_world = -p.ray.dir;
+  const bool front = dot(sh.ng, wo_world) > 0;
 
-    Vec3 color = mat.base_color;
-    if (mat.base_color_texture >= 0) color *= scene.textures[mat.base_color_texture].sample(sh.uv);
-    const Bsdf bsdf(mat, color);
-    // Opaque surfaces are two-sided: face the normals towards the viewer. Dielectrics keep
-    // their outward normal so the BSDF knows whether the path is inside.
-    if (bsdf.has_diffuse_or_glossy() && !front) sh.ng = -sh.ng, sh.ns = -sh.ns;
-    Frame frame = Frame::from_normal(sh.ns);
-    Vec3 wo = frame.to_local(wo_world);
-    if (bsdf.has_diffuse_or_glossy() && wo.z <= 0) {
-      frame = Frame::from_normal(sh.ng);  // shading normal faces away: fall back
-      wo = frame.to_local(wo_world);
-    }
-
-    // Next-event estimation towards one point on one emissive triangle.
-    if (bsdf.has_diffuse_or_glossy() && !rs_.lights.empty()) {
-      const float ul = rng.next(), u1 = rng.next(), u2 = rng.next();
-      const LightSample ls = rs_.lights.sample(ul, u1, u2);
-      const Vec3 d = ls.point - sh.p;
-      const float dist2 = dot(d, d), dist = std::sqrt(dist2);
-      const Vec3 wi_world = d / dist;
-      const float cos_l = -dot(ls.normal, wi_world);
-      if (cos_l > 0 && dot(wi_world, sh.ng) > 0) {
-        const Vec3 wi = frame.to_local(wi_world);
-        const Vec3 f = bsdf.eval(wo, wi);
-        if (max_component(f) > 0) {
-          const Ray shadow{sh.p + sh.ng * eps_, wi_world, 0.0f, dist * (1.0f - 1e-4f) - eps_};
-          ++stats.rays;
-          if (log) log->shadow.push_back(shadow);
-          if (!rs_.accel.occluded(shadow)) {
-            const float pdf_light = ls.pdf_area * dist2 / cos_l;
-            L += beta * f * ls.radiance *
-                 (power_heuristic(pdf_light, bsdf.pdf(wo, wi)) / pdf_light);
-          }
-        }
-      }
-    }
-
-    // Continue the path by sampling the BSDF.
-    BsdfSample bs;
-    const float u_lobe = rng.next(), u1 = rng.next(), u2 = rng.next();
-    if (!bsdf.sample(wo, u_lobe, u1, u2, bs)) break;
-    const Vec3 wi_world = frame.to_world(bs.wi);
-    const float side = dot(wi_world, sh.ng);
-    if (bsdf.has_diffuse_or_glossy() && side <= 0) break;  // shading normal leak
-    beta *= bs.weight;
-    prev_pdf = bs.pdf;
-    prev_specular = bs.specular;
-    ray = Ray{sh.p + sh.ng * (side > 0 ? eps_ : -eps_), wi_world};
-
-    if (depth + 1 >= settings.rr_start) {
-      const float q = std::min(max_component(beta), 0.95f);
-      if (rng.next() >= q) break;
-      beta = beta / q;
+  if (front && max_component(mat.emission) > 0) {
+    if (p.prev_specular) {
+      p.L += p.beta * mat.emission;
+    } else {
+      const float cos_l = dot(sh.ng, wo_world);
+      const float pdf_light = rs_.lights.pdf_area(hit->prim) * hit->t * hit->t / cos_l;
+      p.L += p.beta * mat.emission * power_heuristic(p.prev_pdf, pdf_light);
     }
   }
-  return is_finite(L) ? L : Vec3(0.0f);
+  if (p.depth >= settings.max_bounces) {
+    p.alive = false;
+    return;
+  }
+
+  Vec3 color = mat.base_color;
+  if (mat.base_color_texture >= 0) color *= scene.textures[mat.base_color_texture].sample(sh.uv);
+  const Bsdf bsdf(mat, color);
+  // Opaque surfaces are two-sided: face the normals towards the viewer. Dielectrics keep
+  // their outward normal so the BSDF knows whether the path is inside.
+  if (bsdf.has_diffuse_or_glossy() && !front) sh.ng = -sh.ng, sh.ns = -sh.ns;
+  Frame frame = Frame::from_normal(sh.ns);
+  Vec3 wo = frame.to_local(wo_world);
+  if (bsdf.has_diffuse_or_glossy() && wo.z <= 0) {
+    frame = Frame::from_normal(sh.ng);  // shading normal faces away: fall back
+    wo = frame.to_local(wo_world);
+  }
+
+  // Next-event estimation towards one point on one emissive triangle; the shadow ray is
+  // traced by the caller and adds `shadow_contribution` if unoccluded.
+  if (bsdf.has_diffuse_or_glossy() && !rs_.lights.empty()) {
+    const float ul = p.rng.next(), u1 = p.rng.next(), u2 = p.rng.next();
+    const LightSample ls = rs_.lights.sample(ul, u1, u2);
+    const Vec3 d = ls.point - sh.p;
+    const float dist2 = dot(d, d), dist = std::sqrt(dist2);
+    const Vec3 wi_world = d / dist;
+    const float cos_l = -dot(ls.normal, wi_world);
+    if (cos_l > 0 && dot(wi_world, sh.ng) > 0) {
+      const Vec3 wi = frame.to_local(wi_world);
+      const Vec3 f = bsdf.eval(wo, wi);
+      if (max_component(f) > 0) {
+        const float pdf_light = ls.pdf_area * dist2 / cos_l;
+        p.shadow = Ray{sh.p + sh.ng * eps_, wi_world, 0.0f, dist * (1.0f - 1e-4f) - eps_};
+        p.shadow_contribution =
+            p.beta * f * ls.radiance * (power_heuristic(pdf_light, bsdf.pdf(wo, wi)) / pdf_light);
+        p.has_shadow = true;
+      }
+    }
+  }
+
+  // Continue the path by sampling the BSDF.
+  p.alive = false;
+  BsdfSample bs;
+  const float u_lobe = p.rng.next(), u1 = p.rng.next(), u2 = p.rng.next();
+  if (!bsdf.sample(wo, u_lobe, u1, u2, bs)) return;
+  const Vec3 wi_world = frame.to_world(bs.wi);
+  const float side = dot(wi_world, sh.ng);
+  if (bsdf.has_diffuse_or_glossy() && side <= 0) return;  // shading normal leak
+  p.beta *= bs.weight;
+  p.prev_pdf = bs.pdf;
+  p.prev_specular = bs.specular;
+  p.ray = Ray{sh.p + sh.ng * (side > 0 ? eps_ : -eps_), wi_world};
+  ++p.depth;
+  if (p.depth >= settings.rr_start) {
+    const float q = std::min(max_component(p.beta), 0.95f);
+    if (p.rng.next() >= q) return;
+    p.beta = p.beta / q;
+  }
+  p.alive = true;
+}
+
+void PathTracer::trace_batch(std::vector<PathState>& paths, const RenderSettings& settings,
+                             KernelStats& stats, RayLog* log) const {
+  const size_t n = paths.size();
+  std::vector<Hit> hits(n);
+  std::vector<uint8_t> found(n);
+  for (bool any = true; any;) {
+    for (size_t i = 0; i < n; ++i)
+      if (paths[i].alive) {
+        ++stats.rays;
+        if (log) log->closest.push_back(paths[i].ray);
+        found[i] = rs_.accel.intersect(paths[i].ray, hits[i]);
+        if (found[i]) __builtin_prefetch(&rs_.shading[hits[i].prim]);
+      }
+    // Start loading the texels every hit will need before shading any of them.
+    for (size_t i = 0; i < n; ++i)
+      if (paths[i].alive && found[i]) {
+        const TriangleShading& d = rs_.shading[hits[i].prim];
+        const int tex = rs_.scene.materials[d.material].base_color_texture;
+        if (tex >= 0) rs_.scene.textures[size_t(tex)].prefetch(interpolate_uv(d, hits[i]));
+      }
+    for (size_t i = 0; i < n; ++i)
+      if (paths[i].alive) step(paths[i], found[i] ? &hits[i] : nullptr, settings);
+    any = false;
+    for (PathState& p : paths) {
+      if (p.has_shadow) {
+        ++stats.rays;
+        if (log) log->shadow.push_back(p.shadow);
+        if (!rs_.accel.occluded(p.shadow)) p.L += p.shadow_contribution;
+        p.has_shadow = false;
+      }
+      any |= p.alive;
+    }
+  }
 }
 
 KernelStats PathTracer::render_rect(const ViewSetup& view, const RenderSettings& settings,
                                     PixelRect rect, Framebuffer& out, RayLog* log) const {
   KernelStats stats;
+  if (rect.area() == 0) return stats;
   const float inv_spp = 1.0f / float(settings.spp);
   const PinholeCamera camera(view.camera, view.width, view.height);
-  for (int y = rect.y0; y < rect.y1; ++y)
-    for (int x = rect.x0; x < rect.x1; ++x) {
+  // A batch holds whole pixels (all their samples), about kBatch paths.
+  constexpr int kBatch = 64;
+  const int64_t pixels_per_batch = std::max(1, kBatch / settings.spp);
+  const int rect_w = rect.x1 - rect.x0;
+  std::vector<PathState> paths;
+  for (int64_t first = 0; first < rect.area(); first += pixels_per_batch) {
+    const int64_t last = std::min(rect.area(), first + pixels_per_batch);
+    paths.clear();
+    for (int64_t k = first; k < last; ++k) {
+      const int x = rect.x0 + int(k % rect_w), y = rect.y0 + int(k / rect_w);
       const uint32_t pixel = uint32_t(y) * uint32_t(view.width) + uint32_t(x);
+      for (int s = 0; s < settings.spp; ++s) {
+        PathState& p = paths.emplace_back(
+            Rng::for_path(pixel, uint32_t(s), view.frame, view.view, settings.seed));
+        const float jx = p.rng.next(), jy = p.rng.next();
+        p.ray = camera.ray(float(x) + jx, float(y) + jy);
+      }
+    }
+    trace_batch(paths, settings, stats, log);
+    for (int64_t k = first; k < last; ++k) {
       Vec3 sum(0.0f);
       for (int s = 0; s < settings.spp; ++s) {
-        Rng rng = Rng::for_path(pixel, uint32_t(s), view.frame, view.view, settings.seed);
-        const float jx = rng.next(), jy = rng.next();
-        const Ray r = camera.ray(float(x) + jx, float(y) + jy);
-        sum += radiance(r, rng, settings, stats, log);
+        const Vec3 L = paths[size_t((k - first) * settings.spp + s)].L;
+        sum += is_finite(L) ? L : Vec3(0.0f);
       }
-      out.at(x, y) = sum * inv_spp;
-      stats.samples += uint64_t(settings.spp);
+      out.at(rect.x0 + int(k % rect_w), rect.y0 + int(k / rect_w)) = sum * inv_spp;
     }
+    stats.samples += uint64_t(last - first) * uint64_t(settings.spp);
+  }
   return stats;
 }
 

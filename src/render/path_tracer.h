@@ -55,6 +55,8 @@ struct RenderScene {
   std::vector<TriangleShading> shading;
 };
 
+struct PathState;
+
 class PathTracer {
  public:
   explicit PathTracer(const RenderScene& rs);
@@ -64,11 +66,13 @@ class PathTracer {
   KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, PixelRect rect,
                           Framebuffer& out, RayLog* log = nullptr) const;
 
-  // Radiance arriving at the camera along `ray` (one path).
-  Vec3 radiance(Ray ray, class Rng& rng, const RenderSettings& settings, KernelStats& stats,
-                RayLog* log) const;
-
  private:
+  // Advances path `p` by one bounce given its closest hit (nullptr: it left the scene).
+  void step(struct PathState& p, const Hit* hit, const RenderSettings& settings) const;
+  // Runs every path of `paths` to completion, a bounce at a time for all of them.
+  void trace_batch(std::vector<struct PathState>& paths, const RenderSettings& settings,
+                   KernelStats& stats, RayLog* log) const;
+
   const RenderScene& rs_;
   float eps_;  // ray-origin offset, scaled to the scene
 };

@@ -246,9 +246,12 @@ Vec3 GltfReader::mean_color(int texture_index) const {
   if (bytes == nullptr || !detail::decode_texture(bytes->data(), bytes->size(), &tex))
     return Vec3(0.0f);
   double sum[3] = {0, 0, 0};
-  for (const Vec3& c : tex.texels)
-    for (int k = 0; k < 3; ++k) sum[k] += c[k];
-  const double n = double(tex.texels.size());
+  for (int y = 0; y < tex.height; ++y)
+    for (int x = 0; x < tex.width; ++x) {
+      const Vec3 c = tex.texel(x, y);
+      for (int k = 0; k < 3; ++k) sum[k] += c[k];
+    }
+  const double n = double(tex.srgb8.size());
   return Vec3(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
 }
 

@@ -45,10 +45,6 @@ void validate_loaded(const Scene& scene, const std::string& path);
 // file, unreadable or empty.
 std::string read_file(const std::string& path);
 
-// Converts 8-bit sRGB texels (3 or 4 channels, row-major, top row first) to a linear
-// RGB texture; alpha is dropped.
-Texture texture_from_srgb8(const unsigned char* pixels, int width, int height, int channels);
-
 // Decodes an encoded image (JPEG, PNG, ...) with stb_image. Returns false, leaving `out`
 // untouched, when the data is not a decodable image.
 bool decode_texture(const unsigned char* bytes, size_t size, Texture* out);

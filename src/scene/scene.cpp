@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -7,21 +8,75 @@
 
 namespace multiray {
 
-Vec3 Texture::sample(Vec2 uv) const {
-  if (width <= 0 || height <= 0) return Vec3(1.0f);
+namespace {
+// Exact sRGB decoding curve (IEC 61966-2-1) for the 256 byte values.
+const std::array<float, 256>& srgb_to_linear() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) {
+      const double c = i / 255.0;
+      t[size_t(i)] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+    }
+    return t;
+  }();
+  return table;
+}
+
+Vec3 decode(uint32_t p, const std::array<float, 256>& lut) {
+  return {lut[p & 0xff], lut[(p >> 8) & 0xff], lut[(p >> 16) & 0xff]};
+}
+}  // namespace
+
+Texture Texture::from_srgb8(const unsigned char* pixels, int width, int height, int channels) {
+  Texture t;
+  t.width = width;
+  t.height = height;
+  t.srgb8.resize(size_t(width) * size_t(height));
+  for (size_t i = 0; i < t.srgb8.size(); ++i) {
+    const unsigned char* p = pixels + i * size_t(channels);
+    const uint32_t r = p[0], g = channels >= 3 ? p[1] : p[0], b = channels >= 3 ? p[2] : p[0];
+    t.srgb8[i] = r | g << 8 | b << 16;
+  }
+  return t;
+}
+
+Vec3 Texture::texel(int x, int y) const {
+  return decode(srgb8[size_t(y) * size_t(width) + size_t(x)], srgb_to_linear());
+}
+
+void Texture::footprint(Vec2 uv, int& x0, int& y0, float& tx, float& ty) const {
   // Texel centres sit at half-integers; fx lies in [-0.5, width - 0.5), so the left
   // neighbour is in [-1, width - 1] and wrapping needs a compare, not a (slow) modulo.
   const float fx = (uv.x - std::floor(uv.x)) * float(width) - 0.5f;
   const float fy = (uv.y - std::floor(uv.y)) * float(height) - 0.5f;
   const float x0f = std::floor(fx), y0f = std::floor(fy);
-  const float tx = fx - x0f, ty = fy - y0f;
-  int x0 = int(x0f), y0 = int(y0f);
+  tx = fx - x0f, ty = fy - y0f;
+  x0 = int(x0f), y0 = int(y0f);
   x0 = x0 < 0 ? width - 1 : std::min(x0, width - 1);
   y0 = y0 < 0 ? height - 1 : std::min(y0, height - 1);
+}
+
+void Texture::prefetch(Vec2 uv) const {
+  if (width <= 0 || height <= 0) return;
+  int x0, y0;
+  float tx, ty;
+  footprint(uv, x0, y0, tx, ty);
+  const int y1 = y0 + 1 < height ? y0 + 1 : 0;
+  __builtin_prefetch(&srgb8[size_t(y0) * size_t(width) + size_t(x0)]);
+  __builtin_prefetch(&srgb8[size_t(y1) * size_t(width) + size_t(x0)]);
+}
+
+Vec3 Texture::sample(Vec2 uv) const {
+  if (width <= 0 || height <= 0) return Vec3(1.0f);
+  int x0, y0;
+  float tx, ty;
+  footprint(uv, x0, y0, tx, ty);
   const int x1 = x0 + 1 < width ? x0 + 1 : 0, y1 = y0 + 1 < height ? y0 + 1 : 0;
-  const Vec3* row0 = &texels[size_t(y0) * size_t(width)];
-  const Vec3* row1 = &texels[size_t(y1) * size_t(width)];
-  return lerp(lerp(row0[x0], row0[x1], tx), lerp(row1[x0], row1[x1], tx), ty);
+  const uint32_t* row0 = &srgb8[size_t(y0) * size_t(width)];
+  const uint32_t* row1 = &srgb8[size_t(y1) * size_t(width)];
+  const auto& lut = srgb_to_linear();
+  return lerp(lerp(decode(row0[x0], lut), decode(row0[x1], lut), tx),
+              lerp(decode(row1[x0], lut), decode(row1[x1], lut), tx), ty);
 }
 
 Bounds3 Scene::bounds() const {

@@ -77,39 +77,13 @@ std::string read_file(const std::string& path) {
   return data;
 }
 
-// Exact sRGB decoding curve (IEC 61966-2-1), tabulated for the 256 byte values.
-static const std::array<float, 256>& srgb_to_linear_table() {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) {
-      const double c = i / 255.0;
-      t[i] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
-    }
-    return t;
-  }();
-  return table;
-}
-
-Texture texture_from_srgb8(const unsigned char* pixels, int width, int height, int channels) {
-  const auto& lut = srgb_to_linear_table();
-  Texture tex;
-  tex.width = width;
-  tex.height = height;
-  tex.texels.resize(size_t(width) * size_t(height));
-  for (size_t i = 0; i < tex.texels.size(); ++i) {
-    const unsigned char* p = pixels + i * size_t(channels);
-    tex.texels[i] = channels >= 3 ? Vec3(lut[p[0]], lut[p[1]], lut[p[2]]) : Vec3(lut[p[0]]);
-  }
-  return tex;
-}
-
 bool decode_texture(const unsigned char* bytes, size_t size, Texture* out) {
   if (bytes == nullptr || size == 0 || size > size_t(INT_MAX)) return false;
   int w = 0, h = 0, n = 0;
   unsigned char* px = stbi_load_from_memory(bytes, int(size), &w, &h, &n, 3);
   if (px == nullptr) return false;
   const bool ok = w > 0 && h > 0;
-  if (ok) *out = texture_from_srgb8(px, w, h, 3);
+  if (ok) *out = Texture::from_srgb8(px, w, h, 3);
   stbi_image_free(px);
   return ok;
 }

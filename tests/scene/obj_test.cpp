@@ -69,8 +69,8 @@ TEST_F(Obj, PolygonsAttributesAndMaterials) {
   EXPECT_EQ(s.materials[3].name, "default");
   const Texture& t = s.textures[0];
   ASSERT_EQ(t.width, 2);
-  EXPECT_FLOAT_EQ(t.texels[0].x, 1.0f);
-  EXPECT_NEAR(t.texels[1].y, 0.2158f, 1e-4f);
+  EXPECT_FLOAT_EQ(t.texel(0, 0).x, 1.0f);
+  EXPECT_NEAR(t.texel(1, 0).y, 0.2158f, 1e-4f);
   const uint32_t expected_ids[7] = {0, 0, 1, 1, 1, 2, 3};
   for (int i = 0; i < 7; ++i) EXPECT_EQ(s.material_ids[i], expected_ids[i]) << i;
 }
