@@ -1,0 +1,72 @@
+#include "balance/balancer.h"
+
+#include "balance/dlb.h"
+#include "balance/hybrid.h"
+#include "balance/layout.h"
+#include "balance/queue.h"
+#include "balance/semi_static.h"
+#include "balance/spec.h"
+#include "balance/static_ratios.h"
+#include "balance/uniform.h"
+
+namespace multiray::balance {
+
+namespace {
+Layout get_layout(Spec& spec) {
+  return layout_from_string(spec.get_string("layout", "rows", layout_names()));
+}
+
+std::unique_ptr<Balancer> build(Spec& spec, int n) {
+  const std::string& name = spec.name();
+  if (name == "uniform") return std::make_unique<UniformBalancer>(n, get_layout(spec));
+  if (name == "static") {
+    std::vector<double> ratios = spec.get_ratios("ratios", size_t(n));
+    return std::make_unique<StaticBalancer>(n, std::move(ratios), get_layout(spec));
+  }
+  if (name == "queue") {
+    const int tile = spec.get_int("tile", 64, 1, 4096);
+    const int batch = spec.get_int("batch", 1, 1, 1024);
+    return std::make_unique<QueueBalancer>(n, tile, batch);
+  }
+  if (name == "semi-static")
+    return std::make_unique<SemiStaticBalancer>(n, spec.get_double("alpha", 0.4, 1e-6, 1.0));
+  if (name == "dlb") {
+    const int interval = spec.get_int("interval", 5, 1, 1000);
+    const double band = spec.get_double("band", 0.1, 0.0, 10.0);
+    const double slow = spec.get_double("slow", 0.75, 0.0, 1.0);
+    int bits = -1;  // "auto": the paper's 128–256 pixels per strip
+    if (spec.get_string("bits", "auto", {}) != "auto") bits = spec.get_int("bits", -1, 0, 24);
+    return std::make_unique<DlbBalancer>(n, interval, band, slow, bits);
+  }
+  if (name == "hybrid") {
+    HybridBalancer::Options o;
+    o.bands = spec.get_int("bands", o.bands, 1, 256);
+    o.taper = spec.get_double("taper", o.taper, 0.0, 0.95);
+    o.tail = spec.get_double("tail", o.tail, 1e-4, 1.0);
+    o.alpha = spec.get_double("alpha", o.alpha, 1e-6, 1.0);
+    o.jump = spec.get_double("jump", o.jump, 0.0, 1e9);
+    o.gamma = spec.get_double("gamma", o.gamma, 0.0, 1.0);
+    o.min_chunk = spec.get_int("min_chunk", o.min_chunk, 1, 1 << 30);
+    o.steal = spec.get_bool("steal", o.steal);
+    return std::make_unique<HybridBalancer>(n, o);
+  }
+  std::string known;
+  for (const std::string& b : balancer_names()) known += (known.empty() ? "" : ", ") + b;
+  spec.fail("unknown balancer '" + name + "' (known: " + known + ")");
+}
+}  // namespace
+
+std::vector<std::string> balancer_names() {
+  return {"uniform", "static", "queue", "semi-static", "dlb", "hybrid"};
+}
+
+std::unique_ptr<Balancer> make_balancer(const std::string& text, int device_count) {
+  Spec spec(text);
+  if (device_count < 1 || device_count > 4096)
+    spec.fail("device count " + std::to_string(device_count) + " is outside 1..4096");
+  std::unique_ptr<Balancer> balancer = build(spec, device_count);
+  spec.finish();
+  return balancer;
+}
+
+}  // namespace multiray::balance

@@ -1,0 +1,63 @@
+// `dlb`: the workload-ratio dynamic load balancer of Leria, Mäkitalo, Ikkala &
+// Jääskeläinen, "Dynamic load balancing for real-time multiview path tracing on multi-GPU
+// architectures" (Virtual Reality & Intelligent Hardware, 2022/2025).
+//
+// Every view is cut into shuffled strips (van Antwerpen et al.) and device i renders the
+// fraction w_i of every view's strips, all views in the same frame. Device i's rate is
+// r_i = tasks_i / Δ_i (tasks: pixels it rendered, Δ_i: its time) and the ratios are
+// w_i = r_i / Σr. Ratios are only revisited every `interval` frames, and only when the
+// devices are imbalanced: some device's mean time over the window lies outside ±`band`
+// of the first device's. While imbalanced, a device slower than the global mean has its
+// time recorded as `slow`·(its local mean over the window) + (1 − `slow`)·(its latest
+// time).
+//
+// Our reading of `slow`: the paper states the constant but not how it enters Δ. Taking
+// Δ = 0.75·mean literally biases the fixed point (the slow device would keep 1/0.75 of
+// its fair share and a 3:1 pair would stay ~33% apart for ever), so we use it as the
+// weight of the slow device's history: a single slow frame cannot make it shed work, and
+// with steady timings the update is exact (w_i ∝ speed in one step).
+//
+// | parameter | default | meaning                                             |
+// |-----------|---------|-----------------------------------------------------|
+// | interval  | 5       | frames between imbalance checks (1–1000)            |
+// | band      | 0.1     | tolerated relative time difference to device 0      |
+// | slow      | 0.75    | weight of a slow device's local mean, [0, 1]        |
+// | bits      | auto    | log2 strips per view; auto = 128–256 px per strip   |
+#pragma once
+
+#include "balance/balancer_base.h"
+
+namespace multiray::balance {
+
+class DlbBalancer final : public BalancerBase {
+ public:
+  // `bits` < 0: automatic strip size.
+  DlbBalancer(int device_count, int interval = 5, double band = 0.1, double slow = 0.75,
+              int bits = -1);
+
+  std::string name() const override { return "dlb"; }
+  std::string spec() const override;
+  Plan plan(const FrameShape& shape, int frame) override;
+  void update(const FrameStats& stats) override;
+
+  const std::vector<double>& ratios() const { return ratios_; }
+  // Number of times the ratios were recomputed (imbalance found at a check).
+  int rebalances() const { return rebalances_; }
+
+ private:
+  void on_drop(int index) override;
+  void check();
+
+  int interval_;
+  double band_, slow_;
+  int bits_;
+  std::vector<double> ratios_;
+  // The current window: per device, sums of time and tasks over frames with a usable
+  // measurement, how many there were, and the latest time.
+  std::vector<double> time_sum_, task_sum_, last_time_;
+  std::vector<int> count_;
+  int frames_in_window_ = 0;
+  int rebalances_ = 0;
+};
+
+}  // namespace multiray::balance

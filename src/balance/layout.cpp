@@ -1,0 +1,49 @@
+#include "balance/layout.h"
+
+#include <cstddef>
+#include <stdexcept>
+
+#include "partition/bands.h"
+#include "partition/shuffled_strips.h"
+
+namespace multiray::balance {
+
+std::string to_string(Layout layout) {
+  switch (layout) {
+    case Layout::Rows:
+      return "rows";
+    case Layout::Columns:
+      return "columns";
+    case Layout::Strips:
+      return "strips";
+  }
+  return "rows";
+}
+
+std::vector<std::string> layout_names() { return {"rows", "columns", "strips"}; }
+
+Layout layout_from_string(const std::string& text) {
+  for (Layout l : {Layout::Rows, Layout::Columns, Layout::Strips})
+    if (to_string(l) == text) return l;
+  throw std::invalid_argument("unknown layout '" + text + "' (known: rows, columns, strips)");
+}
+
+Plan plan_from_ratios(const FrameShape& shape, const std::vector<double>& ratios, Layout layout,
+                      int strip_bits) {
+  Plan plan;
+  plan.ratios = ratios;
+  plan.assigned.resize(ratios.size());
+  if (shape.pixels() == 0) return plan;
+  if (layout == Layout::Strips) {
+    plan.assigned = shuffled_strips(shape.width, shape.height, shape.views, ratios, strip_bits);
+    return plan;
+  }
+  const std::vector<Rect> bands = split_bands(shape.width, shape.height, ratios,
+                                              layout == Layout::Rows ? Axis::Rows : Axis::Columns);
+  for (int view = 0; view < shape.views; ++view)
+    for (size_t i = 0; i < bands.size(); ++i)
+      if (!bands[i].empty()) plan.assigned[i].push_back(WorkItem{bands[i], view});
+  return plan;
+}
+
+}  // namespace multiray::balance

@@ -1,0 +1,29 @@
+// Turning fixed ratios into a plan: the geometry shared by uniform, static and dlb.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "balance/plan.h"
+
+namespace multiray::balance {
+
+enum class Layout {
+  Rows,     // one horizontal band per device in every view
+  Columns,  // one vertical band per device in every view
+  Strips,   // shuffled strips (van Antwerpen et al.) of every view
+};
+
+// "rows", "columns", "strips".
+std::string to_string(Layout layout);
+Layout layout_from_string(const std::string& text);  // throws std::invalid_argument
+std::vector<std::string> layout_names();
+
+// Gives device i the share ratios[i] of every view's area in `layout`; everything is in
+// `assigned`, nothing shared, no stealing; plan.ratios = `ratios` (the caller normalises).
+// `strip_bits` < 0 picks the paper's strip size. Area, not pixel_weight, is split: these
+// are the fixed-ratio baselines.
+Plan plan_from_ratios(const FrameShape& shape, const std::vector<double>& ratios, Layout layout,
+                      int strip_bits = -1);
+
+}  // namespace multiray::balance

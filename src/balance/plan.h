@@ -1,0 +1,61 @@
+// What a frame asks for (FrameShape) and how a balancer says it should be split (Plan).
+// Plain structs: the engine, the simulator and other renderers all read them the same way.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "partition/rect.h"
+
+namespace multiray::balance {
+
+// What is to be rendered this frame: `views` images of width×height pixels.
+//
+// `pixel_weight` is empty (every pixel costs the same) or holds the samples per pixel of
+// every view, views·height·width values, row-major per view, views in order (irregular
+// sampling: adaptive edge samples, foveated patterns). Balancers that split by work
+// (semi-static, hybrid) split by these weights; the others split by area.
+struct FrameShape {
+  int width = 0, height = 0, views = 1;
+  std::vector<float> pixel_weight;
+
+  int64_t pixels_per_view() const { return width > 0 && height > 0 ? int64_t(width) * height : 0; }
+  int64_t pixels() const { return views > 0 ? pixels_per_view() * views : 0; }
+  bool weighted() const { return !pixel_weight.empty(); }
+  // True when the two shapes have the same size and view count (weights may differ).
+  bool same_size(const FrameShape& o) const {
+    return width == o.width && height == o.height && views == o.views;
+  }
+};
+
+// Throws std::invalid_argument (one line) if `shape` has a negative size, views < 1, or
+// a pixel_weight that is neither empty nor views·height·width long.
+void validate_shape(const FrameShape& shape);
+
+// The plan for one frame.
+//
+// Dispatch semantics (the engine implements exactly this; simulate() models it): each
+// device first takes the items of assigned[i] in order; then pulls `batch` items at a
+// time from the front of `shared` (pulled items become its own, not yet started); then,
+// if `steal`, repeatedly takes the LAST not-started item of the device with the most
+// not-started work (pixels × weight, > 0; the lowest index on ties). All items together cover
+// every pixel of every view exactly once.
+struct Plan {
+  std::vector<std::vector<WorkItem>> assigned;  // per device, in order
+  std::vector<WorkItem> shared;                 // pulled on demand, front first
+  int batch = 1;                                // items per pull from `shared`, >= 1
+  bool steal = false;
+  std::vector<double> ratios;  // intended share of the frame's work per device, sum 1
+
+  // Every item of the plan, device by device and then the shared queue.
+  std::vector<WorkItem> all_items() const;
+};
+
+// Empty if `plan` is well formed for `shape` and `device_count` devices: one list and
+// one ratio per device, finite non-negative ratios summing to 1 (or all 0 when no device
+// is left), batch >= 1, and exact coverage of every pixel. Otherwise one line saying what
+// is wrong. O(pixels); meant for tests and debug builds.
+std::string check_plan(const Plan& plan, const FrameShape& shape, int device_count);
+
+}  // namespace multiray::balance

@@ -1,0 +1,62 @@
+// A pure, deterministic model of the engine's dispatch (Plan's semantics), for unit
+// tests, docs and experiments without devices. Event driven: each device owns a clock;
+// the device whose clock is earliest takes its next item (own list, then `batch` items
+// from the shared queue, then a steal), and its clock advances by the item's time. So a
+// steal only ever takes an item no one has started, as in the engine.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include "balance/balancer.h"
+
+namespace multiray::balance {
+
+// A synthetic device. An item of cost c (ms at speed 1) takes c / speed ms.
+struct SimDevice {
+  double speed = 1;             // > 0
+  double frame_noise = 0;       // speed scaled by 1 + U(−x, x), drawn once per frame
+  double item_noise = 0;        // each item's cost scaled by 1 + U(−x, x)
+  double item_overhead_ms = 0;  // fixed cost per item (dispatch, transfer)
+  // Mid-frame change: from `change_at_ms` on (frame-relative) the device runs at
+  // `speed_after`. An item straddling the change is split exactly.
+  double change_at_ms = std::numeric_limits<double>::infinity();
+  double speed_after = 1;
+  bool alive = true;  // a dead device renders nothing (its items may be stolen)
+};
+
+// Cost of an item in ms at speed 1.
+using CostFn = std::function<double(const WorkItem&)>;
+
+// Cost = `ms_per_sample` × the item's samples (its pixel_weight sum, or area).
+CostFn uniform_cost(const FrameShape& shape, double ms_per_sample);
+// Cost = Σ over the item's pixels of ms_per_sample(view, x, y) × the pixel's weight;
+// precomputed into a summed-area table, so each call is O(1).
+CostFn pixel_cost(const FrameShape& shape,
+                  const std::function<double(int view, int x, int y)>& ms_per_sample);
+
+// Runs one frame of `plan` on `devices` (one per plan list; std::invalid_argument
+// otherwise, or for a speed <= 0 on an alive device). Per device: time_ms = busy_ms = the
+// clock when it ran out of work, samples and pixels rendered, and an ItemReport per item.
+// Items nobody could take (a dead device's list without stealing) stay unrendered.
+// Same inputs and `seed` give the same result.
+FrameStats simulate(const Plan& plan, const FrameShape& shape,
+                    const std::vector<SimDevice>& devices, const CostFn& cost, int frame = 0,
+                    uint64_t seed = 0);
+
+struct SimFrame {
+  Plan plan;
+  FrameStats stats;
+};
+
+// plan → simulate → update for frames 0..frames-1. `devices_at(frame)` gives the device
+// models of each frame (speed changes between frames, deaths); a device reported dead is
+// dropped by the balancer through update().
+std::vector<SimFrame> simulate_run(
+    Balancer& balancer, const FrameShape& shape,
+    const std::function<std::vector<SimDevice>(int frame)>& devices_at, const CostFn& cost,
+    int frames, uint64_t seed = 0);
+
+}  // namespace multiray::balance

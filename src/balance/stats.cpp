@@ -1,0 +1,43 @@
+#include "balance/stats.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace multiray::balance {
+
+namespace {
+std::vector<double> usable_times(const FrameStats& stats) {
+  std::vector<double> t;
+  for (const DeviceFrameStats& d : stats.devices)
+    if (d.alive && std::isfinite(d.time_ms) && d.time_ms >= 0) t.push_back(d.time_ms);
+  return t;
+}
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? 0 : s / double(v.size());
+}
+}  // namespace
+
+double frame_time_ms(const FrameStats& stats) {
+  const std::vector<double> t = usable_times(stats);
+  return t.empty() ? 0 : *std::max_element(t.begin(), t.end());
+}
+
+double imbalance(const FrameStats& stats) {
+  const std::vector<double> t = usable_times(stats);
+  const double m = mean(t);
+  if (t.empty() || !(m > 0)) return 0;
+  return *std::max_element(t.begin(), t.end()) / m - 1;
+}
+
+double deviation(const FrameStats& stats) {
+  const std::vector<double> t = usable_times(stats);
+  const double m = mean(t);
+  if (t.empty() || !(m > 0)) return 0;
+  double worst = 0;
+  for (double x : t) worst = std::max(worst, std::abs(x - m));
+  return worst / m;
+}
+
+}  // namespace multiray::balance

@@ -1,0 +1,41 @@
+// What the devices measured in one frame, and the balance metrics derived from it.
+#pragma once
+
+#include <vector>
+
+#include "balance/plan.h"
+
+namespace multiray::balance {
+
+// One item a device rendered. `time_ms` is measured inside the device; `samples` is the
+// number of samples it took (0 if the engine does not count per item).
+struct ItemReport {
+  WorkItem item;
+  double time_ms = 0;
+  double samples = 0;
+};
+
+struct DeviceFrameStats {
+  double time_ms = 0;  // time the device worked on this frame (busy + emulated idle): the
+                       // quantity balancers equalise
+  double busy_ms = 0;  // pure compute time
+  double samples = 0, pixels = 0;
+  std::vector<ItemReport> items;  // what it actually rendered, incl. pulled and stolen items
+  bool alive = true;              // false: the device died; balancers drop it
+};
+
+struct FrameStats {
+  int frame = 0;
+  FrameShape shape;
+  std::vector<DeviceFrameStats> devices;
+};
+
+// Balance metrics over the alive devices whose time is finite and >= 0 (see DESIGN.md).
+// Frame time: the largest device time (ms); 0 when no device qualifies.
+double frame_time_ms(const FrameStats& stats);
+// Imbalance λ = t_max / t_mean − 1; 0 with fewer than one usable device or a zero mean.
+double imbalance(const FrameStats& stats);
+// Deviation (Harada) = max_i |t_i − t_mean| / t_mean; 0 as above.
+double deviation(const FrameStats& stats);
+
+}  // namespace multiray::balance

@@ -1,0 +1,65 @@
+// Leria et al.'s workload-ratio balancer: checks every `interval` frames, a ±`band`
+// tolerance, the `slow` weighting, shuffled strips over all views.
+#include <gtest/gtest.h>
+
+#include "balance/dlb.h"
+#include "partition/shuffled_strips.h"
+#include "sim_harness.h"
+
+namespace multiray::balance {
+namespace {
+
+using namespace testing;
+
+const FrameShape kShape{160, 90, 4, {}};
+
+TEST(Dlb, RebalancesOnlyAtTheIntervalAndExactlyForSteadyTimings) {
+  DlbBalancer b(2, 5, 0.1, 0.75);
+  const auto run = simulate_run(b, kShape, constant({3, 1}), flat_cost(kShape), 12);
+  for (int f = 0; f < 5; ++f) EXPECT_DOUBLE_EQ(planned(run[size_t(f)], 0), 0.5);
+  for (int f = 5; f < 12; ++f) EXPECT_NEAR(planned(run[size_t(f)], 0), 0.75, 0.005);
+  EXPECT_EQ(b.rebalances(), 1);  // at frame 10 the times are within the band
+}
+
+TEST(Dlb, NoRebalanceInsideTheBand) {
+  DlbBalancer b(2, 2, 0.1, 0.75);
+  simulate_run(b, kShape, constant({1.05, 1}), flat_cost(kShape), 10);  // 5% apart
+  EXPECT_EQ(b.rebalances(), 0);
+  DlbBalancer tight(2, 2, 0.01, 0.75);
+  simulate_run(tight, kShape, constant({1.05, 1}), flat_cost(kShape), 10);
+  EXPECT_GE(tight.rebalances(), 1);
+}
+
+TEST(Dlb, SlowWeightsTheLocalMeanOfSlowDevices) {
+  // Device 1 is getting slower through the window: its latest time is above its mean.
+  // slow = 1 uses the mean alone; smaller values lean towards the latest frame and take
+  // more work away from it.
+  auto last_ratio = [](double slow) {
+    DlbBalancer b(2, 4, 0.1, slow);
+    simulate_run(
+        b, kShape,
+        [](int f) {
+          return devices_with_speeds({1, 1.0 / (1 + 0.5 * f)});
+        },
+        flat_cost(kShape), 4);
+    return b.ratios()[1];
+  };
+  EXPECT_GT(last_ratio(1.0), last_ratio(0.75));
+  EXPECT_GT(last_ratio(0.75), last_ratio(0.0));
+}
+
+TEST(Dlb, EveryViewGetsTheSameShareOfShuffledStrips) {
+  DlbBalancer b(3, 1, 0.1, 0.75);
+  const auto run = simulate_run(b, kShape, constant({2, 1, 1}), flat_cost(kShape), 3);
+  const Plan& p = run.back().plan;
+  const int64_t strip = (160 * 90) >> strip_bits_for(160 * 90);
+  for (int v = 0; v < 4; ++v) {
+    int64_t px = 0;
+    for (const WorkItem& it : p.assigned[0])
+      if (it.view == v) px += it.rect.area();
+    EXPECT_NEAR(double(px) / (160 * 90), 0.5, double(strip) / (160 * 90)) << v;
+  }
+}
+
+}  // namespace
+}  // namespace multiray::balance

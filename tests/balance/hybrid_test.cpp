@@ -1,0 +1,163 @@
+// The hybrid balancer: one-frame convergence, stealing that absorbs a slowdown inside a
+// frame, speeds measured on the work really done, interleaved contiguous pieces with a
+// shrinking tail, and no drift of its estimates over long runs.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "balance/hybrid.h"
+#include "sim_harness.h"
+
+namespace multiray::balance {
+namespace {
+
+using namespace testing;
+
+const FrameShape kShape{640, 360, 1, {}};
+
+TEST(Hybrid, BalancedFromTheSecondFrameOnUnevenCost) {
+  // Frame 0 is split evenly; stealing already measures the speeds on it.
+  HybridBalancer pair(2);
+  const auto two = simulate_run(pair, kShape, constant({3, 1}), uneven_cost(kShape), 10);
+  for (int f = 1; f < 10; ++f) EXPECT_LT(imbalance(two[size_t(f)].stats), 0.02) << f;
+  // Five unequal devices: the row costs take a few frames to learn.
+  HybridBalancer five(5);
+  const auto run =
+      simulate_run(five, kShape, constant({4, 1, 2, 0.5, 3}), uneven_cost(kShape), 30);
+  for (int f = 1; f < 30; ++f) EXPECT_LT(imbalance(run[size_t(f)].stats), 0.05) << f;
+  EXPECT_LT(mean_imbalance(run, 1, 10), 0.025);
+  EXPECT_LT(mean_imbalance(run, 10, 30), 0.01);
+}
+
+TEST(Hybrid, StealingAbsorbsASlowdownInsideTheFrame) {
+  // Device 0 falls from speed 3 to 1 at 40% of frame 10. Without stealing that frame is
+  // ~40% imbalanced; with it, the tail chunks move to device 1.
+  auto devices = [](int f) {
+    auto d = devices_with_speeds({3, 1});
+    if (f == 10) d[0].change_at_ms = 23, d[0].speed_after = 1;
+    if (f > 10) d[0].speed = 1;
+    return d;
+  };
+  HybridBalancer with(2);
+  HybridBalancer::Options no_steal;
+  no_steal.steal = false;
+  HybridBalancer without(2, no_steal);
+  const auto a = simulate_run(with, kShape, devices, flat_cost(kShape), 13);
+  const auto b = simulate_run(without, kShape, devices, flat_cost(kShape), 13);
+  EXPECT_LT(imbalance(a[10].stats), 0.06);
+  EXPECT_GT(imbalance(b[10].stats), 0.3);
+  // Frame 11 plans with the speed averaged over frame 10 (stealing absorbs the rest);
+  // frame 12 with the new one.
+  EXPECT_LT(imbalance(a[11].stats), 0.05);
+  EXPECT_NEAR(planned(a[12], 0), 0.5, 0.02);
+  EXPECT_LT(imbalance(a[12].stats), 0.02);
+}
+
+TEST(Hybrid, SpeedsCountStolenWork) {
+  // Frame 0 is planned evenly; stealing moves work to the faster device, and its speed
+  // must be measured on all it rendered, not on its planned half.
+  HybridBalancer b(2);
+  const auto run = simulate_run(b, kShape, constant({3, 1}), flat_cost(kShape), 1);
+  EXPECT_GT(run[0].stats.devices[0].pixels, 0.7 * 640 * 360);
+  ASSERT_GT(b.speeds()[1], 0);
+  EXPECT_NEAR(b.speeds()[0] / b.speeds()[1], 3.0, 0.1);
+}
+
+// Device i's items as contiguous runs of flat pixel positions.
+int contiguous_runs(const std::vector<WorkItem>& items, const FrameShape& s) {
+  std::vector<std::pair<int64_t, int64_t>> ranges;
+  for (const WorkItem& it : items) {
+    const int64_t base = int64_t(it.view) * s.height * s.width;
+    ranges.push_back({base + int64_t(it.rect.y0) * s.width + it.rect.x0,
+                      base + int64_t(it.rect.y1 - 1) * s.width + it.rect.x1});
+  }
+  std::sort(ranges.begin(), ranges.end());
+  int runs = 0;
+  for (size_t k = 0; k < ranges.size(); ++k)
+    if (k == 0 || ranges[k].first != ranges[k - 1].second) ++runs;
+  return runs;
+}
+
+TEST(Hybrid, InterleavedPiecesWithAShrinkingTail) {
+  HybridBalancer b(3);
+  const auto run = simulate_run(b, kShape, constant({2, 1, 1}), flat_cost(kShape), 3);
+  const Plan& p = run.back().plan;
+  EXPECT_TRUE(p.steal);
+  for (int i = 0; i < 3; ++i) {
+    const auto& items = p.assigned[size_t(i)];
+    EXPECT_LE(contiguous_runs(items, kShape), 8) << i;  // one piece per band at most
+    EXPECT_GE(contiguous_runs(items, kShape), 4) << i;  // spread over the frame
+    // The last item (stolen first) is much smaller than a piece: a piece is 1/8 of the
+    // device's share.
+    int64_t share = 0;
+    for (const WorkItem& it : items) share += it.rect.area();
+    EXPECT_LT(items.back().rect.area() * 8 * 4, share) << i;
+  }
+}
+
+TEST(Hybrid, EstimatesDoNotDriftWithMovingCost) {
+  // A cost hotspot drifting up and down the frame for 300 frames, 5 unequal devices.
+  // (A single contiguous range per device lets the speed estimates wander; the
+  // interleaved bands keep them on the true speeds.)
+  const std::vector<double> speeds = {4, 1, 2, 0.5, 3};
+  const FrameShape shape{320, 180, 1, {}};
+  HybridBalancer b(5);
+  double efficiency = 0;
+  for (int f = 0; f < 300; ++f) {
+    const double centre = 90 + 72 * std::sin(f * 0.02);
+    const CostFn cost = pixel_cost(shape, [centre](int, int x, int y) {
+      return 1e-3 * (1 + 8 * std::exp(-std::pow((y - centre) / 20.0, 2)) * (x > 160 ? 1.5 : 0.5));
+    });
+    const Plan p = b.plan(shape, f);
+    const FrameStats s = simulate(p, shape, devices_with_speeds(speeds, 0.03), cost, f, 3);
+    b.update(s);
+    if (f >= 10) efficiency += cost(WorkItem{Rect{0, 0, 320, 180}, 0}) / 10.5 / frame_time_ms(s);
+    if (f >= 250) {
+      for (int i = 0; i < 5; ++i) EXPECT_NEAR(p.ratios[size_t(i)], speeds[size_t(i)] / 10.5, 0.02);
+    }
+  }
+  EXPECT_GT(efficiency / 290, 0.95);
+}
+
+TEST(Hybrid, SplitsIrregularSamplesByWork) {
+  // Adaptive sampling: a moving diagonal edge band at 5 spp, 1 spp elsewhere; 4 devices.
+  FrameShape shape{320, 180, 1, {}};
+  HybridBalancer b(4);
+  double dev = 0;
+  for (int f = 0; f < 40; ++f) {
+    shape.pixel_weight.assign(size_t(320 * 180), 1.0f);
+    for (int y = 0; y < 180; ++y)
+      for (int x = 0; x < 320; ++x)
+        if (std::abs(x - 160 - 100 * std::sin(f * 0.1) - 0.5 * y) < 20)
+          shape.pixel_weight[size_t(y * 320 + x)] = 5;
+    const Plan p = b.plan(shape, f);
+    ASSERT_EQ(check_plan(p, shape, 4), "");
+    const FrameStats s = simulate(p, shape, devices_with_speeds({4, 3, 2, 1}, 0.01),
+                                  uniform_cost(shape, 1e-3), f, 5);
+    b.update(s);
+    if (f >= 5) dev += deviation(s);
+  }
+  EXPECT_LT(dev / 35, 0.02);
+}
+
+TEST(Hybrid, MultiviewLightField) {
+  const FrameShape shape{96, 54, 9, {}};  // 3×3 views
+  HybridBalancer b(2);
+  const CostFn cost =
+      pixel_cost(shape, [](int v, int, int y) { return 1e-3 * (1 + v % 3 + (y > 30 ? 4 : 0)); });
+  const auto run = simulate_run(b, shape, constant({3, 1}, 0.02), cost, 20);
+  EXPECT_LT(mean_imbalance(run, 2, 20), 0.02);
+}
+
+TEST(Hybrid, NewShapeResetsTheCostModel) {
+  HybridBalancer b(2);
+  simulate_run(b, kShape, constant({3, 1}), uneven_cost(kShape), 5);
+  const FrameShape other{100, 50, 2, {}};
+  const auto run = simulate_run(b, other, constant({3, 1}), flat_cost(other), 3);
+  EXPECT_EQ(b.row_cost().size(), 100u);
+  EXPECT_LT(imbalance(run[0].stats), 0.03);  // speeds carry over
+}
+
+}  // namespace
+}  // namespace multiray::balance
