@@ -11,3 +11,30 @@ find_package(fmt REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+
+# OpenCL backend (src/device/opencl). MULTIRAY_WITH_OPENCL:
+#   AUTO (default) build it when the OpenCL loader and the C++ header are found, else warn;
+#   ON   strict: fail the configure when it cannot be built (CI, packagers);
+#   OFF  never build it.
+# Sets MULTIRAY_OPENCL_ENABLED for src/device.
+set(MULTIRAY_WITH_OPENCL AUTO CACHE STRING "Build the OpenCL device backend: AUTO, ON or OFF")
+set_property(CACHE MULTIRAY_WITH_OPENCL PROPERTY STRINGS AUTO ON OFF)
+string(TOUPPER "${MULTIRAY_WITH_OPENCL}" _multiray_ocl_mode)
+set(MULTIRAY_OPENCL_ENABLED OFF)
+if(_multiray_ocl_mode STREQUAL "AUTO" OR _multiray_ocl_mode STREQUAL "ON")
+  find_package(OpenCL QUIET)
+  find_package(OpenCLHeaders QUIET)
+  find_package(OpenCLHeadersCpp QUIET)
+  if(OpenCL_FOUND AND TARGET OpenCL::HeadersCpp)
+    set(MULTIRAY_OPENCL_ENABLED ON)
+    message(STATUS "multiray: OpenCL backend enabled (${OpenCL_LIBRARIES})")
+  else()
+    set(_multiray_ocl_why "needs ocl-icd-opencl-dev, opencl-headers and opencl-clhpp-headers")
+    if(_multiray_ocl_mode STREQUAL "ON")
+      message(FATAL_ERROR "MULTIRAY_WITH_OPENCL=ON but OpenCL cannot be built: ${_multiray_ocl_why}")
+    endif()
+    message(WARNING "multiray: OpenCL backend disabled (${_multiray_ocl_why})")
+  endif()
+elseif(NOT _multiray_ocl_mode STREQUAL "OFF")
+  message(FATAL_ERROR "MULTIRAY_WITH_OPENCL must be AUTO, ON or OFF, not '${MULTIRAY_WITH_OPENCL}'")
+endif()

@@ -5,6 +5,9 @@
 
 #include "core/error.h"
 #include "device/cpu/cpu_device.h"
+#ifdef MULTIRAY_HAS_OPENCL
+#include "device/opencl/opencl_device.h"
+#endif
 
 namespace multiray {
 
@@ -63,6 +66,9 @@ std::vector<int> parse_cores(const DeviceSpec& d) {
   return cores;
 }
 
+const std::set<std::string> kCpuKeys{"threads", "cores", "speed", "quota", "tile"};
+const std::set<std::string> kOpenClKeys{"speed", "tile", "wg", "cores", "fail_after"};
+
 }  // namespace
 
 std::vector<DeviceSpec> parse_device_specs(const std::string& text) {
@@ -73,18 +79,34 @@ std::vector<DeviceSpec> parse_device_specs(const std::string& text) {
     d.text = item;
     const auto parts = split(item, ':');
     d.type = parts[0];
-    if (d.type != "cpu")
+    if (d.type != "cpu" && d.type != "opencl")
       throw InputError("--devices: unknown device type '" + d.type + "' in '" + item +
-                       "' (known: cpu)");
-    for (size_t i = 1; i < parts.size(); ++i) {
+                       "' (known: cpu, opencl)");
+#ifndef MULTIRAY_HAS_OPENCL
+    if (d.type == "opencl")
+      throw InputError("--devices '" + item +
+                       "': this multiray was built without OpenCL (install ocl-icd-opencl-dev, "
+                       "opencl-clhpp-headers and configure with -DMULTIRAY_WITH_OPENCL=ON)");
+#endif
+    size_t first = 1;
+    // opencl:N — the device index may be given bare, before the KEY=VALUE options.
+    if (d.type == "opencl" && parts.size() > 1 && !parts[1].empty() &&
+        parts[1].find('=') == std::string::npos) {
+      d.options["index"] = parts[1];
+      first = 2;
+    }
+    for (size_t i = first; i < parts.size(); ++i) {
       const auto eq = parts[i].find('=');
       if (eq == std::string::npos || eq == 0)
         throw InputError("--devices '" + item + "': expected KEY=VALUE, got '" + parts[i] + "'");
       const std::string key = parts[i].substr(0, eq);
-      static const std::set<std::string> known{"threads", "cores", "speed", "quota", "tile"};
-      if (!known.count(key))
-        throw InputError("--devices '" + item + "': unknown option '" + key +
-                         "' (known: threads, cores, speed, quota, tile)");
+      const std::set<std::string>& known = d.type == "cpu" ? kCpuKeys : kOpenClKeys;
+      if (!known.count(key)) {
+        std::string list;
+        for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+        throw InputError("--devices '" + item + "': unknown option '" + key + "' (known: " + list +
+                         ")");
+      }
       if (!d.options.emplace(key, parts[i].substr(eq + 1)).second)
         throw InputError("--devices '" + item + "': option '" + key + "' given twice");
     }
@@ -94,7 +116,9 @@ std::vector<DeviceSpec> parse_device_specs(const std::string& text) {
   return specs;
 }
 
-std::unique_ptr<Device> create_device(const DeviceSpec& d, const RenderScene& rs) {
+namespace {
+
+std::unique_ptr<Device> create_cpu_device(const DeviceSpec& d, const RenderScene& rs) {
   CpuDeviceOptions o;
   if (d.options.count("threads")) o.threads = parse_int(d, "threads");
   if (d.options.count("cores")) o.cores = parse_cores(d);
@@ -109,6 +133,45 @@ std::unique_ptr<Device> create_device(const DeviceSpec& d, const RenderScene& rs
     throw InputError("--devices '" + d.text + "': quota must be in (0, 1] of a core per thread");
   if (o.tile < 1 || o.tile > 4096) throw InputError("--devices '" + d.text + "': tile must be in 1..4096");
   return std::make_unique<CpuDevice>(rs, o, d.text);
+}
+
+#ifdef MULTIRAY_HAS_OPENCL
+std::unique_ptr<Device> create_opencl_device(const DeviceSpec& d, const RenderScene& rs) {
+  OpenClDeviceOptions o;
+  if (d.options.count("index")) o.index = parse_int(d, "index");
+  if (d.options.count("speed")) o.speed = parse_number(d, "speed");
+  if (d.options.count("tile")) o.tile = parse_int(d, "tile");
+  if (d.options.count("wg")) o.work_group = parse_int(d, "wg");
+  if (d.options.count("cores")) o.cores = parse_cores(d);
+  if (d.options.count("fail_after")) o.fail_after = parse_int(d, "fail_after");
+  if (o.index < 0)
+    throw InputError("--devices '" + d.text + "': the OpenCL device index must be >= 0");
+  if (!(o.speed > 0 && o.speed <= 1))
+    throw InputError("--devices '" + d.text + "': speed must be in (0, 1] (emulated slowdown)");
+  if (o.tile < 1 || o.tile > 4096)
+    throw InputError("--devices '" + d.text + "': tile must be in 1..4096");
+  if (o.work_group < 1 || o.work_group > 4096)
+    throw InputError("--devices '" + d.text + "': wg must be in 1..4096");
+  if (o.fail_after < 0 && d.options.count("fail_after"))
+    throw InputError("--devices '" + d.text + "': fail_after must be >= 0");
+  try {
+    return std::make_unique<OpenClDevice>(rs, o, d.text);
+  } catch (const InputError& e) {
+    throw InputError("--devices '" + d.text + "': " + e.what());
+  }
+}
+#endif
+
+}  // namespace
+
+std::unique_ptr<Device> create_device(const DeviceSpec& d, const RenderScene& rs) {
+#ifdef MULTIRAY_HAS_OPENCL
+  if (d.type == "opencl") return create_opencl_device(d, rs);
+#else
+  if (d.type == "opencl")
+    throw InputError("--devices '" + d.text + "': this multiray was built without OpenCL");
+#endif
+  return create_cpu_device(d, rs);
 }
 
 std::vector<std::unique_ptr<Device>> create_devices(const std::string& text, const RenderScene& rs) {

@@ -7,6 +7,18 @@
 //     speed    emulated speed in (0, 1]: idles after each unit (default 1)
 //     quota    real throttle: fraction of a core per thread via cgroup v1 (default none)
 //     tile     pixel block size handed to threads (default 16)
+//   opencl[:N]:speed=S:tile=T:wg=W:cores=LIST:fail_after=K
+//     N        global OpenCL device index over all platforms, as `multiray devices` lists
+//              them (default 0)
+//     speed    emulated speed in (0, 1], as for cpu
+//     tile     side of the largest square one kernel launch renders (default 256)
+//     wg       work-group size (default 64, clamped to the kernel's maximum)
+//     cores    pin the thread that drives the device (with PoCL's `basic` driver the
+//              kernels run on that thread)
+//     fail_after  testing aid: the device fails when it pulls a unit after K units
+//   Each OpenCL device runs on its own context. With PoCL, POCL_DEVICES="basic basic" gives
+//   two independent one-core devices (opencl:0, opencl:1); its default `pthread` device uses
+//   POCL_MAX_PTHREAD_COUNT threads shared by every context on it.
 #pragma once
 
 #include <map>
@@ -24,7 +36,8 @@ struct DeviceSpec {
   std::string text;  // the original text of this device
 };
 
-// Throws InputError with a one-line message naming the bad part.
+// Throws InputError with a one-line message naming the bad part (also for `opencl` when
+// multiray was built without OpenCL).
 std::vector<DeviceSpec> parse_device_specs(const std::string& text);
 
 // Creates one device. Throws InputError (bad option) or DeviceError (cannot be created here).

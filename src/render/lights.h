@@ -27,6 +27,13 @@ class LightSampler {
   // (0 if it is not a light).
   float pdf_area(uint32_t prim) const;
 
+  // The sampler's tables, for backends that sample lights themselves (OpenCL) and must
+  // use the same distribution: emissive triangle indices, their cumulative selection
+  // probabilities (last = 1) and, per scene triangle, selection probability / area.
+  const std::vector<uint32_t>& triangles() const { return tris_; }
+  const std::vector<float>& cdf() const { return cdf_; }
+  const std::vector<float>& pdf_by_prim() const { return pdf_by_prim_; }
+
  private:
   const Scene& scene_;
   std::vector<uint32_t> tris_;        // emissive triangle indices

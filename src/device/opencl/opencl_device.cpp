@@ -1,0 +1,248 @@
+#include "device/opencl/opencl_device.h"
+
+#include <pthread.h>
+#include <sched.h>
+
+#include <atomic>
+#include <thread>
+
+#include "core/clock.h"
+#include "core/error.h"
+#include "device/opencl/cl_common.h"
+#include "device/opencl/cl_program.h"
+#include "device/opencl/kernel_source.h"
+#include "device/opencl/scene_buffers.h"
+
+namespace multiray {
+
+namespace {
+
+// Argument positions of render_rect in kernels/path_tracer.cl.
+enum KernelArg : cl_uint {
+  kArgLightCount = 7,
+  kArgEnvironment = 11,
+  kArgEye = 12,
+  kArgRect = 17,
+  kArgWidth = 18,
+  kArgRadiance = 25,
+  kArgRays = 26,
+};
+
+cl_float4 f4(Vec3 v, float w = 0) { return cl_float4{{v.x, v.y, v.z, w}}; }
+
+void pin_current_thread(const std::vector<int>& cores) {
+  if (cores.empty()) return;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  for (int c : cores) CPU_SET(c, &set);
+  pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
+}
+
+}  // namespace
+
+struct OpenClDevice::Impl {
+  OpenClDeviceOptions opts;
+  cl::Device device;
+  cl::Context context;
+  cl::CommandQueue queue;
+  cl::Kernel kernel;
+  std::vector<cl::Buffer> scene;  // kept alive while the kernel refers to them
+  cl::Buffer radiance, rays;      // one launch's output: tile x tile pixels
+  std::vector<cl_float4> host_radiance;
+  std::vector<cl_uint> host_rays;
+  size_t local = 64;
+  bool from_cache = false;
+  std::atomic<double> speed{1.0};
+  int units_done = 0;  // over the device's lifetime, for fail_after
+
+  // Uploads `v` read-only; OpenCL has no empty buffers, so an empty table becomes one
+  // zeroed element that the kernel never reads.
+  template <class T>
+  cl::Buffer upload(const std::vector<T>& v, uint64_t max_alloc) {
+    static const T zero{};
+    const size_t bytes = std::max<size_t>(1, v.size()) * sizeof(T);
+    if (bytes > max_alloc)
+      throw DeviceError("OpenCL: the scene needs a " + std::to_string(bytes >> 20) +
+                        " MB buffer, the device allows " + std::to_string(max_alloc >> 20) +
+                        " MB");
+    void* data = const_cast<T*>(v.empty() ? &zero : v.data());
+    scene.emplace_back(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, data);
+    return scene.back();
+  }
+
+  void setup(const RenderScene& rs) {
+    context = cl::Context(device);
+    queue = cl::CommandQueue(context, device);
+    const cl_util::BuiltProgram built =
+        cl_util::build_program(context, device, kPathTracerSource, "-cl-std=CL1.2");
+    from_cache = built.from_cache;
+    kernel = cl::Kernel(built.program, "render_rect");
+    local = std::max<size_t>(
+        1, std::min<size_t>(size_t(opts.work_group),
+                            kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device)));
+
+    const ClScene s = build_cl_scene(rs);
+    const uint64_t max_alloc = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+    kernel.setArg(0, upload(s.bvh.nodes, max_alloc));
+    kernel.setArg(1, upload(s.bvh.triangles, max_alloc));
+    kernel.setArg(2, upload(s.shading, max_alloc));
+    kernel.setArg(3, upload(s.materials, max_alloc));
+    kernel.setArg(4, upload(s.lights, max_alloc));
+    kernel.setArg(5, upload(s.light_cdf, max_alloc));
+    kernel.setArg(6, upload(s.light_pdf_by_prim, max_alloc));
+    kernel.setArg(kArgLightCount, cl_uint(s.lights.size()));
+    kernel.setArg(8, upload(s.texels, max_alloc));
+    kernel.setArg(9, upload(s.textures, max_alloc));
+    kernel.setArg(10, upload(s.srgb_to_linear, max_alloc));
+    kernel.setArg(kArgEnvironment, f4(s.environment, s.ray_eps));
+
+    const size_t pixels = size_t(opts.tile) * size_t(opts.tile);
+    host_radiance.resize(pixels);
+    host_rays.resize(pixels);
+    radiance = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
+    rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_uint));
+    kernel.setArg(kArgRadiance, radiance);
+    kernel.setArg(kArgRays, rays);
+  }
+
+  // Renders `r` of `view` into `out` in launches of at most tile x tile pixels.
+  KernelStats render_rect(const ViewSetup& view, const RenderSettings& st, PixelRect r,
+                          Framebuffer& out) {
+    KernelStats stats;
+    const PinholeCamera cam(view.camera, view.width, view.height);
+    kernel.setArg(kArgEye, f4(cam.eye));
+    kernel.setArg(kArgEye + 1, f4(cam.forward));
+    kernel.setArg(kArgEye + 2, f4(cam.right));
+    kernel.setArg(kArgEye + 3, f4(cam.up));
+    kernel.setArg(kArgEye + 4, cl_float4{{cam.scale_x, cam.scale_y, 2.0f / float(view.width),
+                                          2.0f / float(view.height)}});
+    kernel.setArg(kArgWidth, cl_uint(view.width));
+    kernel.setArg(kArgWidth + 1, cl_int(st.spp));
+    kernel.setArg(kArgWidth + 2, cl_int(st.max_bounces));
+    kernel.setArg(kArgWidth + 3, cl_int(st.rr_start));
+    kernel.setArg(kArgWidth + 4, cl_uint(view.frame));
+    kernel.setArg(kArgWidth + 5, cl_uint(view.view));
+    kernel.setArg(kArgWidth + 6, cl_ulong(st.seed));
+    const int t = opts.tile;
+    for (int y0 = r.y0; y0 < r.y1; y0 += t)
+      for (int x0 = r.x0; x0 < r.x1; x0 += t) {
+        const int w = std::min(t, r.x1 - x0), h = std::min(t, r.y1 - y0);
+        const size_t n = size_t(w) * size_t(h);
+        // OpenCL 1.2 needs the global size to be a multiple of the work-group size; the
+        // extra work-items return at once.
+        const size_t global = (n + local - 1) / local * local;
+        kernel.setArg(kArgRect, cl_int4{{x0, y0, w, h}});
+        queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(local));
+        queue.enqueueReadBuffer(radiance, CL_FALSE, 0, n * sizeof(cl_float4),
+                                host_radiance.data());
+        queue.enqueueReadBuffer(rays, CL_FALSE, 0, n * sizeof(cl_uint), host_rays.data());
+        queue.finish();
+        for (size_t i = 0; i < n; ++i) {
+          const cl_float4& p = host_radiance[i];
+          out.at(x0 + int(i % size_t(w)), y0 + int(i / size_t(w))) = Vec3(p.s[0], p.s[1], p.s[2]);
+          stats.rays += host_rays[i];
+        }
+        stats.samples += uint64_t(n) * uint64_t(std::max(0, st.spp));
+      }
+    return stats;
+  }
+};
+
+OpenClDevice::OpenClDevice(const RenderScene& rs, OpenClDeviceOptions opts, std::string spec)
+    : impl_(std::make_unique<Impl>()) {
+  if (!(opts.speed > 0 && opts.speed <= 1))
+    throw InputError("opencl device: speed must be in (0, 1], got " + std::to_string(opts.speed));
+  if (opts.tile < 1 || opts.tile > 4096)
+    throw InputError("opencl device: tile must be in 1..4096");
+  if (opts.work_group < 1 || opts.work_group > 4096)
+    throw InputError("opencl device: wg must be in 1..4096");
+  const int ncpu = int(std::thread::hardware_concurrency());
+  for (int c : opts.cores)
+    if (c < 0 || (ncpu > 0 && c >= ncpu))
+      throw InputError("opencl device: core " + std::to_string(c) + " does not exist");
+  const std::vector<cl::Device> all = cl_util::all_devices();
+  if (all.empty())
+    throw InputError(
+        "opencl device: no OpenCL device found (is an ICD such as pocl-opencl-icd "
+        "installed? `multiray devices` lists what is found)");
+  if (opts.index < 0 || size_t(opts.index) >= all.size())
+    throw InputError("opencl device: there is no OpenCL device " + std::to_string(opts.index) +
+                     " (found " + std::to_string(all.size()) +
+                     ", numbered from 0; see `multiray devices`)");
+  impl_->opts = opts;
+  impl_->speed = opts.speed;
+  impl_->device = all[size_t(opts.index)];
+  std::string name = "?";
+  try {
+    name = impl_->device.getInfo<CL_DEVICE_NAME>();
+    info_.threads = int(impl_->device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
+    impl_->setup(rs);
+  } catch (const cl::Error& e) {
+    throw DeviceError("opencl device " + std::to_string(opts.index) + " (" + name +
+                      "): setting up failed: " + cl_util::describe(e));
+  }
+  info_.type = "opencl";
+  info_.spec = std::move(spec);
+  info_.emulated_speed = opts.speed;
+  info_.name = "opencl " + std::to_string(opts.index) + " (" + name;
+  if (!opts.cores.empty()) {
+    info_.name += ", cores";
+    // Appended in two steps: GCC 12 warns (-Wrestrict, falsely) on " " + to_string(c).
+    for (int c : opts.cores) info_.name.append(" ").append(std::to_string(c));
+  }
+  if (opts.speed < 1) info_.name += ", emulated speed " + std::to_string(opts.speed).substr(0, 4);
+  info_.name += ")";
+}
+
+OpenClDevice::~OpenClDevice() = default;
+
+bool OpenClDevice::kernel_from_cache() const { return impl_->from_cache; }
+size_t OpenClDevice::work_group_size() const { return impl_->local; }
+
+void OpenClDevice::set_emulated_speed(double speed) {
+  impl_->speed = speed;
+  info_.emulated_speed = speed;
+}
+
+DeviceReport OpenClDevice::render(const FrameJob& job, WorkSource& source, int index) {
+  DeviceReport report;
+  const Stopwatch frame_clock;
+  pin_current_thread(impl_->opts.cores);
+  try {
+    WorkUnit unit;
+    while (source.next(index, unit)) {
+      if (impl_->opts.fail_after >= 0 && impl_->units_done >= impl_->opts.fail_after) {
+        report.failed = true;
+        report.error = "injected failure after " + std::to_string(impl_->units_done) +
+                       " units (fail_after, a testing aid)";
+        break;
+      }
+      const Stopwatch unit_clock;
+      const KernelStats ks = impl_->render_rect(job.views.at(unit.view), job.settings, unit.rect,
+                                                job.outputs->at(unit.view));
+      const double busy = unit_clock.elapsed_ms();
+      emulate_slowdown(busy, impl_->speed.load());
+      UnitReport ur;
+      ur.unit = unit;
+      ur.busy_ms = busy;
+      ur.time_ms = unit_clock.elapsed_ms();
+      ur.samples = ks.samples;
+      report.units.push_back(ur);
+      report.busy_ms += busy;
+      report.samples += ks.samples;
+      report.rays += ks.rays;
+      report.pixels += uint64_t(unit.rect.area());
+      ++impl_->units_done;
+    }
+  } catch (const cl::Error& e) {
+    report.failed = true;
+    report.error = info_.name + ": " + cl_util::describe(e);
+  } catch (const std::exception& e) {
+    report.failed = true;
+    report.error = info_.name + ": " + e.what();
+  }
+  report.wall_ms = frame_clock.elapsed_ms();
+  return report;
+}
+
+}  // namespace multiray

@@ -1,0 +1,87 @@
+// OpenCL devices under the engine: mixed with a CPU device the image still matches the
+// CPU's statistically, and an OpenCL device that fails mid-frame loses no pixel.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "balance/balancer.h"
+#include "engine/engine.h"
+#include "opencl_helpers.h"
+#include "scene/builders.h"
+
+namespace multiray {
+namespace {
+
+using testing::PixelStats;
+using testing::render_whole;
+using testing::view_of;
+
+constexpr int kW = 32, kH = 32;
+
+// Every frame of a CPU + OpenCL run is an independent image (the frame number is part of
+// every path's random key), so 32 frames give 32 samples per pixel for the z-test of
+// opencl_match_test.cpp, against 32 CPU-only images with other seeds. Same bounds, same
+// false-alarm reasoning.
+TEST(OpenClEngine, MixedCpuAndOpenClMatchesCpuStatistically) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  const Scene scene = make_cornell_box();
+  const RenderScene rs(scene);
+  CpuDevice cpu(rs, {}, "cpu");
+  OpenClDevice cl(rs, {}, "opencl:0");
+  const int frames = 32;
+  PixelStats ref, mixed;
+  for (int b = 0; b < frames; ++b)
+    ref.add(render_whole(cpu, view_of(scene, kW, kH),
+                         RenderSettings{.spp = 8, .max_bounces = 6, .seed = 1000 + uint64_t(b)}));
+  Engine engine({&cpu, &cl}, balance::make_balancer("hybrid", 2));
+  uint64_t cl_pixels = 0;
+  for (int f = 0; f < frames; ++f) {
+    const FrameRecord rec = engine.render_frame(f, {view_of(scene, kW, kH, f)},
+                                                RenderSettings{.spp = 8, .max_bounces = 6});
+    ASSERT_EQ(rec.devices[0].pixels + rec.devices[1].pixels, uint64_t(kW * kH)) << "frame " << f;
+    cl_pixels += rec.devices[1].pixels;
+    mixed.add(engine.images()[0]);
+  }
+  EXPECT_GT(cl_pixels, 0u);  // both devices took part
+  const std::vector<double> z = testing::z_scores(mixed, ref);
+  double beyond4 = 0, mean_z = 0;
+  for (double v : z) beyond4 += std::abs(v) > 4, mean_z += std::isfinite(v) ? v : 0;
+  beyond4 /= double(z.size()), mean_z /= double(z.size());
+  EXPECT_LE(beyond4, 0.01);
+  EXPECT_NEAR(mean_z, 0.0, 0.1);
+  std::printf("mixed: %.3f%% of channels beyond |z| = 4, mean z %.4f\n", 100 * beyond4, mean_z);
+}
+
+// An OpenCL device told to fail after one unit fails when it pulls its second (in frame 0
+// or, if the other device was quicker to take the work, a later one); the engine renders
+// the rest of its share on the other OpenCL device and drops it. Both devices compute
+// every pixel the same way, so that frame equals a healthy single-device image bit for bit.
+TEST(OpenClEngine, InjectedFailureIsRecoveredBitExactly) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  const Scene scene = make_cornell_box();
+  const RenderScene rs(scene);
+  const RenderSettings s{.spp = 2, .max_bounces = 4};
+  OpenClDevice healthy(rs, {}, "opencl:0");
+  OpenClDevice failing(rs, OpenClDeviceOptions{.fail_after = 1}, "opencl:0:fail_after=1");
+  Engine engine({&healthy, &failing}, balance::make_balancer("queue:tile=8", 2));
+  int frame = 0;
+  for (; frame < 10 && engine.alive(1); ++frame) {
+    const FrameRecord rec = engine.render_frame(frame, {view_of(scene, kW, kH, frame)}, s);
+    EXPECT_EQ(rec.devices[0].pixels + rec.devices[1].pixels, uint64_t(kW * kH));
+    if (engine.alive(1)) continue;
+    ASSERT_EQ(rec.messages.size(), 1u);
+    EXPECT_NE(rec.messages[0].find("injected failure"), std::string::npos) << rec.messages[0];
+  }
+  ASSERT_FALSE(engine.alive(1)) << "the failing device never failed";
+  const Framebuffer reference = render_whole(healthy, view_of(scene, kW, kH, frame - 1), s);
+  EXPECT_EQ(std::memcmp(engine.images()[0].pixels.data(), reference.pixels.data(),
+                        reference.pixels.size() * sizeof(Vec3)),
+            0)
+      << "frame " << frame - 1;
+  // The next frame runs on the survivor alone.
+  const FrameRecord next = engine.render_frame(frame, {view_of(scene, kW, kH, frame)}, s);
+  EXPECT_EQ(next.devices[0].pixels, uint64_t(kW * kH));
+}
+
+}  // namespace
+}  // namespace multiray

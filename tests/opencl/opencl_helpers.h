@@ -1,0 +1,86 @@
+// Shared by the OpenCL tests: skipping without a device, rendering on any devices without
+// the engine, and per-pixel statistics over independent renders for z-tests.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "device/cpu/cpu_device.h"
+#include "device/opencl/opencl_device.h"
+#include "device/opencl/opencl_platform.h"
+#include "device/work_list.h"
+
+namespace multiray::testing {
+
+#define MULTIRAY_SKIP_WITHOUT_OPENCL()                                                \
+  if (list_opencl_devices().empty())                                                  \
+  GTEST_SKIP() << "no OpenCL device on this machine (install pocl-opencl-icd to run " \
+                  "the OpenCL tests)"
+
+inline ViewSetup view_of(const Scene& scene, int w, int h, int frame = 0) {
+  ViewSetup v;
+  v.camera = scene.cameras.at(0);
+  v.width = w, v.height = h, v.frame = uint32_t(frame);
+  return v;
+}
+
+// Renders `regions` of one view with `devices` running concurrently, each pulling from
+// one shared list. Fails the test when a device reports a failure.
+inline Framebuffer render_on(const std::vector<Device*>& devices, const ViewSetup& view,
+                             const RenderSettings& settings,
+                             const std::vector<PixelRect>& regions) {
+  std::vector<WorkUnit> units;
+  for (const PixelRect& r : regions) units.push_back(WorkUnit{r, 0, uint32_t(units.size())});
+  ListWorkSource source(units);
+  std::vector<Framebuffer> out{Framebuffer(view.width, view.height)};
+  FrameJob job{{view}, settings, &out};
+  std::vector<DeviceReport> reports(devices.size());
+  std::vector<std::thread> threads;
+  for (size_t i = 0; i < devices.size(); ++i)
+    threads.emplace_back([&, i] { reports[i] = devices[i]->render(job, source, int(i)); });
+  for (auto& t : threads) t.join();
+  for (const DeviceReport& r : reports) EXPECT_FALSE(r.failed) << r.error;
+  return out[0];
+}
+
+inline Framebuffer render_whole(Device& device, const ViewSetup& view, const RenderSettings& s) {
+  return render_on({&device}, view, s, {{0, 0, view.width, view.height}});
+}
+
+// Per pixel and channel: mean and sample variance of independent estimates (Welford).
+struct PixelStats {
+  int n = 0;
+  std::vector<double> mean, m2;
+  void add(const Framebuffer& fb) {
+    if (mean.empty()) mean.assign(fb.pixels.size() * 3, 0.0), m2.assign(mean.size(), 0.0);
+    ++n;
+    for (size_t i = 0; i < fb.pixels.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        const double x = fb.pixels[i][c], d = x - mean[3 * i + size_t(c)];
+        mean[3 * i + size_t(c)] += d / n;
+        m2[3 * i + size_t(c)] += d * (x - mean[3 * i + size_t(c)]);
+      }
+  }
+  double var_of_mean(size_t k) const { return m2[k] / double(n - 1) / double(n); }
+};
+
+// Two-sample z statistics (Welch) of every pixel channel. A channel where both samples
+// have zero variance gets z = 0 if the means agree to 1e-5 (relative) and +inf if not.
+inline std::vector<double> z_scores(const PixelStats& a, const PixelStats& b) {
+  std::vector<double> z(a.mean.size());
+  for (size_t k = 0; k < z.size(); ++k) {
+    const double diff = a.mean[k] - b.mean[k], se = std::sqrt(a.var_of_mean(k) + b.var_of_mean(k));
+    if (se > 0) {
+      z[k] = diff / se;
+    } else {
+      z[k] = std::abs(diff) <= 1e-5 * std::max(1.0, std::abs(a.mean[k])) ? 0.0 : INFINITY;
+    }
+  }
+  return z;
+}
+
+}  // namespace multiray::testing

@@ -1,0 +1,122 @@
+// The OpenCL image against the CPU's: the same estimator, so per-pixel means agree within
+// their noise (z-test over independent seeds), and with the same seed the same random
+// numbers, so most pixels agree to float rounding.
+//
+// The z-test. Each side renders B = 32 independent images (seeds 1000+b on the CPU,
+// 2000+b on OpenCL, so the two sides share no random numbers) of S samples per pixel. Per
+// pixel and channel, z = (mean_cl - mean_cpu) / sqrt(var_cl / B + var_cpu / B) with the
+// sample variances of the B images. Under "same distribution" z follows Student's t with
+// about 2(B - 1) = 62 degrees of freedom, so P(|z| > 4) ~ 1.7e-4 per channel: about 0.5 of
+// the 3072 channels of a 32 x 32 image are expected beyond 4. The test fails when more
+// than 1% of them (31) are, a false-alarm rate below 1e-30 if channels were independent
+// and normal. Heavy-tailed pixels (caustics, the light's edge) push real counts above the
+// t prediction; the bound leaves room for that yet catches a wrong material, light or
+// camera, which shifts whole regions by many sigma. A second check catches small biases
+// spread over the image: the mean of all z, which is 0 by symmetry and has a standard
+// deviation of about 1/sqrt(3072) = 0.018, must stay within +-0.1 (5.5 sigma).
+// All seeds are fixed, so the outcome is deterministic on a given OpenCL implementation.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "opencl_helpers.h"
+#include "scene/builders.h"
+
+namespace multiray {
+namespace {
+
+using testing::PixelStats;
+using testing::render_whole;
+using testing::view_of;
+
+constexpr int kW = 32, kH = 32, kBatches = 32;
+
+struct ZSummary {
+  double beyond4 = 0;  // fraction of channels with |z| > 4
+  double mean_z = 0;
+};
+
+ZSummary summarize(const std::vector<double>& z) {
+  ZSummary s;
+  size_t finite = 0;
+  for (double v : z) {
+    s.beyond4 += std::abs(v) > 4;
+    if (std::isfinite(v)) s.mean_z += v, ++finite;
+  }
+  s.beyond4 /= double(z.size());
+  s.mean_z /= double(std::max<size_t>(1, finite));
+  return s;
+}
+
+PixelStats batches(Device& device, const Scene& scene, int spp, uint64_t first_seed) {
+  PixelStats st;
+  for (int b = 0; b < kBatches; ++b) {
+    const RenderSettings s{.spp = spp, .max_bounces = 6, .seed = first_seed + uint64_t(b)};
+    st.add(render_whole(device, view_of(scene, kW, kH), s));
+  }
+  return st;
+}
+
+void expect_matches_cpu(const Scene& scene, int spp) {
+  const RenderScene rs(scene);
+  CpuDevice cpu(rs, {}, "cpu");
+  OpenClDevice cl(rs, {}, "opencl:0");
+  const PixelStats ref = batches(cpu, scene, spp, 1000), got = batches(cl, scene, spp, 2000);
+  const ZSummary z = summarize(testing::z_scores(got, ref));
+  EXPECT_LE(z.beyond4, 0.01) << scene.name;
+  EXPECT_NEAR(z.mean_z, 0.0, 0.1) << scene.name;
+  std::printf("%s: %.3f%% of channels beyond |z| = 4, mean z %.4f\n", scene.name.c_str(),
+              100 * z.beyond4, z.mean_z);
+}
+
+// The Cornell box: Lambert, a rough GGX conductor, one area light.
+TEST(OpenClMatch, CornellBoxMatchesCpuStatistically) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  expect_matches_cpu(make_cornell_box(), 8);
+}
+
+// The same box with the rest of the material model: a textured floor and walls (8-bit sRGB,
+// bilinear, wrapped), a rough glass ball, a half-metallic red wall.
+TEST(OpenClMatch, TexturesAndGlassMatchCpuStatistically) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  Scene scene = make_cornell_box();
+  scene.name = "cornell-box-textured-glass";
+  for (const Vec3& p : scene.positions) scene.uvs.push_back({1.3f * p.x + 0.7f * p.y, 1.1f * p.z});
+  unsigned char checker[4 * 4 * 3];
+  for (int i = 0; i < 16; ++i)
+    for (int c = 0; c < 3; ++c)
+      checker[3 * i + c] = ((i + i / 4) % 2) ? 230 : uint8_t(40 + 60 * c);
+  scene.textures.push_back(Texture::from_srgb8(checker, 4, 4, 3));
+  for (Material& m : scene.materials) {
+    if (m.name == "white") m.base_color_texture = 0;
+    if (m.name == "metal") m.transmission = 1.0f, m.roughness = 0.2f, m.ior = 1.5f;
+    if (m.name == "red") m.metallic = 0.5f, m.roughness = 0.4f;
+  }
+  validate(scene);
+  expect_matches_cpu(scene, 8);
+}
+
+// Same seed, same random numbers: the port of the RNG and of the order in which paths
+// draw from it is exact, so nearly every pixel equals the CPU's to float rounding (a few
+// paths diverge when an ulp of difference flips a Russian-roulette or lobe decision).
+TEST(OpenClMatch, SameSeedGivesNearlyTheCpuImage) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  const Scene scene = make_cornell_box();
+  const RenderScene rs(scene);
+  CpuDevice cpu(rs, {}, "cpu");
+  OpenClDevice cl(rs, {}, "opencl:0");
+  const RenderSettings s{.spp = 4, .max_bounces = 6, .seed = 5};
+  const Framebuffer a = render_whole(cpu, view_of(scene, kW, kH), s);
+  const Framebuffer b = render_whole(cl, view_of(scene, kW, kH), s);
+  size_t close = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      close += std::abs(a.pixels[i][c] - b.pixels[i][c]) <= 1e-3f * std::max(1.0f, a.pixels[i][c]);
+  const double fraction = double(close) / double(3 * a.pixels.size());
+  std::printf("same seed: %.2f%% of channels within 1e-3\n", 100 * fraction);
+  EXPECT_GE(fraction, 0.9);
+}
+
+}  // namespace
+}  // namespace multiray
