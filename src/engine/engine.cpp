@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
+#include <functional>
 
 #include "core/clock.h"
 #include "core/error.h"
@@ -22,7 +22,10 @@ void imbalance_of(const std::vector<double>& t, double& imbalance, double& devia
 }
 
 Engine::Engine(std::vector<Device*> devices, std::unique_ptr<balance::Balancer> balancer)
-    : devices_(std::move(devices)), balancer_(std::move(balancer)), alive_(devices_.size(), true) {
+    : devices_(std::move(devices)),
+      threads_(devices_.size()),
+      balancer_(std::move(balancer)),
+      alive_(devices_.size(), true) {
   if (devices_.empty()) throw InputError("no devices to render with");
 }
 
@@ -52,13 +55,10 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
   // Every live device renders on its own thread; the device measures its own time.
   std::vector<DeviceReport> reports(n);
   clock.restart();
-  {
-    std::vector<std::thread> threads;
-    for (size_t i = 0; i < n; ++i)
-      if (alive_[i])
-        threads.emplace_back([&, i] { reports[i] = devices_[i]->render(job, source, int(i)); });
-    for (auto& t : threads) t.join();
-  }
+  std::vector<std::function<void()>> jobs(n);
+  for (size_t i = 0; i < n; ++i)
+    if (alive_[i]) jobs[i] = [&, i] { reports[i] = devices_[i]->render(job, source, int(i)); };
+  threads_.run(jobs);
   rec.frame_ms = clock.elapsed_ms();
 
   // Gather: devices wrote their pixels in place; what is left is work a failed device
@@ -80,7 +80,10 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
     if (helper == alive_.end()) throw DeviceError("every device has failed: " + reports[i].error);
     const size_t h = size_t(helper - alive_.begin());
     ListWorkSource list(redo);
-    const DeviceReport extra = devices_[h]->render(job, list, int(h));
+    DeviceReport extra;
+    std::vector<std::function<void()>> redo_job(n);
+    redo_job[h] = [&] { extra = devices_[h]->render(job, list, int(h)); };
+    threads_.run(redo_job);
     DeviceReport& r = reports[h];
     r.units.insert(r.units.end(), extra.units.begin(), extra.units.end());
     r.samples += extra.samples, r.pixels += extra.pixels, r.rays += extra.rays;

@@ -8,6 +8,7 @@
 #include "balance/balancer.h"
 #include "core/image.h"
 #include "device/device.h"
+#include "engine/device_threads.h"
 #include "engine/frame_record.h"
 
 namespace multiray {
@@ -38,6 +39,7 @@ class Engine {
 
  private:
   std::vector<Device*> devices_;
+  DeviceThreads threads_;
   std::unique_ptr<balance::Balancer> balancer_;
   std::vector<Framebuffer> images_;
   std::vector<bool> alive_;

@@ -35,7 +35,9 @@ CgroupQuota::CgroupQuota(const std::string& name, double fraction) {
   if (mkdir(dir_.c_str(), 0755) != 0 && errno != EEXIST)
     throw DeviceError("quota=: cannot create " + dir_ + ": " + std::strerror(errno) +
                       " (needs root)");
-  const long period = 100000;
+  // A short period (10 ms) throttles smoothly even within one frame; with the default
+  // 100 ms a frame shorter than the period could run unthrottled.
+  const long period = 10000;
   if (!write_file(dir_ + "/cpu.cfs_period_us", std::to_string(period)) ||
       !write_file(dir_ + "/cpu.cfs_quota_us", std::to_string(long(period * fraction)))) {
     rmdir(dir_.c_str());

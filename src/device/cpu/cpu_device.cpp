@@ -106,8 +106,14 @@ void CpuDevice::set_emulated_speed(double speed) {
 
 DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int index) {
   DeviceReport report;
+  // Pin the calling thread and move it into the quota group once per thread and device
+  // (the engine keeps one thread per device); this set-up is not part of the frame time.
+  thread_local const void* prepared_for = nullptr;
+  if (prepared_for != this) {
+    impl_->setup->prepare_current_thread();
+    prepared_for = this;
+  }
   const Stopwatch frame_clock;
-  impl_->setup->prepare_current_thread();
   const int tile = std::max(1, impl_->opts.tile);
   try {
     WorkUnit unit;
