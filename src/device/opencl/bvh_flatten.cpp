@@ -50,29 +50,38 @@ struct Flattener {
 
   Vec3 vertex(uint32_t prim, int k) const { return scene.positions[scene.indices[3 * prim + k]]; }
 
-  // Appends `node` (whose box is `b`) and its subtree in depth-first order.
-  void emit(const BuildNode* node, const RTCBounds& b, int depth) {
+  // Appends the leaf's triangles and returns its reference.
+  uint32_t leaf(const BuildNode* node) {
+    if (node->count > kMaxLeafTriangles)
+      throw DeviceError("OpenCL BVH: a leaf holds more triangles than the kernel allows");
+    const uint32_t first = uint32_t(out.triangles.size());
+    for (uint32_t i = 0; i < node->count; ++i) {
+      const uint32_t prim = node->prims[i];
+      const Vec3 v0 = vertex(prim, 0), e1 = vertex(prim, 1) - v0, e2 = vertex(prim, 2) - v0;
+      out.triangles.push_back(
+          FlatTriangle{{v0.x, v0.y, v0.z}, prim, {e1.x, e1.y, e1.z}, 0, {e2.x, e2.y, e2.z}, 0});
+    }
+    return kLeafBit | first << kLeafCountBits | (node->count - 1);
+  }
+
+  // Appends interior `node` and its subtree in depth-first order; returns its index.
+  uint32_t interior(const BuildNode* node, int depth) {
     if (depth + 1 > kMaxBvhDepth)
       throw DeviceError("OpenCL BVH: tree deeper than the kernel's stack (" +
                         std::to_string(kMaxBvhDepth) + ")");
     out.depth = std::max(out.depth, depth + 1);
-    const size_t index = out.nodes.size();
-    out.nodes.push_back(
-        FlatNode{{b.lower_x, b.lower_y, b.lower_z}, 0, {b.upper_x, b.upper_y, b.upper_z}, 0});
-    if (node->count > 0) {
-      out.nodes[index].offset = uint32_t(out.triangles.size());
-      out.nodes[index].count = node->count;
-      for (uint32_t i = 0; i < node->count; ++i) {
-        const uint32_t prim = node->prims[i];
-        const Vec3 v0 = vertex(prim, 0), e1 = vertex(prim, 1) - v0, e2 = vertex(prim, 2) - v0;
-        out.triangles.push_back(
-            FlatTriangle{{v0.x, v0.y, v0.z}, prim, {e1.x, e1.y, e1.z}, 0, {e2.x, e2.y, e2.z}, 0});
-      }
-      return;
+    const uint32_t index = uint32_t(out.nodes.size());
+    out.nodes.emplace_back();
+    for (int c = 0; c < 2; ++c) {
+      const BuildNode* child = node->child[c];
+      const uint32_t ref = child->count > 0 ? leaf(child) : interior(child, depth + 1);
+      FlatNode& n = out.nodes[index];  // emplace_back above may have moved the array
+      const RTCBounds& b = node->bounds[c];
+      n.lo[c][0] = b.lower_x, n.lo[c][1] = b.lower_y, n.lo[c][2] = b.lower_z;
+      n.hi[c][0] = b.upper_x, n.hi[c][1] = b.upper_y, n.hi[c][2] = b.upper_z;
+      n.child[c] = ref;
     }
-    emit(node->child[0], node->bounds[0], depth + 1);
-    out.nodes[index].offset = uint32_t(out.nodes.size());
-    emit(node->child[1], node->bounds[1], depth + 1);
+    return index;
   }
 };
 
@@ -82,7 +91,7 @@ FlatBvh build_flat_bvh(const Scene& scene) {
   // Build primitives: the box of every triangle that can be hit.
   std::vector<RTCBuildPrimitive> prims;
   prims.reserve(scene.triangle_count());
-  RTCBounds root{INFINITY, INFINITY, INFINITY, 0, -INFINITY, -INFINITY, -INFINITY, 0};
+  RTCBounds bounds{INFINITY, INFINITY, INFINITY, 0, -INFINITY, -INFINITY, -INFINITY, 0};
   for (uint32_t t = 0; t < scene.triangle_count(); ++t) {
     const Vec3 a = scene.positions[scene.indices[3 * t]],
                b = scene.positions[scene.indices[3 * t + 1]],
@@ -91,11 +100,17 @@ FlatBvh build_flat_bvh(const Scene& scene) {
     if (n.x == 0 && n.y == 0 && n.z == 0) continue;  // zero area: never hit
     const Vec3 lo = min(a, min(b, c)), hi = max(a, max(b, c));
     prims.push_back(RTCBuildPrimitive{lo.x, lo.y, lo.z, 0, hi.x, hi.y, hi.z, t});
-    root.lower_x = std::min(root.lower_x, lo.x), root.upper_x = std::max(root.upper_x, hi.x);
-    root.lower_y = std::min(root.lower_y, lo.y), root.upper_y = std::max(root.upper_y, hi.y);
-    root.lower_z = std::min(root.lower_z, lo.z), root.upper_z = std::max(root.upper_z, hi.z);
+    bounds.lower_x = std::min(bounds.lower_x, lo.x),
+    bounds.upper_x = std::max(bounds.upper_x, hi.x);
+    bounds.lower_y = std::min(bounds.lower_y, lo.y),
+    bounds.upper_y = std::max(bounds.upper_y, hi.y);
+    bounds.lower_z = std::min(bounds.lower_z, lo.z),
+    bounds.upper_z = std::max(bounds.upper_z, hi.z);
   }
   if (prims.empty()) throw DeviceError("OpenCL BVH: the scene has no triangle of non-zero area");
+  if (prims.size() >= kMaxFlatTriangles)
+    throw DeviceError("OpenCL BVH: more than " + std::to_string(kMaxFlatTriangles) +
+                      " triangles, the kernel's limit");
 
   std::unique_ptr<RTCDeviceTy, void (*)(RTCDevice)> device(rtcNewDevice(nullptr),
                                                            rtcReleaseDevice);
@@ -109,7 +124,7 @@ FlatBvh build_flat_bvh(const Scene& scene) {
   args.minLeafSize = 1;
   // Small leaves: in the kernel a triangle test costs about two box tests, and the SAH
   // weights below make the builder stop splitting where that pays off.
-  args.maxLeafSize = 8;
+  args.maxLeafSize = 8;  // <= kMaxLeafTriangles
   args.traversalCost = 1.0f;
   args.intersectionCost = 2.0f;
   args.bvh = bvh.get();
@@ -125,9 +140,26 @@ FlatBvh build_flat_bvh(const Scene& scene) {
     throw DeviceError("OpenCL BVH: Embree's rtcBuildBVH failed");
 
   FlatBvh out;
-  out.nodes.reserve(2 * prims.size());
+  out.nodes.reserve(prims.size());
   out.triangles.reserve(prims.size());
-  Flattener{scene, out}.emit(top, root, 0);
+  Flattener flat{scene, out};
+  if (top->count > 0) {
+    // A single leaf: a root whose two children are that leaf (tested twice, harmless),
+    // since nodes only hold children.
+    const uint32_t ref = flat.leaf(top);
+    FlatNode root{};
+    for (int c = 0; c < 2; ++c) {
+      root.lo[c][0] = bounds.lower_x, root.lo[c][1] = bounds.lower_y,
+      root.lo[c][2] = bounds.lower_z;
+      root.hi[c][0] = bounds.upper_x, root.hi[c][1] = bounds.upper_y,
+      root.hi[c][2] = bounds.upper_z;
+      root.child[c] = ref;
+    }
+    out.nodes.push_back(root);
+    out.depth = 1;
+  } else {
+    flat.interior(top, 0);
+  }
   return out;
 }
 

@@ -206,8 +206,14 @@ void OpenClDevice::set_emulated_speed(double speed) {
 
 DeviceReport OpenClDevice::render(const FrameJob& job, WorkSource& source, int index) {
   DeviceReport report;
+  // Pin the calling thread once per thread and device, as the CPU device does (the engine
+  // keeps one thread per device); the set-up is not part of the frame time.
+  thread_local const void* pinned_for = nullptr;
+  if (pinned_for != this) {
+    pin_current_thread(impl_->opts.cores);
+    pinned_for = this;
+  }
   const Stopwatch frame_clock;
-  pin_current_thread(impl_->opts.cores);
   try {
     WorkUnit unit;
     while (source.next(index, unit)) {

@@ -11,10 +11,10 @@
 #define INV_PI (1.0f / PI)
 
 typedef struct {
-  float lo[3];
-  uint offset;  // leaf: first triangle; interior: second child (first child = this + 1)
-  float hi[3];
-  uint count;  // leaf: > 0
+  float lo[2][3];  // boxes of the two children
+  float hi[2][3];
+  uint child[2];  // node index, or LEAF_BIT | first triangle << LEAF_COUNT_BITS | (count - 1)
+  uint pad[2];
 } Node;
 
 typedef struct {

@@ -1,17 +1,21 @@
 // Ray queries against the flat BVH (device/opencl/bvh_flatten.h): a stack-based
 // traversal that visits the nearer child first and skips subtrees beyond the closest hit.
 
-#define STACK_SIZE 64  // kMaxBvhDepth on the host
+#define STACK_SIZE 64         // kMaxBvhDepth on the host
+#define LEAF_BIT 0x80000000u  // kLeafBit
+#define LEAF_COUNT_BITS 4     // kLeafCountBits
 
-// Slab test; `inv_dir` has no infinities (see safe_inverse). On a hit, *t_near is where
-// the ray enters the box (clamped to the ray's range).
-bool box_hit(const __global Node* n, float3 org, float3 inv_dir, float tmin, float tmax,
+// Slab test of child `c` of `n`; `inv_dir` has no infinities (see safe_inverse). On a
+// hit, *t_near is where the ray enters the box (clamped to the ray's range).
+bool box_hit(const __global Node* n, int c, float3 org, float3 inv_dir, float tmin, float tmax,
              float* t_near) {
-  const float3 t0 = (load3(n->lo) - org) * inv_dir;
-  const float3 t1 = (load3(n->hi) - org) * inv_dir;
-  const float3 a = fmin(t0, t1), b = fmax(t0, t1);
-  const float lo = fmax(fmax(a.x, a.y), fmax(a.z, tmin));
-  const float hi = fmin(fmin(b.x, b.y), fmin(b.z, tmax));
+  const float3 t0 = (load3(n->lo[c]) - org) * inv_dir;
+  const float3 t1 = (load3(n->hi[c]) - org) * inv_dir;
+  // min/max, not fmin/fmax: no operand is NaN (finite boxes, origins and inverse
+  // directions), and the NaN-aware versions cost a compare and blend each on a CPU.
+  const float3 a = min(t0, t1), b = max(t0, t1);
+  const float lo = max(max(a.x, a.y), max(a.z, tmin));
+  const float hi = min(min(b.x, b.y), min(b.z, tmax));
   *t_near = lo;
   return lo <= hi;
 }
@@ -47,40 +51,41 @@ bool tri_hit(const __global Tri* tri, const Ray* ray, float* tmax, Hit* hit) {
   return true;
 }
 
-// Closest hit (any_hit = false) or any hit (any_hit = true, for shadow rays).
+// Closest hit (any_hit = false) or any hit (any_hit = true, for shadow rays). `ref` is the
+// child reference being visited (a node index or a leaf, see bvh_flatten.h).
 bool traverse(const __global Node* nodes, const __global Tri* tris, const Ray* ray, bool any_hit,
               Hit* hit) {
   const float3 inv_dir = safe_inverse(ray->dir);
-  float tmax = ray->tmax, t_near;
-  if (!box_hit(&nodes[0], ray->org, inv_dir, ray->tmin, tmax, &t_near)) return false;
+  float tmax = ray->tmax;
   uint stack[STACK_SIZE];
   float stack_t[STACK_SIZE];  // entry distance of each stacked subtree
   int sp = 0;
-  uint node = 0;
+  uint ref = 0;  // the root node
   bool found = false;
   for (;;) {
-    const __global Node* n = &nodes[node];
     bool descend = false;
-    if (n->count > 0) {
-      for (uint i = 0; i < n->count; ++i)
-        if (tri_hit(&tris[n->offset + i], ray, &tmax, hit)) {
+    if (ref & LEAF_BIT) {
+      const uint first = (ref & ~LEAF_BIT) >> LEAF_COUNT_BITS;
+      const uint count = (ref & ((1u << LEAF_COUNT_BITS) - 1u)) + 1u;
+      for (uint i = first; i < first + count; ++i)
+        if (tri_hit(&tris[i], ray, &tmax, hit)) {
           found = true;
           if (any_hit) return true;
         }
     } else {
-      const uint left = node + 1, right = n->offset;
-      float tl, tr;
-      const bool hl = box_hit(&nodes[left], ray->org, inv_dir, ray->tmin, tmax, &tl);
-      const bool hr = box_hit(&nodes[right], ray->org, inv_dir, ray->tmin, tmax, &tr);
-      if (hl && hr) {
-        const bool right_first = tr < tl;
-        stack[sp] = right_first ? left : right;
-        stack_t[sp] = right_first ? tl : tr;
+      const __global Node* n = &nodes[ref];
+      float t0, t1;
+      const bool h0 = box_hit(n, 0, ray->org, inv_dir, ray->tmin, tmax, &t0);
+      const bool h1 = box_hit(n, 1, ray->org, inv_dir, ray->tmin, tmax, &t1);
+      if (h0 && h1) {
+        const int first_child = t1 < t0 ? 1 : 0;
+        stack[sp] = n->child[1 - first_child];
+        stack_t[sp] = first_child ? t0 : t1;
         ++sp;
-        node = right_first ? right : left;
+        ref = n->child[first_child];
         descend = true;
-      } else if (hl || hr) {
-        node = hl ? left : right;
+      } else if (h0 || h1) {
+        ref = n->child[h0 ? 0 : 1];
         descend = true;
       }
     }
@@ -91,7 +96,7 @@ bool traverse(const __global Node* nodes, const __global Tri* tris, const Ray* r
       --sp;
       if (stack_t[sp] <= tmax) break;
     }
-    node = stack[sp];
+    ref = stack[sp];
   }
 }
 
