@@ -61,13 +61,17 @@ std::vector<double> measure_ideal_ms(Setup& s, const std::vector<double>& initia
   std::vector<double> ideal;
   for (const int f : which) {
     const auto speeds = speeds_at(s, initial, f);
-    std::vector<Framebuffer> out{Framebuffer(s.res.width, s.res.height)};
+    std::vector<Framebuffer> out(size_t(s.rig.view_count()),
+                                 Framebuffer(s.res.width, s.res.height));
     FrameJob job{s.views_for(f), s.settings, &out};
     double inv = 0;
     nlohmann::json alone = nlohmann::json::array();
     for (size_t i = 0; i < s.devices.size(); ++i) {
       s.devices[i]->set_emulated_speed(speeds[i]);
-      ListWorkSource whole({WorkUnit{{0, 0, s.res.width, s.res.height}, 0, 0}});
+      std::vector<WorkUnit> all_views;
+      for (uint32_t v = 0; v < uint32_t(job.views.size()); ++v)
+        all_views.push_back(WorkUnit{{0, 0, s.res.width, s.res.height}, v, v});
+      ListWorkSource whole(all_views);
       DeviceReport r;
       std::thread([&] { r = s.devices[i]->render(job, whole, int(i)); }).join();
       if (r.failed) throw DeviceError("device " + std::to_string(i) + " failed: " + r.error);
@@ -114,13 +118,18 @@ Runner add_bench_command(CLI::App& app) {
     if (specs.empty()) throw InputError("--balancers is empty");
     if (b->warmup < 0 || b->warmup >= o->frames)
       throw InputError("--warmup must be in 0.." + std::to_string(o->frames - 1));
-    if (b->ideal_frames < 1 || b->ideal_frames > 1000) throw InputError("--ideal-frames must be in 1..1000");
+    if (b->ideal_frames < 1 || b->ideal_frames > 1000)
+      throw InputError("--ideal-frames must be in 1..1000");
     Setup s = make_setup(*o);
-    for (const auto& spec : specs) make_balancer_or_throw(spec, int(s.devices.size()));  // fail early
+    std::vector<std::string> mapped;
+    for (const auto& spec : specs) mapped.push_back(apply_mapping(spec, o->mapping));
+    for (const auto& spec : mapped)
+      make_balancer_or_throw(spec, int(s.devices.size()));  // fail early
     if (!b->report_dir.empty()) {
       std::error_code ec;
       std::filesystem::create_directories(b->report_dir, ec);
-      if (ec) throw InputError("cannot create report folder '" + b->report_dir + "': " + ec.message());
+      if (ec)
+        throw InputError("cannot create report folder '" + b->report_dir + "': " + ec.message());
     }
     for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
     std::vector<double> initial;
@@ -130,8 +139,8 @@ Runner add_bench_command(CLI::App& app) {
       initial.push_back(info.emulated_speed);
       labels.push_back(fmt::format("{}: {}", i, info.name));
     }
-    fmt::print("scene {}, {}x{}, {} spp, {} frames, camera path {}\n", s.scene->name, s.res.width,
-               s.res.height, o->spp, o->frames, o->camera_path);
+    fmt::print("scene {}, {}x{} x {} views, {} spp, {} frames, camera path {}\n", s.scene->name,
+               s.res.width, s.res.height, s.rig.view_count(), o->spp, o->frames, o->camera_path);
     for (const auto& l : labels) fmt::print("  device {}\n", l);
 
     nlohmann::json ideal_detail = nlohmann::json::array();
@@ -146,24 +155,29 @@ Runner add_bench_command(CLI::App& app) {
     nlohmann::json runs = nlohmann::json::array();
     std::vector<RunSummary> summaries;
     std::vector<Vec3> first_image;
-    for (const std::string& spec : specs) {
+    for (size_t run = 0; run < specs.size(); ++run) {
+      const std::string& spec = specs[run];
       for (size_t i = 0; i < s.devices.size(); ++i) s.devices[i]->set_emulated_speed(initial[i]);
-      Engine engine(s.device_ptrs(), make_balancer_or_throw(spec, int(s.devices.size())));
+      Engine engine(s.device_ptrs(), make_balancer_or_throw(mapped[run], int(s.devices.size())));
       engine.set_perturbations(s.perturbations);
       std::vector<FrameRecord> recs;
       for (int f = 0; f < o->frames; ++f) {
         if (stderr_is_tty()) fmt::print(stderr, "\r{}: frame {}/{} ", spec, f + 1, o->frames);
         recs.push_back(engine.render_frame(f, s.views_for(f), s.settings));
-        for (const auto& m : recs.back().messages) fmt::print(stderr, "\nmultiray: warning: {}\n", m);
+        for (const auto& m : recs.back().messages)
+          fmt::print(stderr, "\nmultiray: warning: {}\n", m);
         if (f == o->frames / 2 && !b->report_dir.empty())
-          write_partition_png(fmt::format("{}/{}_partition.png", b->report_dir, engine.balancer().name()),
-                              s.res.width, s.res.height, engine.last_rendered());
+          write_partition_png(
+              fmt::format("{}/{}_partition.png", b->report_dir, engine.balancer().name()),
+              s.res.width, s.res.height, engine.last_rendered());
       }
       if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
       bool same_image = true;
-      if (first_image.empty()) first_image = engine.images()[0].pixels;
-      else same_image = std::memcmp(first_image.data(), engine.images()[0].pixels.data(),
-                                    first_image.size() * sizeof(Vec3)) == 0;
+      if (first_image.empty())
+        first_image = engine.images()[0].pixels;
+      else
+        same_image = std::memcmp(first_image.data(), engine.images()[0].pixels.data(),
+                                 first_image.size() * sizeof(Vec3)) == 0;
       RunSummary sum;
       int counted = 0;
       for (const auto& r : recs)
@@ -201,23 +215,27 @@ Runner add_bench_command(CLI::App& app) {
                         {"efficiency", sum.efficiency},
                         {"recovery_frames", sum.recovery_frames}}}});
       if (!b->report_dir.empty())
-        write_timeline_svg(fmt::format("{}/{}_timeline.svg", b->report_dir, engine.balancer().name()),
-                           fmt::format("{} — {} ({}x{}, {} spp)", engine.balancer().spec(), s.scene->name,
-                                       s.res.width, s.res.height, o->spp),
-                           recs, labels);
+        write_timeline_svg(
+            fmt::format("{}/{}_timeline.svg", b->report_dir, engine.balancer().name()),
+            fmt::format("{} — {} ({}x{}, {} spp)", engine.balancer().spec(), s.scene->name,
+                        s.res.width, s.res.height, o->spp),
+            recs, labels);
       if (!same_image)
-        fmt::print(stderr, "multiray: warning: {} produced a different image than {}\n", spec, specs[0]);
+        fmt::print(stderr, "multiray: warning: {} produced a different image than {}\n", spec,
+                   specs[0]);
     }
     // Speedup against uniform, when uniform was run.
     double uniform_ms = 0;
     for (size_t k = 0; k < specs.size(); ++k)
-      if (runs[k]["balancer"].get<std::string>().rfind("uniform", 0) == 0) uniform_ms = summaries[k].mean_frame_ms;
-    fmt::print("\n{:<44} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9}\n", "balancer (frames >= warmup)", "frame ms",
-               "imbalance", "deviation", "efficiency", "speedup", "recovery");
+      if (runs[k]["balancer"].get<std::string>().rfind("uniform", 0) == 0)
+        uniform_ms = summaries[k].mean_frame_ms;
+    fmt::print("\n{:<44} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9}\n", "balancer (frames >= warmup)",
+               "frame ms", "imbalance", "deviation", "efficiency", "speedup", "recovery");
     for (size_t k = 0; k < specs.size(); ++k) {
       RunSummary& sm = summaries[k];
       sm.speedup = uniform_ms > 0 ? uniform_ms / sm.mean_frame_ms : 0.0;
-      runs[k]["summary"]["speedup_vs_uniform"] = uniform_ms > 0 ? nlohmann::json(sm.speedup) : nlohmann::json();
+      runs[k]["summary"]["speedup_vs_uniform"] =
+          uniform_ms > 0 ? nlohmann::json(sm.speedup) : nlohmann::json();
       fmt::print("{:<44} {:>10.1f} {:>9.1f}% {:>9.1f}% {:>10.3f} {:>9} {:>9}\n",
                  runs[k]["balancer"].get<std::string>(), sm.mean_frame_ms, 100 * sm.mean_imbalance,
                  100 * sm.mean_deviation, sm.efficiency,
@@ -227,14 +245,18 @@ Runner add_bench_command(CLI::App& app) {
     bool emulated = false;
     for (double v : initial) emulated |= v < 1;
     if (emulated || !s.perturbations.empty())
-      fmt::print("(device speeds below 1 are emulated: the device idles after each piece of work)\n");
+      fmt::print(
+          "(device speeds below 1 are emulated: the device idles after each piece of work)\n");
     if (!b->json_path.empty()) {
       nlohmann::json doc{{"scene", s.scene->name},
                          {"resolution", {s.res.width, s.res.height}},
+                         {"views", s.rig.view_count()},
                          {"spp", o->spp},
                          {"frames", o->frames},
                          {"camera_path", o->camera_path},
-                         {"timing", "device_ms measured inside each device (steady_clock); frame_ms by the engine around all devices"},
+                         {"timing",
+                          "device_ms measured inside each device (steady_clock); frame_ms by the "
+                          "engine around all devices"},
                          {"ideal", ideal_detail},
                          {"runs", runs}};
       std::ofstream out(b->json_path);

@@ -65,8 +65,10 @@ Camera parse_camera(const std::string& text) {
   float v[10];
   for (int i = 0; i < 10; ++i) v[i] = float(to_number(parts[size_t(i)], "--camera"));
   Camera c{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
-  if (!(c.fov_y_deg > 0 && c.fov_y_deg < 180)) throw InputError("--camera: fov must be in (0, 180) degrees");
-  if (length(c.target - c.eye) == 0) throw InputError("--camera: eye and target are the same point");
+  if (!(c.fov_y_deg > 0 && c.fov_y_deg < 180))
+    throw InputError("--camera: fov must be in (0, 180) degrees");
+  if (length(c.target - c.eye) == 0)
+    throw InputError("--camera: eye and target are the same point");
   if (length(cross(c.target - c.eye, c.up)) == 0)
     throw InputError("--camera: up is parallel to the viewing direction");
   return c;
@@ -77,13 +79,17 @@ std::vector<Perturbation> parse_perturbations(const std::vector<std::string>& it
   std::vector<Perturbation> out;
   for (const std::string& it : items) {
     const auto p = split(it, ':');
-    if (p.size() != 3) throw InputError("--perturb '" + it + "' must look like FRAME:DEVICE:SPEED, e.g. 50:0:0.5");
+    if (p.size() != 3)
+      throw InputError("--perturb '" + it + "' must look like FRAME:DEVICE:SPEED, e.g. 50:0:0.5");
     const double f = to_number(p[0], "--perturb frame"), d = to_number(p[1], "--perturb device"),
                  s = to_number(p[2], "--perturb speed");
-    if (f < 0 || f != std::floor(f)) throw InputError("--perturb '" + it + "': frame must be a whole number >= 0");
+    if (f < 0 || f != std::floor(f))
+      throw InputError("--perturb '" + it + "': frame must be a whole number >= 0");
     if (d < 0 || d != std::floor(d) || d >= device_count)
-      throw InputError("--perturb '" + it + "': device must be 0.." + std::to_string(device_count - 1));
-    if (!(s > 0 && s <= 1)) throw InputError("--perturb '" + it + "': speed must be in (0, 1] (emulated)");
+      throw InputError("--perturb '" + it + "': device must be 0.." +
+                       std::to_string(device_count - 1));
+    if (!(s > 0 && s <= 1))
+      throw InputError("--perturb '" + it + "': speed must be in (0, 1] (emulated)");
     out.push_back({int(f), int(d), s});
   }
   return out;
@@ -96,13 +102,30 @@ std::vector<Device*> Setup::device_ptrs() const {
 }
 
 std::vector<ViewSetup> Setup::views_for(int frame) const {
-  ViewSetup v;
-  v.camera = path.at(frame);
-  v.width = res.width;
-  v.height = res.height;
-  v.view = 0;
-  v.frame = uint32_t(frame);
-  return {v};
+  std::vector<ViewSetup> out;
+  for (const Camera& cam : rig.views(path.at(frame))) {
+    ViewSetup v;
+    v.camera = cam;
+    v.width = res.width;
+    v.height = res.height;
+    v.view = uint32_t(out.size());
+    v.frame = uint32_t(frame);
+    out.push_back(v);
+  }
+  return out;
+}
+
+std::string apply_mapping(const std::string& spec, const std::string& mapping) {
+  if (mapping.empty()) return spec;
+  if (mapping != "strips" && mapping != "views")
+    throw InputError("--mapping '" + mapping + "' must be strips or views");
+  const std::string name = spec.substr(0, spec.find(':'));
+  if (name == "uniform" || name == "static" || name == "dlb")
+    return spec.find("layout=") == std::string::npos ? spec + ":layout=" + mapping : spec;
+  if (mapping == "views")
+    throw InputError("--mapping views works with the uniform, static and dlb balancers, not '" +
+                     name + "'");
+  return spec;  // queue, semi-static and hybrid lay out work their own way
 }
 
 Setup make_setup(const CommonOptions& o) {
@@ -111,6 +134,25 @@ Setup make_setup(const CommonOptions& o) {
   if (o.spp < 1 || o.spp > 1 << 20) throw InputError("--spp must be in 1..1048576");
   if (o.bounces < 0 || o.bounces > 1024) throw InputError("--bounces must be in 0..1024");
   if (o.frames < 1 || o.frames > 1000000) throw InputError("--frames must be in 1..1000000");
+  int columns = 1, rows = 1;
+  if (o.stereo > 0) {
+    s.rig = CameraRig::stereo(o.stereo);
+  } else {
+    const auto x = o.views.find('x');
+    if (x == std::string::npos) throw InputError("--views '" + o.views + "' must look like 3x3");
+    const double k = to_number(o.views.substr(0, x), "--views"),
+                 l = to_number(o.views.substr(x + 1), "--views");
+    if (k < 1 || l < 1 || k > 64 || l > 64 || k != std::floor(k) || l != std::floor(l))
+      throw InputError("--views '" + o.views + "': each count must be a whole number in 1..64");
+    columns = int(k), rows = int(l);
+    if (!(o.view_spacing >= 0) || !std::isfinite(o.view_spacing))
+      throw InputError("--view-spacing must be a finite number >= 0");
+    s.rig = CameraRig::grid(columns, rows, o.view_spacing);
+  }
+  if (o.stereo < 0 || !std::isfinite(o.stereo))
+    throw InputError("--stereo must be a finite number >= 0");
+  if (int64_t(s.rig.view_count()) * s.res.width * s.res.height > (int64_t(1) << 30))
+    throw InputError("--views x --res is more than 2^30 pixels per frame");
   s.settings.spp = o.spp;
   s.settings.max_bounces = o.bounces;
   s.settings.seed = o.seed;
@@ -118,23 +160,26 @@ Setup make_setup(const CommonOptions& o) {
   if (!o.camera.empty()) cli_camera = parse_camera(o.camera);
   // "threads=0" means every hardware thread; resolved here so the spec stays readable.
   std::string devices = o.devices;
-  const std::string all = "threads=" + std::to_string(std::max(1u, std::thread::hardware_concurrency()));
+  const std::string all =
+      "threads=" + std::to_string(std::max(1u, std::thread::hardware_concurrency()));
   for (size_t p; (p = devices.find("threads=0")) != std::string::npos &&
                  (p + 9 == devices.size() || devices[p + 9] == ':' || devices[p + 9] == ',');)
     devices.replace(p, 9, all);
   const auto specs = parse_device_specs(devices);  // check syntax before loading the scene
   s.perturbations = parse_perturbations(o.perturb, int(specs.size()));
 
-  s.scene = std::make_unique<Scene>(o.scene_path.empty() ? make_cornell_box() : load_scene(o.scene_path));
+  s.scene = std::make_unique<Scene>(o.scene_path.empty() ? make_cornell_box()
+                                                         : load_scene(o.scene_path));
   const float aspect = float(s.res.width) / float(s.res.height);
-  const Camera base = cli_camera ? *cli_camera
+  const Camera base = cli_camera                  ? *cli_camera
                       : !s.scene->cameras.empty() ? s.scene->cameras.front()
                                                   : s.scene->default_camera(aspect);
   const std::string& cp = o.camera_path;
   if (cp == "fixed") {
     s.path = CameraPath::fixed(base);
   } else if (cp == "orbit" || cp.rfind("orbit:", 0) == 0) {
-    const double period = cp == "orbit" ? 100.0 : to_number(cp.substr(6), "--camera-path orbit period");
+    const double period =
+        cp == "orbit" ? 100.0 : to_number(cp.substr(6), "--camera-path orbit period");
     if (!(period > 0)) throw InputError("--camera-path: the orbit period must be > 0 frames");
     s.path = CameraPath::orbit(base, float(period));
   } else {

@@ -10,23 +10,29 @@
 #include "engine/engine.h"
 #include "render/path_tracer.h"
 #include "scene/camera_path.h"
+#include "scene/camera_rig.h"
 #include "scene/scene.h"
 
 namespace multiray::app {
 
 // Options shared by `render` and `bench`.
 struct CommonOptions {
-  std::string scene_path;       // empty: built-in Cornell box
+  std::string scene_path;  // empty: built-in Cornell box
   std::string resolution = "640x360";
   int spp = 16;
   int bounces = 8;
   int frames = 1;
-  std::string camera;           // "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov" or empty
-  std::string camera_path = "fixed";  // fixed | orbit | orbit:PERIOD | FILE.json
+  std::string camera;                     // "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov" or empty
+  std::string camera_path = "fixed";      // fixed | orbit | orbit:PERIOD | FILE.json
   std::string devices = "cpu:threads=0";  // threads=0: all hardware threads
   uint64_t seed = 0;
-  std::string env = "auto";  // constant sky radiance "R,G,B" or "V"; auto: the scene's, or 1 if it has no light
+  std::string env =
+      "auto";  // constant sky radiance "R,G,B" or "V"; auto: the scene's, or 1 if it has no light
   std::vector<std::string> perturb;  // FRAME:DEVICE:SPEED
+  std::string views = "1x1";         // KxL light-field grid
+  float view_spacing = 0.2f;         // between grid views, scene units
+  float stereo = 0.0f;               // > 0: a stereo pair this far apart (overrides views)
+  std::string mapping;               // strips | views | empty (the balancer's own layout)
 };
 
 struct Resolution {
@@ -35,7 +41,13 @@ struct Resolution {
 
 Resolution parse_resolution(const std::string& text);
 Camera parse_camera(const std::string& text);
-std::vector<Perturbation> parse_perturbations(const std::vector<std::string>& items, int device_count);
+// Adds the layout `mapping` asks for to a balancer spec: strips (every device renders its
+// share of every view's shuffled strips) or views (whole views per device). Empty: spec
+// unchanged. Throws InputError when the balancer has no such layout.
+std::string apply_mapping(const std::string& balancer_spec, const std::string& mapping);
+
+std::vector<Perturbation> parse_perturbations(const std::vector<std::string>& items,
+                                              int device_count);
 
 // The loaded scene and everything derived from the options; owns the devices.
 struct Setup {
@@ -43,6 +55,7 @@ struct Setup {
   std::unique_ptr<RenderScene> render_scene;
   std::vector<std::unique_ptr<Device>> devices;
   CameraPath path;
+  CameraRig rig;
   Resolution res;
   RenderSettings settings;
   std::vector<Perturbation> perturbations;

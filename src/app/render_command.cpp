@@ -19,7 +19,8 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                  "Scene file (.gltf, .glb, .obj, .ply); omitted: the built-in Cornell box");
   cmd.add_option("--res", o.resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
   cmd.add_option("--spp", o.spp, "Samples per pixel")->capture_default_str();
-  cmd.add_option("--bounces", o.bounces, "Maximum scattering events per path")->capture_default_str();
+  cmd.add_option("--bounces", o.bounces, "Maximum scattering events per path")
+      ->capture_default_str();
   cmd.add_option("--frames", o.frames, "Number of frames to render")->capture_default_str();
   cmd.add_option("--camera", o.camera,
                  "Camera as ex,ey,ez,tx,ty,tz,ux,uy,uz,fov (eye, target, up, vertical fov in "
@@ -44,6 +45,16 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                  "has no lights")
       ->capture_default_str();
   cmd.add_option("--seed", o.seed, "Seed for all random numbers")->capture_default_str();
+  cmd.add_option("--views", o.views,
+                 "Light-field grid of parallel views KxL (e.g. 3x3, 5x5), following the camera "
+                 "path")
+      ->capture_default_str();
+  cmd.add_option("--view-spacing", o.view_spacing, "Distance between grid views (scene units)")
+      ->capture_default_str();
+  cmd.add_option("--stereo", o.stereo, "Render a stereo pair with this eye separation instead");
+  cmd.add_option("--mapping", o.mapping,
+                 "Multiview task mapping: strips (each device renders its share of every view's "
+                 "shuffled strips) or views (whole views per device; uniform, static, dlb)");
   cmd.add_option("--perturb", o.perturb,
                  "FRAME:DEVICE:SPEED, repeatable: from FRAME on, DEVICE runs at emulated SPEED");
 }
@@ -65,7 +76,8 @@ Runner add_render_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", *quiet, "No per-frame lines");
   return [=]() -> int {
     Setup s = make_setup(*o);
-    Engine engine(s.device_ptrs(), make_balancer_or_throw(*balancer, int(s.devices.size())));
+    Engine engine(s.device_ptrs(), make_balancer_or_throw(apply_mapping(*balancer, o->mapping),
+                                                          int(s.devices.size())));
     engine.set_perturbations(s.perturbations);
     for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
     std::error_code ec;
@@ -76,21 +88,33 @@ Runner add_render_command(CLI::App& app) {
       if (stderr_is_tty()) fmt::print(stderr, "\rrendering frame {}/{} ...", f + 1, o->frames);
       const FrameRecord rec = engine.render_frame(f, s.views_for(f), s.settings);
       const std::string base = fmt::format("{}/frame_{:04d}", *out_dir, f);
-      write_png(base + ".png", engine.images()[0]);
-      if (*exr) write_exr(base + ".exr", engine.images()[0]);
+      const auto& images = engine.images();
+      if (images.size() == 1) {
+        write_png(base + ".png", images[0]);
+        if (*exr) write_exr(base + ".exr", images[0]);
+      } else {
+        for (size_t v = 0; v < images.size(); ++v) {
+          write_png(fmt::format("{}_view{:02d}.png", base, v), images[v]);
+          if (*exr) write_exr(fmt::format("{}_view{:02d}.exr", base, v), images[v]);
+        }
+      }
+      if (images.size() > 1) write_png(base + "_quilt.png", make_quilt(images, s.rig.columns));
       if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
       for (const auto& m : rec.messages) fmt::print(stderr, "multiray: warning: {}\n", m);
       uint64_t samples = 0, rays = 0;
       for (const auto& d : rec.devices) samples += d.samples, rays += d.rays;
       if (!*quiet)
-        fmt::print("frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%  -> {}.png\n",
-                   f, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
-                   100.0 * rec.imbalance, base);
+        fmt::print(
+            "frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%  -> "
+            "{}.png\n",
+            f, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
+            100.0 * rec.imbalance, base + (images.size() > 1 ? "_quilt" : ""));
       frames.push_back(frame_to_json(rec));
     }
     nlohmann::json doc{{"scene", s.scene->name},
                        {"devices", devices_to_json(s.devices)},
-                       {"balancer", engine.balancer().name()},
+                       {"balancer", engine.balancer().spec()},
+                       {"views", s.rig.view_count()},
                        {"frames", frames}};
     std::ofstream(*out_dir + "/stats.json") << doc.dump(1) << "\n";
     return 0;

@@ -36,7 +36,9 @@ std::unique_ptr<Balancer> build(Spec& spec, int n) {
     const double slow = spec.get_double("slow", 0.75, 0.0, 1.0);
     int bits = -1;  // "auto": the paper's 128–256 pixels per strip
     if (spec.get_string("bits", "auto", {}) != "auto") bits = spec.get_int("bits", -1, 0, 24);
-    return std::make_unique<DlbBalancer>(n, interval, band, slow, bits);
+    const std::string layout = spec.get_string("layout", "strips", {"strips", "views"});
+    return std::make_unique<DlbBalancer>(n, interval, band, slow, bits,
+                                         layout_from_string(layout));
   }
   if (name == "hybrid") {
     HybridBalancer::Options o;

@@ -38,11 +38,11 @@ class Balancer {
 };
 
 // Builds a balancer from a spec "name[:key=value]..." for `device_count` devices:
-//   uniform[:layout=rows|columns|strips]
+//   uniform[:layout=rows|columns|strips|views]
 //   static[:ratios=3/1][:layout=...]      (no ratios: calibrate from the first frame)
 //   queue[:tile=64][:batch=1]
 //   semi-static[:alpha=0.4]
-//   dlb[:interval=5][:band=0.1][:slow=0.75][:bits=auto]
+//   dlb[:interval=5][:band=0.1][:slow=0.75][:bits=auto][:layout=strips|views]
 //   hybrid[:bands=8][:taper=0.7][:tail=0.02][:alpha=0.5][:jump=0.2][:gamma=0.5]
 //         [:min_chunk=256][:steal=1]
 // docs/balancers.md explains each parameter. Throws std::invalid_argument with a one-line

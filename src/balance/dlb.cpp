@@ -9,8 +9,10 @@
 
 namespace multiray::balance {
 
-DlbBalancer::DlbBalancer(int device_count, int interval, double band, double slow, int bits)
+DlbBalancer::DlbBalancer(int device_count, int interval, double band, double slow, int bits,
+                         Layout layout)
     : BalancerBase(device_count),
+      layout_(layout),
       interval_(interval),
       band_(band),
       slow_(slow),
@@ -24,7 +26,8 @@ DlbBalancer::DlbBalancer(int device_count, int interval, double band, double slo
 std::string DlbBalancer::spec() const {
   std::ostringstream s;
   s << "dlb:interval=" << interval_ << ":band=" << band_ << ":slow=" << slow_
-    << ":bits=" << (bits_ < 0 ? std::string("auto") : std::to_string(bits_));
+    << ":bits=" << (bits_ < 0 ? std::string("auto") : std::to_string(bits_))
+    << ":layout=" << to_string(layout_);
   return s.str();
 }
 
@@ -33,7 +36,7 @@ void DlbBalancer::on_drop(int /*index*/) { ratios_ = sanitize(ratios_, even()); 
 Plan DlbBalancer::plan(const FrameShape& shape, int /*frame*/) {
   validate_shape(shape);
   if (alive_count() == 0) return empty_plan();
-  return plan_from_ratios(shape, ratios_, Layout::Strips, bits_);
+  return plan_from_ratios(shape, ratios_, layout_, bits_);
 }
 
 void DlbBalancer::update(const FrameStats& stats) {

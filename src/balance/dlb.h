@@ -23,17 +23,20 @@
 // | band      | 0.1     | tolerated relative time difference to device 0      |
 // | slow      | 0.75    | weight of a slow device's local mean, [0, 1]        |
 // | bits      | auto    | log2 strips per view; auto = 128–256 px per strip   |
+// | layout    | strips  | strips, or views: whole views per device             |
 #pragma once
 
 #include "balance/balancer_base.h"
+#include "balance/layout.h"
 
 namespace multiray::balance {
 
 class DlbBalancer final : public BalancerBase {
  public:
   // `bits` < 0: automatic strip size.
+  // `layout` Strips (the paper's shuffled strips of every view) or Views (whole views).
   DlbBalancer(int device_count, int interval = 5, double band = 0.1, double slow = 0.75,
-              int bits = -1);
+              int bits = -1, Layout layout = Layout::Strips);
 
   std::string name() const override { return "dlb"; }
   std::string spec() const override;
@@ -48,6 +51,7 @@ class DlbBalancer final : public BalancerBase {
   void on_drop(int index) override;
   void check();
 
+  Layout layout_;
   int interval_;
   double band_, slow_;
   int bits_;

@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <stdexcept>
 
+#include "partition/apportion.h"
 #include "partition/bands.h"
 #include "partition/shuffled_strips.h"
 
@@ -16,16 +17,19 @@ std::string to_string(Layout layout) {
       return "columns";
     case Layout::Strips:
       return "strips";
+    case Layout::Views:
+      return "views";
   }
   return "rows";
 }
 
-std::vector<std::string> layout_names() { return {"rows", "columns", "strips"}; }
+std::vector<std::string> layout_names() { return {"rows", "columns", "strips", "views"}; }
 
 Layout layout_from_string(const std::string& text) {
-  for (Layout l : {Layout::Rows, Layout::Columns, Layout::Strips})
+  for (Layout l : {Layout::Rows, Layout::Columns, Layout::Strips, Layout::Views})
     if (to_string(l) == text) return l;
-  throw std::invalid_argument("unknown layout '" + text + "' (known: rows, columns, strips)");
+  throw std::invalid_argument("unknown layout '" + text +
+                              "' (known: rows, columns, strips, views)");
 }
 
 Plan plan_from_ratios(const FrameShape& shape, const std::vector<double>& ratios, Layout layout,
@@ -34,6 +38,14 @@ Plan plan_from_ratios(const FrameShape& shape, const std::vector<double>& ratios
   plan.ratios = ratios;
   plan.assigned.resize(ratios.size());
   if (shape.pixels() == 0) return plan;
+  if (layout == Layout::Views) {
+    const std::vector<int64_t> counts = apportion(ratios, shape.views);
+    int view = 0;
+    for (size_t i = 0; i < counts.size(); ++i)
+      for (int64_t k = 0; k < counts[i]; ++k, ++view)
+        plan.assigned[i].push_back(WorkItem{Rect{0, 0, shape.width, shape.height}, view});
+    return plan;
+  }
   if (layout == Layout::Strips) {
     plan.assigned = shuffled_strips(shape.width, shape.height, shape.views, ratios, strip_bits);
     return plan;

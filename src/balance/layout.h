@@ -12,9 +12,11 @@ enum class Layout {
   Rows,     // one horizontal band per device in every view
   Columns,  // one vertical band per device in every view
   Strips,   // shuffled strips (van Antwerpen et al.) of every view
+  Views,    // whole views: device i gets about ratios[i]·views consecutive views (Leria
+            // et al.'s alternative mapping when there are more views than devices)
 };
 
-// "rows", "columns", "strips".
+// "rows", "columns", "strips", "views".
 std::string to_string(Layout layout);
 Layout layout_from_string(const std::string& text);  // throws std::invalid_argument
 std::vector<std::string> layout_names();

@@ -30,6 +30,19 @@ std::vector<uint8_t> to_srgb8(const Framebuffer& fb, float exposure) {
   return out;
 }
 
+Framebuffer make_quilt(const std::vector<Framebuffer>& views, int columns) {
+  if (views.empty() || columns < 1) return {};
+  const int w = views[0].width, h = views[0].height;
+  const int rows = int((views.size() + size_t(columns) - 1) / size_t(columns));
+  Framebuffer q(w * columns, h * rows);
+  for (size_t v = 0; v < views.size(); ++v) {
+    const int ox = int(v % size_t(columns)) * w, oy = int(v / size_t(columns)) * h;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) q.at(ox + x, oy + y) = views[v].at(x, y);
+  }
+  return q;
+}
+
 void write_png_rgb8(const std::string& path, int width, int height,
                     const std::vector<uint8_t>& rgb) {
   if (!stbi_write_png(path.c_str(), width, height, 3, rgb.data(), width * 3))

@@ -23,9 +23,14 @@ struct Framebuffer {
 // sRGB-encoded 8-bit RGB after clamping; `exposure` multiplies radiance first.
 std::vector<uint8_t> to_srgb8(const Framebuffer& fb, float exposure = 1.0f);
 
+// All `views` (same size) tiled in one image, `columns` per row, row-major from the top
+// left: the "quilt" light-field displays take.
+Framebuffer make_quilt(const std::vector<Framebuffer>& views, int columns);
+
 // Writers throw InputError naming the path when the file cannot be written.
 void write_png(const std::string& path, const Framebuffer& fb, float exposure = 1.0f);
-void write_png_rgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
+void write_png_rgb8(const std::string& path, int width, int height,
+                    const std::vector<uint8_t>& rgb);
 void write_exr(const std::string& path, const Framebuffer& fb);
 
 }  // namespace multiray

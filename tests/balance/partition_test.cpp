@@ -8,6 +8,7 @@
 #include <numeric>
 #include <random>
 
+#include "balance/layout.h"
 #include "partition/apportion.h"
 #include "partition/bands.h"
 #include "partition/coverage.h"
@@ -139,3 +140,17 @@ TEST(Coverage, ReportsOverlapGapsAndOutOfBounds) {
 
 }  // namespace
 }  // namespace multiray::balance
+
+// Whole views per device (Leria et al.'s view mapping): each view goes to exactly one
+// device, in proportion to the ratios.
+TEST(ViewsLayout, AssignsWholeViewsByRatio) {
+  using namespace multiray::balance;
+  FrameShape shape{16, 9, 9, {}};
+  const Plan plan = plan_from_ratios(shape, {0.75, 0.25}, Layout::Views);
+  EXPECT_EQ(check_plan(plan, shape, 2), "");
+  ASSERT_EQ(plan.assigned.size(), 2u);
+  EXPECT_EQ(plan.assigned[0].size(), 7u);  // round(0.75 * 9) by largest remainder
+  EXPECT_EQ(plan.assigned[1].size(), 2u);
+  for (const auto& list : plan.assigned)
+    for (const WorkItem& it : list) EXPECT_EQ(it.rect.area(), 16 * 9);
+}

@@ -21,7 +21,7 @@ TEST(Spec, ParametersAreRead) {
   EXPECT_EQ(make_balancer("queue:tile=32:batch=4", 2)->spec(), "queue:tile=32:batch=4");
   EXPECT_EQ(make_balancer("static:ratios=3/1", 2)->spec(), "static:ratios=3/1:layout=rows");
   EXPECT_EQ(make_balancer("dlb:interval=3:bits=6", 2)->spec(),
-            "dlb:interval=3:band=0.1:slow=0.75:bits=6");
+            "dlb:interval=3:band=0.1:slow=0.75:bits=6:layout=strips");
   EXPECT_EQ(make_balancer("uniform:layout=strips", 2)->spec(), "uniform:layout=strips");
   EXPECT_NE(make_balancer("hybrid:bands=4:steal=off", 2)->spec().find("steal=0"),
             std::string::npos);
@@ -46,6 +46,7 @@ TEST(Spec, BadSpecsThrowOneLineMessages) {
       {"semi-static:alpha=1.5", 2},  //
       {"dlb:bits=auto2", 2},         //
       {"dlb:slow=2", 2},             //
+      {"dlb:layout=rows", 2},        //
       {"hybrid:steal=maybe", 2},     //
       {"uniform:layout=spiral", 2},  //
       {"uniform:=3", 2},             // empty key

@@ -67,6 +67,19 @@ TEST(Cli, RendersDefaultSceneToPngAndStats) {
   EXPECT_THAT(r.out, ::testing::HasSubstr("frame    1"));
 }
 
+TEST(Cli, LightFieldWritesEveryViewAndAQuilt) {
+  const std::string dir = ::testing::TempDir() + "/cli_views";
+  std::filesystem::remove_all(dir);
+  const Result r =
+      run("render --res 16x8 --spp 1 --views 2x2 --devices cpu,cpu --balancer dlb "
+          "--mapping views --out " +
+          dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (int v = 0; v < 4; ++v)
+    EXPECT_TRUE(std::filesystem::exists(dir + "/frame_0000_view0" + std::to_string(v) + ".png"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/frame_0000_quilt.png"));
+}
+
 TEST(Cli, BadOptionsAndValues) {
   expect_input_error("render --no-such-option", "no-such-option");
   expect_input_error("render --res 0x10", "--res");
@@ -83,6 +96,10 @@ TEST(Cli, BadOptionsAndValues) {
   expect_input_error("render --devices cpu,cpu --perturb 5:7:0.5", "--perturb");
   expect_input_error("render --perturb 5:0", "--perturb");
   expect_input_error("render --balancer nonsense", "--balancer");
+  expect_input_error("render --views 3", "--views");
+  expect_input_error("render --views 0x2", "--views");
+  expect_input_error("render --views 3x3 --mapping diagonal", "--mapping");
+  expect_input_error("render --views 3x3 --balancer hybrid --mapping views", "--mapping");
 }
 
 TEST(Cli, BadSceneFiles) {
@@ -90,19 +107,25 @@ TEST(Cli, BadSceneFiles) {
   expect_input_error("render " + temp_file("bad.xyz", "hello") + " --res 8x8", "bad.xyz");
   expect_input_error("render " + temp_file("empty.ply", "") + " --res 8x8", "empty.ply");
   expect_input_error(
-      "render " + temp_file("trunc.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-                                          "property float y\nproperty float z\nelement face 1\n"
-                                          "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n") +
+      "render " +
+          temp_file("trunc.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                    "property float y\nproperty float z\nelement face 1\n"
+                    "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n") +
           " --res 8x8",
       "trunc.ply");
-  expect_input_error("render " + temp_file("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n") + " --res 8x8",
-                     "nan.obj");
-  expect_input_error("render " + temp_file("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n") + " --res 8x8",
-                     "range.obj");
-  expect_input_error("render " + temp_file("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n") + " --res 8x8",
-                     "flat.obj");
-  expect_input_error("render " + temp_file("broken.gltf", "{\"asset\": {\"version\": \"2.0\"") + " --res 8x8",
-                     "broken.gltf");
+  expect_input_error(
+      "render " + temp_file("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n") + " --res 8x8",
+      "nan.obj");
+  expect_input_error(
+      "render " + temp_file("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n") + " --res 8x8",
+      "range.obj");
+  expect_input_error(
+      "render " + temp_file("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n") + " --res 8x8",
+      "flat.obj");
+  expect_input_error(
+      "render " + temp_file("broken.gltf", "{\"asset\": {\"version\": \"2.0\"") + " --res 8x8",
+      "broken.gltf");
 }
 
 }  // namespace
