@@ -63,7 +63,8 @@ std::vector<double> measure_ideal_ms(Setup& s, const std::vector<double>& initia
     const auto speeds = speeds_at(s, initial, f);
     std::vector<Framebuffer> out(size_t(s.rig.view_count()),
                                  Framebuffer(s.res.width, s.res.height));
-    FrameJob job{s.views_for(f), s.settings, &out};
+    const Setup::FrameInput in = s.frame_input(f);
+    FrameJob job{in.views, s.settings, &out};
     double inv = 0;
     nlohmann::json alone = nlohmann::json::array();
     for (size_t i = 0; i < s.devices.size(); ++i) {
@@ -139,8 +140,13 @@ Runner add_bench_command(CLI::App& app) {
       initial.push_back(info.emulated_speed);
       labels.push_back(fmt::format("{}: {}", i, info.name));
     }
-    fmt::print("scene {}, {}x{} x {} views, {} spp, {} frames, camera path {}\n", s.scene->name,
-               s.res.width, s.res.height, s.rig.view_count(), o->spp, o->frames, o->camera_path);
+    fmt::print(
+        "scene {}, {}x{} x {} views, {} integrator, {} sampling ({} spp), {} frames, camera path "
+        "{}\n",
+        s.scene->name, s.res.width, s.res.height, s.rig.view_count(), o->integrator, o->sampling,
+        o->sampling == "adaptive" ? fmt::format("{} on edges, 1 elsewhere", o->edge_spp)
+                                  : std::to_string(o->spp),
+        o->frames, o->camera_path);
     for (const auto& l : labels) fmt::print("  device {}\n", l);
 
     nlohmann::json ideal_detail = nlohmann::json::array();
@@ -163,7 +169,8 @@ Runner add_bench_command(CLI::App& app) {
       std::vector<FrameRecord> recs;
       for (int f = 0; f < o->frames; ++f) {
         if (stderr_is_tty()) fmt::print(stderr, "\r{}: frame {}/{} ", spec, f + 1, o->frames);
-        recs.push_back(engine.render_frame(f, s.views_for(f), s.settings));
+        const Setup::FrameInput in = s.frame_input(f);
+        recs.push_back(engine.render_frame(f, in.views, s.settings));
         for (const auto& m : recs.back().messages)
           fmt::print(stderr, "\nmultiray: warning: {}\n", m);
         if (f == o->frames / 2 && !b->report_dir.empty())

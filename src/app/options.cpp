@@ -4,8 +4,10 @@
 #include <sstream>
 #include <thread>
 
+#include "core/clock.h"
 #include "core/error.h"
 #include "device/device_factory.h"
+#include "render/gbuffer.h"
 #include "scene/builders.h"
 #include "scene/loaders.h"
 
@@ -115,6 +117,20 @@ std::vector<ViewSetup> Setup::views_for(int frame) const {
   return out;
 }
 
+Setup::FrameInput Setup::frame_input(int frame) const {
+  FrameInput in;
+  in.views = views_for(frame);
+  if (sampling == "adaptive") {
+    const Stopwatch clock;
+    for (const ViewSetup& v : in.views)
+      in.maps.push_back(
+          edge_sample_map(detect_edges(render_gbuffer(*render_scene, v)), edge_spp, 1));
+    for (size_t i = 0; i < in.views.size(); ++i) in.views[i].spp_map = &in.maps[i];
+    in.sampling_ms = clock.elapsed_ms();
+  }
+  return in;
+}
+
 std::string apply_mapping(const std::string& spec, const std::string& mapping) {
   if (mapping.empty()) return spec;
   if (mapping != "strips" && mapping != "views")
@@ -153,6 +169,19 @@ Setup make_setup(const CommonOptions& o) {
     throw InputError("--stereo must be a finite number >= 0");
   if (int64_t(s.rig.view_count()) * s.res.width * s.res.height > (int64_t(1) << 30))
     throw InputError("--views x --res is more than 2^30 pixels per frame");
+  if (o.integrator != "path" && o.integrator != "ao")
+    throw InputError("--integrator '" + o.integrator + "' must be path or ao");
+  s.settings.integrator = o.integrator == "ao" ? Integrator::AO : Integrator::Path;
+  if (o.ao_rays < 1 || o.ao_rays > 1024) throw InputError("--ao-rays must be in 1..1024");
+  if (!(o.ao_distance >= 0) || !std::isfinite(o.ao_distance))
+    throw InputError("--ao-distance must be a finite number >= 0 (0: a tenth of the scene)");
+  s.settings.ao_rays = o.ao_rays;
+  s.settings.ao_distance = o.ao_distance;
+  if (o.sampling != "uniform" && o.sampling != "adaptive")
+    throw InputError("--sampling '" + o.sampling + "' must be uniform or adaptive");
+  if (o.edge_spp < 1 || o.edge_spp > 255) throw InputError("--edge-spp must be in 1..255");
+  s.sampling = o.sampling;
+  s.edge_spp = o.edge_spp;
   s.settings.spp = o.spp;
   s.settings.max_bounces = o.bounces;
   s.settings.seed = o.seed;
@@ -166,6 +195,10 @@ Setup make_setup(const CommonOptions& o) {
                  (p + 9 == devices.size() || devices[p + 9] == ':' || devices[p + 9] == ',');)
     devices.replace(p, 9, all);
   const auto specs = parse_device_specs(devices);  // check syntax before loading the scene
+  for (const DeviceSpec& d : specs)
+    if (d.type != "cpu" && (s.settings.integrator != Integrator::Path || s.sampling != "uniform"))
+      throw InputError("--integrator ao and --sampling adaptive run on cpu devices only, not '" +
+                       d.text + "'");
   s.perturbations = parse_perturbations(o.perturb, int(specs.size()));
 
   s.scene = std::make_unique<Scene>(o.scene_path.empty() ? make_cornell_box()

@@ -33,6 +33,11 @@ struct CommonOptions {
   float view_spacing = 0.2f;         // between grid views, scene units
   float stereo = 0.0f;               // > 0: a stereo pair this far apart (overrides views)
   std::string mapping;               // strips | views | empty (the balancer's own layout)
+  std::string integrator = "path";   // path | ao
+  int ao_rays = 2;
+  float ao_distance = 0.0f;          // 0: 0.3 of the scene size
+  std::string sampling = "uniform";  // uniform | adaptive
+  int edge_spp = 5;                  // adaptive: samples of edge pixels (others get 1)
 };
 
 struct Resolution {
@@ -63,6 +68,16 @@ struct Setup {
 
   std::vector<Device*> device_ptrs() const;
   std::vector<ViewSetup> views_for(int frame) const;
+  // The views of `frame` with their sample maps (adaptive sampling runs its first pass
+  // here). `views` point into `maps`; keep the FrameInput alive while rendering.
+  struct FrameInput {
+    std::vector<std::vector<uint8_t>> maps;
+    std::vector<ViewSetup> views;
+    double sampling_ms = 0;  // time of the edge-detection pass, ms
+  };
+  FrameInput frame_input(int frame) const;
+  std::string sampling = "uniform";
+  int edge_spp = 5;
 };
 
 // Validates every option before loading anything expensive, then loads the scene and

@@ -55,6 +55,18 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
   cmd.add_option("--mapping", o.mapping,
                  "Multiview task mapping: strips (each device renders its share of every view's "
                  "shuffled strips) or views (whole views per device; uniform, static, dlb)");
+  cmd.add_option("--integrator", o.integrator, "path (path tracing) or ao (ambient occlusion)")
+      ->capture_default_str();
+  cmd.add_option("--ao-rays", o.ao_rays, "Occlusion rays per AO sample")->capture_default_str();
+  cmd.add_option("--ao-distance", o.ao_distance,
+                 "Occlusion range in scene units (0: 0.3 of the scene size)")
+      ->capture_default_str();
+  cmd.add_option("--sampling", o.sampling,
+                 "uniform (--spp everywhere) or adaptive (a first pass finds geometric edges; "
+                 "edge pixels get --edge-spp samples, the others 1)")
+      ->capture_default_str();
+  cmd.add_option("--edge-spp", o.edge_spp, "Samples of edge pixels with --sampling adaptive")
+      ->capture_default_str();
   cmd.add_option("--perturb", o.perturb,
                  "FRAME:DEVICE:SPEED, repeatable: from FRAME on, DEVICE runs at emulated SPEED");
 }
@@ -86,7 +98,8 @@ Runner add_render_command(CLI::App& app) {
     nlohmann::json frames = nlohmann::json::array();
     for (int f = 0; f < o->frames; ++f) {
       if (stderr_is_tty()) fmt::print(stderr, "\rrendering frame {}/{} ...", f + 1, o->frames);
-      const FrameRecord rec = engine.render_frame(f, s.views_for(f), s.settings);
+      const Setup::FrameInput in = s.frame_input(f);
+      const FrameRecord rec = engine.render_frame(f, in.views, s.settings);
       const std::string base = fmt::format("{}/frame_{:04d}", *out_dir, f);
       const auto& images = engine.images();
       if (images.size() == 1) {
@@ -110,6 +123,7 @@ Runner add_render_command(CLI::App& app) {
             f, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
             100.0 * rec.imbalance, base + (images.size() > 1 ? "_quilt" : ""));
       frames.push_back(frame_to_json(rec));
+      frames.back()["sampling_ms"] = in.sampling_ms;
     }
     nlohmann::json doc{{"scene", s.scene->name},
                        {"devices", devices_to_json(s.devices)},

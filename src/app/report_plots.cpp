@@ -17,9 +17,11 @@ const char* device_colour(size_t i) {
 }
 
 void write_timeline_svg(const std::string& path, const std::string& title,
-                        const std::vector<FrameRecord>& frames, const std::vector<std::string>& labels) {
+                        const std::vector<FrameRecord>& frames,
+                        const std::vector<std::string>& labels) {
   const double W = 900, left = 60, right = 20, plot_w = W - left - right;
-  const double top_y = 40, top_h = 260, gap = 50, bottom_h = 160, H = top_y + top_h + gap + bottom_h + 60;
+  const double top_y = 40, top_h = 260, gap = 50, bottom_h = 160,
+               H = top_y + top_h + gap + bottom_h + 60;
   const size_t n = frames.size(), devices = labels.size();
   if (n == 0) return;
   double t_max = 1e-9;
@@ -35,9 +37,10 @@ void write_timeline_svg(const std::string& path, const std::string& title,
   // Axes and grid of the time plot.
   for (int k = 0; k <= 4; ++k) {
     const double y = top_y + top_h * (1 - k / 4.0);
-    svg += fmt::format("<line x1='{}' y1='{}' x2='{}' y2='{}' stroke='#ddd'/>"
-                       "<text x='{}' y='{}' text-anchor='end'>{:.0f}</text>\n",
-                       left, y, left + plot_w, y, left - 5, y + 4, t_max * k / 4.0);
+    svg += fmt::format(
+        "<line x1='{}' y1='{}' x2='{}' y2='{}' stroke='#ddd'/>"
+        "<text x='{}' y='{}' text-anchor='end'>{:.0f}</text>\n",
+        left, y, left + plot_w, y, left - 5, y + 4, t_max * k / 4.0);
   }
   svg += fmt::format("<text x='15' y='{}' transform='rotate(-90 15 {})'>device time (ms)</text>\n",
                      top_y + top_h / 2, top_y + top_h / 2);
@@ -49,9 +52,10 @@ void write_timeline_svg(const std::string& path, const std::string& title,
                            top_y + top_h * (1 - frames[i].devices[d].time_ms / t_max));
     svg += fmt::format("<polyline fill='none' stroke='{}' stroke-width='1.5' points='{}'/>\n",
                        device_colour(d), pts);
-    svg += fmt::format("<rect x='{}' y='{}' width='10' height='10' fill='{}'/><text x='{}' y='{}'>{}</text>\n",
-                       left + 10, top_y + 8 + 16 * double(d), device_colour(d), left + 25,
-                       top_y + 17 + 16 * double(d), labels[d]);
+    svg += fmt::format(
+        "<rect x='{}' y='{}' width='10' height='10' fill='{}'/><text x='{}' y='{}'>{}</text>\n",
+        left + 10, top_y + 8 + 16 * double(d), device_colour(d), left + 25,
+        top_y + 17 + 16 * double(d), labels[d]);
   }
   // Stacked work shares.
   const double by = top_y + top_h + gap;
@@ -61,17 +65,19 @@ void write_timeline_svg(const std::string& path, const std::string& title,
     std::string upper, lower;
     for (size_t i = 0; i < n; ++i) {
       double below = 0;
-      for (size_t e = 0; e < d && e < frames[i].devices.size(); ++e) below += frames[i].devices[e].work_share;
+      for (size_t e = 0; e < d && e < frames[i].devices.size(); ++e)
+        below += frames[i].devices[e].work_share;
       const double here = d < frames[i].devices.size() ? frames[i].devices[d].work_share : 0;
       upper += fmt::format("{:.1f},{:.1f} ", x_of(double(i)), by + bottom_h * (1 - below - here));
       lower = fmt::format("{:.1f},{:.1f} ", x_of(double(i)), by + bottom_h * (1 - below)) + lower;
     }
-    svg += fmt::format("<polygon fill='{}' fill-opacity='0.8' points='{}{}'/>\n", device_colour(d), upper, lower);
+    svg += fmt::format("<polygon fill='{}' fill-opacity='0.8' points='{}{}'/>\n", device_colour(d),
+                       upper, lower);
   }
-  svg += fmt::format("<rect x='{}' y='{}' width='{}' height='{}' fill='none' stroke='black'/>\n", left,
-                     by, plot_w, bottom_h);
-  svg += fmt::format("<text x='{}' y='{}' text-anchor='middle'>frame (0..{})</text>\n", left + plot_w / 2,
-                     by + bottom_h + 30, n - 1);
+  svg += fmt::format("<rect x='{}' y='{}' width='{}' height='{}' fill='none' stroke='black'/>\n",
+                     left, by, plot_w, bottom_h);
+  svg += fmt::format("<text x='{}' y='{}' text-anchor='middle'>frame (0..{})</text>\n",
+                     left + plot_w / 2, by + bottom_h + 30, n - 1);
   svg += "</svg>\n";
   std::ofstream out(path);
   if (!out) throw InputError("cannot write '" + path + "'");

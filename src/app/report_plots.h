@@ -12,7 +12,8 @@ namespace multiray::app {
 // Per-device time per frame (lines, top) and work shares stacked beneath (bottom).
 // `labels` name the devices (emulated ones should say so).
 void write_timeline_svg(const std::string& path, const std::string& title,
-                        const std::vector<FrameRecord>& frames, const std::vector<std::string>& labels);
+                        const std::vector<FrameRecord>& frames,
+                        const std::vector<std::string>& labels);
 
 // View 0 of a frame with each pixel coloured by the device that rendered it; item borders
 // darkened so tiles and strips are visible.

@@ -42,9 +42,16 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
   shape.width = views.at(0).width;
   shape.height = views.at(0).height;
   shape.views = int(views.size());
+  // Irregular sampling: balancers that split by work see every pixel's sample count.
+  if (views[0].spp_map) {
+    shape.pixel_weight.reserve(size_t(shape.pixels()));
+    for (const ViewSetup& v : views)
+      for (uint8_t spp : *v.spp_map) shape.pixel_weight.push_back(float(spp));
+  }
   images_.resize(views.size());
   for (auto& img : images_)
-    if (img.width != shape.width || img.height != shape.height) img = Framebuffer(shape.width, shape.height);
+    if (img.width != shape.width || img.height != shape.height)
+      img = Framebuffer(shape.width, shape.height);
 
   Stopwatch clock;
   last_plan_ = balancer_->plan(shape, frame);
@@ -74,8 +81,10 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
     for (const UnitReport& u : reports[i].units) done[u.unit.id] = true;
     std::vector<WorkUnit> redo;
     for (uint32_t id = 0; id < source.items().size(); ++id)
-      if (source.taken_by(id) == int(i) && !done[id]) redo.push_back(to_unit(source.items()[id], id));
-    for (uint32_t id : source.take_remaining(int(i))) redo.push_back(to_unit(source.items()[id], id));
+      if (source.taken_by(id) == int(i) && !done[id])
+        redo.push_back(to_unit(source.items()[id], id));
+    for (uint32_t id : source.take_remaining(int(i)))
+      redo.push_back(to_unit(source.items()[id], id));
     const auto helper = std::find(alive_.begin(), alive_.end(), true);
     if (helper == alive_.end()) throw DeviceError("every device has failed: " + reports[i].error);
     const size_t h = size_t(helper - alive_.begin());

@@ -23,8 +23,10 @@ double item_weight(const balance::WorkItem& it, const balance::FrameShape& shape
 }  // namespace
 
 PlanWorkSource::PlanWorkSource(const balance::Plan& plan, const balance::FrameShape& shape)
-    : own_(plan.assigned.size()), own_weight_(plan.assigned.size(), 0.0),
-      batch_(std::max(1, plan.batch)), steal_(plan.steal) {
+    : own_(plan.assigned.size()),
+      own_weight_(plan.assigned.size(), 0.0),
+      batch_(std::max(1, plan.batch)),
+      steal_(plan.steal) {
   auto add = [&](const balance::WorkItem& it) {
     items_.push_back(it);
     weight_.push_back(item_weight(it, shape));

@@ -23,10 +23,12 @@ Accel::Accel(const Scene& scene) {
   RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
   // Embree reads vertices with 16-byte loads, so its buffers (allocated here) are padded;
   // the Scene's own arrays are not, so they are copied.
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), scene.positions.size()));
-  auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), scene.triangle_count()));
+  auto* vertices = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                              3 * sizeof(float), scene.positions.size()));
+  auto* indices = static_cast<uint32_t*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                              3 * sizeof(uint32_t), scene.triangle_count()));
   if (!vertices || !indices) throw DeviceError("Embree: out of memory for the scene buffers");
   std::memcpy(vertices, scene.positions.data(), scene.positions.size() * sizeof(Vec3));
   std::memcpy(indices, scene.indices.data(), scene.indices.size() * sizeof(uint32_t));

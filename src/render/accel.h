@@ -16,7 +16,7 @@ struct Ray {
 
 struct Hit {
   float t = INFINITY;
-  uint32_t prim = 0;  // triangle index in Scene
+  uint32_t prim = 0;   // triangle index in Scene
   float u = 0, v = 0;  // barycentrics of vertices 1 and 2
   Vec3 ng;             // unnormalised geometric normal, along cross(v1 - v0, v2 - v0)
 };

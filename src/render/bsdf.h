@@ -16,8 +16,8 @@ namespace multiray {
 
 struct BsdfSample {
   Vec3 wi;
-  Vec3 weight;      // f * |cos| / pdf
-  float pdf = 0;    // solid-angle density; 0 when `specular`
+  Vec3 weight;            // f * |cos| / pdf
+  float pdf = 0;          // solid-angle density; 0 when `specular`
   bool specular = false;  // not usable for MIS (dielectric or near-mirror)
 };
 

@@ -13,7 +13,8 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
   for (size_t t = 0; t < scene.triangle_count(); ++t) {
     const Material& m = scene.materials[scene.material_ids[t]];
     if (max_component(m.emission) <= 0) continue;
-    const Vec3 a = scene.positions[scene.indices[3 * t]], b = scene.positions[scene.indices[3 * t + 1]],
+    const Vec3 a = scene.positions[scene.indices[3 * t]],
+               b = scene.positions[scene.indices[3 * t + 1]],
                c = scene.positions[scene.indices[3 * t + 2]];
     const float ar = 0.5f * length(cross(b - a, c - a));
     if (!(ar > 0)) continue;
@@ -36,7 +37,8 @@ LightSample LightSampler::sample(float u, float u1, float u2) const {
   const size_t i = std::min(size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()),
                             tris_.size() - 1);
   const uint32_t t = tris_[i];
-  const Vec3 a = scene_.positions[scene_.indices[3 * t]], b = scene_.positions[scene_.indices[3 * t + 1]],
+  const Vec3 a = scene_.positions[scene_.indices[3 * t]],
+             b = scene_.positions[scene_.indices[3 * t + 1]],
              c = scene_.positions[scene_.indices[3 * t + 2]];
   const Vec2 bc = sample_triangle(u1, u2);
   LightSample s;

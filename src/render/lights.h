@@ -36,9 +36,9 @@ class LightSampler {
 
  private:
   const Scene& scene_;
-  std::vector<uint32_t> tris_;        // emissive triangle indices
-  std::vector<float> cdf_;            // cumulative power, last element = 1
-  std::vector<float> pdf_by_prim_;    // per scene triangle, selection prob / area
+  std::vector<uint32_t> tris_;      // emissive triangle indices
+  std::vector<float> cdf_;          // cumulative power, last element = 1
+  std::vector<float> pdf_by_prim_;  // per scene triangle, selection prob / area
 };
 
 }  // namespace multiray

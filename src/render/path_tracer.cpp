@@ -199,20 +199,22 @@ KernelStats PathTracer::render_rect(const ViewSetup& view, const RenderSettings&
                                     PixelRect rect, Framebuffer& out, RayLog* log) const {
   KernelStats stats;
   if (rect.area() == 0) return stats;
-  const float inv_spp = 1.0f / float(settings.spp);
   const PinholeCamera camera(view.camera, view.width, view.height);
   // A batch holds whole pixels (all their samples), about kBatch paths.
-  constexpr int kBatch = 64;
-  const int64_t pixels_per_batch = std::max(1, kBatch / settings.spp);
+  constexpr size_t kBatch = 64;
   const int rect_w = rect.x1 - rect.x0;
   std::vector<PathState> paths;
-  for (int64_t first = 0; first < rect.area(); first += pixels_per_batch) {
-    const int64_t last = std::min(rect.area(), first + pixels_per_batch);
+  std::vector<int> counts;  // samples of each pixel of the batch
+  for (int64_t first = 0; first < rect.area();) {
     paths.clear();
-    for (int64_t k = first; k < last; ++k) {
-      const int x = rect.x0 + int(k % rect_w), y = rect.y0 + int(k / rect_w);
+    counts.clear();
+    int64_t last = first;
+    for (; last < rect.area() && (paths.empty() || paths.size() < kBatch); ++last) {
+      const int x = rect.x0 + int(last % rect_w), y = rect.y0 + int(last / rect_w);
       const uint32_t pixel = uint32_t(y) * uint32_t(view.width) + uint32_t(x);
-      for (int s = 0; s < settings.spp; ++s) {
+      const int spp = view.samples_at(pixel, settings);
+      counts.push_back(spp);
+      for (int s = 0; s < spp; ++s) {
         PathState& p = paths.emplace_back(
             Rng::for_path(pixel, uint32_t(s), view.frame, view.view, settings.seed));
         const float jx = p.rng.next(), jy = p.rng.next();
@@ -220,15 +222,19 @@ KernelStats PathTracer::render_rect(const ViewSetup& view, const RenderSettings&
       }
     }
     trace_batch(paths, settings, stats, log);
+    size_t next = 0;
     for (int64_t k = first; k < last; ++k) {
+      const int spp = counts[size_t(k - first)];
       Vec3 sum(0.0f);
-      for (int s = 0; s < settings.spp; ++s) {
-        const Vec3 L = paths[size_t((k - first) * settings.spp + s)].L;
+      for (int s = 0; s < spp; ++s, ++next) {
+        const Vec3 L = paths[next].L;
         sum += is_finite(L) ? L : Vec3(0.0f);
       }
-      out.at(rect.x0 + int(k % rect_w), rect.y0 + int(k / rect_w)) = sum * inv_spp;
+      out.at(rect.x0 + int(k % rect_w), rect.y0 + int(k / rect_w)) =
+          spp > 0 ? sum * (1.0f / float(spp)) : Vec3(0.0f);
     }
-    stats.samples += uint64_t(last - first) * uint64_t(settings.spp);
+    stats.samples += paths.size();
+    first = last;
   }
   return stats;
 }

@@ -9,51 +9,9 @@
 
 #include "core/image.h"
 #include "core/rect.h"
-#include "render/accel.h"
-#include "render/lights.h"
-#include "render/shading_data.h"
-#include "scene/scene.h"
+#include "render/render_types.h"
 
 namespace multiray {
-
-struct RenderSettings {
-  int spp = 16;           // samples per pixel
-  int max_bounces = 8;    // scattering events per path
-  int rr_start = 3;       // first bounce at which Russian roulette may end a path
-  uint64_t seed = 0;      // changes every random number (for variance tests)
-};
-
-// One view of one frame: what the camera sees and the size of its image.
-struct ViewSetup {
-  Camera camera;
-  int width = 0, height = 0;
-  uint32_t view = 0;
-  uint32_t frame = 0;
-};
-
-struct KernelStats {
-  uint64_t samples = 0;  // camera paths
-  uint64_t rays = 0;     // closest-hit plus shadow rays
-  KernelStats& operator+=(const KernelStats& o) {
-    samples += o.samples, rays += o.rays;
-    return *this;
-  }
-};
-
-// Optional record of every ray traced, for the raw-Embree throughput benchmark.
-struct RayLog {
-  std::vector<Ray> closest, shadow;
-};
-
-// The scene as the CPU kernels need it: geometry, BVH and light sampler, built once.
-struct RenderScene {
-  explicit RenderScene(const Scene& s)
-      : scene(s), accel(s), lights(s), shading(build_shading_data(s)) {}
-  const Scene& scene;
-  Accel accel;
-  LightSampler lights;
-  std::vector<TriangleShading> shading;
-};
 
 struct PathState;
 

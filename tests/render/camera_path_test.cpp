@@ -41,8 +41,9 @@ TEST(CameraPath, JsonFileAndItsErrors) {
   EXPECT_NEAR(p.at(4).fov_y_deg, 30.0f, 1e-6f);
 
   const std::string bad = ::testing::TempDir() + "/path_bad.json";
-  for (const char* text : {"{", R"({"keyframes":[]})", R"({"keyframes":[{"frame":0,"eye":[0,0]}]})",
-                           R"({"keyframes":[{"frame":1,"eye":[0,0,1],"target":[0,0,0]},
+  for (const char* text :
+       {"{", R"({"keyframes":[]})", R"({"keyframes":[{"frame":0,"eye":[0,0]}]})",
+        R"({"keyframes":[{"frame":1,"eye":[0,0,1],"target":[0,0,0]},
                                             {"frame":1,"eye":[0,0,2],"target":[0,0,0]}]})"}) {
     std::ofstream(bad) << text;
     EXPECT_THROW(CameraPath::from_json_file(bad), InputError) << text;

@@ -19,19 +19,18 @@ class SplitIndependence : public ::testing::Test {
   static constexpr int kW = 61, kH = 37;  // odd sizes so regions are uneven
   Scene scene_ = make_cornell_box();
   RenderSettings settings_{.spp = 2, .max_bounces = 8};
-  Framebuffer reference_ =
-      testing::render_regions(scene_, kW, kH, settings_, {{0, 0, kW, kH}});
+  Framebuffer reference_ = testing::render_regions(scene_, kW, kH, settings_, {{0, 0, kW, kH}});
 };
 
 TEST_F(SplitIndependence, TwoRegions) {
-  const auto fb = testing::render_regions(scene_, kW, kH, settings_,
-                                          {{0, 0, kW, 20}, {0, 20, kW, kH}});
+  const auto fb =
+      testing::render_regions(scene_, kW, kH, settings_, {{0, 0, kW, 20}, {0, 20, kW, kH}});
   EXPECT_TRUE(bit_identical(reference_, fb));
 }
 
 TEST_F(SplitIndependence, SevenIrregularRegionsOnThreeDevices) {
-  const std::vector<PixelRect> regions{{0, 0, 13, 37},  {13, 0, 61, 5},  {13, 5, 40, 6},
-                                       {40, 5, 61, 6},  {13, 6, 14, 37}, {14, 6, 50, 37},
+  const std::vector<PixelRect> regions{{0, 0, 13, 37}, {13, 0, 61, 5},  {13, 5, 40, 6},
+                                       {40, 5, 61, 6}, {13, 6, 14, 37}, {14, 6, 50, 37},
                                        {50, 6, 61, 37}};
   const auto fb = testing::render_regions(scene_, kW, kH, settings_, regions, 3, 1);
   EXPECT_TRUE(bit_identical(reference_, fb));

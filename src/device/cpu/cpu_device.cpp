@@ -15,6 +15,7 @@
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/cpu/cgroup_quota.h"
+#include "render/ambient_occlusion.h"
 
 namespace multiray {
 
@@ -51,7 +52,7 @@ class ThreadSetup : public oneapi::tbb::task_scheduler_observer {
 
 struct CpuDevice::Impl {
   Impl(const RenderScene& rs, const CpuDeviceOptions& o, const std::string& name)
-      : tracer(rs), opts(o), arena(o.threads, 1) {
+      : tracer(rs), ao(rs), opts(o), arena(o.threads, 1) {
     if (o.quota > 0) quota.emplace(name, o.quota * o.threads);
     setup.emplace(arena, o.cores, quota ? &*quota : nullptr);
   }
@@ -62,6 +63,7 @@ struct CpuDevice::Impl {
     if (quota) CgroupQuota::leave_current_thread();
   }
   PathTracer tracer;
+  AmbientOcclusion ao;
   CpuDeviceOptions opts;
   std::optional<CgroupQuota> quota;  // declared before `setup`, which points to it
   oneapi::tbb::task_arena arena;
@@ -71,12 +73,13 @@ struct CpuDevice::Impl {
 
 CpuDevice::CpuDevice(const RenderScene& rs, CpuDeviceOptions opts, std::string spec) {
   if (opts.threads < 1 || opts.threads > 1024)
-    throw InputError("cpu device: threads must be in 1..1024, got " + std::to_string(opts.threads));
+    throw InputError("cpu device: threads must be in 1..1024, got " +
+                     std::to_string(opts.threads));
   const int ncpu = int(std::thread::hardware_concurrency());
   for (int c : opts.cores)
     if (c < 0 || (ncpu > 0 && c >= ncpu))
-      throw InputError("cpu device: core " + std::to_string(c) + " does not exist (this machine has " +
-                       std::to_string(ncpu) + ")");
+      throw InputError("cpu device: core " + std::to_string(c) +
+                       " does not exist (this machine has " + std::to_string(ncpu) + ")");
   if (!(opts.speed > 0 && opts.speed <= 1))
     throw InputError("cpu device: speed must be in (0, 1], got " + std::to_string(opts.speed));
   static std::atomic<int> counter{0};
@@ -87,7 +90,8 @@ CpuDevice::CpuDevice(const RenderScene& rs, CpuDeviceOptions opts, std::string s
   info_.threads = opts.threads;
   info_.emulated_speed = opts.speed;
   info_.cpu_quota = opts.quota;
-  info_.name = "cpu (" + std::to_string(opts.threads) + (opts.threads == 1 ? " thread" : " threads");
+  info_.name =
+      "cpu (" + std::to_string(opts.threads) + (opts.threads == 1 ? " thread" : " threads");
   if (!opts.cores.empty()) {
     info_.name += ", cores";
     for (int c : opts.cores) info_.name += " " + std::to_string(c);
@@ -127,8 +131,11 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
         oneapi::tbb::parallel_for(
             oneapi::tbb::blocked_range2d<int>(r.y0, r.y1, tile, r.x0, r.x1, tile),
             [&](const oneapi::tbb::blocked_range2d<int>& b) {
-              const PixelRect sub{b.cols().begin(), b.rows().begin(), b.cols().end(), b.rows().end()};
-              const KernelStats ks = impl_->tracer.render_rect(view, job.settings, sub, out);
+              const PixelRect sub{b.cols().begin(), b.rows().begin(), b.cols().end(),
+                                  b.rows().end()};
+              const KernelStats ks = job.settings.integrator == Integrator::AO
+                                         ? impl_->ao.render_rect(view, job.settings, sub, out)
+                                         : impl_->tracer.render_rect(view, job.settings, sub, out);
               samples += ks.samples;
               rays += ks.rays;
             });

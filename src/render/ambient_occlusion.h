@@ -1,0 +1,29 @@
+// Ambient occlusion, the integrator of Harada's and Harada & Fujita's irregular-sampling
+// experiments: per sample, one primary ray and `ao_rays` cosine-distributed occlusion rays
+// of length `ao_distance` from the hit; the pixel value is the unoccluded fraction (1 where
+// the primary ray leaves the scene). Random numbers as in the path tracer, from
+// (pixel, sample, frame, view), so images do not depend on the split.
+#pragma once
+
+#include "core/image.h"
+#include "core/rect.h"
+#include "render/render_types.h"
+
+namespace multiray {
+
+class AmbientOcclusion {
+ public:
+  explicit AmbientOcclusion(const RenderScene& rs);
+
+  // Renders every pixel of `rect` (the view's sample map or settings.spp samples each)
+  // into `out`. Safe to call concurrently for disjoint rectangles.
+  KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, PixelRect rect,
+                          Framebuffer& out) const;
+
+ private:
+  const RenderScene& rs_;
+  float eps_;            // ray-origin offset, scaled to the scene
+  float default_range_;  // 0.3 of the scene's largest extent
+};
+
+}  // namespace multiray

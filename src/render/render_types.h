@@ -1,0 +1,71 @@
+// The plain types every CPU kernel shares: what to render (settings, view), the scene
+// prepared for rendering, and what a kernel reports back.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "render/accel.h"
+#include "render/lights.h"
+#include "render/shading_data.h"
+#include "scene/scene.h"
+
+namespace multiray {
+
+enum class Integrator {
+  Path,  // path tracing with NEE + MIS (path_tracer.h)
+  AO,    // ambient occlusion (ambient_occlusion.h)
+};
+
+struct RenderSettings {
+  int spp = 16;         // samples per pixel (unless the view has a sample map)
+  int max_bounces = 8;  // scattering events per path
+  int rr_start = 3;     // first bounce at which Russian roulette may end a path
+  uint64_t seed = 0;    // changes every random number (for variance tests)
+  Integrator integrator = Integrator::Path;
+  int ao_rays = 2;           // occlusion rays per AO sample
+  float ao_distance = 0.0f;  // occlusion range, scene units; 0: 0.3 of the scene size
+};
+
+// One view of one frame: what the camera sees and the size of its image.
+struct ViewSetup {
+  Camera camera;
+  int width = 0, height = 0;
+  uint32_t view = 0;
+  uint32_t frame = 0;
+  // Irregular sampling (Harada & Fujita): samples of each pixel of this view, row-major;
+  // null means RenderSettings::spp everywhere. Must outlive the frame.
+  const std::vector<uint8_t>* spp_map = nullptr;
+
+  int samples_at(uint32_t pixel, const struct RenderSettings& s) const;
+};
+
+struct KernelStats {
+  uint64_t samples = 0;  // camera paths
+  uint64_t rays = 0;     // closest-hit plus shadow rays
+  KernelStats& operator+=(const KernelStats& o) {
+    samples += o.samples, rays += o.rays;
+    return *this;
+  }
+};
+
+// Optional record of every ray traced, for the raw-Embree throughput benchmark.
+struct RayLog {
+  std::vector<Ray> closest, shadow;
+};
+
+// The scene as the CPU kernels need it: geometry, BVH and light sampler, built once.
+struct RenderScene {
+  explicit RenderScene(const Scene& s)
+      : scene(s), accel(s), lights(s), shading(build_shading_data(s)) {}
+  const Scene& scene;
+  Accel accel;
+  LightSampler lights;
+  std::vector<TriangleShading> shading;
+};
+
+inline int ViewSetup::samples_at(uint32_t pixel, const RenderSettings& s) const {
+  return spp_map ? int((*spp_map)[pixel]) : s.spp;
+}
+
+}  // namespace multiray
