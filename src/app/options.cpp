@@ -174,7 +174,7 @@ Setup make_setup(const CommonOptions& o) {
   s.settings.integrator = o.integrator == "ao" ? Integrator::AO : Integrator::Path;
   if (o.ao_rays < 1 || o.ao_rays > 1024) throw InputError("--ao-rays must be in 1..1024");
   if (!(o.ao_distance >= 0) || !std::isfinite(o.ao_distance))
-    throw InputError("--ao-distance must be a finite number >= 0 (0: a tenth of the scene)");
+    throw InputError("--ao-distance must be a finite number >= 0 (0: 0.3 of the scene size)");
   s.settings.ao_rays = o.ao_rays;
   s.settings.ao_distance = o.ao_distance;
   if (o.sampling != "uniform" && o.sampling != "adaptive")
