@@ -145,7 +145,12 @@ Runner add_bench_command(CLI::App& app) {
         "{}\n",
         s.scene->name, s.res.width, s.res.height, s.rig.view_count(), o->integrator, o->sampling,
         o->sampling == "adaptive" ? fmt::format("{} on edges, 1 elsewhere", o->edge_spp)
-                                  : std::to_string(o->spp),
+        : o->sampling == "foveated"
+            ? fmt::format("{:g} at the gaze, {:g} in the periphery, "
+                          "{} pattern samples, gaze path {}",
+                          o->foveation.fovea_spp, o->foveation.periphery_spp,
+                          s.pattern->offsets.size(), o->gaze_path)
+            : std::to_string(o->spp),
         o->frames, o->camera_path);
     for (const auto& l : labels) fmt::print("  device {}\n", l);
 
@@ -167,9 +172,11 @@ Runner add_bench_command(CLI::App& app) {
       Engine engine(s.device_ptrs(), make_balancer_or_throw(mapped[run], int(s.devices.size())));
       engine.set_perturbations(s.perturbations);
       std::vector<FrameRecord> recs;
+      std::vector<double> sampling_ms;  // host set-up of irregular sampling, outside frame_ms
       for (int f = 0; f < o->frames; ++f) {
         if (stderr_is_tty()) fmt::print(stderr, "\r{}: frame {}/{} ", spec, f + 1, o->frames);
         const Setup::FrameInput in = s.frame_input(f);
+        sampling_ms.push_back(in.sampling_ms);
         recs.push_back(engine.render_frame(f, in.views, s.settings));
         for (const auto& m : recs.back().messages)
           fmt::print(stderr, "\nmultiray: warning: {}\n", m);
@@ -207,7 +214,10 @@ Runner add_bench_command(CLI::App& app) {
       }
       summaries.push_back(sum);
       nlohmann::json frames = nlohmann::json::array();
-      for (const auto& r : recs) frames.push_back(frame_to_json(r));
+      for (const auto& r : recs) {
+        frames.push_back(frame_to_json(r));
+        frames.back()["sampling_ms"] = sampling_ms[size_t(r.frame)];
+      }
       runs.push_back({{"balancer", engine.balancer().spec()},
                       {"devices", devices_to_json(s.devices)},
                       {"image_matches_first_run", same_image},
@@ -259,6 +269,8 @@ Runner add_bench_command(CLI::App& app) {
                          {"resolution", {s.res.width, s.res.height}},
                          {"views", s.rig.view_count()},
                          {"spp", o->spp},
+                         {"integrator", o->integrator},
+                         {"sampling", o->sampling},
                          {"frames", o->frames},
                          {"camera_path", o->camera_path},
                          {"timing",

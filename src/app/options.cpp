@@ -1,5 +1,6 @@
 #include "app/options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <thread>
@@ -76,6 +77,33 @@ Camera parse_camera(const std::string& text) {
   return c;
 }
 
+Vec2 GazePath::at(int frame) const {
+  const float a = 2.0f * kPi * float(frame) / period;
+  return Vec2{std::clamp(center.x + radius * std::cos(a), 0.0f, 1.0f),
+              std::clamp(center.y + radius * std::sin(a), 0.0f, 1.0f)};
+}
+
+GazePath parse_gaze(const std::string& gaze, const std::string& path) {
+  GazePath g;
+  const auto parts = split(gaze, ',');
+  if (parts.size() != 2) throw InputError("--gaze '" + gaze + "' must look like 0.5,0.5");
+  const double x = to_number(parts[0], "--gaze x"), y = to_number(parts[1], "--gaze y");
+  if (x < 0 || x > 1 || y < 0 || y > 1)
+    throw InputError("--gaze '" + gaze + "': X and Y are normalised, each must be in [0, 1]");
+  g.center = Vec2{float(x), float(y)};
+  if (path == "orbit" || path.rfind("orbit:", 0) == 0) {
+    g.radius = 0.25f;
+    if (path != "orbit") {
+      const double period = to_number(path.substr(6), "--gaze-path orbit period");
+      if (!(period > 0)) throw InputError("--gaze-path: the orbit period must be > 0 frames");
+      g.period = float(period);
+    }
+  } else if (path != "fixed") {
+    throw InputError("--gaze-path '" + path + "' must be fixed, orbit or orbit:PERIOD");
+  }
+  return g;
+}
+
 std::vector<Perturbation> parse_perturbations(const std::vector<std::string>& items,
                                               int device_count) {
   std::vector<Perturbation> out;
@@ -127,6 +155,14 @@ Setup::FrameInput Setup::frame_input(int frame) const {
           edge_sample_map(detect_edges(render_gbuffer(*render_scene, v)), edge_spp, 1));
     for (size_t i = 0; i < in.views.size(); ++i) in.views[i].spp_map = &in.maps[i];
     in.sampling_ms = clock.elapsed_ms();
+  } else if (sampling == "foveated") {
+    // One set-up serves every view: they share the image size and the gaze.
+    const Stopwatch clock;
+    const Vec2 g = gaze.at(frame);
+    in.foveation =
+        std::make_shared<const FoveationFrame>(prepare_foveation_frame(*pattern, g.x, g.y));
+    for (ViewSetup& v : in.views) v.foveation = in.foveation.get();
+    in.sampling_ms = clock.elapsed_ms();
   }
   return in;
 }
@@ -177,11 +213,19 @@ Setup make_setup(const CommonOptions& o) {
     throw InputError("--ao-distance must be a finite number >= 0 (0: 0.3 of the scene size)");
   s.settings.ao_rays = o.ao_rays;
   s.settings.ao_distance = o.ao_distance;
-  if (o.sampling != "uniform" && o.sampling != "adaptive")
-    throw InputError("--sampling '" + o.sampling + "' must be uniform or adaptive");
+  if (o.sampling != "uniform" && o.sampling != "adaptive" && o.sampling != "foveated")
+    throw InputError("--sampling '" + o.sampling + "' must be uniform, adaptive or foveated");
   if (o.edge_spp < 1 || o.edge_spp > 255) throw InputError("--edge-spp must be in 1..255");
   s.sampling = o.sampling;
   s.edge_spp = o.edge_spp;
+  s.gaze = parse_gaze(o.gaze, o.gaze_path);
+  if (!(o.foveation.fovea_spp > 0 && o.foveation.fovea_spp <= 64))
+    throw InputError("--fovea-spp must be in (0, 64] samples per pixel");
+  if (!(o.foveation.fovea_radius > 0) || !std::isfinite(o.foveation.fovea_radius))
+    throw InputError("--fovea-radius must be a finite fraction of the image height > 0");
+  if (!(o.foveation.periphery_spp >= 1.0f / 4096 &&
+        o.foveation.periphery_spp <= o.foveation.fovea_spp))
+    throw InputError("--periphery-spp must be in [1/4096, --fovea-spp] samples per pixel");
   s.settings.spp = o.spp;
   s.settings.max_bounces = o.bounces;
   s.settings.seed = o.seed;
@@ -197,8 +241,9 @@ Setup make_setup(const CommonOptions& o) {
   const auto specs = parse_device_specs(devices);  // check syntax before loading the scene
   for (const DeviceSpec& d : specs)
     if (d.type != "cpu" && (s.settings.integrator != Integrator::Path || s.sampling != "uniform"))
-      throw InputError("--integrator ao and --sampling adaptive run on cpu devices only, not '" +
-                       d.text + "'");
+      throw InputError(
+          "--integrator ao and --sampling adaptive|foveated run on cpu devices only, not '" +
+          d.text + "'");
   s.perturbations = parse_perturbations(o.perturb, int(specs.size()));
 
   s.scene = std::make_unique<Scene>(o.scene_path.empty() ? make_cornell_box()
@@ -231,6 +276,9 @@ Setup make_setup(const CommonOptions& o) {
     s.scene->environment = Vec3(1.0f);
     s.notes.push_back("the scene has no lights; using a white sky (radiance 1), see --env");
   }
+  if (s.sampling == "foveated")
+    s.pattern = std::make_shared<const FoveationPattern>(
+        make_foveation_pattern(s.res.width, s.res.height, o.foveation));
   s.render_scene = std::make_unique<RenderScene>(*s.scene);
   for (const DeviceSpec& d : specs) s.devices.push_back(create_device(d, *s.render_scene));
   return s;

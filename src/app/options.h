@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "engine/engine.h"
+#include "render/foveation_frame.h"
 #include "render/path_tracer.h"
 #include "scene/camera_path.h"
 #include "scene/camera_rig.h"
@@ -36,9 +37,25 @@ struct CommonOptions {
   std::string integrator = "path";   // path | ao
   int ao_rays = 2;
   float ao_distance = 0.0f;          // 0: 0.3 of the scene size
-  std::string sampling = "uniform";  // uniform | adaptive
+  std::string sampling = "uniform";  // uniform | adaptive | foveated
   int edge_spp = 5;                  // adaptive: samples of edge pixels (others get 1)
+  std::string gaze = "0.5,0.5";      // foveated: gaze point X,Y, normalised, (0,0) top left
+  std::string gaze_path = "fixed";   // foveated: fixed | orbit | orbit:PERIOD
+  FoveationParams foveation;         // foveated: --fovea-spp, --fovea-radius, --periphery-spp
 };
+
+// Where the viewer looks in each frame, in normalised screen coordinates ((0,0) top left,
+// (1,1) bottom right). `orbit` circles the --gaze point at radius 0.25, one turn every
+// `period` frames, clamped to the screen: a slowly moving gaze.
+struct GazePath {
+  Vec2 center{0.5f, 0.5f};
+  float radius = 0.0f;    // 0: the gaze stays at `center`
+  float period = 100.0f;  // frames per turn
+  Vec2 at(int frame) const;
+};
+
+// Parses --gaze "X,Y" (each in [0, 1]) and --gaze-path (fixed | orbit | orbit:PERIOD).
+GazePath parse_gaze(const std::string& gaze, const std::string& path);
 
 struct Resolution {
   int width = 0, height = 0;
@@ -69,15 +86,20 @@ struct Setup {
   std::vector<Device*> device_ptrs() const;
   std::vector<ViewSetup> views_for(int frame) const;
   // The views of `frame` with their sample maps (adaptive sampling runs its first pass
-  // here). `views` point into `maps`; keep the FrameInput alive while rendering.
+  // here; foveated sampling shifts the pattern to the frame's gaze and finds every
+  // pixel's neighbours here). `views` point into `maps` and `foveation`; keep the
+  // FrameInput alive while rendering.
   struct FrameInput {
     std::vector<std::vector<uint8_t>> maps;
+    std::shared_ptr<const FoveationFrame> foveation;  // shared by all views of the frame
     std::vector<ViewSetup> views;
-    double sampling_ms = 0;  // time of the edge-detection pass, ms
+    double sampling_ms = 0;  // host time of the edge-detection pass or foveation set-up, ms
   };
   FrameInput frame_input(int frame) const;
   std::string sampling = "uniform";
   int edge_spp = 5;
+  GazePath gaze;
+  std::shared_ptr<const FoveationPattern> pattern;  // foveated: generated once per run
 };
 
 // Validates every option before loading anything expensive, then loads the scene and

@@ -62,10 +62,29 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                  "Occlusion range in scene units (0: 0.3 of the scene size)")
       ->capture_default_str();
   cmd.add_option("--sampling", o.sampling,
-                 "uniform (--spp everywhere) or adaptive (a first pass finds geometric edges; "
-                 "edge pixels get --edge-spp samples, the others 1)")
+                 "uniform (--spp everywhere), adaptive (a first pass finds geometric edges; "
+                 "edge pixels get --edge-spp samples, the others 1) or foveated (a fixed pattern "
+                 "of samples, dense at the --gaze point and sparse around it; each pixel "
+                 "interpolates its 8 nearest samples)")
       ->capture_default_str();
   cmd.add_option("--edge-spp", o.edge_spp, "Samples of edge pixels with --sampling adaptive")
+      ->capture_default_str();
+  cmd.add_option("--gaze", o.gaze,
+                 "Foveated: gaze point X,Y in normalised screen coordinates, 0,0 top left")
+      ->capture_default_str();
+  cmd.add_option("--gaze-path", o.gaze_path,
+                 "Foveated: fixed, or orbit[:PERIOD] (the gaze circles --gaze at radius 0.25, "
+                 "one turn per PERIOD frames, default 100)")
+      ->capture_default_str();
+  cmd.add_option("--fovea-spp", o.foveation.fovea_spp,
+                 "Foveated: samples per pixel at the gaze point; density(r) = max(periphery, "
+                 "fovea / (1 + (r/r0)^2))")
+      ->capture_default_str();
+  cmd.add_option("--fovea-radius", o.foveation.fovea_radius,
+                 "Foveated: r0, where the density halves, as a fraction of the image height")
+      ->capture_default_str();
+  cmd.add_option("--periphery-spp", o.foveation.periphery_spp,
+                 "Foveated: the density's floor far from the gaze, samples per pixel")
       ->capture_default_str();
   cmd.add_option("--perturb", o.perturb,
                  "FRAME:DEVICE:SPEED, repeatable: from FRAME on, DEVICE runs at emulated SPEED");

@@ -7,6 +7,7 @@
 #include "core/clock.h"
 #include "core/error.h"
 #include "engine/plan_source.h"
+#include "render/foveation_frame.h"
 
 namespace multiray {
 
@@ -20,6 +21,32 @@ void imbalance_of(const std::vector<double>& t, double& imbalance, double& devia
   imbalance = mx / mean - 1.0;
   for (double x : t) deviation = std::max(deviation, std::abs(x - mean) / mean);
 }
+
+namespace {
+
+// Irregular sampling: the samples of every pixel of every view (views·height·width values,
+// as FrameShape::pixel_weight), so balancers that split by work see where the work is.
+// Adaptive views give their sample map, foveated views the samples positioned in each
+// pixel, the others settings.spp everywhere. Empty when no view samples irregularly.
+std::vector<float> pixel_weights(const std::vector<ViewSetup>& views,
+                                 const RenderSettings& settings) {
+  std::vector<float> w;
+  bool irregular = false;
+  for (const ViewSetup& v : views) irregular |= v.spp_map || v.foveation;
+  if (!irregular) return w;
+  for (const ViewSetup& v : views) {
+    const size_t n = size_t(v.width) * size_t(v.height);
+    if (v.foveation)
+      w.insert(w.end(), v.foveation->pixel_samples.begin(), v.foveation->pixel_samples.end());
+    else if (v.spp_map)
+      for (uint8_t spp : *v.spp_map) w.push_back(float(spp));
+    else
+      w.insert(w.end(), n, float(settings.spp));
+  }
+  return w;
+}
+
+}  // namespace
 
 Engine::Engine(std::vector<Device*> devices, std::unique_ptr<balance::Balancer> balancer)
     : devices_(std::move(devices)),
@@ -42,12 +69,7 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
   shape.width = views.at(0).width;
   shape.height = views.at(0).height;
   shape.views = int(views.size());
-  // Irregular sampling: balancers that split by work see every pixel's sample count.
-  if (views[0].spp_map) {
-    shape.pixel_weight.reserve(size_t(shape.pixels()));
-    for (const ViewSetup& v : views)
-      for (uint8_t spp : *v.spp_map) shape.pixel_weight.push_back(float(spp));
-  }
+  shape.pixel_weight = pixel_weights(views, settings);
   images_.resize(views.size());
   for (auto& img : images_)
     if (img.width != shape.width || img.height != shape.height)

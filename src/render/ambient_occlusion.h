@@ -11,6 +11,8 @@
 
 namespace multiray {
 
+class Rng;
+
 class AmbientOcclusion {
  public:
   explicit AmbientOcclusion(const RenderScene& rs);
@@ -20,7 +22,17 @@ class AmbientOcclusion {
   KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, PixelRect rect,
                           Framebuffer& out) const;
 
+  // One AO sample through each of `samples[0..n)` (the position is the sample, no jitter),
+  // its unoccluded fraction written to `value[i]` (grey). Random numbers from
+  // (key, 0, frame, view, seed). Safe to call concurrently.
+  KernelStats render_samples(const ViewSetup& view, const RenderSettings& settings,
+                             const ImageSample* samples, size_t n, Vec3* value) const;
+
  private:
+  // The unoccluded fraction seen along `primary`, drawing the occlusion rays from `rng`.
+  float occlusion(const Ray& primary, Rng& rng, const RenderSettings& settings,
+                  KernelStats& stats) const;
+
   const RenderScene& rs_;
   float eps_;            // ray-origin offset, scaled to the scene
   float default_range_;  // 0.3 of the scene's largest extent

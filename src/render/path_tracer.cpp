@@ -239,4 +239,30 @@ KernelStats PathTracer::render_rect(const ViewSetup& view, const RenderSettings&
   return stats;
 }
 
+KernelStats PathTracer::render_samples(const ViewSetup& view, const RenderSettings& settings,
+                                       const ImageSample* samples, size_t n,
+                                       Vec3* radiance) const {
+  KernelStats stats;
+  const PinholeCamera camera(view.camera, view.width, view.height);
+  constexpr size_t kBatch = 64;
+  std::vector<PathState> paths;
+  for (size_t first = 0; first < n; first += kBatch) {
+    const size_t last = std::min(n, first + kBatch);
+    paths.clear();
+    for (size_t i = first; i < last; ++i) {
+      const ImageSample& s = samples[i];
+      PathState& p =
+          paths.emplace_back(Rng::for_path(s.key, 0, view.frame, view.view, settings.seed));
+      p.ray = camera.ray(s.x, s.y);
+    }
+    trace_batch(paths, settings, stats, nullptr);
+    for (size_t i = first; i < last; ++i) {
+      const Vec3 L = paths[i - first].L;
+      radiance[i] = is_finite(L) ? L : Vec3(0.0f);
+    }
+    stats.samples += last - first;
+  }
+  return stats;
+}
+
 }  // namespace multiray

@@ -24,6 +24,12 @@ class PathTracer {
   KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, PixelRect rect,
                           Framebuffer& out, RayLog* log = nullptr) const;
 
+  // Traces one path through each of `samples[0..n)` (no jitter: the position is the
+  // sample) and writes its radiance to `radiance[i]` (non-finite results become 0).
+  // Random numbers from (key, 0, frame, view, seed). Safe to call concurrently.
+  KernelStats render_samples(const ViewSetup& view, const RenderSettings& settings,
+                             const ImageSample* samples, size_t n, Vec3* radiance) const;
+
  private:
   // Advances path `p` by one bounce given its closest hit (nullptr: it left the scene).
   void step(struct PathState& p, const Hit* hit, const RenderSettings& settings) const;

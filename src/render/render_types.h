@@ -12,6 +12,8 @@
 
 namespace multiray {
 
+struct FoveationFrame;
+
 enum class Integrator {
   Path,  // path tracing with NEE + MIS (path_tracer.h)
   AO,    // ambient occlusion (ambient_occlusion.h)
@@ -36,8 +38,20 @@ struct ViewSetup {
   // Irregular sampling (Harada & Fujita): samples of each pixel of this view, row-major;
   // null means RenderSettings::spp everywhere. Must outlive the frame.
   const std::vector<uint8_t>* spp_map = nullptr;
+  // Foveated sampling (foveated.h): the frame's samples and neighbour lists; pixels are
+  // reconstructed from samples instead of being sampled themselves. Null: not foveated.
+  // Must outlive the frame.
+  const FoveationFrame* foveation = nullptr;
 
   int samples_at(uint32_t pixel, const struct RenderSettings& s) const;
+};
+
+// One camera sample at a given image position (pixels, fractional, x right, y down) whose
+// random numbers are keyed by (key, 0, frame, view, seed): the integrators' entry point for
+// sample patterns that are not per-pixel (foveated sampling keys by pattern index).
+struct ImageSample {
+  float x = 0, y = 0;
+  uint32_t key = 0;
 };
 
 struct KernelStats {

@@ -102,6 +102,28 @@ TEST(Cli, BadOptionsAndValues) {
   expect_input_error("render --views 3x3 --balancer hybrid --mapping views", "--mapping");
 }
 
+TEST(Cli, FoveatedSamplingRendersAndChecksItsOptions) {
+  const std::string dir = ::testing::TempDir() + "/cli_foveated";
+  std::filesystem::remove_all(dir);
+  const Result r =
+      run("render --res 48x32 --integrator ao --sampling foveated --gaze 0.2,0.3 "
+          "--gaze-path orbit:4 --frames 2 --devices cpu,cpu --balancer semi-static --out " +
+          dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/frame_0001.png"));
+  std::ifstream stats(dir + "/stats.json");
+  const std::string json((std::istreambuf_iterator<char>(stats)),
+                         std::istreambuf_iterator<char>());
+  EXPECT_THAT(json, ::testing::HasSubstr("sampling_ms"));
+  expect_input_error("render --sampling foveated --gaze 2,0.5", "--gaze");
+  expect_input_error("render --sampling foveated --gaze 0.5", "--gaze");
+  expect_input_error("render --sampling foveated --gaze-path spiral", "--gaze-path");
+  expect_input_error("render --sampling foveated --periphery-spp 0", "--periphery-spp");
+  expect_input_error("render --sampling foveated --fovea-radius -1", "--fovea-radius");
+  expect_input_error("render --sampling foveated --devices opencl", "opencl");
+  expect_input_error("render --sampling sparse", "--sampling");
+}
+
 TEST(Cli, BadSceneFiles) {
   expect_input_error("render /nonexistent/scene.obj --res 8x8", "scene.obj");
   expect_input_error("render " + temp_file("bad.xyz", "hello") + " --res 8x8", "bad.xyz");

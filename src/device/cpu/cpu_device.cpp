@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "device/cpu/cgroup_quota.h"
 #include "render/ambient_occlusion.h"
+#include "render/foveated.h"
 
 namespace multiray {
 
@@ -52,7 +53,7 @@ class ThreadSetup : public oneapi::tbb::task_scheduler_observer {
 
 struct CpuDevice::Impl {
   Impl(const RenderScene& rs, const CpuDeviceOptions& o, const std::string& name)
-      : tracer(rs), ao(rs), opts(o), arena(o.threads, 1) {
+      : tracer(rs), ao(rs), foveated(tracer, ao), opts(o), arena(o.threads, 1) {
     if (o.quota > 0) quota.emplace(name, o.quota * o.threads);
     setup.emplace(arena, o.cores, quota ? &*quota : nullptr);
   }
@@ -64,6 +65,8 @@ struct CpuDevice::Impl {
   }
   PathTracer tracer;
   AmbientOcclusion ao;
+  FoveatedKernel foveated;
+  std::vector<Vec3> sample_values;  // foveated sampling: values of the unit's samples
   CpuDeviceOptions opts;
   std::optional<CgroupQuota> quota;  // declared before `setup`, which points to it
   oneapi::tbb::task_arena arena;
@@ -128,6 +131,7 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
       std::atomic<uint64_t> samples{0}, rays{0};
       const PixelRect r = unit.rect;
       impl_->arena.execute([&] {
+        if (view.foveation) return render_foveated(job, view, r, out, samples, rays);
         oneapi::tbb::parallel_for(
             oneapi::tbb::blocked_range2d<int>(r.y0, r.y1, tile, r.x0, r.x1, tile),
             [&](const oneapi::tbb::blocked_range2d<int>& b) {
@@ -159,6 +163,31 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
   }
   report.wall_ms = frame_clock.elapsed_ms();
   return report;
+}
+
+void CpuDevice::render_foveated(const FrameJob& job, const ViewSetup& view, PixelRect r,
+                                Framebuffer& out, std::atomic<uint64_t>& samples,
+                                std::atomic<uint64_t>& rays) {
+  // The unit's samples are rendered once for the whole unit (not per thread tile, which
+  // would render the samples on tile borders twice), then its pixels reconstructed.
+  const FoveationFrame& f = *view.foveation;
+  const std::vector<uint32_t> idx = select_samples(f, r);
+  if (impl_->sample_values.size() < f.size()) impl_->sample_values.resize(f.size());
+  Vec3* values = impl_->sample_values.data();
+  const int tile = std::max(1, impl_->opts.tile);
+  oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<size_t>(0, idx.size(), 64),
+                            [&](const oneapi::tbb::blocked_range<size_t>& b) {
+                              const KernelStats ks = impl_->foveated.shade(
+                                  view, job.settings, idx.data() + b.begin(), b.size(), values);
+                              samples += ks.samples;
+                              rays += ks.rays;
+                            });
+  oneapi::tbb::parallel_for(
+      oneapi::tbb::blocked_range2d<int>(r.y0, r.y1, tile, r.x0, r.x1, tile),
+      [&](const oneapi::tbb::blocked_range2d<int>& b) {
+        reconstruct_rect(
+            f, values, {b.cols().begin(), b.rows().begin(), b.cols().end(), b.rows().end()}, out);
+      });
 }
 
 }  // namespace multiray

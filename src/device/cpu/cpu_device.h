@@ -1,7 +1,9 @@
-// CPU device: the Embree path tracer run by a oneTBB task arena of N threads, optionally
-// pinned to given cores and optionally throttled by a cgroup CPU quota.
+// CPU device: the Embree path tracer, ambient occlusion and foveated sampling run by a
+// oneTBB task arena of N threads, optionally pinned to given cores and optionally throttled
+// by a cgroup CPU quota.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <vector>
 
@@ -30,6 +32,11 @@ class CpuDevice : public Device {
   void set_emulated_speed(double speed) override;
 
  private:
+  // Renders unit rect `r` of a foveated view: its samples, then its pixels. Runs inside
+  // the device's arena.
+  void render_foveated(const FrameJob& job, const ViewSetup& view, PixelRect r, Framebuffer& out,
+                       std::atomic<uint64_t>& samples, std::atomic<uint64_t>& rays);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   DeviceInfo info_;

@@ -1,0 +1,50 @@
+// Foveated sampling on a device (Harada & Fujita 2014; Harada, GPU Pro 7 ch. 4). The
+// frame's samples are not tied to pixels: a device given a rectangle renders every
+// sample whose disc of influence reaches the rectangle (select_samples), with the
+// ordinary integrators, and then reconstructs each pixel from its k nearest samples.
+// Samples on the border of two rectangles are rendered by both devices, from the same
+// random numbers, so they get the same value and the image does not depend on the split.
+#pragma once
+
+#include <vector>
+
+#include "core/image.h"
+#include "core/rect.h"
+#include "render/ambient_occlusion.h"
+#include "render/foveation_frame.h"
+#include "render/path_tracer.h"
+
+namespace multiray {
+
+class FoveatedKernel {
+ public:
+  // Both integrators must outlive the kernel.
+  FoveatedKernel(const PathTracer& tracer, const AmbientOcclusion& ao);
+
+  // Renders samples `idx[0..n)` of `*view.foveation` with the integrator `settings` names
+  // and writes sample s's value to values[s] (`values` holds at least
+  // view.foveation->size() entries). Sample s is a camera ray through position[s] with
+  // random numbers keyed by id[s]. Safe to call concurrently for disjoint index lists.
+  KernelStats shade(const ViewSetup& view, const RenderSettings& settings, const uint32_t* idx,
+                    size_t n, Vec3* values) const;
+
+  // The whole job for `rect` on the calling thread: select, shade, reconstruct into `out`
+  // (the view's full-size image). `scratch` is resized to the frame's sample count.
+  KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, PixelRect rect,
+                          Framebuffer& out, std::vector<Vec3>& scratch) const;
+
+ private:
+  const PathTracer& tracer_;
+  const AmbientOcclusion& ao_;
+};
+
+// Writes every pixel of `rect` into `out`: the inverse-squared-distance (Shepard) weighted
+// mean of the values of its k nearest samples (`values` indexed like f.position); a
+// sample closer than 1e-6 pixels gives the pixel its own value. Reads only the values of
+// those neighbours, which select_samples(f, rect) contains. The mean is taken as
+// v0 + Σ w_j (v_j - v0) / Σ w_j, v0 the nearest sample's value: mathematically the same,
+// and exactly v0 when all neighbours agree, so a constant image reconstructs exactly.
+void reconstruct_rect(const FoveationFrame& f, const Vec3* values, PixelRect rect,
+                      Framebuffer& out);
+
+}  // namespace multiray
