@@ -118,5 +118,38 @@ TEST(OpenClMatch, SameSeedGivesNearlyTheCpuImage) {
   EXPECT_GE(fraction, 0.9);
 }
 
+// Irregular sampling: a per-pixel sample map (0 to 6 samples) is honoured the same way,
+// pixels without samples are black, and the sample count is reported exactly.
+TEST(OpenClMatch, SampleMapGivesNearlyTheCpuImage) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  const Scene scene = make_cornell_box();
+  const RenderScene rs(scene);
+  CpuDevice cpu(rs, {}, "cpu");
+  OpenClDevice cl(rs, {}, "opencl:0");
+  std::vector<uint8_t> map(size_t(kW) * kH);
+  uint64_t total = 0;
+  for (size_t i = 0; i < map.size(); ++i) total += map[i] = uint8_t((i * 7 + i / kW) % 7);
+  ViewSetup view = view_of(scene, kW, kH);
+  view.spp_map = &map;
+  const RenderSettings s{.spp = 4, .max_bounces = 6, .seed = 9};
+  const Framebuffer a = render_whole(cpu, view, s);
+  std::vector<Framebuffer> out{Framebuffer(kW, kH)};
+  FrameJob job{{view}, s, &out};
+  ListWorkSource whole({WorkUnit{{0, 0, kW, kH}, 0, 0}});
+  const DeviceReport r = cl.render(job, whole, 0);
+  ASSERT_FALSE(r.failed) << r.error;
+  EXPECT_EQ(r.samples, total);
+  const Framebuffer& b = out[0];
+  size_t close = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    if (map[i] == 0) {
+      EXPECT_EQ(max_component(b.pixels[i]), 0.0f);
+    }
+    for (int c = 0; c < 3; ++c)
+      close += std::abs(a.pixels[i][c] - b.pixels[i][c]) <= 1e-3f * std::max(1.0f, a.pixels[i][c]);
+  }
+  EXPECT_GE(double(close) / double(3 * a.pixels.size()), 0.9);
+}
+
 }  // namespace
 }  // namespace multiray

@@ -79,6 +79,23 @@ TEST(OpenClSplit, ImageIsBitIdenticalForAnySplit) {
   EXPECT_TRUE(same_bits(render_on({&a, &b}, view, s, tiles), whole)) << "two devices";
 }
 
+// What the kernel does not implement is refused before any work is taken, so the engine
+// can hand the whole frame to the other devices.
+TEST(OpenClDevice, RefusesAmbientOcclusionWithoutTakingWork) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  const Scene scene = make_cornell_box();
+  const RenderScene rs(scene);
+  OpenClDevice device(rs, {}, "opencl:0");
+  std::vector<Framebuffer> out{Framebuffer(8, 8)};
+  FrameJob job{{view_of(scene, 8, 8)}, RenderSettings{.integrator = Integrator::AO}, &out};
+  ListWorkSource source({WorkUnit{{0, 0, 8, 8}, 0, 0}});
+  const DeviceReport r = device.render(job, source, 0);
+  EXPECT_TRUE(r.failed);
+  EXPECT_NE(r.error.find("ambient occlusion"), std::string::npos) << r.error;
+  WorkUnit u;
+  EXPECT_TRUE(source.next(0, u));  // the unit is still there
+}
+
 // The second device built from the same source loads the kernel binary from the disk cache.
 TEST(OpenClProgram, KernelBinaryIsCachedOnDisk) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();

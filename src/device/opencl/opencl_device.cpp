@@ -26,6 +26,8 @@ enum KernelArg : cl_uint {
   kArgWidth = 18,
   kArgRadiance = 25,
   kArgRays = 26,
+  kArgSppMap = 27,
+  kArgUseSppMap = 28,
 };
 
 cl_float4 f4(Vec3 v, float w = 0) { return cl_float4{{v.x, v.y, v.z, w}}; }
@@ -48,9 +50,12 @@ struct OpenClDevice::Impl {
   cl::Kernel kernel;
   std::vector<cl::Buffer> scene;  // kept alive while the kernel refers to them
   cl::Buffer radiance, rays;      // one launch's output: tile x tile pixels
+  cl::Buffer spp_map;             // one launch's samples per pixel, when the view has a map
   std::vector<cl_float4> host_radiance;
   std::vector<cl_uint> host_rays;
-  size_t local = 64;
+  std::vector<cl_uchar> host_spp;
+  size_t local = 64;        // work-group size
+  size_t launch_items = 0;  // global size of every launch: tile^2 rounded up to `local`
   bool from_cache = false;
   std::atomic<double> speed{1.0};
   int units_done = 0;  // over the device's lifetime, for fail_after
@@ -73,13 +78,26 @@ struct OpenClDevice::Impl {
   void setup(const RenderScene& rs) {
     context = cl::Context(device);
     queue = cl::CommandQueue(context, device);
+    local = std::max<size_t>(1, std::min<size_t>(size_t(opts.work_group),
+                                                 device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>()));
+    launch_items = (size_t(opts.tile) * size_t(opts.tile) + local - 1) / local * local;
+    // Every launch has the same global size, and the program is built for that size.
+    // Why: PoCL 3.1 caches compiled work-group functions per (program, local size, grid
+    // width) but releases them by (program, local size) only, so two devices launching
+    // one program with different global sizes at the same moment corrupt its reference
+    // counts and abort (assertion in pocl_release_dlhandle_cache, seen with
+    // POCL_DEVICES="basic basic"). One size per program keeps one cache entry per program.
+    const std::string options = "-cl-std=CL1.2 -DMR_GROUP_ITEMS=" + std::to_string(local) +
+                                " -DMR_LAUNCH_ITEMS=" + std::to_string(launch_items);
     const cl_util::BuiltProgram built =
-        cl_util::build_program(context, device, kPathTracerSource, "-cl-std=CL1.2");
+        cl_util::build_program(context, device, kPathTracerSource, options);
     from_cache = built.from_cache;
     kernel = cl::Kernel(built.program, "render_rect");
-    local = std::max<size_t>(
-        1, std::min<size_t>(size_t(opts.work_group),
-                            kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device)));
+    const size_t kernel_max = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device);
+    if (kernel_max < local)
+      throw DeviceError("opencl device " + std::to_string(opts.index) + ": work-group size " +
+                        std::to_string(local) + " is too large for the kernel here (at most " +
+                        std::to_string(kernel_max) + "); use :wg=" + std::to_string(kernel_max));
 
     const ClScene s = build_cl_scene(rs);
     const uint64_t max_alloc = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
@@ -99,10 +117,13 @@ struct OpenClDevice::Impl {
     const size_t pixels = size_t(opts.tile) * size_t(opts.tile);
     host_radiance.resize(pixels);
     host_rays.resize(pixels);
+    host_spp.resize(pixels);
     radiance = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
     rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_uint));
     kernel.setArg(kArgRadiance, radiance);
     kernel.setArg(kArgRays, rays);
+    spp_map = cl::Buffer(context, CL_MEM_READ_ONLY, pixels * sizeof(cl_uchar));
+    kernel.setArg(kArgSppMap, spp_map);
   }
 
   // Renders `r` of `view` into `out` in launches of at most tile x tile pixels.
@@ -128,11 +149,23 @@ struct OpenClDevice::Impl {
       for (int x0 = r.x0; x0 < r.x1; x0 += t) {
         const int w = std::min(t, r.x1 - x0), h = std::min(t, r.y1 - y0);
         const size_t n = size_t(w) * size_t(h);
-        // OpenCL 1.2 needs the global size to be a multiple of the work-group size; the
-        // extra work-items return at once.
-        const size_t global = (n + local - 1) / local * local;
+        // Always `launch_items` work-items (see setup); those beyond the `n` pixels return
+        // at once.
         kernel.setArg(kArgRect, cl_int4{{x0, y0, w, h}});
-        queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(local));
+        // Irregular sampling: this launch's slice of the view's samples-per-pixel map.
+        uint64_t samples = uint64_t(n) * uint64_t(std::max(0, st.spp));
+        kernel.setArg(kArgUseSppMap, cl_int(view.spp_map ? 1 : 0));
+        if (view.spp_map) {
+          samples = 0;
+          for (size_t i = 0; i < n; ++i) {
+            const int x = x0 + int(i % size_t(w)), y = y0 + int(i / size_t(w));
+            host_spp[i] = (*view.spp_map)[size_t(y) * size_t(view.width) + size_t(x)];
+            samples += host_spp[i];
+          }
+          queue.enqueueWriteBuffer(spp_map, CL_FALSE, 0, n, host_spp.data());
+        }
+        queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(launch_items),
+                                   cl::NDRange(local));
         queue.enqueueReadBuffer(radiance, CL_FALSE, 0, n * sizeof(cl_float4),
                                 host_radiance.data());
         queue.enqueueReadBuffer(rays, CL_FALSE, 0, n * sizeof(cl_uint), host_rays.data());
@@ -142,7 +175,7 @@ struct OpenClDevice::Impl {
           out.at(x0 + int(i % size_t(w)), y0 + int(i / size_t(w))) = Vec3(p.s[0], p.s[1], p.s[2]);
           stats.rays += host_rays[i];
         }
-        stats.samples += uint64_t(n) * uint64_t(std::max(0, st.spp));
+        stats.samples += samples;
       }
     return stats;
   }
@@ -214,6 +247,19 @@ DeviceReport OpenClDevice::render(const FrameJob& job, WorkSource& source, int i
     pinned_for = this;
   }
   const Stopwatch frame_clock;
+  // Refuse, before taking any work, what the kernel does not implement: the engine then
+  // drops this device and the others render the frame.
+  std::string unsupported;
+  if (job.settings.integrator != Integrator::Path)
+    unsupported = "only the path tracer (not ambient occlusion)";
+  for (const ViewSetup& v : job.views)
+    if (v.foveation) unsupported = "no foveated sampling";
+  if (!unsupported.empty()) {
+    report.failed = true;
+    report.error = info_.name + ": the OpenCL kernel implements " + unsupported;
+    report.wall_ms = frame_clock.elapsed_ms();
+    return report;
+  }
   try {
     WorkUnit unit;
     while (source.next(index, unit)) {
