@@ -43,31 +43,15 @@ KernelStats FoveatedKernel::render_rect(const ViewSetup& view, const RenderSetti
 
 void reconstruct_rect(const FoveationFrame& f, const Vec3* values, PixelRect rect,
                       Framebuffer& out) {
-  constexpr float kCoincident = 1e-12f;  // squared pixels: closer than 1e-6 px wins
-  const int k = f.k;
-  std::array<float, 32> weight;  // k <= 32 (check_foveation_params)
   for (int y = rect.y0; y < rect.y1; ++y)
     for (int x = rect.x0; x < rect.x1; ++x) {
-      const float cx = float(x) + 0.5f, cy = float(y) + 0.5f;
       const uint32_t* nb = f.neighbours_of(x, y);
-      int n = 0, winner = -1;
-      for (; n < k && nb[n] != FoveationFrame::kNoSample; ++n) {
-        const float d2 = distance2_to_box(f.position[nb[n]], cx, cy, cx, cy);
-        if (d2 <= kCoincident && winner < 0) winner = n;
-        weight[size_t(n)] = 1.0f / d2;
-      }
-      if (winner >= 0) {
-        out.at(x, y) = values[nb[winner]];
-        continue;
-      }
+      const float* w = f.weights_of(x, y);
       const Vec3 v0 = values[nb[0]];
-      float total = weight[0];
       Vec3 acc(0.0f);
-      for (int j = 1; j < n; ++j) {
-        total += weight[size_t(j)];
-        acc += (values[nb[j]] - v0) * weight[size_t(j)];
-      }
-      out.at(x, y) = v0 + acc / total;
+      for (int j = 1; j < f.k && nb[j] != FoveationFrame::kNoSample; ++j)
+        acc += (values[nb[j]] - v0) * w[j];
+      out.at(x, y) = v0 + acc;
     }
 }
 

@@ -38,12 +38,12 @@ class FoveatedKernel {
   const AmbientOcclusion& ao_;
 };
 
-// Writes every pixel of `rect` into `out`: the inverse-squared-distance (Shepard) weighted
-// mean of the values of its k nearest samples (`values` indexed like f.position); a
-// sample closer than 1e-6 pixels gives the pixel its own value. Reads only the values of
-// those neighbours, which select_samples(f, rect) contains. The mean is taken as
-// v0 + Σ w_j (v_j - v0) / Σ w_j, v0 the nearest sample's value: mathematically the same,
-// and exactly v0 when all neighbours agree, so a constant image reconstructs exactly.
+// Writes every pixel of `rect` into `out`: the weighted mean of the values of its k
+// nearest samples, with the frame's weights (`values` indexed like f.position). Reads
+// only the values of those neighbours, which select_samples(f, rect) contains. The mean
+// is taken as v0 + Σ_{j>0} w_j (v_j - v0), v0 the nearest sample's value: mathematically
+// Σ w_j v_j since the weights sum to 1, but exactly v0 when all neighbours agree, so a
+// constant image reconstructs exactly whatever the rounding of the weights.
 void reconstruct_rect(const FoveationFrame& f, const Vec3* values, PixelRect rect,
                       Framebuffer& out);
 

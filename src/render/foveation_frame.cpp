@@ -29,33 +29,64 @@ using SampleTree =
                                         SampleCloud, 2, uint32_t>;
 
 // Keeps the pattern's samples that land on the screen (closed rectangle: the sample at
-// the gaze stays even when the gaze is on the right or bottom edge).
+// the gaze stays even when the gaze is on the right or bottom edge), ordered by cell.
 void clip_pattern(const FoveationPattern& pattern, FoveationFrame& f) {
   const float w = float(f.width), h = float(f.height);
+  std::vector<Vec2> kept;
+  std::vector<uint32_t> id, cell;
+  std::vector<uint32_t> start(size_t(f.cells_x) * size_t(f.cells_y) + 1, 0);
   for (size_t i = 0; i < pattern.offsets.size(); ++i) {
     const Vec2 p{f.gaze.x + pattern.offsets[i].x, f.gaze.y + pattern.offsets[i].y};
-    if (p.x >= 0 && p.x <= w && p.y >= 0 && p.y <= h) {
-      f.position.push_back(p);
-      f.id.push_back(uint32_t(i));
-    }
+    if (!(p.x >= 0 && p.x <= w && p.y >= 0 && p.y <= h)) continue;
+    kept.push_back(p);
+    id.push_back(uint32_t(i));
+    cell.push_back(uint32_t(f.cell_of(p)));
+    ++start[cell.back() + 1];
+  }
+  // Counting sort by cell, stable: pattern order within a cell.
+  for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+  f.position.resize(kept.size());
+  f.id.resize(kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) {
+    const uint32_t to = start[cell[i]]++;
+    f.position[to] = kept[i];
+    f.id[to] = id[i];
   }
 }
 
-// The k nearest samples of every pixel centre, rows in parallel.
+// Shepard weights of one pixel's neighbours nb[0..n), normalised, into w[0..n).
+void shepard_weights(const FoveationFrame& f, float cx, float cy, uint32_t* nb, int n, float* w) {
+  constexpr float kCoincident = 1e-12f;  // squared pixels: closer than 1e-6 px wins
+  float total = 0;
+  for (int j = 0; j < n; ++j) {
+    const float d2 = distance2_to_box(f.position[nb[j]], cx, cy, cx, cy);
+    if (d2 <= kCoincident) {
+      std::swap(nb[0], nb[j]);
+      std::fill_n(w, n, 0.0f);
+      w[0] = 1.0f;
+      return;
+    }
+    w[j] = 1.0f / d2;
+    total += w[j];
+  }
+  for (int j = 0; j < n; ++j) w[j] /= total;
+}
+
+// The k nearest samples of every pixel centre and their weights, rows in parallel.
 void find_neighbours(FoveationFrame& f) {
   const SampleCloud cloud{f.position};
   const SampleTree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   const size_t k = size_t(f.k), found_max = std::min(k, f.size());
   f.neighbours.assign(size_t(f.width) * size_t(f.height) * k, FoveationFrame::kNoSample);
+  f.weights.assign(f.neighbours.size(), 0.0f);
   oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<int>(0, f.height), [&](const auto& rows) {
-    std::vector<uint32_t> idx(k);
     std::vector<float> d2(k);
     for (int y = rows.begin(); y < rows.end(); ++y)
       for (int x = 0; x < f.width; ++x) {
+        const size_t at = (size_t(y) * size_t(f.width) + size_t(x)) * k;
         const float q[2] = {float(x) + 0.5f, float(y) + 0.5f};
-        const size_t n = tree.knnSearch(q, found_max, idx.data(), d2.data());
-        std::copy_n(idx.data(), n,
-                    f.neighbours.begin() + ptrdiff_t((size_t(y) * f.width + x) * k));
+        const size_t n = tree.knnSearch(q, found_max, &f.neighbours[at], d2.data());
+        shepard_weights(f, q[0], q[1], &f.neighbours[at], int(n), &f.weights[at]);
       }
   });
 }
@@ -72,11 +103,9 @@ void index_samples(FoveationFrame& f) {
         r2 = std::max(r2, distance2_to_box(f.position[nb[j]], cx, cy, cx, cy));
       }
     }
+  // Samples are in cell order already: the CSR lists keep the used ones in that order.
   f.pixel_samples.assign(size_t(f.width) * size_t(f.height), 0.0f);
-  f.cells_x = (f.width + f.cell_px - 1) / f.cell_px;
-  f.cells_y = (f.height + f.cell_px - 1) / f.cell_px;
   f.cell_start.assign(size_t(f.cells_x) * size_t(f.cells_y) + 1, 0);
-  std::vector<uint32_t> cell_of(f.size());
   float max_r2 = 0;
   f.used_samples = 0;
   for (size_t s = 0; s < f.size(); ++s) {
@@ -84,16 +113,12 @@ void index_samples(FoveationFrame& f) {
     const Vec2 p = f.position[s];
     const int px = std::min(int(p.x), f.width - 1), py = std::min(int(p.y), f.height - 1);
     f.pixel_samples[size_t(py) * size_t(f.width) + size_t(px)] += 1.0f;
-    cell_of[s] = uint32_t((py / f.cell_px) * f.cells_x + px / f.cell_px);
-    ++f.cell_start[cell_of[s] + 1];
+    ++f.cell_start[f.cell_of(p) + 1];
+    f.cell_samples.push_back(uint32_t(s));
     max_r2 = std::max(max_r2, f.radius2[s]);
     ++f.used_samples;
   }
   for (size_t c = 1; c < f.cell_start.size(); ++c) f.cell_start[c] += f.cell_start[c - 1];
-  f.cell_samples.resize(f.used_samples);
-  std::vector<uint32_t> fill(f.cell_start.begin(), f.cell_start.end() - 1);
-  for (size_t s = 0; s < f.size(); ++s)
-    if (f.radius2[s] >= 0) f.cell_samples[fill[cell_of[s]]++] = uint32_t(s);
   f.reach = std::sqrt(max_r2) + 1.0f;  // one pixel of slack over any rounding
 }
 
@@ -110,6 +135,8 @@ FoveationFrame prepare_foveation_frame(const FoveationPattern& pattern, float ga
   FoveationFrame f;
   f.width = pattern.width, f.height = pattern.height;
   f.k = pattern.params.neighbours;
+  f.cells_x = (f.width + f.cell_px - 1) / f.cell_px;
+  f.cells_y = (f.height + f.cell_px - 1) / f.cell_px;
   f.gaze = Vec2{std::clamp(gaze_x, 0.0f, 1.0f) * float(f.width),
                 std::clamp(gaze_y, 0.0f, 1.0f) * float(f.height)};
   clip_pattern(pattern, f);

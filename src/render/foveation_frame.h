@@ -5,6 +5,7 @@
 // samples its pixels need without knowing who renders the rest.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -21,8 +22,10 @@ struct FoveationFrame {
   int k = 0;  // neighbours per pixel
   Vec2 gaze;  // pixels
 
-  // The samples on screen, in pattern order. position: image position in pixels (x right,
-  // y down) in [0, width] x [0, height]; id: index in the pattern, the key of the sample's
+  // The samples on screen, ordered by selection cell (row-major), so that the samples of a
+  // rect are close in memory and their rays coherent. position: image position in pixels
+  // (x right, y down) in [0, width] x [0, height]; id: index in the pattern, the key of the
+  // sample's
   // random numbers; radius2: squared distance from the sample to the farthest pixel centre
   // that has it among its k nearest, -1 when no pixel does (such a sample is never
   // rendered).
@@ -34,6 +37,11 @@ struct FoveationFrame {
   // kNoSample when the screen holds fewer than k samples. Never all kNoSample: the sample
   // at the gaze is always on screen.
   std::vector<uint32_t> neighbours;
+  // The reconstruction weights of those neighbours, k per pixel, summing to 1 (0 for
+  // padding): inverse squared distance to the pixel centre (Shepard's interpolation),
+  // normalised. A sample within 1e-6 pixels of the centre is moved to the front of the list
+  // and gets weight 1, the others 0.
+  std::vector<float> weights;
 
   // Per pixel, the used samples (radius2 >= 0) whose position falls inside it: the frame's
   // cost map for balancers that split by samples. Sums to used_samples.
@@ -47,13 +55,23 @@ struct FoveationFrame {
   float reach = 0;
 
   size_t size() const { return position.size(); }
+  // The selection cell holding image position `p` (inside the closed screen).
+  size_t cell_of(Vec2 p) const {
+    const int cx = std::min(int(p.x), width - 1) / cell_px;
+    const int cy = std::min(int(p.y), height - 1) / cell_px;
+    return size_t(cy) * size_t(cells_x) + size_t(cx);
+  }
   const uint32_t* neighbours_of(int x, int y) const {
     return neighbours.data() + (size_t(y) * size_t(width) + size_t(x)) * size_t(k);
+  }
+  const float* weights_of(int x, int y) const {
+    return weights.data() + (size_t(y) * size_t(width) + size_t(x)) * size_t(k);
   }
 };
 
 // Shifts `pattern` to the gaze (normalised screen coordinates, clamped to [0, 1]; (0, 0)
-// is the top-left corner), clips it and builds the per-pixel neighbour lists and radii.
+// is the top-left corner), clips it and builds the per-pixel neighbour lists, weights and
+// radii.
 // Pure function of its arguments; uses oneTBB for the neighbour queries.
 FoveationFrame prepare_foveation_frame(const FoveationPattern& pattern, float gaze_x,
                                        float gaze_y);

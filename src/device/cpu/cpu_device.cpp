@@ -3,6 +3,7 @@
 #include <pthread.h>
 #include <sched.h>
 
+#include <algorithm>
 #include <atomic>
 #include <optional>
 #include <thread>
@@ -66,7 +67,12 @@ struct CpuDevice::Impl {
   PathTracer tracer;
   AmbientOcclusion ao;
   FoveatedKernel foveated;
-  std::vector<Vec3> sample_values;  // foveated sampling: values of the unit's samples
+  // Foveated sampling: values of the samples rendered in this render() call, and for
+  // each sample the (call, view) it was last rendered for, so that a sample needed by
+  // several units of one device in one frame is rendered once.
+  std::vector<Vec3> sample_values;
+  std::vector<uint64_t> sample_stamp;
+  uint64_t render_calls = 0;
   CpuDeviceOptions opts;
   std::optional<CgroupQuota> quota;  // declared before `setup`, which points to it
   oneapi::tbb::task_arena arena;
@@ -121,6 +127,7 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
     prepared_for = this;
   }
   const Stopwatch frame_clock;
+  ++impl_->render_calls;
   const int tile = std::max(1, impl_->opts.tile);
   try {
     WorkUnit unit;
@@ -170,9 +177,22 @@ void CpuDevice::render_foveated(const FrameJob& job, const ViewSetup& view, Pixe
                                 std::atomic<uint64_t>& rays) {
   // The unit's samples are rendered once for the whole unit (not per thread tile, which
   // would render the samples on tile borders twice), then its pixels reconstructed.
+  // Samples this device already rendered for an earlier unit of the frame are reused:
+  // same values (same random numbers), less work when a device gets adjacent pieces.
   const FoveationFrame& f = *view.foveation;
-  const std::vector<uint32_t> idx = select_samples(f, r);
-  if (impl_->sample_values.size() < f.size()) impl_->sample_values.resize(f.size());
+  if (impl_->sample_values.size() < f.size()) {
+    impl_->sample_values.resize(f.size());
+    impl_->sample_stamp.resize(f.size(), 0);
+  }
+  const uint64_t stamp = impl_->render_calls << 32 | view.view;
+  std::vector<uint32_t> idx = select_samples(f, r);
+  idx.erase(std::remove_if(idx.begin(), idx.end(),
+                           [&](uint32_t s) {
+                             if (impl_->sample_stamp[s] == stamp) return true;
+                             impl_->sample_stamp[s] = stamp;
+                             return false;
+                           }),
+            idx.end());
   Vec3* values = impl_->sample_values.data();
   const int tile = std::max(1, impl_->opts.tile);
   oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<size_t>(0, idx.size(), 64),
