@@ -1,5 +1,7 @@
-// `multiray bench`: every balancer on the same frames, in one process, with the ideal
-// frame time measured by each device rendering sampled frames alone.
+// `multiray bench`: every balancer on the same frames, in one process and interleaved
+// frame by frame, with the ideal frame time measured by each device rendering sampled
+// frames alone.
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +11,7 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "app/bench_summary.h"
 #include "app/commands.h"
 #include "app/report_plots.h"
 #include "app/stats_json.h"
@@ -53,43 +56,38 @@ std::vector<int> ideal_frames(int first, int frames, int count) {
   return out;
 }
 
-// Ideal frame time of each frame in `which`: 1 / sum_i(1 / T_i), each T_i measured by
-// device i rendering the whole frame alone (on a thread of its own, as in the engine, so
-// pinning and quotas apply to that thread only).
-std::vector<double> measure_ideal_ms(Setup& s, const std::vector<double>& initial,
-                                     const std::vector<int>& which, nlohmann::json& detail) {
-  std::vector<double> ideal;
-  for (const int f : which) {
-    const auto speeds = speeds_at(s, initial, f);
-    std::vector<Framebuffer> out(size_t(s.rig.view_count()),
-                                 Framebuffer(s.res.width, s.res.height));
-    const Setup::FrameInput in = s.frame_input(f);
-    FrameJob job{in.views, s.settings, &out};
-    double inv = 0;
-    nlohmann::json alone = nlohmann::json::array();
-    for (size_t i = 0; i < s.devices.size(); ++i) {
-      s.devices[i]->set_emulated_speed(speeds[i]);
-      std::vector<WorkUnit> all_views;
-      for (uint32_t v = 0; v < uint32_t(job.views.size()); ++v)
-        all_views.push_back(WorkUnit{{0, 0, s.res.width, s.res.height}, v, v});
-      ListWorkSource whole(all_views);
-      DeviceReport r;
-      std::thread([&] { r = s.devices[i]->render(job, whole, int(i)); }).join();
-      if (r.failed) throw DeviceError("device " + std::to_string(i) + " failed: " + r.error);
-      inv += 1.0 / std::max(r.wall_ms, 1e-6);
-      alone.push_back(r.wall_ms);
-    }
-    detail.push_back({{"frame", f}, {"device_alone_ms", alone}, {"ideal_ms", 1.0 / inv}});
-    ideal.push_back(1.0 / inv);
+// Ideal time of one frame: 1 / sum_i(1 / T_i), each T_i measured by device i rendering
+// all of `in` alone at the emulated `speeds` of that frame (on a thread of its own, as in
+// the engine, so pinning and quotas apply to that thread only). Leaves the devices at
+// `speeds`.
+double measure_ideal_ms(Setup& s, const Setup::FrameInput& in, const std::vector<double>& speeds,
+                        nlohmann::json& detail) {
+  std::vector<Framebuffer> out(in.views.size(), Framebuffer(s.res.width, s.res.height));
+  FrameJob job{in.views, s.settings, &out};
+  double inv = 0;
+  nlohmann::json alone = nlohmann::json::array();
+  for (size_t i = 0; i < s.devices.size(); ++i) {
+    s.devices[i]->set_emulated_speed(speeds[i]);
+    std::vector<WorkUnit> all_views;
+    for (uint32_t v = 0; v < uint32_t(job.views.size()); ++v)
+      all_views.push_back(WorkUnit{{0, 0, s.res.width, s.res.height}, v, v});
+    ListWorkSource whole(all_views);
+    DeviceReport r;
+    std::thread([&] { r = s.devices[i]->render(job, whole, int(i)); }).join();
+    if (r.failed) throw DeviceError("device " + std::to_string(i) + " failed: " + r.error);
+    inv += 1.0 / std::max(r.wall_ms, 1e-6);
+    alone.push_back(r.wall_ms);
   }
-  for (size_t i = 0; i < s.devices.size(); ++i) s.devices[i]->set_emulated_speed(initial[i]);
-  return ideal;
+  detail.push_back(
+      {{"frame", in.views[0].frame}, {"device_alone_ms", alone}, {"ideal_ms", 1.0 / inv}});
+  return 1.0 / inv;
 }
 
-struct RunSummary {
-  double mean_frame_ms = 0, mean_imbalance = 0, mean_deviation = 0, efficiency = 0;
-  double speedup = 0;
-  int recovery_frames = -1;  // frames after the first perturbation until imbalance < 5%
+// One balancer's engine and what it measured.
+struct Run {
+  std::string spec;
+  std::unique_ptr<Engine> engine;
+  std::vector<FrameRecord> recs;
 };
 
 }  // namespace
@@ -154,110 +152,78 @@ Runner add_bench_command(CLI::App& app) {
         o->frames, o->camera_path);
     for (const auto& l : labels) fmt::print("  device {}\n", l);
 
-    nlohmann::json ideal_detail = nlohmann::json::array();
+    // Every balancer renders frame f before any renders frame f + 1 (and the ideal of a
+    // sampled frame is measured right before it): load from other programs on a shared
+    // machine then hits all balancers alike, so the comparison stays fair.
     const std::vector<int> sampled = ideal_frames(b->warmup, o->frames, b->ideal_frames);
-    const std::vector<double> ideal = measure_ideal_ms(s, initial, sampled, ideal_detail);
-    double ideal_sum = 0;
-    for (double v : ideal) ideal_sum += v;
-    const double ideal_ms = ideal_sum / double(ideal.size());
-    fmt::print("ideal frame time {:.1f} ms (mean over {} frames, each device timed alone)\n",
-               ideal_ms, ideal.size());
-
-    nlohmann::json runs = nlohmann::json::array();
-    std::vector<RunSummary> summaries;
-    std::vector<Vec3> first_image;
-    for (size_t run = 0; run < specs.size(); ++run) {
-      const std::string& spec = specs[run];
-      for (size_t i = 0; i < s.devices.size(); ++i) s.devices[i]->set_emulated_speed(initial[i]);
-      Engine engine(s.device_ptrs(), make_balancer_or_throw(mapped[run], int(s.devices.size())));
-      engine.set_perturbations(s.perturbations);
-      std::vector<FrameRecord> recs;
-      std::vector<double> sampling_ms;  // host set-up of irregular sampling, outside frame_ms
-      for (int f = 0; f < o->frames; ++f) {
-        if (stderr_is_tty()) fmt::print(stderr, "\r{}: frame {}/{} ", spec, f + 1, o->frames);
-        const Setup::FrameInput in = s.frame_input(f);
-        sampling_ms.push_back(in.sampling_ms);
-        recs.push_back(engine.render_frame(f, in.views, s.settings));
-        for (const auto& m : recs.back().messages)
+    std::vector<double> ideal;
+    nlohmann::json ideal_detail = nlohmann::json::array();
+    std::vector<Run> runs;
+    for (size_t k = 0; k < specs.size(); ++k) {
+      runs.push_back(
+          {mapped[k],
+           std::make_unique<Engine>(s.device_ptrs(),
+                                    make_balancer_or_throw(mapped[k], int(s.devices.size()))),
+           {}});
+      runs.back().engine->set_perturbations(s.perturbations);
+    }
+    std::vector<double> sampling_ms;  // host set-up of irregular sampling, outside frame_ms
+    for (int f = 0; f < o->frames; ++f) {
+      if (stderr_is_tty()) fmt::print(stderr, "\rframe {}/{} ", f + 1, o->frames);
+      const Setup::FrameInput in = s.frame_input(f);
+      sampling_ms.push_back(in.sampling_ms);
+      const auto speeds = speeds_at(s, initial, f);
+      if (std::find(sampled.begin(), sampled.end(), f) != sampled.end())
+        ideal.push_back(measure_ideal_ms(s, in, speeds, ideal_detail));
+      for (Run& run : runs) {
+        run.recs.push_back(run.engine->render_frame(f, in.views, s.settings));
+        for (const auto& m : run.recs.back().messages)
           fmt::print(stderr, "\nmultiray: warning: {}\n", m);
         if (f == o->frames / 2 && !b->report_dir.empty())
           write_partition_png(
-              fmt::format("{}/{}_partition.png", b->report_dir, engine.balancer().name()),
-              s.res.width, s.res.height, engine.last_rendered());
+              fmt::format("{}/{}_partition.png", b->report_dir, run.engine->balancer().name()),
+              s.res.width, s.res.height, run.engine->last_rendered());
       }
-      if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
-      bool same_image = true;
-      if (first_image.empty())
-        first_image = engine.images()[0].pixels;
-      else
-        same_image = std::memcmp(first_image.data(), engine.images()[0].pixels.data(),
-                                 first_image.size() * sizeof(Vec3)) == 0;
-      RunSummary sum;
-      int counted = 0;
-      for (const auto& r : recs)
-        if (r.frame >= b->warmup) {
-          sum.mean_frame_ms += r.frame_ms, sum.mean_imbalance += r.imbalance;
-          sum.mean_deviation += r.deviation, ++counted;
-        }
-      sum.mean_frame_ms /= counted, sum.mean_imbalance /= counted, sum.mean_deviation /= counted;
-      // Efficiency on the frames whose ideal was measured (frame cost varies along a path).
-      double actual_sum = 0;
-      for (const int f : sampled) actual_sum += recs[size_t(f)].frame_ms;
-      sum.efficiency = ideal_sum / actual_sum;
-      if (!s.perturbations.empty()) {
-        const int p = s.perturbations.front().frame;
-        for (int f = p; f < o->frames; ++f)
-          if (recs[size_t(f)].imbalance < 0.05) {
-            sum.recovery_frames = f - p;
-            break;
-          }
-      }
-      summaries.push_back(sum);
+    }
+    if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
+    double ideal_mean = 0;
+    for (double v : ideal) ideal_mean += v / double(ideal.size());
+    fmt::print("ideal frame time {:.1f} ms (mean over {} frames, each device timed alone)\n",
+               ideal_mean, ideal.size());
+
+    const int perturb_frame = s.perturbations.empty() ? -1 : s.perturbations.front().frame;
+    std::vector<RunSummary> summaries;
+    for (const Run& run : runs)
+      summaries.push_back(summarize(run.recs, b->warmup, sampled, ideal, perturb_frame));
+    add_speedups(mapped, summaries);
+    print_table(mapped, summaries);
+    nlohmann::json runs_json = nlohmann::json::array();
+    for (size_t k = 0; k < runs.size(); ++k) {
+      const Run& run = runs[k];
+      const auto& img = run.engine->images()[0].pixels;
+      const auto& first = runs[0].engine->images()[0].pixels;
+      const bool same_image =
+          std::memcmp(img.data(), first.data(), img.size() * sizeof(Vec3)) == 0;
+      if (!same_image)
+        fmt::print(stderr, "multiray: warning: {} produced a different image than {}\n", run.spec,
+                   runs[0].spec);
       nlohmann::json frames = nlohmann::json::array();
-      for (const auto& r : recs) {
+      for (const auto& r : run.recs) {
         frames.push_back(frame_to_json(r));
         frames.back()["sampling_ms"] = sampling_ms[size_t(r.frame)];
       }
-      runs.push_back({{"balancer", engine.balancer().spec()},
-                      {"devices", devices_to_json(s.devices)},
-                      {"image_matches_first_run", same_image},
-                      {"frames", frames},
-                      {"summary",
-                       {{"from_frame", b->warmup},
-                        {"mean_frame_ms", sum.mean_frame_ms},
-                        {"mean_imbalance", sum.mean_imbalance},
-                        {"mean_deviation", sum.mean_deviation},
-                        {"ideal_ms", ideal_ms},
-                        {"ideal_frames", sampled},
-                        {"efficiency", sum.efficiency},
-                        {"recovery_frames", sum.recovery_frames}}}});
+      runs_json.push_back(
+          {{"balancer", run.engine->balancer().spec()},
+           {"devices", devices_to_json(s.devices)},
+           {"image_matches_first_run", same_image},
+           {"frames", frames},
+           {"summary", summary_to_json(summaries[k], b->warmup, ideal_mean, sampled)}});
       if (!b->report_dir.empty())
         write_timeline_svg(
-            fmt::format("{}/{}_timeline.svg", b->report_dir, engine.balancer().name()),
-            fmt::format("{} — {} ({}x{}, {} spp)", engine.balancer().spec(), s.scene->name,
+            fmt::format("{}/{}_timeline.svg", b->report_dir, run.engine->balancer().name()),
+            fmt::format("{} — {} ({}x{}, {} spp)", run.engine->balancer().spec(), s.scene->name,
                         s.res.width, s.res.height, o->spp),
-            recs, labels);
-      if (!same_image)
-        fmt::print(stderr, "multiray: warning: {} produced a different image than {}\n", spec,
-                   specs[0]);
-    }
-    // Speedup against uniform, when uniform was run.
-    double uniform_ms = 0;
-    for (size_t k = 0; k < specs.size(); ++k)
-      if (runs[k]["balancer"].get<std::string>().rfind("uniform", 0) == 0)
-        uniform_ms = summaries[k].mean_frame_ms;
-    fmt::print("\n{:<44} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9}\n", "balancer (frames >= warmup)",
-               "frame ms", "imbalance", "deviation", "efficiency", "speedup", "recovery");
-    for (size_t k = 0; k < specs.size(); ++k) {
-      RunSummary& sm = summaries[k];
-      sm.speedup = uniform_ms > 0 ? uniform_ms / sm.mean_frame_ms : 0.0;
-      runs[k]["summary"]["speedup_vs_uniform"] =
-          uniform_ms > 0 ? nlohmann::json(sm.speedup) : nlohmann::json();
-      fmt::print("{:<44} {:>10.1f} {:>9.1f}% {:>9.1f}% {:>10.3f} {:>9} {:>9}\n",
-                 runs[k]["balancer"].get<std::string>(), sm.mean_frame_ms, 100 * sm.mean_imbalance,
-                 100 * sm.mean_deviation, sm.efficiency,
-                 uniform_ms > 0 ? fmt::format("{:.2f}x", sm.speedup) : "-",
-                 sm.recovery_frames >= 0 ? std::to_string(sm.recovery_frames) : "-");
+            run.recs, labels);
     }
     bool emulated = false;
     for (double v : initial) emulated |= v < 1;
@@ -277,7 +243,7 @@ Runner add_bench_command(CLI::App& app) {
                           "device_ms measured inside each device (steady_clock); frame_ms by the "
                           "engine around all devices"},
                          {"ideal", ideal_detail},
-                         {"runs", runs}};
+                         {"runs", runs_json}};
       std::ofstream out(b->json_path);
       if (!out) throw InputError("cannot write '" + b->json_path + "'");
       out << doc.dump(1) << "\n";

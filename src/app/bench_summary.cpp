@@ -1,0 +1,69 @@
+#include "app/bench_summary.h"
+
+#include <fmt/core.h>
+
+namespace multiray::app {
+
+RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
+                     const std::vector<int>& sampled, const std::vector<double>& ideal_ms,
+                     int perturb_frame) {
+  RunSummary sum;
+  int counted = 0;
+  for (const auto& r : recs)
+    if (r.frame >= warmup) {
+      sum.mean_frame_ms += r.frame_ms, sum.mean_imbalance += r.imbalance;
+      sum.mean_deviation += r.deviation, ++counted;
+    }
+  if (counted > 0)
+    sum.mean_frame_ms /= counted, sum.mean_imbalance /= counted, sum.mean_deviation /= counted;
+  // Efficiency on the frames whose ideal was measured: frame cost varies along a path.
+  double ideal_sum = 0, actual_sum = 0;
+  for (size_t k = 0; k < sampled.size(); ++k) {
+    ideal_sum += ideal_ms[k];
+    actual_sum += recs[size_t(sampled[k])].frame_ms;
+  }
+  sum.efficiency = actual_sum > 0 ? ideal_sum / actual_sum : 0.0;
+  if (perturb_frame >= 0)
+    for (size_t f = size_t(perturb_frame); f < recs.size(); ++f)
+      if (recs[f].imbalance < 0.05) {
+        sum.recovery_frames = int(f) - perturb_frame;
+        break;
+      }
+  return sum;
+}
+
+void add_speedups(const std::vector<std::string>& specs, std::vector<RunSummary>& summaries) {
+  double uniform_ms = 0;
+  for (size_t k = 0; k < specs.size(); ++k)
+    if (specs[k].rfind("uniform", 0) == 0) uniform_ms = summaries[k].mean_frame_ms;
+  for (RunSummary& s : summaries)
+    s.speedup = uniform_ms > 0 && s.mean_frame_ms > 0 ? uniform_ms / s.mean_frame_ms : 0.0;
+}
+
+void print_table(const std::vector<std::string>& specs, const std::vector<RunSummary>& summaries) {
+  fmt::print("\n{:<14} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9}\n", "balancer", "frame ms",
+             "imbalance", "deviation", "efficiency", "speedup", "recovery");
+  for (size_t k = 0; k < specs.size(); ++k) {
+    const RunSummary& s = summaries[k];
+    fmt::print("{:<14} {:>10.1f} {:>9.1f}% {:>9.1f}% {:>10.3f} {:>9} {:>9}\n",
+               specs[k].substr(0, 14), s.mean_frame_ms, 100 * s.mean_imbalance,
+               100 * s.mean_deviation, s.efficiency,
+               s.speedup > 0 ? fmt::format("{:.2f}x", s.speedup) : "-",
+               s.recovery_frames >= 0 ? std::to_string(s.recovery_frames) : "-");
+  }
+}
+
+nlohmann::json summary_to_json(const RunSummary& s, int warmup, double ideal_mean_ms,
+                               const std::vector<int>& sampled) {
+  return {{"from_frame", warmup},
+          {"mean_frame_ms", s.mean_frame_ms},
+          {"mean_imbalance", s.mean_imbalance},
+          {"mean_deviation", s.mean_deviation},
+          {"ideal_ms", ideal_mean_ms},
+          {"ideal_frames", sampled},
+          {"efficiency", s.efficiency},
+          {"speedup_vs_uniform", s.speedup > 0 ? nlohmann::json(s.speedup) : nlohmann::json()},
+          {"recovery_frames", s.recovery_frames}};
+}
+
+}  // namespace multiray::app

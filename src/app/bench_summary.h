@@ -1,0 +1,35 @@
+// What `multiray bench` reports per balancer: the summary statistics, the printed table
+// and the JSON record. Pure functions of the frame records.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/frame_record.h"
+
+namespace multiray::app {
+
+struct RunSummary {
+  double mean_frame_ms = 0, mean_imbalance = 0, mean_deviation = 0;  // frames >= warm-up
+  double efficiency = 0;     // sum of ideal / sum of actual frame times, sampled frames
+  double speedup = 0;        // uniform's mean frame time / this one's (0: no uniform run)
+  int recovery_frames = -1;  // frames after the perturbation until imbalance < 5% (-1: none)
+};
+
+// `ideal_ms[k]` is the ideal time of frame `sampled[k]`; `perturb_frame` < 0: none.
+RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
+                     const std::vector<int>& sampled, const std::vector<double>& ideal_ms,
+                     int perturb_frame);
+
+// Fills in `speedup` from the run whose spec starts with "uniform", if any.
+void add_speedups(const std::vector<std::string>& specs, std::vector<RunSummary>& summaries);
+
+// The comparison table, one line per balancer.
+void print_table(const std::vector<std::string>& specs, const std::vector<RunSummary>& summaries);
+
+nlohmann::json summary_to_json(const RunSummary& s, int warmup, double ideal_mean_ms,
+                               const std::vector<int>& sampled);
+
+}  // namespace multiray::app
