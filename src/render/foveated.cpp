@@ -2,8 +2,20 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
+#include <string>
 
 namespace multiray {
+
+const FoveationFrame& foveation_of(const ViewSetup& view) {
+  if (!view.foveation) throw std::invalid_argument("foveated rendering of a view without samples");
+  const FoveationFrame& f = *view.foveation;
+  if (f.width != view.width || f.height != view.height)
+    throw std::invalid_argument("foveation data of " + std::to_string(f.width) + "x" +
+                                std::to_string(f.height) + " for a view of " +
+                                std::to_string(view.width) + "x" + std::to_string(view.height));
+  return f;
+}
 
 FoveatedKernel::FoveatedKernel(const PathTracer& tracer, const AmbientOcclusion& ao)
     : tracer_(tracer), ao_(ao) {}
@@ -33,7 +45,7 @@ KernelStats FoveatedKernel::shade(const ViewSetup& view, const RenderSettings& s
 KernelStats FoveatedKernel::render_rect(const ViewSetup& view, const RenderSettings& settings,
                                         PixelRect rect, Framebuffer& out,
                                         std::vector<Vec3>& scratch) const {
-  const FoveationFrame& f = *view.foveation;
+  const FoveationFrame& f = foveation_of(view);
   if (scratch.size() < f.size()) scratch.resize(f.size());
   const std::vector<uint32_t> idx = select_samples(f, rect);
   const KernelStats stats = shade(view, settings, idx.data(), idx.size(), scratch.data());

@@ -16,6 +16,10 @@
 
 namespace multiray {
 
+// The view's foveation data. Throws std::invalid_argument when there is none or it was
+// prepared for another image size (a device reports that as a failed frame).
+const FoveationFrame& foveation_of(const ViewSetup& view);
+
 class FoveatedKernel {
  public:
   // Both integrators must outlive the kernel.

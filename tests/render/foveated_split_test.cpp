@@ -77,6 +77,22 @@ TEST(FoveatedSampling, ImageIsIndependentOfRectsAndDevicesBitForBit) {
   }
 }
 
+// Foveation data made for another image size is refused: the device reports a failed
+// frame instead of reading out of bounds.
+TEST(FoveatedSampling, DeviceRefusesDataOfAnotherSize) {
+  const Scene scene = make_cornell_box();
+  const RenderScene rs(scene);
+  const FoveationFrame f = prepare_foveation_frame(make_foveation_pattern(12, 12, {}), 0.5f, 0.5f);
+  ViewSetup v = foveated_view(scene, f, 0);
+  v.width = 10, v.height = 10;
+  CpuDevice device(rs, {}, "cpu");
+  ListWorkSource source({WorkUnit{{0, 0, 10, 10}, 0, 0}});
+  std::vector<Framebuffer> out{Framebuffer(10, 10)};
+  const DeviceReport r = device.render(FrameJob{{v}, RenderSettings{}, &out}, source, 0);
+  EXPECT_TRUE(r.failed);
+  EXPECT_NE(r.error.find("12x12"), std::string::npos) << r.error;
+}
+
 // Frames with a moving gaze through the engine: every work-splitting balancer on 1-3
 // devices of different emulated speeds reproduces the single-rect image of each frame.
 TEST(FoveatedSampling, EngineImagesMatchForEveryBalancerAndDeviceCount) {

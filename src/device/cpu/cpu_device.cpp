@@ -179,7 +179,7 @@ void CpuDevice::render_foveated(const FrameJob& job, const ViewSetup& view, Pixe
   // would render the samples on tile borders twice), then its pixels reconstructed.
   // Samples this device already rendered for an earlier unit of the frame are reused:
   // same values (same random numbers), less work when a device gets adjacent pieces.
-  const FoveationFrame& f = *view.foveation;
+  const FoveationFrame& f = foveation_of(view);
   if (impl_->sample_values.size() < f.size()) {
     impl_->sample_values.resize(f.size());
     impl_->sample_stamp.resize(f.size(), 0);
