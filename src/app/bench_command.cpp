@@ -27,7 +27,7 @@ struct BenchOptions {
   std::string json_path;
   std::string report_dir;
   int warmup = 10;
-  int ideal_frames = 10;
+  int ideal_frames = 20;
 };
 
 std::vector<std::string> split_list(const std::string& s) {
@@ -110,7 +110,8 @@ Runner add_bench_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--ideal-frames", b->ideal_frames,
                   "Frames (spread over those after --warmup) on which each device is timed alone; "
-                  "efficiency = sum of their ideal times / sum of their actual frame times")
+                  "efficiency = sum of ideal times (interpolated between those frames) / sum of "
+                  "actual frame times, over the frames after --warmup")
       ->capture_default_str();
   return [=]() -> int {
     const auto specs = split_list(b->balancers);

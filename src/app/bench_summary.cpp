@@ -4,6 +4,16 @@
 
 namespace multiray::app {
 
+double interpolate_ideal(const std::vector<int>& sampled, const std::vector<double>& ideal_ms,
+                         int frame) {
+  if (frame <= sampled.front()) return ideal_ms.front();
+  if (frame >= sampled.back()) return ideal_ms.back();
+  size_t k = 0;
+  while (sampled[k + 1] < frame) ++k;
+  const double t = double(frame - sampled[k]) / double(sampled[k + 1] - sampled[k]);
+  return ideal_ms[k] * (1 - t) + ideal_ms[k + 1] * t;
+}
+
 RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
                      const std::vector<int>& sampled, const std::vector<double>& ideal_ms,
                      int perturb_frame) {
@@ -16,11 +26,14 @@ RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
     }
   if (counted > 0)
     sum.mean_frame_ms /= counted, sum.mean_imbalance /= counted, sum.mean_deviation /= counted;
-  // Efficiency on the frames whose ideal was measured: frame cost varies along a path.
+  // Efficiency over all frames >= warm-up: the ideal of a frame between two sampled ones
+  // is interpolated linearly (frame cost changes smoothly along a camera path; timing the
+  // devices alone on every frame would cost more than the run itself).
   double ideal_sum = 0, actual_sum = 0;
-  for (size_t k = 0; k < sampled.size(); ++k) {
-    ideal_sum += ideal_ms[k];
-    actual_sum += recs[size_t(sampled[k])].frame_ms;
+  for (const auto& r : recs) {
+    if (r.frame < warmup || sampled.empty()) continue;
+    actual_sum += r.frame_ms;
+    ideal_sum += interpolate_ideal(sampled, ideal_ms, r.frame);
   }
   sum.efficiency = actual_sum > 0 ? ideal_sum / actual_sum : 0.0;
   if (perturb_frame >= 0)

@@ -18,6 +18,11 @@ struct RunSummary {
   int recovery_frames = -1;  // frames after the perturbation until imbalance < 5% (-1: none)
 };
 
+// The ideal time of `frame`, linearly interpolated between the sampled frames (clamped at
+// the ends). `sampled` is increasing and non-empty; ideal_ms[k] belongs to sampled[k].
+double interpolate_ideal(const std::vector<int>& sampled, const std::vector<double>& ideal_ms,
+                         int frame);
+
 // `ideal_ms[k]` is the ideal time of frame `sampled[k]`; `perturb_frame` < 0: none.
 RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
                      const std::vector<int>& sampled, const std::vector<double>& ideal_ms,

@@ -3,6 +3,7 @@
 // the engine sees only this header.
 #pragma once
 
+#include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,9 +15,9 @@
 namespace multiray {
 
 struct DeviceInfo {
-  std::string type;   // "cpu", "opencl", ...
-  std::string name;   // human readable, e.g. "cpu (1 thread, cores 0)"
-  std::string spec;   // the --devices string that creates this device
+  std::string type;  // "cpu", "opencl", ...
+  std::string name;  // human readable, e.g. "cpu (1 thread, cores 0)"
+  std::string spec;  // the --devices string that creates this device
   int threads = 1;
   double emulated_speed = 1.0;  // < 1: the device idles to mimic slower hardware (emulated)
   double cpu_quota = 0.0;       // > 0: real throttling by a cgroup CPU quota (fraction of a core)
@@ -76,8 +77,21 @@ class Device {
   virtual void set_emulated_speed(double speed) = 0;
 };
 
-// After `busy_ms` of real work, a device emulating `speed` < 1 idles (1/speed - 1) x that
-// long. Returns the idle time in ms. Emulation only: real slowness comes from quotas.
-double emulate_slowdown(double busy_ms, double speed);
+// Emulates a device `speed` (< 1) times as fast as this one by idling: after each unit it
+// sleeps until frame start + (busy time so far) / speed. Sleeping to an absolute deadline
+// keeps the scheduler's wake-up overshoot from adding up over many small units, which
+// would otherwise penalise balancers that hand out many units. Emulation only: real
+// slowness comes from quotas. Create one per frame, when the device starts it.
+class SlowdownEmulator {
+ public:
+  explicit SlowdownEmulator(double speed);
+  // Call after each unit with its busy (rendering) time.
+  void after_unit(double busy_ms);
+
+ private:
+  double speed_;
+  double busy_total_ms_ = 0;
+  std::chrono::steady_clock::time_point start_;
+};
 
 }  // namespace multiray

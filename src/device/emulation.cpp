@@ -1,16 +1,20 @@
-#include <chrono>
 #include <thread>
 
 #include "device/device.h"
 
 namespace multiray {
 
-double emulate_slowdown(double busy_ms, double speed) {
-  if (!(speed > 0) || speed >= 1.0 || !(busy_ms > 0)) return 0.0;
-  const double idle_ms = busy_ms * (1.0 / speed - 1.0);
-  // sleep_for may overshoot by a scheduler tick; the caller measures the real time spent.
-  std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(idle_ms));
-  return idle_ms;
+SlowdownEmulator::SlowdownEmulator(double speed)
+    : speed_(speed), start_(std::chrono::steady_clock::now()) {}
+
+void SlowdownEmulator::after_unit(double busy_ms) {
+  if (!(busy_ms > 0)) return;
+  busy_total_ms_ += busy_ms;
+  if (!(speed_ > 0) || speed_ >= 1.0) return;
+  const auto deadline =
+      start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                   std::chrono::duration<double, std::milli>(busy_total_ms_ / speed_));
+  std::this_thread::sleep_until(deadline);
 }
 
 }  // namespace multiray

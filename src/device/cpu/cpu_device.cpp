@@ -131,6 +131,7 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
   const int tile = std::max(1, impl_->opts.tile);
   try {
     WorkUnit unit;
+    SlowdownEmulator slowdown(impl_->speed.load());
     while (source.next(index, unit)) {
       const Stopwatch unit_clock;
       const ViewSetup& view = job.views.at(unit.view);
@@ -152,7 +153,7 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
             });
       });
       const double busy = unit_clock.elapsed_ms();
-      emulate_slowdown(busy, impl_->speed.load());
+      slowdown.after_unit(busy);
       UnitReport ur;
       ur.unit = unit;
       ur.busy_ms = busy;

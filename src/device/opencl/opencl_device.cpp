@@ -262,6 +262,7 @@ DeviceReport OpenClDevice::render(const FrameJob& job, WorkSource& source, int i
   }
   try {
     WorkUnit unit;
+    SlowdownEmulator slowdown(impl_->speed.load());
     while (source.next(index, unit)) {
       if (impl_->opts.fail_after >= 0 && impl_->units_done >= impl_->opts.fail_after) {
         report.failed = true;
@@ -273,7 +274,7 @@ DeviceReport OpenClDevice::render(const FrameJob& job, WorkSource& source, int i
       const KernelStats ks = impl_->render_rect(job.views.at(unit.view), job.settings, unit.rect,
                                                 job.outputs->at(unit.view));
       const double busy = unit_clock.elapsed_ms();
-      emulate_slowdown(busy, impl_->speed.load());
+      slowdown.after_unit(busy);
       UnitReport ur;
       ur.unit = unit;
       ur.busy_ms = busy;

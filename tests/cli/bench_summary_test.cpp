@@ -1,0 +1,44 @@
+// The bench command's arithmetic: interpolated ideal, efficiency, recovery, speedup.
+#include <gtest/gtest.h>
+
+#include "app/bench_summary.h"
+
+namespace multiray::app {
+namespace {
+
+std::vector<FrameRecord> frames(const std::vector<double>& ms,
+                                const std::vector<double>& imbalance) {
+  std::vector<FrameRecord> out;
+  for (size_t f = 0; f < ms.size(); ++f) {
+    FrameRecord r;
+    r.frame = int(f);
+    r.frame_ms = ms[f];
+    r.imbalance = imbalance[f];
+    out.push_back(r);
+  }
+  return out;
+}
+
+TEST(BenchSummary, InterpolatesIdealBetweenSampledFrames) {
+  EXPECT_DOUBLE_EQ(interpolate_ideal({2, 6}, {10, 30}, 4), 20);
+  EXPECT_DOUBLE_EQ(interpolate_ideal({2, 6}, {10, 30}, 0), 10);  // clamped
+  EXPECT_DOUBLE_EQ(interpolate_ideal({2, 6}, {10, 30}, 9), 30);
+  EXPECT_DOUBLE_EQ(interpolate_ideal({2, 6, 8}, {10, 30, 0}, 7), 15);
+}
+
+TEST(BenchSummary, EfficiencyRecoveryAndSpeedup) {
+  // Frames 0-1 are warm-up; the ideal is 10 ms everywhere; actual 20 ms then 10 ms.
+  const auto recs = frames({100, 100, 20, 20, 10, 10}, {0.5, 0.5, 0.2, 0.1, 0.04, 0.0});
+  const RunSummary s = summarize(recs, 2, {2, 5}, {10, 10}, 3);
+  EXPECT_DOUBLE_EQ(s.mean_frame_ms, 15);
+  EXPECT_DOUBLE_EQ(s.efficiency, 40.0 / 60.0);
+  EXPECT_EQ(s.recovery_frames, 1);  // frame 4 is the first under 5% after frame 3
+  std::vector<RunSummary> all{s, s};
+  all[0].mean_frame_ms = 30;
+  add_speedups({"uniform:layout=rows", "hybrid"}, all);
+  EXPECT_DOUBLE_EQ(all[1].speedup, 2.0);
+  EXPECT_DOUBLE_EQ(all[0].speedup, 1.0);
+}
+
+}  // namespace
+}  // namespace multiray::app
