@@ -124,6 +124,14 @@ void index_samples(FoveationFrame& f) {
 
 }  // namespace
 
+uint64_t samples_in_rect(const FoveationFrame& f, PixelRect rect) {
+  double sum = 0;
+  for (int y = std::max(rect.y0, 0); y < std::min(rect.y1, f.height); ++y)
+    for (int x = std::max(rect.x0, 0); x < std::min(rect.x1, f.width); ++x)
+      sum += f.pixel_samples[size_t(y) * size_t(f.width) + size_t(x)];
+  return uint64_t(sum);
+}
+
 float distance2_to_box(Vec2 p, float x0, float y0, float x1, float y1) {
   const float dx = p.x < x0 ? x0 - p.x : (p.x > x1 ? p.x - x1 : 0.0f);
   const float dy = p.y < y0 ? y0 - p.y : (p.y > y1 ? p.y - y1 : 0.0f);

@@ -122,9 +122,12 @@ TEST(FoveatedSampling, EngineImagesMatchForEveryBalancerAndDeviceCount) {
       for (int f = 0; f < 3; ++f) {
         const FrameRecord rec =
             engine.render_frame(f, {foveated_view(scene, frames[size_t(f)], f)}, s);
-        uint64_t pixels = 0;
-        for (const auto& d : rec.devices) pixels += d.pixels;
+        // Every pixel once; the samples reported are the frame's, however it was cut
+        // (a unit reports the samples positioned in it, not those of its borders).
+        uint64_t pixels = 0, samples = 0;
+        for (const auto& d : rec.devices) pixels += d.pixels, samples += d.samples;
         EXPECT_EQ(pixels, uint64_t(kW) * kH);
+        EXPECT_EQ(samples, frames[size_t(f)].used_samples) << spec << " on " << n << " devices";
         EXPECT_TRUE(same_bits(engine.images()[0], reference[size_t(f)]))
             << spec << " on " << n << " devices, frame " << f;
       }

@@ -180,7 +180,11 @@ void CpuDevice::render_foveated(const FrameJob& job, const ViewSetup& view, Pixe
   // would render the samples on tile borders twice), then its pixels reconstructed.
   // Samples this device already rendered for an earlier unit of the frame are reused:
   // same values (same random numbers), less work when a device gets adjacent pieces.
+  // The unit reports as its samples those positioned inside it (its weight in the
+  // engine's pixel_weight), so balancers measure speed in the units they split by; the
+  // samples rendered for the rect's border are overhead, visible in its time and rays.
   const FoveationFrame& f = foveation_of(view);
+  samples += samples_in_rect(f, r);
   if (impl_->sample_values.size() < f.size()) {
     impl_->sample_values.resize(f.size());
     impl_->sample_stamp.resize(f.size(), 0);
@@ -200,7 +204,6 @@ void CpuDevice::render_foveated(const FrameJob& job, const ViewSetup& view, Pixe
                             [&](const oneapi::tbb::blocked_range<size_t>& b) {
                               const KernelStats ks = impl_->foveated.shade(
                                   view, job.settings, idx.data() + b.begin(), b.size(), values);
-                              samples += ks.samples;
                               rays += ks.rays;
                             });
   oneapi::tbb::parallel_for(
