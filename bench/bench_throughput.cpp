@@ -34,7 +34,8 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scene_path = std::string(MULTIRAY_SHARED_DATA_DIR) + "/meshes/dabrovic_sponza/sponza.obj";
+  std::string scene_path =
+      std::string(MULTIRAY_SHARED_DATA_DIR) + "/meshes/dabrovic_sponza/sponza.obj";
   int w = 1280, h = 720, spp = 1, bounces = 8, reps = 3;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -42,10 +43,14 @@ int main(int argc, char** argv) {
     if (a == "--res") {
       const std::string r = next();
       if (std::sscanf(r.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1) return 2;
-    } else if (a == "--spp") spp = std::stoi(next());
-    else if (a == "--bounces") bounces = std::stoi(next());
-    else if (a == "--reps") reps = std::max(1, std::stoi(next()));
-    else scene_path = a;
+    } else if (a == "--spp")
+      spp = std::stoi(next());
+    else if (a == "--bounces")
+      bounces = std::stoi(next());
+    else if (a == "--reps")
+      reps = std::max(1, std::stoi(next()));
+    else
+      scene_path = a;
   }
   Scene scene;
   if (std::filesystem::exists(scene_path)) {

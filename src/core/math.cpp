@@ -11,9 +11,12 @@ Mat4 Mat4::normal_matrix() const {
   if (det == 0) return r;
   const float s = 1.0f / det;
   // Inverse (adjugate / det), then transposed.
-  r.m[0][0] = (e * i - f * h) * s, r.m[1][0] = (c * h - b * i) * s, r.m[2][0] = (b * f - c * e) * s;
-  r.m[0][1] = (f * g - d * i) * s, r.m[1][1] = (a * i - c * g) * s, r.m[2][1] = (c * d - a * f) * s;
-  r.m[0][2] = (d * h - e * g) * s, r.m[1][2] = (b * g - a * h) * s, r.m[2][2] = (a * e - b * d) * s;
+  r.m[0][0] = (e * i - f * h) * s, r.m[1][0] = (c * h - b * i) * s,
+  r.m[2][0] = (b * f - c * e) * s;
+  r.m[0][1] = (f * g - d * i) * s, r.m[1][1] = (a * i - c * g) * s,
+  r.m[2][1] = (c * d - a * f) * s;
+  r.m[0][2] = (d * h - e * g) * s, r.m[1][2] = (b * g - a * h) * s,
+  r.m[2][2] = (a * e - b * d) * s;
   return r;
 }
 

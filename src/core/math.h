@@ -67,8 +67,8 @@ struct Frame {
     const float sign = std::copysign(1.0f, n.z);
     const float a = -1.0f / (sign + n.z);
     const float bb = n.x * n.y * a;
-    return {Vec3(1 + sign * n.x * n.x * a, sign * bb, -sign * n.x), Vec3(bb, sign + n.y * n.y * a, -n.y),
-            n};
+    return {Vec3(1 + sign * n.x * n.x * a, sign * bb, -sign * n.x),
+            Vec3(bb, sign + n.y * n.y * a, -n.y), n};
   }
   Vec3 to_local(Vec3 v) const { return {dot(v, t), dot(v, b), dot(v, n)}; }
   Vec3 to_world(Vec3 v) const { return t * v.x + b * v.y + n * v.z; }
@@ -92,7 +92,8 @@ struct Mat4 {
             m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3]};
   }
   Vec3 vector(Vec3 v) const {
-    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
+            m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
             m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
   }
   friend Mat4 operator*(const Mat4& a, const Mat4& b) {

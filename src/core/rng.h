@@ -22,7 +22,8 @@ class Rng {
   // images of the same scene.
   static Rng for_path(uint32_t pixel, uint32_t sample, uint32_t frame, uint32_t view,
                       uint64_t seed = 0) {
-    const uint64_t k1 = mix64((uint64_t(view) << 32 | frame) ^ mix64(seed + 0x9e3779b97f4a7c15ull));
+    const uint64_t k1 =
+        mix64((uint64_t(view) << 32 | frame) ^ mix64(seed + 0x9e3779b97f4a7c15ull));
     const uint64_t k2 = mix64((uint64_t(pixel) << 32 | sample) ^ k1);
     return Rng(k2, k1);
   }

@@ -40,7 +40,8 @@ double parse_number(const DeviceSpec& d, const std::string& key) {
 
 int parse_int(const DeviceSpec& d, const std::string& key) {
   const double x = parse_number(d, key);
-  if (x != std::floor(x)) throw InputError("--devices '" + d.text + "': " + key + " must be an integer");
+  if (x != std::floor(x))
+    throw InputError("--devices '" + d.text + "': " + key + " must be an integer");
   return int(x);
 }
 
@@ -131,7 +132,8 @@ std::unique_ptr<Device> create_cpu_device(const DeviceSpec& d, const RenderScene
     throw InputError("--devices '" + d.text + "': speed must be in (0, 1] (emulated slowdown)");
   if (d.options.count("quota") && !(o.quota > 0 && o.quota <= 1))
     throw InputError("--devices '" + d.text + "': quota must be in (0, 1] of a core per thread");
-  if (o.tile < 1 || o.tile > 4096) throw InputError("--devices '" + d.text + "': tile must be in 1..4096");
+  if (o.tile < 1 || o.tile > 4096)
+    throw InputError("--devices '" + d.text + "': tile must be in 1..4096");
   return std::make_unique<CpuDevice>(rs, o, d.text);
 }
 
@@ -174,7 +176,8 @@ std::unique_ptr<Device> create_device(const DeviceSpec& d, const RenderScene& rs
   return create_cpu_device(d, rs);
 }
 
-std::vector<std::unique_ptr<Device>> create_devices(const std::string& text, const RenderScene& rs) {
+std::vector<std::unique_ptr<Device>> create_devices(const std::string& text,
+                                                    const RenderScene& rs) {
   std::vector<std::unique_ptr<Device>> out;
   for (const DeviceSpec& d : parse_device_specs(text)) out.push_back(create_device(d, rs));
   return out;

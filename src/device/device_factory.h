@@ -43,6 +43,7 @@ std::vector<DeviceSpec> parse_device_specs(const std::string& text);
 // Creates one device. Throws InputError (bad option) or DeviceError (cannot be created here).
 std::unique_ptr<Device> create_device(const DeviceSpec& spec, const RenderScene& rs);
 
-std::vector<std::unique_ptr<Device>> create_devices(const std::string& text, const RenderScene& rs);
+std::vector<std::unique_ptr<Device>> create_devices(const std::string& text,
+                                                    const RenderScene& rs);
 
 }  // namespace multiray

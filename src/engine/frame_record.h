@@ -10,8 +10,8 @@
 namespace multiray {
 
 struct DeviceFrameRecord {
-  double time_ms = 0;   // device's own wall time for the frame (busy + emulated idle)
-  double busy_ms = 0;   // rendering only
+  double time_ms = 0;  // device's own wall time for the frame (busy + emulated idle)
+  double busy_ms = 0;  // rendering only
   uint64_t samples = 0, pixels = 0, rays = 0;
   int units = 0;
   double work_share = 0;     // fraction of the frame's samples this device rendered
@@ -27,8 +27,8 @@ struct FrameRecord {
   double update_ms = 0;  // balancer update()
   int stolen = 0;        // items taken by stealing
   std::vector<DeviceFrameRecord> devices;
-  double imbalance = 0;  // t_max / t_mean - 1 over live devices
-  double deviation = 0;  // max |t_i - t_mean| / t_mean (Harada)
+  double imbalance = 0;               // t_max / t_mean - 1 over live devices
+  double deviation = 0;               // max |t_i - t_mean| / t_mean (Harada)
   std::vector<std::string> messages;  // e.g. a device dropped
 };
 

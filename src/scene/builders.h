@@ -11,8 +11,8 @@ uint32_t add_quad(Scene& s, Vec3 a, Vec3 b, Vec3 c, Vec3 d, uint32_t material);
 // Axis-aligned box rotated by `yaw_deg` about +y through its centre, outward faces.
 uint32_t add_box(Scene& s, Vec3 center, Vec3 half_size, float yaw_deg, uint32_t material);
 // UV sphere with `rings` x `segments` quads; `inward` flips the winding and normals.
-uint32_t add_sphere(Scene& s, Vec3 center, float radius, int rings, int segments,
-                    bool inward, uint32_t material);
+uint32_t add_sphere(Scene& s, Vec3 center, float radius, int rings, int segments, bool inward,
+                    uint32_t material);
 uint32_t add_material(Scene& s, Material m);
 
 // The built-in default scene: a Cornell box with an area light, after the classic Cornell

@@ -67,22 +67,21 @@ Scene make_cornell_box() {
   Material red{.name = "red", .base_color = {0.63f, 0.065f, 0.05f}};
   Material green{.name = "green", .base_color = {0.14f, 0.45f, 0.091f}};
   Material light{.name = "light", .base_color = {0.78f, 0.78f, 0.78f}, .emission = {17, 12, 4}};
-  Material metal{.name = "metal", .base_color = {0.95f, 0.93f, 0.88f}, .metallic = 1.0f,
-                 .roughness = 0.3f};
-  const uint32_t w = add_material(s, white), r = add_material(s, red),
-                 g = add_material(s, green), l = add_material(s, light),
-                 m = add_material(s, metal);
-  add_quad(s, {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, w);   // floor
-  add_quad(s, {-1, 2, -1}, {1, 2, -1}, {1, 2, 1}, {-1, 2, 1}, w);   // ceiling
-  add_quad(s, {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, w); // back
-  add_quad(s, {-1, 0, 1}, {-1, 0, -1}, {-1, 2, -1}, {-1, 2, 1}, r); // left (red)
-  add_quad(s, {1, 0, -1}, {1, 0, 1}, {1, 2, 1}, {1, 2, -1}, g);     // right (green)
+  Material metal{
+      .name = "metal", .base_color = {0.95f, 0.93f, 0.88f}, .metallic = 1.0f, .roughness = 0.3f};
+  const uint32_t w = add_material(s, white), r = add_material(s, red), g = add_material(s, green),
+                 l = add_material(s, light), m = add_material(s, metal);
+  add_quad(s, {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, w);    // floor
+  add_quad(s, {-1, 2, -1}, {1, 2, -1}, {1, 2, 1}, {-1, 2, 1}, w);    // ceiling
+  add_quad(s, {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, w);  // back
+  add_quad(s, {-1, 0, 1}, {-1, 0, -1}, {-1, 2, -1}, {-1, 2, 1}, r);  // left (red)
+  add_quad(s, {1, 0, -1}, {1, 0, 1}, {1, 2, 1}, {1, 2, -1}, g);      // right (green)
   // Light slightly below the ceiling, facing down.
   add_quad(s, {-0.24f, 1.98f, -0.22f}, {0.23f, 1.98f, -0.22f}, {0.23f, 1.98f, 0.16f},
            {-0.24f, 1.98f, 0.16f}, l);
   add_box(s, {-0.33f, 0.6f, -0.29f}, {0.3f, 0.6f, 0.3f}, 17.0f, w);  // tall block
   add_box(s, {0.34f, 0.3f, 0.38f}, {0.3f, 0.3f, 0.3f}, -17.0f, w);   // short block
-  add_sphere(s, {0.34f, 0.85f, 0.38f}, 0.25f, 16, 32, false, m);      // metal ball on it
+  add_sphere(s, {0.34f, 0.85f, 0.38f}, 0.25f, 16, 32, false, m);     // metal ball on it
   // The quads carry no normals, so drop the sphere's: the scene is flat-shaded throughout.
   s.normals.clear();
   s.cameras.push_back(Camera{{0, 1, 3.9f}, {0, 1, 0}, {0, 1, 0}, 39.3f});

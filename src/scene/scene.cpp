@@ -111,7 +111,8 @@ void validate(const Scene& s) {
     throw InputError(where + "uv count does not match vertex count");
   for (size_t i = 0; i < s.positions.size(); ++i)
     if (!is_finite(s.positions[i]))
-      throw InputError(where + "vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
+      throw InputError(where + "vertex " + std::to_string(i) +
+                       " has a NaN or infinite coordinate");
   for (size_t i = 0; i < s.normals.size(); ++i)
     if (!is_finite(s.normals[i]))
       throw InputError(where + "normal " + std::to_string(i) + " is NaN or infinite");

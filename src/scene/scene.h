@@ -60,8 +60,8 @@ struct Camera {
 struct Scene {
   std::string name;  // file name or "cornell-box"
   std::vector<Vec3> positions;
-  std::vector<Vec3> normals;  // empty, or one per position (shading normals)
-  std::vector<Vec2> uvs;      // empty, or one per position
+  std::vector<Vec3> normals;           // empty, or one per position (shading normals)
+  std::vector<Vec2> uvs;               // empty, or one per position
   std::vector<uint32_t> indices;       // three per triangle, into positions
   std::vector<uint32_t> material_ids;  // one per triangle, into materials
   std::vector<Material> materials;

@@ -22,8 +22,8 @@ std::vector<ViewSetup> views(const Scene& s, int frame) {
 }
 
 // Renders frames 0..frames-1 and returns the last image.
-std::vector<Vec3> render_with(const RenderScene& rs, const std::string& spec, int devices, int frames,
-                              std::vector<double> speeds = {}) {
+std::vector<Vec3> render_with(const RenderScene& rs, const std::string& spec, int devices,
+                              int frames, std::vector<double> speeds = {}) {
   std::vector<std::unique_ptr<CpuDevice>> owned;
   std::vector<Device*> ptrs;
   for (int i = 0; i < devices; ++i) {
@@ -103,13 +103,17 @@ TEST(Engine, FailedDeviceIsDroppedAndItsWorkRedone) {
   CpuDevice good(rs, {}, "cpu");
   FailingDevice bad(rs);
   Engine engine({&good, &bad}, balance::make_balancer("uniform", 2));
-  const FrameRecord rec = engine.render_frame(0, views(scene, 0), RenderSettings{.spp = 1, .max_bounces = 4});
+  const FrameRecord rec =
+      engine.render_frame(0, views(scene, 0), RenderSettings{.spp = 1, .max_bounces = 4});
   EXPECT_FALSE(engine.alive(1));
   ASSERT_EQ(rec.messages.size(), 1u);
   EXPECT_NE(rec.messages[0].find("injected failure"), std::string::npos);
-  EXPECT_EQ(std::memcmp(engine.images()[0].pixels.data(), reference.data(), reference.size() * sizeof(Vec3)), 0);
+  EXPECT_EQ(std::memcmp(engine.images()[0].pixels.data(), reference.data(),
+                        reference.size() * sizeof(Vec3)),
+            0);
   // Next frame runs on the survivor alone.
-  const FrameRecord next = engine.render_frame(1, views(scene, 1), RenderSettings{.spp = 1, .max_bounces = 4});
+  const FrameRecord next =
+      engine.render_frame(1, views(scene, 1), RenderSettings{.spp = 1, .max_bounces = 4});
   EXPECT_EQ(next.devices[0].pixels, uint64_t(kW) * kH);
 }
 

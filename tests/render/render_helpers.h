@@ -19,7 +19,8 @@ inline Framebuffer render_regions(const Scene& scene, int w, int h, const Render
   RenderScene rs(scene);
   std::vector<std::unique_ptr<CpuDevice>> devices;
   for (int i = 0; i < device_count; ++i)
-    devices.push_back(std::make_unique<CpuDevice>(rs, CpuDeviceOptions{.threads = threads}, "cpu"));
+    devices.push_back(
+        std::make_unique<CpuDevice>(rs, CpuDeviceOptions{.threads = threads}, "cpu"));
   std::vector<WorkUnit> units;
   for (const PixelRect& r : regions) units.push_back(WorkUnit{r, 0, uint32_t(units.size())});
   ListWorkSource source(units);

@@ -13,10 +13,10 @@ namespace multiray {
 
 struct CpuDeviceOptions {
   int threads = 1;
-  std::vector<int> cores;       // empty: not pinned
-  double speed = 1.0;           // emulated speed factor (idle after each unit), (0, 1]
-  double quota = 0.0;           // fraction of one core per thread via cgroup v1; 0 = none
-  int tile = 16;                // side of the pixel blocks handed to the threads
+  std::vector<int> cores;  // empty: not pinned
+  double speed = 1.0;      // emulated speed factor (idle after each unit), (0, 1]
+  double quota = 0.0;      // fraction of one core per thread via cgroup v1; 0 = none
+  int tile = 16;           // side of the pixel blocks handed to the threads
 };
 
 class CpuDevice : public Device {
