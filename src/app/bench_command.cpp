@@ -140,16 +140,16 @@ Runner add_bench_command(CLI::App& app) {
       labels.push_back(fmt::format("{}: {}", i, info.name));
     }
     fmt::print(
-        "scene {}, {}x{} x {} views, {} integrator, {} sampling ({} spp), {} frames, camera path "
+        "scene {}, {}x{} x {} views, {} integrator, {} sampling ({}), {} frames, camera path "
         "{}\n",
         s.scene->name, s.res.width, s.res.height, s.rig.view_count(), o->integrator, o->sampling,
-        o->sampling == "adaptive" ? fmt::format("{} on edges, 1 elsewhere", o->edge_spp)
+        o->sampling == "adaptive" ? fmt::format("{} spp on edges, 1 elsewhere", o->edge_spp)
         : o->sampling == "foveated"
-            ? fmt::format("{:g} at the gaze, {:g} in the periphery, "
+            ? fmt::format("{:g} spp at the gaze, {:g} in the periphery, "
                           "{} pattern samples, gaze path {}",
                           o->foveation.fovea_spp, o->foveation.periphery_spp,
                           s.pattern->offsets.size(), o->gaze_path)
-            : std::to_string(o->spp),
+            : std::to_string(o->spp) + " spp",
         o->frames, o->camera_path);
     for (const auto& l : labels) fmt::print("  device {}\n", l);
 
