@@ -2,7 +2,6 @@
 // and a non-zero exit, never a crash or a hang; good input writes images and stats.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
@@ -10,26 +9,13 @@
 #include <fstream>
 #include <string>
 
+#include "support/run_cli.h"
+
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out;  // stdout and stderr together
-};
+using Result = multiray::testing::CliResult;
 
-// Runs multiray with `args` (shell words) under a 120 s timeout.
-Result run(const std::string& args) {
-  const std::string cmd = "timeout 120 " + std::string(MULTIRAY_BIN) + " " + args + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  return r;
-}
+Result run(const std::string& args) { return multiray::testing::run_cli(MULTIRAY_BIN, args); }
 
 std::string temp_file(const std::string& name, const std::string& content) {
   const std::string path = ::testing::TempDir() + "/" + name;

@@ -2,34 +2,20 @@
 // devices rendering at the same time (POCL_DEVICES is read once per process, so these run
 // the CLI instead of creating devices here).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <string>
 
 #include "opencl_helpers.h"
+#include "support/run_cli.h"
 
 namespace multiray {
 namespace {
 
 #ifdef MULTIRAY_BIN
-struct Result {
-  int code = -1;
-  std::string out;  // stdout and stderr
-};
+using Result = multiray::testing::CliResult;
 
 Result run(const std::string& env, const std::string& args) {
-  const std::string cmd = env + " timeout 120 " + MULTIRAY_BIN + " " + args + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  return r;
+  return multiray::testing::run_cli(MULTIRAY_BIN, args, env);
 }
 
 TEST(OpenClCli, DevicesListsEveryOpenClDeviceWithItsSpec) {
