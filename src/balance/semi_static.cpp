@@ -1,6 +1,7 @@
 #include "balance/semi_static.h"
 
 #include <cstddef>
+#include <sstream>
 #include <stdexcept>
 
 #include "balance/row_density.h"
@@ -13,7 +14,9 @@ SemiStaticBalancer::SemiStaticBalancer(int device_count, double alpha)
     : BalancerBase(device_count), alpha_(alpha), shares_(even()) {}
 
 std::string SemiStaticBalancer::spec() const {
-  return "semi-static:alpha=" + std::to_string(alpha_);
+  std::ostringstream s;  // shortest form, e.g. 0.4 (std::to_string gives 0.400000)
+  s << "semi-static:alpha=" << alpha_;
+  return s.str();
 }
 
 void SemiStaticBalancer::on_drop(int /*index*/) { shares_ = sanitize(shares_, even()); }
