@@ -1,7 +1,10 @@
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -116,9 +119,28 @@ Runner add_render_command(CLI::App& app) {
     if (ec) throw InputError("cannot create output folder '" + *out_dir + "': " + ec.message());
     nlohmann::json frames = nlohmann::json::array();
     for (int f = 0; f < o->frames; ++f) {
-      if (stderr_is_tty()) fmt::print(stderr, "\rrendering frame {}/{} ...", f + 1, o->frames);
       const Setup::FrameInput in = s.frame_input(f);
-      const FrameRecord rec = engine.render_frame(f, in.views, s.settings);
+      // On a terminal, a line shows how much of the frame has been handed to devices.
+      std::atomic<bool> rendering{true};
+      std::thread progress;
+      if (stderr_is_tty())
+        progress = std::thread([&, f] {
+          while (rendering) {
+            fmt::print(stderr, "\rrendering frame {}/{} ... {:3.0f}%", f + 1, o->frames,
+                       100.0 * engine.progress());
+            std::this_thread::sleep_for(std::chrono::milliseconds(200));
+          }
+        });
+      FrameRecord rec;
+      try {
+        rec = engine.render_frame(f, in.views, s.settings);
+      } catch (...) {
+        rendering = false;
+        if (progress.joinable()) progress.join();
+        throw;
+      }
+      rendering = false;
+      if (progress.joinable()) progress.join();
       const std::string base = fmt::format("{}/frame_{:04d}", *out_dir, f);
       const auto& images = engine.images();
       if (images.size() == 1) {

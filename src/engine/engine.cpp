@@ -78,7 +78,9 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
   Stopwatch clock;
   last_plan_ = balancer_->plan(shape, frame);
   rec.plan_ms = clock.elapsed_ms();
-  PlanWorkSource source(last_plan_, shape);
+  handed_out_ = 0;
+  frame_pixels_ = shape.pixels();
+  PlanWorkSource source(last_plan_, shape, &handed_out_);
   FrameJob job{views, settings, &images_};
 
   // Every live device renders on its own thread; the device measures its own time.

@@ -2,6 +2,8 @@
 // update. One Engine per (scene, device set, balancer); frames are rendered in order.
 #pragma once
 
+#include <algorithm>
+#include <atomic>
 #include <memory>
 #include <vector>
 
@@ -36,6 +38,12 @@ class Engine {
   balance::Balancer& balancer() { return *balancer_; }
   void set_perturbations(std::vector<Perturbation> p) { perturbations_ = std::move(p); }
   bool alive(int device) const { return alive_[size_t(device)]; }
+  // Fraction of the current frame's pixels handed to devices so far, in [0, 1]; safe to
+  // call from another thread while render_frame() runs (for progress display).
+  double progress() const {
+    const int64_t total = frame_pixels_.load();
+    return total > 0 ? std::min(1.0, double(handed_out_.load()) / double(total)) : 0.0;
+  }
 
  private:
   std::vector<Device*> devices_;
@@ -46,6 +54,7 @@ class Engine {
   std::vector<Perturbation> perturbations_;
   balance::Plan last_plan_;
   std::vector<std::vector<balance::WorkItem>> rendered_;
+  std::atomic<int64_t> handed_out_{0}, frame_pixels_{0};
 };
 
 }  // namespace multiray

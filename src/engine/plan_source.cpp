@@ -22,7 +22,8 @@ double item_weight(const balance::WorkItem& it, const balance::FrameShape& shape
 }
 }  // namespace
 
-PlanWorkSource::PlanWorkSource(const balance::Plan& plan, const balance::FrameShape& shape)
+PlanWorkSource::PlanWorkSource(const balance::Plan& plan, const balance::FrameShape& shape,
+                               std::atomic<int64_t>* handed_out)
     : own_(plan.assigned.size()),
       own_weight_(plan.assigned.size(), 0.0),
       batch_(std::max(1, plan.batch)),
@@ -40,6 +41,7 @@ PlanWorkSource::PlanWorkSource(const balance::Plan& plan, const balance::FrameSh
     }
   for (const auto& it : plan.shared) shared_.push_back(add(it));
   taken_by_.assign(items_.size(), -1);
+  handed_out_ = handed_out;
 }
 
 bool PlanWorkSource::next(int device, WorkUnit& out) {
@@ -76,6 +78,7 @@ bool PlanWorkSource::next(int device, WorkUnit& out) {
     return false;
   }
   taken_by_[id] = device;
+  if (handed_out_) *handed_out_ += items_[id].rect.area();
   out = to_unit(items_[id], id);
   return true;
 }

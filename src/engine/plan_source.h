@@ -7,6 +7,7 @@
 //      with the most not-started work (pixels x weight).
 #pragma once
 
+#include <atomic>
 #include <deque>
 #include <mutex>
 #include <vector>
@@ -19,8 +20,10 @@ namespace multiray {
 
 class PlanWorkSource : public WorkSource {
  public:
-  // `pixel_weight` as in balance::FrameShape (empty: uniform).
-  PlanWorkSource(const balance::Plan& plan, const balance::FrameShape& shape);
+  // `pixel_weight` as in balance::FrameShape (empty: uniform). If `handed_out` is given,
+  // the pixels of every item handed to a device are added to it (for progress display).
+  PlanWorkSource(const balance::Plan& plan, const balance::FrameShape& shape,
+                 std::atomic<int64_t>* handed_out = nullptr);
 
   bool next(int device, WorkUnit& out) override;
 
@@ -43,6 +46,7 @@ class PlanWorkSource : public WorkSource {
   int batch_ = 1;
   bool steal_ = false;
   int stolen_ = 0;
+  std::atomic<int64_t>* handed_out_ = nullptr;
 };
 
 WorkUnit to_unit(const balance::WorkItem& item, uint32_t id);

@@ -119,3 +119,20 @@ TEST(Engine, FailedDeviceIsDroppedAndItsWorkRedone) {
 
 }  // namespace
 }  // namespace multiray
+
+namespace multiray {
+namespace {
+
+// Progress counts the pixels handed to devices: all of them once a frame is done.
+TEST(Engine, ProgressReachesOneAtTheEndOfAFrame) {
+  const Scene scene = make_cornell_box();
+  const RenderScene rs(scene);
+  CpuDevice a(rs, {}, "cpu"), b(rs, {}, "cpu");
+  Engine engine({&a, &b}, balance::make_balancer("queue:tile=8", 2));
+  EXPECT_EQ(engine.progress(), 0.0);
+  engine.render_frame(0, views(scene, 0), RenderSettings{.spp = 1, .max_bounces = 2});
+  EXPECT_DOUBLE_EQ(engine.progress(), 1.0);
+}
+
+}  // namespace
+}  // namespace multiray
