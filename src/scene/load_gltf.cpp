@@ -38,9 +38,13 @@ struct Primitive {
   int material = -1;
 };
 
+// Reads one parsed model into a Scene. Use once: read() keeps its walk state in members.
 class GltfReader {
  public:
-  GltfReader(const std::string& path, const tg::Model& model) : path_(path), m_(model) {}
+  GltfReader(const std::string& path, const tg::Model& model)
+      : path_(path), m_(model), on_path_(model.nodes.size(), 0) {}
+  // The scene of the model: every mesh instance of the hierarchy baked into world space,
+  // materials (plus a "default" one if some primitive has none), textures and cameras.
   Scene read();
 
  private:
@@ -53,10 +57,23 @@ class GltfReader {
   int texture(int texture_index, Scene* scene);
   Vec3 mean_color(int texture_index) const;
 
+  // The node walk behind read().
+  std::vector<int> roots() const;
+  void walk(int root, Scene* scene);
+  Mat4 enter(int index, const Mat4& parent, Scene* scene);
+  void add_camera(const tg::Node& node, const Mat4& world, Scene* scene) const;
+  void add_instance(int mesh_index, const Mat4& world, Scene* scene);
+  uint32_t material_id(const Primitive& p, Scene* scene);
+
   const std::string& path_;
   const tg::Model& m_;
   std::map<int, std::vector<Primitive>> meshes_;
   std::map<int, int> texture_of_image_;
+  // Walk state.
+  std::vector<char> on_path_;  // per node: 1 while it is on the current path
+  size_t triangles_ = 0;       // triangles added so far, instances counted
+  bool any_uvs_ = false;       // some instanced primitive has TEXCOORD_0
+  std::optional<uint32_t> default_material_;
 };
 
 View GltfReader::view(int index, const std::string& what, int want_type,
@@ -221,105 +238,126 @@ Material GltfReader::material(const tg::Material& gm, Scene* scene) {
   return out;
 }
 
-Scene GltfReader::read() {
-  Scene scene;
-  scene.name = detail::file_name(path_);
-  for (const tg::Material& gm : m_.materials) scene.materials.push_back(material(gm, &scene));
-  std::optional<uint32_t> default_material;
-
-  // Roots: the default scene, else scene 0, else every node that is nobody's child.
-  std::vector<int> roots;
+// Roots of the node walk: the default scene's nodes, else scene 0's, else (a file
+// without scenes) every node that is nobody's child.
+std::vector<int> GltfReader::roots() const {
   if (!m_.scenes.empty()) {
     const int s =
         m_.defaultScene >= 0 && size_t(m_.defaultScene) < m_.scenes.size() ? m_.defaultScene : 0;
-    roots = m_.scenes[size_t(s)].nodes;
-  } else {
-    std::vector<char> is_child(m_.nodes.size(), 0);
-    for (const tg::Node& n : m_.nodes)
-      for (int c : n.children)
-        if (c >= 0 && size_t(c) < is_child.size()) is_child[size_t(c)] = 1;
-    for (size_t i = 0; i < m_.nodes.size(); ++i)
-      if (!is_child[i]) roots.push_back(int(i));
+    return m_.scenes[size_t(s)].nodes;
   }
+  std::vector<char> is_child(m_.nodes.size(), 0);
+  for (const tg::Node& n : m_.nodes)
+    for (int c : n.children)
+      if (c >= 0 && size_t(c) < is_child.size()) is_child[size_t(c)] = 1;
+  std::vector<int> roots;
+  for (size_t i = 0; i < m_.nodes.size(); ++i)
+    if (!is_child[i]) roots.push_back(int(i));
+  return roots;
+}
 
-  // Depth-first walk with an explicit stack; a node already on the current path means
-  // the hierarchy has a cycle (invalid glTF), which would otherwise never end.
+// Depth-first walk of the hierarchy under `root`, with an explicit stack. A node already
+// on the current path means the hierarchy has a cycle (invalid glTF), which would
+// otherwise never end; enter() fails on it.
+void GltfReader::walk(int root, Scene* scene) {
   struct Frame {
     int node;
     Mat4 world;
     size_t next_child = 0;
   };
   std::vector<Frame> stack;
-  std::vector<char> on_path(m_.nodes.size(), 0);
-  size_t triangles = 0;
-  bool any_uvs = false;
-  auto enter = [&](int index, const Mat4& parent) {
-    if (index < 0 || size_t(index) >= m_.nodes.size())
-      fail("node " + std::to_string(index) + " does not exist");
-    if (on_path[size_t(index)])
-      fail("node hierarchy has a cycle through node " + std::to_string(index));
-    on_path[size_t(index)] = 1;
-    const tg::Node& node = m_.nodes[size_t(index)];
-    const Mat4 world = parent * local_transform(node);
-    stack.push_back({index, world});
-    if (node.camera >= 0 && size_t(node.camera) < m_.cameras.size() &&
-        m_.cameras[size_t(node.camera)].type == "perspective") {
-      Camera cam;
-      cam.eye = world.point(Vec3(0, 0, 0));
-      cam.target = cam.eye + normalize(world.vector(Vec3(0, 0, -1)));
-      cam.up = normalize(world.vector(Vec3(0, 1, 0)));
-      cam.fov_y_deg = float(m_.cameras[size_t(node.camera)].perspective.yfov * 180.0 / kPi);
-      if (is_finite(cam.eye) && cam.fov_y_deg > 0 && cam.fov_y_deg < 180)
-        scene.cameras.push_back(cam);
-    }
-    if (node.mesh < 0) return;
-    const Mat4 nm = world.normal_matrix();
-    const bool flip = det3(world) < 0;  // mirroring: keep the winding consistent
-    for (const Primitive& p : mesh(node.mesh)) {
-      triangles += p.indices.size() / 3;
-      if (triangles > kMaxTriangles)
-        fail("more than " + std::to_string(kMaxTriangles) + " triangles after instancing");
-      uint32_t mat;
-      if (p.material >= 0) {
-        mat = uint32_t(p.material);
-      } else {
-        if (!default_material) {
-          default_material = uint32_t(scene.materials.size());
-          scene.materials.emplace_back().name = "default";
-        }
-        mat = *default_material;
-      }
-      const uint32_t base = uint32_t(scene.positions.size());
-      for (size_t i = 0; i < p.positions.size(); ++i) {
-        scene.positions.push_back(world.point(p.positions[i]));
-        scene.normals.push_back(normalize(nm.vector(p.normals[i])));
-        scene.uvs.push_back(p.uvs.empty() ? Vec2{} : p.uvs[i]);
-      }
-      any_uvs |= !p.uvs.empty();
-      for (size_t t = 0; t < p.indices.size(); t += 3) {
-        scene.indices.push_back(base + p.indices[t]);
-        scene.indices.push_back(base + p.indices[t + (flip ? 2 : 1)]);
-        scene.indices.push_back(base + p.indices[t + (flip ? 1 : 2)]);
-        scene.material_ids.push_back(mat);
-      }
-    }
-  };
-  for (int root : roots) {
-    enter(root, Mat4());
-    while (!stack.empty()) {
-      Frame& f = stack.back();
-      const std::vector<int>& children = m_.nodes[size_t(f.node)].children;
-      if (f.next_child < children.size()) {
-        const int child = children[f.next_child++];
-        const Mat4 world = f.world;  // `f` dangles once enter() grows the stack
-        enter(child, world);
-      } else {
-        on_path[size_t(f.node)] = 0;
-        stack.pop_back();
-      }
+  stack.push_back({root, enter(root, Mat4(), scene)});
+  while (!stack.empty()) {
+    Frame& f = stack.back();
+    const std::vector<int>& children = m_.nodes[size_t(f.node)].children;
+    if (f.next_child < children.size()) {
+      const int child = children[f.next_child++];
+      const Mat4 world = f.world;  // `f` dangles once the stack grows
+      stack.push_back({child, enter(child, world, scene)});
+    } else {
+      on_path_[size_t(f.node)] = 0;
+      stack.pop_back();
     }
   }
-  if (!any_uvs) scene.uvs.clear();
+}
+
+// Enters node `index`, whose parent has world transform `parent`: fails if the node does
+// not exist or is already on the current path, marks it on the path (walk() unmarks it
+// when leaving), adds its camera and its mesh instance to *scene, and returns its world
+// transform.
+Mat4 GltfReader::enter(int index, const Mat4& parent, Scene* scene) {
+  if (index < 0 || size_t(index) >= m_.nodes.size())
+    fail("node " + std::to_string(index) + " does not exist");
+  if (on_path_[size_t(index)])
+    fail("node hierarchy has a cycle through node " + std::to_string(index));
+  on_path_[size_t(index)] = 1;
+  const tg::Node& node = m_.nodes[size_t(index)];
+  const Mat4 world = parent * local_transform(node);
+  add_camera(node, world, scene);
+  if (node.mesh >= 0) add_instance(node.mesh, world, scene);
+  return world;
+}
+
+// Appends the node's camera to scene->cameras if it is a perspective camera that yields
+// a finite eye and a field of view in (0, 180) degrees; other cameras are ignored.
+void GltfReader::add_camera(const tg::Node& node, const Mat4& world, Scene* scene) const {
+  if (node.camera < 0 || size_t(node.camera) >= m_.cameras.size() ||
+      m_.cameras[size_t(node.camera)].type != "perspective")
+    return;
+  Camera cam;
+  cam.eye = world.point(Vec3(0, 0, 0));
+  cam.target = cam.eye + normalize(world.vector(Vec3(0, 0, -1)));
+  cam.up = normalize(world.vector(Vec3(0, 1, 0)));
+  cam.fov_y_deg = float(m_.cameras[size_t(node.camera)].perspective.yfov * 180.0 / kPi);
+  if (is_finite(cam.eye) && cam.fov_y_deg > 0 && cam.fov_y_deg < 180)
+    scene->cameras.push_back(cam);
+}
+
+// Appends mesh `mesh_index` transformed by `world` to *scene: vertices in world space,
+// triangles wound consistently even under a mirroring transform, one material id per
+// triangle. Fails when the scene would exceed kMaxTriangles.
+void GltfReader::add_instance(int mesh_index, const Mat4& world, Scene* scene) {
+  const Mat4 nm = world.normal_matrix();
+  const bool flip = det3(world) < 0;  // mirroring: keep the winding consistent
+  for (const Primitive& p : mesh(mesh_index)) {
+    triangles_ += p.indices.size() / 3;
+    if (triangles_ > kMaxTriangles)
+      fail("more than " + std::to_string(kMaxTriangles) + " triangles after instancing");
+    const uint32_t mat = material_id(p, scene);
+    const uint32_t base = uint32_t(scene->positions.size());
+    for (size_t i = 0; i < p.positions.size(); ++i) {
+      scene->positions.push_back(world.point(p.positions[i]));
+      scene->normals.push_back(normalize(nm.vector(p.normals[i])));
+      scene->uvs.push_back(p.uvs.empty() ? Vec2{} : p.uvs[i]);
+    }
+    any_uvs_ |= !p.uvs.empty();
+    for (size_t t = 0; t < p.indices.size(); t += 3) {
+      scene->indices.push_back(base + p.indices[t]);
+      scene->indices.push_back(base + p.indices[t + (flip ? 2 : 1)]);
+      scene->indices.push_back(base + p.indices[t + (flip ? 1 : 2)]);
+      scene->material_ids.push_back(mat);
+    }
+  }
+}
+
+// Index into scene->materials for primitive `p`: its own material, or for primitives
+// without one a "default" material appended on first use.
+uint32_t GltfReader::material_id(const Primitive& p, Scene* scene) {
+  if (p.material >= 0) return uint32_t(p.material);
+  if (!default_material_) {
+    default_material_ = uint32_t(scene->materials.size());
+    scene->materials.emplace_back().name = "default";
+  }
+  return *default_material_;
+}
+
+Scene GltfReader::read() {
+  Scene scene;
+  scene.name = detail::file_name(path_);
+  for (const tg::Material& gm : m_.materials) scene.materials.push_back(material(gm, &scene));
+  for (int root : roots()) walk(root, &scene);
+  // Every vertex got a uv (zero where its primitive has none); keep them only if any is real.
+  if (!any_uvs_) scene.uvs.clear();
   return scene;
 }
 
