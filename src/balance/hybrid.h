@@ -33,16 +33,18 @@
 // - Bad values (time <= 0, NaN, inf; no items; dropped devices) leave the estimates as
 //   they are. A device with no estimate yet gets the mean speed of the others.
 //
-// | parameter | default | meaning                                                    |
-// |-----------|---------|------------------------------------------------------------|
-// | bands     | 8       | interleaved bands = contiguous pieces per device (1–256)   |
+// clang-format off
+// | parameter | default | meaning
+// |-----------|---------|-------------------------------------------------------------------------
+// | bands     | 8       | interleaved bands = contiguous pieces per device (1–256)
 // | taper     | 0.7     | a chunk is at most (1 − taper) of the device's remaining work, [0, 0.95]
-// | | tail      | 0.02    | smallest chunk, in units of the slowest device's share     | | alpha
-// | 0.5     | weight of a new speed measurement, (0, 1]                  | | jump      | 0.2     |
-// relative speed change taken at once, >= 0                  | | gamma     | 0.5     | weight of a
-// new row-cost observation, [0, 1]               | | min_chunk | 256     | smallest chunk in
-// pixels; shorter ones merge (>= 1)        | | steal     | 1       | 0 turns hybrid into a pure
-// bulk split (for comparison)     |
+// | tail      | 0.02    | smallest chunk, in units of the slowest device's share
+// | alpha     | 0.5     | weight of a new speed measurement, (0, 1]
+// | jump      | 0.2     | relative speed change taken at once, >= 0
+// | gamma     | 0.5     | weight of a new row-cost observation, [0, 1]
+// | min_chunk | 256     | smallest chunk in pixels; shorter ones merge (>= 1)
+// | steal     | 1       | 0 turns hybrid into a pure bulk split (for comparison)
+// clang-format on
 #pragma once
 
 #include <cstdint>
