@@ -4,8 +4,6 @@
 // devices pull work by the Plan's dispatch rules), report what each did, update.
 #include <chrono>
 #include <cstdio>
-#include <deque>
-#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -13,41 +11,6 @@
 #include "balance/balance.h"
 
 namespace mb = multiray::balance;
-
-// Executes a Plan: own items in order, then `batch` from the shared queue, then (if the
-// plan allows) steal the last not-started item of the device with the most work left.
-class WorkQueue {
- public:
-  WorkQueue(const mb::Plan& plan, const mb::WeightMap& weight)
-      : batch_(plan.batch), steal_(plan.steal), weight_(weight) {
-    for (const auto& list : plan.assigned) own_.emplace_back(list.begin(), list.end());
-    shared_.assign(plan.shared.begin(), plan.shared.end());
-  }
-  bool next(size_t device, mb::WorkItem& out) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    auto& mine = own_[device];
-    for (int i = 0; mine.empty() && i < batch_ && !shared_.empty(); ++i)
-      mine.push_back(shared_.front()), shared_.pop_front();
-    if (!mine.empty()) return out = mine.front(), mine.pop_front(), true;
-    if (!steal_) return false;
-    size_t victim = own_.size();
-    double most = 0;
-    for (size_t d = 0; d < own_.size(); ++d) {
-      const double left = weight_.sum(std::vector<mb::WorkItem>(own_[d].begin(), own_[d].end()));
-      if (!own_[d].empty() && left > most) most = left, victim = d;
-    }
-    if (victim == own_.size()) return false;
-    return out = own_[victim].back(), own_[victim].pop_back(), true;
-  }
-
- private:
-  std::mutex mutex_;
-  int batch_;
-  bool steal_;
-  const mb::WeightMap& weight_;
-  std::vector<std::deque<mb::WorkItem>> own_;
-  std::deque<mb::WorkItem> shared_;
-};
 
 // The "kernel": iterations until escape, for the pixel of a view that zooms in per frame.
 int shade(int x, int y, int w, int h, int frame) {
@@ -77,14 +40,13 @@ int main(int argc, char** argv) {
   }
   mb::FrameShape shape{320, 180, 1, {}};
   std::vector<int> image(size_t(shape.width * shape.height));
-  const mb::WeightMap weight(shape.width, shape.height, shape.views, shape.pixel_weight);
   std::printf("%s on 2 devices (device 1 is 3x slower), %dx%d\n", balancer->spec().c_str(),
               shape.width, shape.height);
   std::printf("frame  planned shares   rendered shares   device ms        imbalance\n");
 
   for (int frame = 0; frame < frames; ++frame) {
     const mb::Plan plan = balancer->plan(shape, frame);
-    WorkQueue queue(plan, weight);
+    mb::Dispatcher dispatch(plan, shape);  // executes the plan: own list, queue, steals
     mb::FrameStats stats;
     stats.frame = frame;
     stats.shape = shape;
@@ -95,15 +57,15 @@ int main(int argc, char** argv) {
         using clock = std::chrono::steady_clock;
         const auto start = clock::now();
         mb::DeviceFrameStats& me = stats.devices[d];
-        mb::WorkItem item;
-        while (queue.next(d, item)) {
+        for (uint32_t id; dispatch.next(int(d), id);) {
+          const mb::WorkItem& item = dispatch.items()[id];
           const auto t0 = clock::now();
           for (int r = 0; r < repeat[d]; ++r)
             for (int y = item.rect.y0; y < item.rect.y1; ++y)
               for (int x = item.rect.x0; x < item.rect.x1; ++x)
                 image[size_t(y * shape.width + x)] = shade(x, y, shape.width, shape.height, frame);
           const double ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
-          me.items.push_back({item, ms, double(item.rect.area())});
+          me.items.push_back({item, ms, double(item.rect.area()), ms, id});
           me.pixels += double(item.rect.area());
         }
         me.samples = me.pixels;  // one sample per pixel

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "balance/balancer.h"
+#include "balance/dispatcher.h"
 #include "balance/dlb.h"
 #include "balance/hybrid.h"
 #include "balance/layout.h"

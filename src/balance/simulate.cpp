@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <deque>
 #include <memory>
+#include <queue>
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
+#include "balance/dispatcher.h"
 #include "partition/weight_map.h"
 
 namespace multiray::balance {
@@ -25,12 +27,6 @@ double run_time(double start, double cost, double speed, double change_at, doubl
   return (change_at - start) + (cost - before) / speed_after;
 }
 
-struct DeviceState {
-  std::deque<WorkItem> pending;  // not started, own + pulled
-  double remaining = 0;          // their weight (pixels × weight)
-  double clock = 0;
-  bool active = false;
-};
 }  // namespace
 
 CostFn uniform_cost(const FrameShape& shape, double ms_per_sample) {
@@ -60,80 +56,46 @@ FrameStats simulate(const Plan& plan, const FrameShape& shape,
   if (plan.assigned.size() != n)
     throw std::invalid_argument("plan has " + std::to_string(plan.assigned.size()) +
                                 " device lists for " + std::to_string(n) + " devices");
-  const WeightMap weight(shape.width, shape.height, shape.views, shape.pixel_weight);
+  Dispatcher dispatch(plan, shape);
 
   FrameStats stats;
   stats.frame = frame;
   stats.shape = shape;
   stats.devices.resize(n);
-  std::vector<DeviceState> state(n);
   std::vector<double> frame_factor(n, 1.0);
   std::mt19937_64 rng(seed * 0x9e3779b97f4a7c15ull + uint64_t(frame));
+  // Devices by (clock, index): the device that is free first acts next, the lowest index
+  // on ties — the order in which real devices would ask the dispatcher.
+  using Event = std::pair<double, size_t>;
+  std::priority_queue<Event, std::vector<Event>, std::greater<Event>> ready;
   for (size_t i = 0; i < n; ++i) {
     const SimDevice& d = devices[i];
     if (d.alive && !(d.speed > 0 && d.speed_after > 0))
       throw std::invalid_argument("device " + std::to_string(i) + " has a speed <= 0");
     frame_factor[i] = 1 + d.frame_noise * symmetric_unit(rng);
-    state[i].pending.assign(plan.assigned[i].begin(), plan.assigned[i].end());
-    state[i].remaining = weight.sum(plan.assigned[i]);
-    state[i].active = d.alive;
     stats.devices[i].alive = d.alive;
+    if (d.alive) ready.push({0.0, i});
   }
-  std::deque<WorkItem> shared(plan.shared.begin(), plan.shared.end());
-  const size_t batch = size_t(std::max(plan.batch, 1));
 
-  for (;;) {
-    // The device that is free first (lowest index on ties) acts next.
-    size_t i = n;
-    for (size_t j = 0; j < n; ++j)
-      if (state[j].active && (i == n || state[j].clock < state[i].clock)) i = j;
-    if (i == n) break;
-    DeviceState& me = state[i];
-
-    if (me.pending.empty() && !shared.empty()) {
-      for (size_t k = 0; k < batch && !shared.empty(); ++k) {
-        me.remaining += weight.sum(shared.front());
-        me.pending.push_back(shared.front());
-        shared.pop_front();
-      }
-    }
-    WorkItem item;
-    if (!me.pending.empty()) {
-      item = me.pending.front();
-      me.pending.pop_front();
-      me.remaining -= weight.sum(item);
-    } else if (plan.steal) {
-      // The most not-started work, strictly positive (as the engine does); lowest index on
-      // ties.
-      size_t victim = n;
-      double most = 0;
-      for (size_t j = 0; j < n; ++j)
-        if (j != i && !state[j].pending.empty() && state[j].remaining > most)
-          most = state[j].remaining, victim = j;
-      if (victim == n) {
-        me.active = false;
-        continue;
-      }
-      item = state[victim].pending.back();
-      state[victim].pending.pop_back();
-      state[victim].remaining -= weight.sum(item);
-    } else {
-      me.active = false;
-      continue;
-    }
-    const double w = weight.sum(item);
+  while (!ready.empty()) {
+    const auto [clock, i] = ready.top();
+    ready.pop();
+    uint32_t id;
+    if (!dispatch.next(int(i), id)) continue;  // out of work: the device is done
+    const WorkItem& item = dispatch.items()[id];
+    const double w = dispatch.weight(id);
     const SimDevice& d = devices[i];
     const double c = std::max(0.0, cost(item)) * (1 + d.item_noise * symmetric_unit(rng));
-    const double start = me.clock + d.item_overhead_ms;
+    const double start = clock + d.item_overhead_ms;
     const double dt =
         d.item_overhead_ms + run_time(start, c, d.speed * frame_factor[i], d.change_at_ms,
                                       d.speed_after * frame_factor[i]);
-    me.clock += dt;
     DeviceFrameStats& out = stats.devices[i];
-    out.items.push_back(ItemReport{item, dt, w});
-    out.time_ms = out.busy_ms = me.clock;
+    out.items.push_back(ItemReport{item, dt, w, dt, id});
+    out.time_ms = out.busy_ms = clock + dt;
     out.samples += w;
     out.pixels += double(item.rect.area());
+    ready.push({clock + dt, i});
   }
   return stats;
 }

@@ -1,8 +1,7 @@
-// A pure, deterministic model of the engine's dispatch (Plan's semantics), for unit
-// tests, docs and experiments without devices. Event driven: each device owns a clock;
-// the device whose clock is earliest takes its next item (own list, then `batch` items
-// from the shared queue, then a steal), and its clock advances by the item's time. So a
-// steal only ever takes an item no one has started, as in the engine.
+// A pure, deterministic model of the engine, for unit tests, docs and experiments without
+// devices. Event driven, in virtual time: each device owns a clock; the device whose clock
+// is earliest asks the same Dispatcher the engine uses for its next item, and its clock
+// advances by the item's time. So a steal only ever takes an item no one has started.
 #pragma once
 
 #include <cstdint>

@@ -1,18 +1,23 @@
 // What the devices measured in one frame, and the balance metrics derived from it.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "balance/plan.h"
 
 namespace multiray::balance {
 
-// One item a device rendered. `time_ms` is measured inside the device; `samples` is the
-// number of samples it took (0 if the engine does not count per item).
+// One item a device rendered, measured inside the device. `time_ms` is the wall time the
+// item cost the device (rendering + emulated idle + per-item overhead), `busy_ms` the
+// rendering alone (0 where unknown); `samples` the samples it took (0 if not counted);
+// `id` its number in the frame's Dispatcher (Plan::all_items() order).
 struct ItemReport {
   WorkItem item;
   double time_ms = 0;
   double samples = 0;
+  double busy_ms = 0;
+  uint32_t id = 0;
 };
 
 struct DeviceFrameStats {
