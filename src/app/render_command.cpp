@@ -165,6 +165,9 @@ Runner add_render_command(CLI::App& app) {
             100.0 * rec.imbalance, base + (images.size() > 1 ? "_quilt" : ""));
       frames.push_back(frame_to_json(rec));
       frames.back()["sampling_ms"] = in.sampling_ms;
+      uint64_t hash = 0xcbf29ce484222325ull;
+      for (const Framebuffer& img : images) hash = image_hash(img, hash);
+      frames.back()["image_hash"] = fmt::format("{:016x}", hash);
     }
     nlohmann::json doc{{"scene", s.scene->name},
                        {"devices", devices_to_json(s.devices)},

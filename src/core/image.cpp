@@ -19,6 +19,16 @@ uint8_t encode_srgb(float v) {
 }
 }  // namespace
 
+uint64_t image_hash(const Framebuffer& fb, uint64_t seed) {
+  uint64_t h = seed;
+  const auto* bytes = reinterpret_cast<const unsigned char*>(fb.pixels.data());
+  for (size_t i = 0; i < fb.pixels.size() * sizeof(Vec3); ++i) {
+    h ^= bytes[i];
+    h *= 0x100000001b3ull;
+  }
+  return h;
+}
+
 std::vector<uint8_t> to_srgb8(const Framebuffer& fb, float exposure) {
   std::vector<uint8_t> out(fb.pixels.size() * 3);
   for (size_t i = 0; i < fb.pixels.size(); ++i) {

@@ -20,6 +20,10 @@ struct Framebuffer {
   const Vec3& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
 };
 
+// FNV-1a (64 bit) over the pixels' float bits, continuing from `seed`: a fingerprint for
+// checking that two renders are bit-identical (chain views by passing the previous hash).
+uint64_t image_hash(const Framebuffer& fb, uint64_t seed = 0xcbf29ce484222325ull);
+
 // sRGB-encoded 8-bit RGB after clamping; `exposure` multiplies radiance first.
 std::vector<uint8_t> to_srgb8(const Framebuffer& fb, float exposure = 1.0f);
 
