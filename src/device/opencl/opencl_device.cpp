@@ -3,7 +3,9 @@
 #include <pthread.h>
 #include <sched.h>
 
+#include <array>
 #include <atomic>
+#include <stdexcept>
 #include <thread>
 
 #include "core/clock.h"
@@ -11,24 +13,12 @@
 #include "device/opencl/cl_common.h"
 #include "device/opencl/cl_program.h"
 #include "device/opencl/kernel_source.h"
+#include "device/opencl/kernels/launch_params.h"
 #include "device/opencl/scene_buffers.h"
 
 namespace multiray {
 
 namespace {
-
-// Argument positions of render_rect in kernels/path_tracer.cl.
-enum KernelArg : cl_uint {
-  kArgLightCount = 7,
-  kArgEnvironment = 11,
-  kArgEye = 12,
-  kArgRect = 17,
-  kArgWidth = 18,
-  kArgRadiance = 25,
-  kArgRays = 26,
-  kArgSppMap = 27,
-  kArgUseSppMap = 28,
-};
 
 cl_float4 f4(Vec3 v, float w = 0) { return cl_float4{{v.x, v.y, v.z, w}}; }
 
@@ -51,6 +41,8 @@ struct OpenClDevice::Impl {
   std::vector<cl::Buffer> scene;  // kept alive while the kernel refers to them
   cl::Buffer radiance, rays;      // one launch's output: tile x tile pixels
   cl::Buffer spp_map;             // one launch's samples per pixel, when the view has a map
+  cl::Buffer params_buffer;       // `params`, rewritten before every launch
+  LaunchParams params{};          // its host copy
   std::vector<cl_float4> host_radiance;
   std::vector<cl_uint> host_rays;
   std::vector<cl_uchar> host_spp;
@@ -99,31 +91,46 @@ struct OpenClDevice::Impl {
                         std::to_string(local) + " is too large for the kernel here (at most " +
                         std::to_string(kernel_max) + "); use :wg=" + std::to_string(kernel_max));
 
+    // Every argument is a buffer, set once here; the arguments are listed once, in
+    // kernels/launch_params.h.
+    const cl_uint kernel_args = kernel.getInfo<CL_KERNEL_NUM_ARGS>();
+    if (kernel_args != MR_ARG_COUNT)
+      throw DeviceError("OpenCL: render_rect has " + std::to_string(kernel_args) +
+                        " arguments, the host sets " + std::to_string(int(MR_ARG_COUNT)));
+    std::array<cl::Buffer, MR_ARG_COUNT> args;
     const ClScene s = build_cl_scene(rs);
     const uint64_t max_alloc = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
-    kernel.setArg(0, upload(s.bvh.nodes, max_alloc));
-    kernel.setArg(1, upload(s.bvh.triangles, max_alloc));
-    kernel.setArg(2, upload(s.shading, max_alloc));
-    kernel.setArg(3, upload(s.materials, max_alloc));
-    kernel.setArg(4, upload(s.lights, max_alloc));
-    kernel.setArg(5, upload(s.light_cdf, max_alloc));
-    kernel.setArg(6, upload(s.light_pdf_by_prim, max_alloc));
-    kernel.setArg(kArgLightCount, cl_uint(s.lights.size()));
-    kernel.setArg(8, upload(s.texels, max_alloc));
-    kernel.setArg(9, upload(s.textures, max_alloc));
-    kernel.setArg(10, upload(s.srgb_to_linear, max_alloc));
-    kernel.setArg(kArgEnvironment, f4(s.environment, s.ray_eps));
+    args[MR_ARG_nodes] = upload(s.bvh.nodes, max_alloc);
+    args[MR_ARG_tris] = upload(s.bvh.triangles, max_alloc);
+    args[MR_ARG_shading] = upload(s.shading, max_alloc);
+    args[MR_ARG_materials] = upload(s.materials, max_alloc);
+    args[MR_ARG_lights] = upload(s.lights, max_alloc);
+    args[MR_ARG_light_cdf] = upload(s.light_cdf, max_alloc);
+    args[MR_ARG_light_pdf_by_prim] = upload(s.light_pdf_by_prim, max_alloc);
+    args[MR_ARG_texels] = upload(s.texels, max_alloc);
+    args[MR_ARG_textures] = upload(s.textures, max_alloc);
+    args[MR_ARG_srgb_lut] = upload(s.srgb_to_linear, max_alloc);
+    params.light_count = cl_uint(s.lights.size());
+    params.environment_eps = f4(s.environment, s.ray_eps);
 
     const size_t pixels = size_t(opts.tile) * size_t(opts.tile);
     host_radiance.resize(pixels);
     host_rays.resize(pixels);
     host_spp.resize(pixels);
+    params_buffer = cl::Buffer(context, CL_MEM_READ_ONLY, sizeof(LaunchParams));
     radiance = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
     rays = cl::Buffer(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_uint));
-    kernel.setArg(kArgRadiance, radiance);
-    kernel.setArg(kArgRays, rays);
     spp_map = cl::Buffer(context, CL_MEM_READ_ONLY, pixels * sizeof(cl_uchar));
-    kernel.setArg(kArgSppMap, spp_map);
+    args[MR_ARG_params] = params_buffer;
+    args[MR_ARG_radiance] = radiance;
+    args[MR_ARG_rays] = rays;
+    args[MR_ARG_spp_map] = spp_map;
+    for (cl_uint i = 0; i < MR_ARG_COUNT; ++i) {
+      if (!args[i]())
+        throw std::logic_error(std::string("OpenCL: no buffer for render_rect argument ") +
+                               kRenderRectArgNames[i]);
+      kernel.setArg(i, args[i]);
+    }
   }
 
   // Renders `r` of `view` into `out` in launches of at most tile x tile pixels.
@@ -131,19 +138,20 @@ struct OpenClDevice::Impl {
                           Framebuffer& out) {
     KernelStats stats;
     const PinholeCamera cam(view.camera, view.width, view.height);
-    kernel.setArg(kArgEye, f4(cam.eye));
-    kernel.setArg(kArgEye + 1, f4(cam.forward));
-    kernel.setArg(kArgEye + 2, f4(cam.right));
-    kernel.setArg(kArgEye + 3, f4(cam.up));
-    kernel.setArg(kArgEye + 4, cl_float4{{cam.scale_x, cam.scale_y, 2.0f / float(view.width),
-                                          2.0f / float(view.height)}});
-    kernel.setArg(kArgWidth, cl_uint(view.width));
-    kernel.setArg(kArgWidth + 1, cl_int(st.spp));
-    kernel.setArg(kArgWidth + 2, cl_int(st.max_bounces));
-    kernel.setArg(kArgWidth + 3, cl_int(st.rr_start));
-    kernel.setArg(kArgWidth + 4, cl_uint(view.frame));
-    kernel.setArg(kArgWidth + 5, cl_uint(view.view));
-    kernel.setArg(kArgWidth + 6, cl_ulong(st.seed));
+    params.eye = f4(cam.eye);
+    params.forward = f4(cam.forward);
+    params.right = f4(cam.right);
+    params.up = f4(cam.up);
+    params.scale =
+        cl_float4{{cam.scale_x, cam.scale_y, 2.0f / float(view.width), 2.0f / float(view.height)}};
+    params.width = cl_uint(view.width);
+    params.spp = cl_int(st.spp);
+    params.max_bounces = cl_int(st.max_bounces);
+    params.rr_start = cl_int(st.rr_start);
+    params.frame = cl_uint(view.frame);
+    params.view = cl_uint(view.view);
+    params.seed = cl_ulong(st.seed);
+    params.use_spp_map = view.spp_map ? 1 : 0;
     const int t = opts.tile;
     for (int y0 = r.y0; y0 < r.y1; y0 += t)
       for (int x0 = r.x0; x0 < r.x1; x0 += t) {
@@ -151,10 +159,11 @@ struct OpenClDevice::Impl {
         const size_t n = size_t(w) * size_t(h);
         // Always `launch_items` work-items (see setup); those beyond the `n` pixels return
         // at once.
-        kernel.setArg(kArgRect, cl_int4{{x0, y0, w, h}});
+        // Non-blocking writes: the host copies stay unchanged until finish() below.
+        params.rect = cl_int4{{x0, y0, w, h}};
+        queue.enqueueWriteBuffer(params_buffer, CL_FALSE, 0, sizeof(LaunchParams), &params);
         // Irregular sampling: this launch's slice of the view's samples-per-pixel map.
         uint64_t samples = uint64_t(n) * uint64_t(std::max(0, st.spp));
-        kernel.setArg(kArgUseSppMap, cl_int(view.spp_map ? 1 : 0));
         if (view.spp_map) {
           samples = 0;
           for (size_t i = 0; i < n; ++i) {

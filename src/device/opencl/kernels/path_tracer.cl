@@ -130,47 +130,40 @@ float3 trace_path(const SceneData* sc, Ray ray, Rng* rng, int max_bounces, int r
 }
 
 // Renders pixels [rect.x, rect.x + rect.z) x [rect.y, rect.y + rect.w) of a view `width`
-// pixels wide; work-item i does pixel (rect.x + i % rect.z, rect.y + i / rect.z) with
-// `spp` samples, or spp_map[i] when use_spp_map (irregular sampling), and writes its mean
-// radiance to radiance[i] (w unused; 0 for a pixel without samples) and its ray count to
-// rays[i].
-// Camera: eye, forward, right, up (unit vectors) and scale = (tan half-fov x, y, 2 / image
-// width, 2 / image height), as PinholeCamera.
+// pixels wide (rect, width and every other scalar are in *params, see launch_params.h,
+// which also lists the arguments); work-item i does pixel (rect.x + i % rect.z,
+// rect.y + i / rect.z) with `spp` samples, or spp_map[i] when use_spp_map (irregular
+// sampling), and writes its mean radiance to radiance[i] (w unused; 0 for a pixel without
+// samples) and its ray count to rays[i].
 // Built with -DMR_GROUP_ITEMS (the work-group size every launch uses) and
 // -DMR_LAUNCH_ITEMS (the global size every launch uses, see opencl_device.cpp).
 #define REQD_GROUP_SIZE __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1)))
-__kernel REQD_GROUP_SIZE void render_rect(
-    const __global Node* nodes, const __global Tri* tris, const __global Shading* shading,
-    const __global Material* materials, const __global Light* lights,
-    const __global float* light_cdf, const __global float* light_pdf_by_prim, uint light_count,
-    const __global uint* texels, const __global TexInfo* textures, const __global float* srgb_lut,
-    float4 environment_eps, float4 eye, float4 forward, float4 right, float4 up, float4 scale,
-    int4 rect, uint width, int spp, int max_bounces, int rr_start, uint frame, uint view,
-    ulong seed, __global float4* radiance, __global uint* rays, const __global uchar* spp_map,
-    int use_spp_map) {
+__kernel REQD_GROUP_SIZE void render_rect(MR_RENDER_RECT_ARGS(MR_ARG_PARAM, MR_ARG_COMMA)) {
+  const LaunchParams p = *params;
   const size_t i = get_global_id(0);
-  if (i >= (size_t)rect.z * (size_t)rect.w) return;
+  if (i >= (size_t)p.rect.z * (size_t)p.rect.w) return;
   // clang-format off
   const SceneData sc = {nodes, tris, shading, materials, lights, light_cdf, light_pdf_by_prim,
-                        texels, textures, srgb_lut, light_count, environment_eps.xyz,
-                        environment_eps.w};
+                        texels, textures, srgb_lut, p.light_count, p.environment_eps.xyz,
+                        p.environment_eps.w};
   // clang-format on
-  const int x = rect.x + (int)(i % (size_t)rect.z), y = rect.y + (int)(i / (size_t)rect.z);
-  const uint pixel = (uint)y * width + (uint)x;
+  const int x = p.rect.x + (int)(i % (size_t)p.rect.z);
+  const int y = p.rect.y + (int)(i / (size_t)p.rect.z);
+  const uint pixel = (uint)y * p.width + (uint)x;
   float3 sum = (float3)(0.0f);
   uint count = 0;
-  const int samples = use_spp_map ? (int)spp_map[i] : spp;
+  const int samples = p.use_spp_map ? (int)spp_map[i] : p.spp;
   for (int s = 0; s < samples; ++s) {
-    Rng rng = rng_for_path(pixel, (uint)s, frame, view, seed);
+    Rng rng = rng_for_path(pixel, (uint)s, p.frame, p.view, p.seed);
     const float jx = rng_next(&rng), jy = rng_next(&rng);
-    const float sx = (((float)x + jx) * scale.z - 1.0f) * scale.x;
-    const float sy = (1.0f - ((float)y + jy) * scale.w) * scale.y;
+    const float sx = (((float)x + jx) * p.scale.z - 1.0f) * p.scale.x;
+    const float sy = (1.0f - ((float)y + jy) * p.scale.w) * p.scale.y;
     Ray ray;
-    ray.org = eye.xyz;
-    ray.dir = normalize3(forward.xyz + right.xyz * sx + up.xyz * sy);
+    ray.org = p.eye.xyz;
+    ray.dir = normalize3(p.forward.xyz + p.right.xyz * sx + p.up.xyz * sy);
     ray.tmin = 0.0f;
     ray.tmax = INFINITY;
-    const float3 L = trace_path(&sc, ray, &rng, max_bounces, rr_start, &count);
+    const float3 L = trace_path(&sc, ray, &rng, p.max_bounces, p.rr_start, &count);
     sum += finite3(L) ? L : (float3)(0.0f);
   }
   radiance[i] = samples > 0 ? (float4)(sum * (1.0f / (float)samples), 0.0f) : (float4)(0.0f);

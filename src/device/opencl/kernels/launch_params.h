@@ -1,0 +1,131 @@
+// The interface of the render_rect kernel (kernels/path_tracer.cl), declared once for both
+// sides: compiled as OpenCL C (embedded first in the kernel source, see CMakeLists.txt
+// here; the disk cache keys on that source, so editing this file rebuilds the binaries)
+// and as C++ by opencl_device.cpp. Plain C: no templates, no namespaces outside
+// `__cplusplus`.
+//
+// LaunchParams: the scalars of one launch, passed as one small `__constant` buffer that
+// the host rewrites before every launch. Not a by-value struct argument: OpenCL leaves the
+// ABI of aggregate kernel arguments to the driver, PoCL mapped them wrongly for years
+// (pocl issues #1 and #197: split structs, miscounted arguments) and its maintainers
+// advise against them; a buffer is plain bytes, the contract every scene buffer already
+// relies on. Its layout is explicit: every member sits at a multiple of its own size with
+// the padding spelled out, the size is a multiple of 16 and no float3 is used (16 bytes in
+// OpenCL C), so there is no implicit padding on either side. The host checks every offset;
+// the kernel checks the size, which with no implicit padding fixes every offset too.
+//
+// MR_RENDER_RECT_ARGS: every argument of render_rect in order, X(name, OpenCL C type),
+// entries separated by SEP(). The kernel's parameter list and the host's argument indices
+// (MR_ARG_<name>) and names (kRenderRectArgNames) are expanded from it, so adding an
+// argument is one line here (plus its use in the kernel and its buffer on the host).
+//
+// An include guard, not #pragma once: in the kernel this text is part of the main file.
+#ifndef MULTIRAY_DEVICE_OPENCL_KERNELS_LAUNCH_PARAMS_H
+#define MULTIRAY_DEVICE_OPENCL_KERNELS_LAUNCH_PARAMS_H
+
+#if defined(__OPENCL_C_VERSION__) || defined(__OPENCL_VERSION__)
+#define MR_OPENCL_C 1
+typedef float4 mr_float4;
+typedef int4 mr_int4;
+typedef int mr_int;
+typedef uint mr_uint;
+typedef ulong mr_ulong;
+#else
+#include <CL/cl_platform.h>
+#include <stddef.h>
+typedef cl_float4 mr_float4;
+typedef cl_int4 mr_int4;
+typedef cl_int mr_int;
+typedef cl_uint mr_uint;
+typedef cl_ulong mr_ulong;
+#endif
+
+#ifdef __cplusplus
+namespace multiray {
+#endif
+
+// Byte offsets on the right.
+typedef struct {
+  // Camera, as PinholeCamera: eye, then the unit vectors forward, right, up (w unused),
+  // and scale = (tan half-fov x, tan half-fov y, 2 / view width, 2 / view height).
+  mr_float4 eye;      //   0
+  mr_float4 forward;  //  16
+  mr_float4 right;    //  32
+  mr_float4 up;       //  48
+  mr_float4 scale;    //  64
+  // Scene: constant sky radiance (xyz) and ray-origin offset (w).
+  mr_float4 environment_eps;  //  80
+  // Pixels [x, x + z) x [y, y + w) of the view.
+  mr_int4 rect;         //  96
+  mr_ulong seed;        // 112
+  mr_uint width;        // 120: of the view, in pixels
+  mr_int spp;           // 124: samples per pixel when use_spp_map is 0
+  mr_int max_bounces;   // 128
+  mr_int rr_start;      // 132: Russian roulette from this depth on
+  mr_uint frame;        // 136
+  mr_uint view;         // 140
+  mr_uint light_count;  // 144: entries of `lights`
+  mr_int use_spp_map;   // 148: 1: spp_map[i] samples for work-item i
+  mr_uint pad[2];       // 152
+} LaunchParams;         // 160
+
+#ifdef MR_OPENCL_C
+typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 160 ? 1 : -1];
+#endif
+
+// clang-format off
+#define MR_RENDER_RECT_ARGS(X, SEP)                     \
+  X(nodes, const __global Node*) SEP()                  \
+  X(tris, const __global Tri*) SEP()                    \
+  X(shading, const __global Shading*) SEP()             \
+  X(materials, const __global Material*) SEP()          \
+  X(lights, const __global Light*) SEP()                \
+  X(light_cdf, const __global float*) SEP()             \
+  X(light_pdf_by_prim, const __global float*) SEP()     \
+  X(texels, const __global uint*) SEP()                 \
+  X(textures, const __global TexInfo*) SEP()            \
+  X(srgb_lut, const __global float*) SEP()              \
+  X(params, __constant LaunchParams*) SEP()             \
+  X(spp_map, const __global uchar*) SEP()               \
+  X(radiance, __global float4*) SEP()                   \
+  X(rays, __global uint*)
+// clang-format on
+
+#define MR_ARG_COMMA() ,
+#define MR_ARG_PARAM(name, type) type name
+#define MR_ARG_INDEX(name, type) MR_ARG_##name
+#define MR_ARG_NAME(name, type) #name
+
+// Argument indices: MR_ARG_nodes = 0, ..., MR_ARG_COUNT.
+enum RenderRectArg { MR_RENDER_RECT_ARGS(MR_ARG_INDEX, MR_ARG_COMMA), MR_ARG_COUNT };
+
+#ifdef __cplusplus
+inline constexpr const char* kRenderRectArgNames[] = {
+    MR_RENDER_RECT_ARGS(MR_ARG_NAME, MR_ARG_COMMA)};
+static_assert(sizeof(kRenderRectArgNames) / sizeof(kRenderRectArgNames[0]) == MR_ARG_COUNT);
+
+static_assert(sizeof(LaunchParams) == 160);
+static_assert(offsetof(LaunchParams, eye) == 0);
+static_assert(offsetof(LaunchParams, forward) == 16);
+static_assert(offsetof(LaunchParams, right) == 32);
+static_assert(offsetof(LaunchParams, up) == 48);
+static_assert(offsetof(LaunchParams, scale) == 64);
+static_assert(offsetof(LaunchParams, environment_eps) == 80);
+static_assert(offsetof(LaunchParams, rect) == 96);
+static_assert(offsetof(LaunchParams, seed) == 112);
+static_assert(offsetof(LaunchParams, width) == 120);
+static_assert(offsetof(LaunchParams, spp) == 124);
+static_assert(offsetof(LaunchParams, max_bounces) == 128);
+static_assert(offsetof(LaunchParams, rr_start) == 132);
+static_assert(offsetof(LaunchParams, frame) == 136);
+static_assert(offsetof(LaunchParams, view) == 140);
+static_assert(offsetof(LaunchParams, light_count) == 144);
+static_assert(offsetof(LaunchParams, use_spp_map) == 148);
+static_assert(offsetof(LaunchParams, pad) == 152);
+#endif
+
+#ifdef __cplusplus
+}  // namespace multiray
+#endif
+
+#endif  // MULTIRAY_DEVICE_OPENCL_KERNELS_LAUNCH_PARAMS_H
