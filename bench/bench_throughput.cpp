@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
   Framebuffer fb(w, h);
 
   RayLog log;
-  pt.render_rect(view, settings, {0, 0, w, h}, fb, &log);
+  pt.render_rect_logged(view, settings, {0, 0, w, h}, fb, &log);
   const double paths = double(w) * h * spp;
   const double rays = double(log.closest.size() + log.shadow.size());
   fmt::print("scene {} ({} triangles), {}x{}, {} spp, {} bounces, 1 thread\n", scene.name,

@@ -5,10 +5,11 @@
 #include <sstream>
 #include <thread>
 
+#include "app/stats_json.h"
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/device_factory.h"
-#include "render/gbuffer.h"
+#include "render/kernel.h"
 #include "scene/builders.h"
 #include "scene/loaders.h"
 
@@ -77,12 +78,6 @@ Camera parse_camera(const std::string& text) {
   return c;
 }
 
-Vec2 GazePath::at(int frame) const {
-  const float a = 2.0f * kPi * float(frame) / period;
-  return Vec2{std::clamp(center.x + radius * std::cos(a), 0.0f, 1.0f),
-              std::clamp(center.y + radius * std::sin(a), 0.0f, 1.0f)};
-}
-
 GazePath parse_gaze(const std::string& gaze, const std::string& path) {
   GazePath g;
   const auto parts = split(gaze, ',');
@@ -131,40 +126,14 @@ std::vector<Device*> Setup::device_ptrs() const {
   return out;
 }
 
-std::vector<ViewSetup> Setup::views_for(int frame) const {
-  std::vector<ViewSetup> out;
-  for (const Camera& cam : rig.views(path.at(frame))) {
-    ViewSetup v;
-    v.camera = cam;
-    v.width = res.width;
-    v.height = res.height;
-    v.view = uint32_t(out.size());
-    v.frame = uint32_t(frame);
-    out.push_back(v);
-  }
-  return out;
-}
-
-Setup::FrameInput Setup::frame_input(int frame) const {
-  FrameInput in;
-  in.views = views_for(frame);
-  if (sampling == "adaptive") {
-    const Stopwatch clock;
-    for (const ViewSetup& v : in.views)
-      in.maps.push_back(
-          edge_sample_map(detect_edges(render_gbuffer(*render_scene, v)), edge_spp, 1));
-    for (size_t i = 0; i < in.views.size(); ++i) in.views[i].spp_map = &in.maps[i];
-    in.sampling_ms = clock.elapsed_ms();
-  } else if (sampling == "foveated") {
-    // One set-up serves every view: they share the image size and the gaze.
-    const Stopwatch clock;
-    const Vec2 g = gaze.at(frame);
-    in.foveation =
-        std::make_shared<const FoveationFrame>(prepare_foveation_frame(*pattern, g.x, g.y));
-    for (ViewSetup& v : in.views) v.foveation = in.foveation.get();
-    in.sampling_ms = clock.elapsed_ms();
-  }
-  return in;
+std::unique_ptr<Session> Setup::make_session(const std::vector<std::string>& specs) const {
+  std::vector<std::unique_ptr<balance::Balancer>> lanes;
+  for (const std::string& spec : specs)
+    lanes.push_back(make_balancer_or_throw(spec, int(devices.size())));
+  auto session =
+      std::make_unique<Session>(device_ptrs(), std::move(lanes), *views, path, settings);
+  session->set_perturbations(perturbations);
+  return session;
 }
 
 std::string apply_mapping(const std::string& spec, const std::string& mapping) {
@@ -187,8 +156,9 @@ Setup make_setup(const CommonOptions& o) {
   if (o.bounces < 0 || o.bounces > 1024) throw InputError("--bounces must be in 0..1024");
   if (o.frames < 1 || o.frames > 1000000) throw InputError("--frames must be in 1..1000000");
   int columns = 1, rows = 1;
+  CameraRig rig;
   if (o.stereo > 0) {
-    s.rig = CameraRig::stereo(o.stereo);
+    rig = CameraRig::stereo(o.stereo);
   } else {
     const auto x = o.views.find('x');
     if (x == std::string::npos) throw InputError("--views '" + o.views + "' must look like 3x3");
@@ -199,15 +169,18 @@ Setup make_setup(const CommonOptions& o) {
     columns = int(k), rows = int(l);
     if (!(o.view_spacing >= 0) || !std::isfinite(o.view_spacing))
       throw InputError("--view-spacing must be a finite number >= 0");
-    s.rig = CameraRig::grid(columns, rows, o.view_spacing);
+    rig = CameraRig::grid(columns, rows, o.view_spacing);
   }
   if (o.stereo < 0 || !std::isfinite(o.stereo))
     throw InputError("--stereo must be a finite number >= 0");
-  if (int64_t(s.rig.view_count()) * s.res.width * s.res.height > (int64_t(1) << 30))
+  if (int64_t(rig.view_count()) * s.res.width * s.res.height > (int64_t(1) << 30))
     throw InputError("--views x --res is more than 2^30 pixels per frame");
-  if (o.integrator != "path" && o.integrator != "ao")
-    throw InputError("--integrator '" + o.integrator + "' must be path or ao");
-  s.settings.integrator = o.integrator == "ao" ? Integrator::AO : Integrator::Path;
+  if (!find_cpu_kernel(o.integrator)) {
+    std::string names;
+    for (const KernelEntry& e : cpu_kernels()) names += (names.empty() ? "" : ", ") + e.name;
+    throw InputError("--integrator '" + o.integrator + "' must be one of " + names);
+  }
+  s.settings.kernel = o.integrator;
   if (o.ao_rays < 1 || o.ao_rays > 1024) throw InputError("--ao-rays must be in 1..1024");
   if (!(o.ao_distance >= 0) || !std::isfinite(o.ao_distance))
     throw InputError("--ao-distance must be a finite number >= 0 (0: 0.3 of the scene size)");
@@ -216,9 +189,12 @@ Setup make_setup(const CommonOptions& o) {
   if (o.sampling != "uniform" && o.sampling != "adaptive" && o.sampling != "foveated")
     throw InputError("--sampling '" + o.sampling + "' must be uniform, adaptive or foveated");
   if (o.edge_spp < 1 || o.edge_spp > 255) throw InputError("--edge-spp must be in 1..255");
-  s.sampling = o.sampling;
-  s.edge_spp = o.edge_spp;
-  s.gaze = parse_gaze(o.gaze, o.gaze_path);
+  SamplingSetup sampling;
+  sampling.mode = o.sampling == "adaptive"   ? Sampling::Adaptive
+                  : o.sampling == "foveated" ? Sampling::Foveated
+                                             : Sampling::Uniform;
+  sampling.edge_spp = o.edge_spp;
+  sampling.gaze = parse_gaze(o.gaze, o.gaze_path);
   if (!(o.foveation.fovea_spp > 0 && o.foveation.fovea_spp <= 64))
     throw InputError("--fovea-spp must be in (0, 64] samples per pixel");
   if (!(o.foveation.fovea_radius > 0) || !std::isfinite(o.foveation.fovea_radius))
@@ -239,11 +215,13 @@ Setup make_setup(const CommonOptions& o) {
                  (p + 9 == devices.size() || devices[p + 9] == ':' || devices[p + 9] == ',');)
     devices.replace(p, 9, all);
   const auto specs = parse_device_specs(devices);  // check syntax before loading the scene
-  for (const DeviceSpec& d : specs)
-    if (d.type != "cpu" && (s.settings.integrator != Integrator::Path || s.sampling != "uniform"))
-      throw InputError(
-          "--integrator ao and --sampling adaptive|foveated run on cpu devices only, not '" +
-          d.text + "'");
+  for (const DeviceSpec& d : specs) {
+    DeviceInfo info;
+    info.spec = d.text;
+    info.caps = backend_capabilities(d.type);
+    const std::string why = unsupported_job(info, s.settings.kernel, o.sampling);
+    if (!why.empty()) throw InputError("--devices: " + why);
+  }
   s.perturbations = parse_perturbations(o.perturb, int(specs.size()));
 
   s.scene = std::make_unique<Scene>(o.scene_path.empty() ? make_cornell_box()
@@ -276,11 +254,15 @@ Setup make_setup(const CommonOptions& o) {
     s.scene->environment = Vec3(1.0f);
     s.notes.push_back("the scene has no lights; using a white sky (radiance 1), see --env");
   }
-  if (s.sampling == "foveated")
-    s.pattern = std::make_shared<const FoveationPattern>(
+  if (sampling.mode == Sampling::Foveated)
+    sampling.pattern = std::make_shared<const FoveationPattern>(
         make_foveation_pattern(s.res.width, s.res.height, o.foveation));
-  s.render_scene = std::make_unique<RenderScene>(*s.scene);
-  for (const DeviceSpec& d : specs) s.devices.push_back(create_device(d, *s.render_scene));
+  s.scenes = std::make_unique<SceneCache>(*s.scene);
+  for (const DeviceSpec& d : specs) s.devices.push_back(create_device(d, *s.scenes));
+  // The adaptive edge pass runs on the host, on the CPU representation.
+  const RenderScene* host = sampling.mode == Sampling::Adaptive ? &s.scenes->embree() : nullptr;
+  s.views =
+      std::make_unique<FrameViews>(rig, s.res.width, s.res.height, std::move(sampling), host);
   return s;
 }
 

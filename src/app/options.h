@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/engine.h"
-#include "render/foveation_frame.h"
-#include "render/path_tracer.h"
+#include "device/scene_cache.h"
+#include "engine/frame_views.h"
+#include "engine/session.h"
 #include "scene/camera_path.h"
 #include "scene/camera_rig.h"
 #include "scene/scene.h"
@@ -34,7 +34,7 @@ struct CommonOptions {
   float view_spacing = 0.2f;         // between grid views, scene units
   float stereo = 0.0f;               // > 0: a stereo pair this far apart (overrides views)
   std::string mapping;               // strips | views | empty (the balancer's own layout)
-  std::string integrator = "path";   // path | ao
+  std::string integrator = "path";   // a CPU kernel's name (render/kernel.h)
   int ao_rays = 2;
   float ao_distance = 0.0f;          // 0: 0.3 of the scene size
   std::string sampling = "uniform";  // uniform | adaptive | foveated
@@ -42,16 +42,6 @@ struct CommonOptions {
   std::string gaze = "0.5,0.5";      // foveated: gaze point X,Y, normalised, (0,0) top left
   std::string gaze_path = "fixed";   // foveated: fixed | orbit | orbit:PERIOD
   FoveationParams foveation;         // foveated: --fovea-spp, --fovea-radius, --periphery-spp
-};
-
-// Where the viewer looks in each frame, in normalised screen coordinates ((0,0) top left,
-// (1,1) bottom right). `orbit` circles the --gaze point at radius 0.25, one turn every
-// `period` frames, clamped to the screen: a slowly moving gaze.
-struct GazePath {
-  Vec2 center{0.5f, 0.5f};
-  float radius = 0.0f;    // 0: the gaze stays at `center`
-  float period = 100.0f;  // frames per turn
-  Vec2 at(int frame) const;
 };
 
 // Parses --gaze "X,Y" (each in [0, 1]) and --gaze-path (fixed | orbit | orbit:PERIOD).
@@ -74,32 +64,18 @@ std::vector<Perturbation> parse_perturbations(const std::vector<std::string>& it
 // The loaded scene and everything derived from the options; owns the devices.
 struct Setup {
   std::unique_ptr<Scene> scene;
-  std::unique_ptr<RenderScene> render_scene;
+  std::unique_ptr<SceneCache> scenes;  // the representations the devices render
   std::vector<std::unique_ptr<Device>> devices;
   CameraPath path;
-  CameraRig rig;
+  std::unique_ptr<FrameViews> views;  // rig, output size and sampling of every frame
   Resolution res;
   RenderSettings settings;
   std::vector<Perturbation> perturbations;
   std::vector<std::string> notes;  // things the user should know (e.g. a sky was added)
 
   std::vector<Device*> device_ptrs() const;
-  std::vector<ViewSetup> views_for(int frame) const;
-  // The views of `frame` with their sample maps (adaptive sampling runs its first pass
-  // here; foveated sampling shifts the pattern to the frame's gaze and finds every
-  // pixel's neighbours here). `views` point into `maps` and `foveation`; keep the
-  // FrameInput alive while rendering.
-  struct FrameInput {
-    std::vector<std::vector<uint8_t>> maps;
-    std::shared_ptr<const FoveationFrame> foveation;  // shared by all views of the frame
-    std::vector<ViewSetup> views;
-    double sampling_ms = 0;  // host time of the edge-detection pass or foveation set-up, ms
-  };
-  FrameInput frame_input(int frame) const;
-  std::string sampling = "uniform";
-  int edge_spp = 5;
-  GazePath gaze;
-  std::shared_ptr<const FoveationPattern> pattern;  // foveated: generated once per run
+  // A session over the devices with one lane per balancer spec (each already checked).
+  std::unique_ptr<Session> make_session(const std::vector<std::string>& balancer_specs) const;
 };
 
 // Validates every option before loading anything expensive, then loads the scene and

@@ -11,6 +11,7 @@
 
 #include "app/commands.h"
 #include "app/stats_json.h"
+#include "app/trace_file.h"
 #include "core/error.h"
 
 namespace multiray::app {
@@ -93,12 +94,86 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                  "FRAME:DEVICE:SPEED, repeatable: from FRAME on, DEVICE runs at emulated SPEED");
 }
 
+namespace {
+
+// Writes each finished frame (PNG, EXR, quilt), prints its line, keeps its JSON record
+// and, with --trace, its per-item measurements.
+class RenderOutput : public FrameObserver {
+ public:
+  RenderOutput(const std::string& dir, bool exr, bool quiet, int columns, int frames,
+               balance::TraceWriter* trace)
+      : dir_(dir), exr_(exr), quiet_(quiet), columns_(columns), frames_(frames), trace_(trace) {}
+
+  void on_frame(const std::shared_ptr<const FrameResult>& r) override {
+    const std::string base = fmt::format("{}/frame_{:04d}", dir_, r->frame);
+    const auto& images = r->images;
+    for (size_t v = 0; v < images.size(); ++v) {
+      const std::string name = images.size() == 1 ? base : fmt::format("{}_view{:02d}", base, v);
+      write_png(name + ".png", images[v]);
+      if (exr_) write_exr(name + ".exr", images[v]);
+    }
+    if (images.size() > 1) write_png(base + "_quilt.png", make_quilt(images, columns_));
+    if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
+    const FrameRecord& rec = r->record;
+    for (const auto& m : rec.messages) fmt::print(stderr, "multiray: warning: {}\n", m);
+    uint64_t samples = 0, rays = 0;
+    for (const auto& d : rec.devices) samples += d.samples, rays += d.rays;
+    if (!quiet_)
+      fmt::print(
+          "frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%  -> "
+          "{}.png\n",
+          r->frame, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
+          100.0 * rec.imbalance, base + (images.size() > 1 ? "_quilt" : ""));
+    json_.push_back(frame_to_json(rec));
+    json_.back()["sampling_ms"] = r->sampling_ms;
+    uint64_t hash = 0xcbf29ce484222325ull;
+    for (const Framebuffer& img : images) hash = image_hash(img, hash);
+    json_.back()["image_hash"] = fmt::format("{:016x}", hash);
+    if (trace_) trace_->frame(r->stats);
+  }
+
+  const nlohmann::json& json() const { return json_; }
+
+ private:
+  std::string dir_;
+  bool exr_, quiet_;
+  int columns_, frames_;
+  balance::TraceWriter* trace_;
+  nlohmann::json json_ = nlohmann::json::array();
+};
+
+// On a terminal, a line shows how much of the frame has been handed to devices.
+class ProgressLine {
+ public:
+  ProgressLine(const Session& session, int frames) {
+    if (!stderr_is_tty()) return;
+    thread_ = std::thread([this, &session, frames] {
+      while (running_) {
+        fmt::print(stderr, "\rrendering {} frame(s) ... {:3.0f}% of the current one", frames,
+                   100.0 * session.progress());
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      }
+    });
+  }
+  ~ProgressLine() {
+    running_ = false;
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  std::atomic<bool> running_{true};
+  std::thread thread_;
+};
+
+}  // namespace
+
 Runner add_render_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("render", "Render frames to PNG (and EXR) files");
   auto o = std::make_shared<CommonOptions>();
   auto out_dir = std::make_shared<std::string>("out");
   auto exr = std::make_shared<bool>(false);
   auto balancer = std::make_shared<std::string>("hybrid");
+  auto trace_path = std::make_shared<std::string>();
   auto quiet = std::make_shared<bool>(false);
   add_common_options(*cmd, *o);
   cmd->add_option("--out", *out_dir, "Output folder (created if missing)")->capture_default_str();
@@ -107,73 +182,34 @@ Runner add_render_command(CLI::App& app) {
                   "How work is split between devices: uniform, static[:ratios=A/B/..], "
                   "queue[:tile=N:batch=N], semi-static[:alpha=A], dlb, hybrid")
       ->capture_default_str();
+  cmd->add_option("--trace", *trace_path,
+                  "Write every work item's device, view, rect, samples, busy and wall time to "
+                  "this file (format: docs/traces.md), for `multiray simulate` and analysis");
   cmd->add_flag("-q,--quiet", *quiet, "No per-frame lines");
   return [=]() -> int {
     Setup s = make_setup(*o);
-    Engine engine(s.device_ptrs(), make_balancer_or_throw(apply_mapping(*balancer, o->mapping),
-                                                          int(s.devices.size())));
-    engine.set_perturbations(s.perturbations);
+    const std::string spec = apply_mapping(*balancer, o->mapping);
+    std::unique_ptr<Session> session = s.make_session({spec});
     for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
     std::error_code ec;
     std::filesystem::create_directories(*out_dir, ec);
     if (ec) throw InputError("cannot create output folder '" + *out_dir + "': " + ec.message());
-    nlohmann::json frames = nlohmann::json::array();
-    for (int f = 0; f < o->frames; ++f) {
-      const Setup::FrameInput in = s.frame_input(f);
-      // On a terminal, a line shows how much of the frame has been handed to devices.
-      std::atomic<bool> rendering{true};
-      std::thread progress;
-      if (stderr_is_tty())
-        progress = std::thread([&, f] {
-          while (rendering) {
-            fmt::print(stderr, "\rrendering frame {}/{} ... {:3.0f}%", f + 1, o->frames,
-                       100.0 * engine.progress());
-            std::this_thread::sleep_for(std::chrono::milliseconds(200));
-          }
-        });
-      FrameRecord rec;
-      try {
-        rec = engine.render_frame(f, in.views, s.settings);
-      } catch (...) {
-        rendering = false;
-        if (progress.joinable()) progress.join();
-        throw;
-      }
-      rendering = false;
-      if (progress.joinable()) progress.join();
-      const std::string base = fmt::format("{}/frame_{:04d}", *out_dir, f);
-      const auto& images = engine.images();
-      if (images.size() == 1) {
-        write_png(base + ".png", images[0]);
-        if (*exr) write_exr(base + ".exr", images[0]);
-      } else {
-        for (size_t v = 0; v < images.size(); ++v) {
-          write_png(fmt::format("{}_view{:02d}.png", base, v), images[v]);
-          if (*exr) write_exr(fmt::format("{}_view{:02d}.exr", base, v), images[v]);
-        }
-      }
-      if (images.size() > 1) write_png(base + "_quilt.png", make_quilt(images, s.rig.columns));
-      if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
-      for (const auto& m : rec.messages) fmt::print(stderr, "multiray: warning: {}\n", m);
-      uint64_t samples = 0, rays = 0;
-      for (const auto& d : rec.devices) samples += d.samples, rays += d.rays;
-      if (!*quiet)
-        fmt::print(
-            "frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%  -> "
-            "{}.png\n",
-            f, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
-            100.0 * rec.imbalance, base + (images.size() > 1 ? "_quilt" : ""));
-      frames.push_back(frame_to_json(rec));
-      frames.back()["sampling_ms"] = in.sampling_ms;
-      uint64_t hash = 0xcbf29ce484222325ull;
-      for (const Framebuffer& img : images) hash = image_hash(img, hash);
-      frames.back()["image_hash"] = fmt::format("{:016x}", hash);
+    std::unique_ptr<TraceFile> trace;
+    if (!trace_path->empty())
+      trace = std::make_unique<TraceFile>(*trace_path, session->engine(0).balancer().spec(),
+                                          s.devices);
+    RenderOutput output(*out_dir, *exr, *quiet, s.views->rig().columns, o->frames,
+                        trace ? &trace->writer() : nullptr);
+    {
+      ProgressLine progress(*session, o->frames);
+      session->run(0, o->frames, output);
     }
+    if (trace) trace->close();
     nlohmann::json doc{{"scene", s.scene->name},
                        {"devices", devices_to_json(s.devices)},
-                       {"balancer", engine.balancer().spec()},
-                       {"views", s.rig.view_count()},
-                       {"frames", frames}};
+                       {"balancer", session->engine(0).balancer().spec()},
+                       {"views", s.views->rig().view_count()},
+                       {"frames", output.json()}};
     std::ofstream(*out_dir + "/stats.json") << doc.dump(1) << "\n";
     return 0;
   };

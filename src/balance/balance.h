@@ -13,6 +13,7 @@
 #include "balance/simulate.h"
 #include "balance/static_ratios.h"
 #include "balance/stats.h"
+#include "balance/trace.h"
 #include "balance/uniform.h"
 #include "partition/apportion.h"
 #include "partition/bands.h"

@@ -1,5 +1,6 @@
 #include "balance/plan.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -18,6 +19,30 @@ void validate_shape(const FrameShape& shape) {
     throw std::invalid_argument(
         "pixel_weight has " + std::to_string(shape.pixel_weight.size()) +
         " values, expected views*height*width = " + std::to_string(shape.pixels()));
+}
+
+FrameShape scaled_shape(const FrameShape& shape, double image_scale) {
+  if (!(image_scale > 0 && image_scale <= 1))
+    throw std::invalid_argument("image scale " + std::to_string(image_scale) +
+                                " is outside (0, 1]");
+  if (image_scale == 1) return shape;
+  auto side = [&](int n) { return std::max(1, int(std::lround(double(n) * image_scale))); };
+  FrameShape out;
+  out.width = side(shape.width);
+  out.height = side(shape.height);
+  out.views = shape.views;
+  if (shape.weighted()) {
+    out.pixel_weight.reserve(size_t(out.pixels()));
+    for (int v = 0; v < out.views; ++v)
+      for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x) {
+          const int64_t sx = int64_t(x) * shape.width / out.width;
+          const int64_t sy = int64_t(y) * shape.height / out.height;
+          out.pixel_weight.push_back(
+              shape.pixel_weight[size_t((v * int64_t(shape.height) + sy) * shape.width + sx)]);
+        }
+  }
+  return out;
 }
 
 std::vector<WorkItem> Plan::all_items() const {
@@ -42,7 +67,13 @@ std::string check_plan(const Plan& plan, const FrameShape& shape, int device_cou
     sum += r;
   }
   if (sum != 0 && std::abs(sum - 1) > 1e-9) return "ratios sum to " + std::to_string(sum);
-  return coverage_error(plan.all_items(), shape.width, shape.height, shape.views);
+  const Quality& q = plan.quality;
+  if (!(q.image_scale > 0 && q.image_scale <= 1))
+    return "image scale " + std::to_string(q.image_scale) + " is outside (0, 1]";
+  if (!(q.step_scale > 0 && std::isfinite(q.step_scale)))
+    return "step scale " + std::to_string(q.step_scale) + " is not a finite number > 0";
+  const FrameShape rendered = scaled_shape(shape, q.image_scale);
+  return coverage_error(plan.all_items(), rendered.width, rendered.height, rendered.views);
 }
 
 }  // namespace multiray::balance

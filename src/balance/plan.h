@@ -33,6 +33,20 @@ struct FrameShape {
 // a pixel_weight that is neither empty nor views·height·width long.
 void validate_shape(const FrameShape& shape);
 
+// How well to render a frame (frame-time targeting, Bruder et al. 2017): the engine renders
+// every view at `image_scale` of the output size (the plan's items then cover
+// scaled_shape(shape, image_scale)) and upsamples to the output; kernels that march along
+// rays take `step_scale` times the user's step. 1 and 1 is full quality.
+struct Quality {
+  double image_scale = 1.0;  // (0, 1]
+  double step_scale = 1.0;   // > 0
+};
+
+// `shape` rendered at `image_scale` in (0, 1]: each side max(1, round(side · scale)); the
+// pixel weights, if any, taken from the nearest full-size pixel. Throws
+// std::invalid_argument for a scale outside (0, 1].
+FrameShape scaled_shape(const FrameShape& shape, double image_scale);
+
 // The plan for one frame.
 //
 // Dispatch semantics (the engine implements exactly this; simulate() models it): each
@@ -47,6 +61,7 @@ struct Plan {
   int batch = 1;                                // items per pull from `shared`, >= 1
   bool steal = false;
   std::vector<double> ratios;  // intended share of the frame's work per device, sum 1
+  Quality quality;             // items cover scaled_shape(shape, quality.image_scale)
 
   // Every item of the plan, device by device and then the shared queue.
   std::vector<WorkItem> all_items() const;
@@ -54,7 +69,8 @@ struct Plan {
 
 // Empty if `plan` is well formed for `shape` and `device_count` devices: one list and
 // one ratio per device, finite non-negative ratios summing to 1 (or all 0 when no device
-// is left), batch >= 1, and exact coverage of every pixel. Otherwise one line saying what
+// is left), batch >= 1, a valid quality, and exact coverage of every pixel of the shape
+// at the plan's image scale. Otherwise one line saying what
 // is wrong. O(pixels); meant for tests and debug builds.
 std::string check_plan(const Plan& plan, const FrameShape& shape, int device_count);
 

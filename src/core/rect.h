@@ -1,14 +1,12 @@
-// A half-open rectangle of pixels [x0, x1) x [y0, y1) in one view. The balancing library
-// has its own identical struct (it depends on nothing); the engine converts between them.
+// The pixel rectangle: one type for the whole project. It is multiray::balance's Rect
+// (half-open [x0, x1) × [y0, y1) in one view), which is header-only and depends on nothing,
+// so the core can use it without depending on the balancing library.
 #pragma once
 
-#include <cstdint>
+#include "partition/rect.h"
 
 namespace multiray {
 
-struct PixelRect {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  int64_t area() const { return x1 > x0 && y1 > y0 ? int64_t(x1 - x0) * (y1 - y0) : 0; }
-};
+using balance::Rect;
 
 }  // namespace multiray

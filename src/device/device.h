@@ -1,18 +1,33 @@
-// The Device interface: anything that renders work units of a frame and reports, from
-// inside, how long it took. Backends live in sub-folders (cpu/, later opencl/, remote/);
-// the engine sees only this header.
+// The Device interface: anything that renders work items of a frame and reports, from
+// inside, how long it took. Backends live in sub-folders (cpu/, opencl/, later remote/)
+// behind CMake options; the engine sees only this header. A device states what it can do
+// (DeviceCapabilities) so the CLI refuses an impossible job before any work starts.
 #pragma once
 
 #include <chrono>
+#include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "balance/stats.h"
 #include "core/image.h"
 #include "core/rect.h"
-#include "render/path_tracer.h"
+#include "render/render_types.h"
 
 namespace multiray {
+
+using balance::ItemReport;
+using balance::WorkItem;
+
+// What a backend can run. Names are those of RenderSettings::kernel (render/kernel.h),
+// of --sampling, and of the scene representations in SceneCache.
+struct DeviceCapabilities {
+  std::vector<std::string> kernels;
+  std::vector<std::string> sampling;  // "uniform", "adaptive", "foveated"
+  std::string representation;         // the scene representation this device renders
+};
 
 struct DeviceInfo {
   std::string type;  // "cpu", "opencl", ...
@@ -21,71 +36,79 @@ struct DeviceInfo {
   int threads = 1;
   double emulated_speed = 1.0;  // < 1: the device idles to mimic slower hardware (emulated)
   double cpu_quota = 0.0;       // > 0: real throttling by a cgroup CPU quota (fraction of a core)
+  DeviceCapabilities caps;
 };
 
-// One piece of work: a rectangle of one view. `id` is the engine's, echoed in reports.
-struct WorkUnit {
-  PixelRect rect;
-  uint32_t view = 0;
-  uint32_t id = 0;
-};
+// Empty when a device with `info` can render frames of `kernel` with `sampling`;
+// otherwise one line saying why not and what it supports.
+std::string unsupported_job(const DeviceInfo& info, const std::string& kernel,
+                            const std::string& sampling);
 
 // Where a device gets its work during a frame. Implementations are thread-safe: all
-// devices pull concurrently. next() returns false when nothing is left for `device`.
+// devices pull concurrently. Items are named by ids, echoed in ItemReport::id.
 class WorkSource {
  public:
   virtual ~WorkSource() = default;
-  virtual bool next(int device, WorkUnit& out) = 0;
+  // Starts the next item for `device`; false when nothing is left for it.
+  virtual bool next(int device, uint32_t& id) = 0;
+  // Starts up to `max` items in one request (one round trip for a device behind a link);
+  // appends their ids to `ids` and returns how many. Default: next() repeatedly.
+  virtual size_t next(int device, size_t max, std::vector<uint32_t>& ids);
+  // Reserves up to `k` further items for `device` without starting them: they stay
+  // stealable until a later next() starts them. Returns how many. Default: none.
+  virtual size_t prefetch(int /*device*/, size_t /*k*/) { return 0; }
+  // The item with id `id` (valid for the frame).
+  virtual const WorkItem& item(uint32_t id) const = 0;
 };
 
 // Everything a device needs to render one frame: the views (cameras, sizes), the settings
 // and where the pixels go. outputs[v] is view v's full-size image; devices write only the
-// pixels of the units they pulled.
+// pixels of the items they pulled.
 struct FrameJob {
   std::vector<ViewSetup> views;
   RenderSettings settings;
   std::vector<Framebuffer>* outputs = nullptr;
 };
 
-struct UnitReport {
-  WorkUnit unit;
-  double time_ms = 0;  // busy + emulated idle for this unit
-  double busy_ms = 0;  // rendering only
-  uint64_t samples = 0;
-};
-
-// Measured inside the device, from the moment it started the frame.
+// One device's frame, measured inside the device from the moment it started the frame.
 struct DeviceReport {
-  double wall_ms = 0;  // start of frame to last unit finished (includes emulated idle)
+  double time_ms = 0;  // start of frame to last item finished (includes emulated idle)
   double busy_ms = 0;  // time spent rendering
   uint64_t samples = 0, rays = 0, pixels = 0;
-  std::vector<UnitReport> units;
+  std::vector<ItemReport> items;  // in the order rendered
   bool failed = false;
   std::string error;  // set when failed
+  // Filled in by the engine for its frame record.
+  bool alive = true;         // false once the device failed and was dropped
+  double work_share = 0;     // fraction of the frame's samples this device rendered
+  double planned_share = 0;  // the share the balancer intended
+
+  // Adds one finished item.
+  void add(const ItemReport& r, uint64_t rays_of_item);
 };
 
 class Device {
  public:
   virtual ~Device() = default;
   virtual const DeviceInfo& info() const = 0;
-  // Pulls units from `source` as device `index` until it is empty, renders them into
+  // Pulls items from `source` as device `index` until it is empty, renders them into
   // job.outputs and reports. Must not throw for rendering faults: it returns a report
-  // with failed = true instead (units it pulled but did not finish are listed as not done
-  // by the engine).
+  // with failed = true instead (items it pulled but did not finish are re-rendered by the
+  // engine).
   virtual DeviceReport render(const FrameJob& job, WorkSource& source, int index) = 0;
   // Changes the emulated speed (for --perturb); 1 = full speed.
   virtual void set_emulated_speed(double speed) = 0;
 };
 
-// Emulates a device `speed` (< 1) times as fast as this one by idling: after each unit it
+// Emulates a device `speed` (< 1) times as fast as this one by idling: after each item it
 // sleeps until frame start + (busy time so far) / speed. Sleeping to an absolute deadline
-// keeps the scheduler's wake-up overshoot from adding up over many small units, which
-// would otherwise penalise balancers that hand out many units. Emulation only: real
+// keeps the scheduler's wake-up overshoot from adding up over many small items, which
+// would otherwise penalise balancers that hand out many items. Emulation only: real
 // slowness comes from quotas. Create one per frame, when the device starts it.
 class SlowdownEmulator {
  public:
   explicit SlowdownEmulator(double speed);
-  // Call after each unit with its busy (rendering) time.
+  // Call after each item with its busy (rendering) time.
   void after_unit(double busy_ms);
 
  private:

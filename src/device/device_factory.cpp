@@ -119,7 +119,7 @@ std::vector<DeviceSpec> parse_device_specs(const std::string& text) {
 
 namespace {
 
-std::unique_ptr<Device> create_cpu_device(const DeviceSpec& d, const RenderScene& rs) {
+std::unique_ptr<Device> create_cpu_device(const DeviceSpec& d, SceneCache& scenes) {
   CpuDeviceOptions o;
   if (d.options.count("threads")) o.threads = parse_int(d, "threads");
   if (d.options.count("cores")) o.cores = parse_cores(d);
@@ -134,11 +134,11 @@ std::unique_ptr<Device> create_cpu_device(const DeviceSpec& d, const RenderScene
     throw InputError("--devices '" + d.text + "': quota must be in (0, 1] of a core per thread");
   if (o.tile < 1 || o.tile > 4096)
     throw InputError("--devices '" + d.text + "': tile must be in 1..4096");
-  return std::make_unique<CpuDevice>(rs, o, d.text);
+  return std::make_unique<CpuDevice>(scenes, o, d.text);
 }
 
 #ifdef MULTIRAY_HAS_OPENCL
-std::unique_ptr<Device> create_opencl_device(const DeviceSpec& d, const RenderScene& rs) {
+std::unique_ptr<Device> create_opencl_device(const DeviceSpec& d, SceneCache& scenes) {
   OpenClDeviceOptions o;
   if (d.options.count("index")) o.index = parse_int(d, "index");
   if (d.options.count("speed")) o.speed = parse_number(d, "speed");
@@ -157,7 +157,7 @@ std::unique_ptr<Device> create_opencl_device(const DeviceSpec& d, const RenderSc
   if (o.fail_after < 0 && d.options.count("fail_after"))
     throw InputError("--devices '" + d.text + "': fail_after must be >= 0");
   try {
-    return std::make_unique<OpenClDevice>(rs, o, d.text);
+    return std::make_unique<OpenClDevice>(scenes, o, d.text);
   } catch (const InputError& e) {
     throw InputError("--devices '" + d.text + "': " + e.what());
   }
@@ -166,20 +166,27 @@ std::unique_ptr<Device> create_opencl_device(const DeviceSpec& d, const RenderSc
 
 }  // namespace
 
-std::unique_ptr<Device> create_device(const DeviceSpec& d, const RenderScene& rs) {
+DeviceCapabilities backend_capabilities(const std::string& type) {
 #ifdef MULTIRAY_HAS_OPENCL
-  if (d.type == "opencl") return create_opencl_device(d, rs);
+  if (type == "opencl") return OpenClDevice::capabilities();
+#endif
+  if (type == "cpu") return CpuDevice::capabilities();
+  return {};
+}
+
+std::unique_ptr<Device> create_device(const DeviceSpec& d, SceneCache& scenes) {
+#ifdef MULTIRAY_HAS_OPENCL
+  if (d.type == "opencl") return create_opencl_device(d, scenes);
 #else
   if (d.type == "opencl")
     throw InputError("--devices '" + d.text + "': this multiray was built without OpenCL");
 #endif
-  return create_cpu_device(d, rs);
+  return create_cpu_device(d, scenes);
 }
 
-std::vector<std::unique_ptr<Device>> create_devices(const std::string& text,
-                                                    const RenderScene& rs) {
+std::vector<std::unique_ptr<Device>> create_devices(const std::string& text, SceneCache& scenes) {
   std::vector<std::unique_ptr<Device>> out;
-  for (const DeviceSpec& d : parse_device_specs(text)) out.push_back(create_device(d, rs));
+  for (const DeviceSpec& d : parse_device_specs(text)) out.push_back(create_device(d, scenes));
   return out;
 }
 

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "device/device.h"
+#include "device/scene_cache.h"
 
 namespace multiray {
 
@@ -40,10 +41,15 @@ struct DeviceSpec {
 // multiray was built without OpenCL).
 std::vector<DeviceSpec> parse_device_specs(const std::string& text);
 
-// Creates one device. Throws InputError (bad option) or DeviceError (cannot be created here).
-std::unique_ptr<Device> create_device(const DeviceSpec& spec, const RenderScene& rs);
+// What devices of backend `type` ("cpu", "opencl") can run, known before any is created
+// (so the CLI refuses an impossible job before loading the scene).
+DeviceCapabilities backend_capabilities(const std::string& type);
 
-std::vector<std::unique_ptr<Device>> create_devices(const std::string& text,
-                                                    const RenderScene& rs);
+// Creates one device on the scene representations of `scenes` (each backend asks for the
+// one it renders; `scenes` must outlive the device). Throws InputError (bad option) or
+// DeviceError (cannot be created here).
+std::unique_ptr<Device> create_device(const DeviceSpec& spec, SceneCache& scenes);
+
+std::vector<std::unique_ptr<Device>> create_devices(const std::string& text, SceneCache& scenes);
 
 }  // namespace multiray

@@ -1,7 +1,8 @@
-// A fixed list of work units handed out in order to whichever device asks: the simplest
-// WorkSource (tests, re-rendering a failed device's share, single-device runs).
+// A fixed list of work items handed out in order to whichever device asks: the simplest
+// WorkSource (tests, re-rendering a failed device's share, timing a device alone).
 #pragma once
 
+#include <map>
 #include <mutex>
 #include <vector>
 
@@ -11,17 +12,26 @@ namespace multiray {
 
 class ListWorkSource : public WorkSource {
  public:
-  explicit ListWorkSource(std::vector<WorkUnit> units) : units_(std::move(units)) {}
-  bool next(int, WorkUnit& out) override {
+  // Item i gets id ids[i] (default: i).
+  explicit ListWorkSource(std::vector<WorkItem> items, std::vector<uint32_t> ids = {})
+      : items_(std::move(items)), ids_(std::move(ids)) {
+    if (ids_.empty())
+      for (uint32_t i = 0; i < items_.size(); ++i) ids_.push_back(i);
+    for (size_t i = 0; i < items_.size(); ++i) by_id_[ids_[i]] = i;
+  }
+  bool next(int, uint32_t& id) override {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (pos_ >= units_.size()) return false;
-    out = units_[pos_++];
+    if (pos_ >= items_.size()) return false;
+    id = ids_[pos_++];
     return true;
   }
+  const WorkItem& item(uint32_t id) const override { return items_[by_id_.at(id)]; }
 
  private:
   std::mutex mutex_;
-  std::vector<WorkUnit> units_;
+  std::vector<WorkItem> items_;
+  std::vector<uint32_t> ids_;
+  std::map<uint32_t, size_t> by_id_;
   size_t pos_ = 0;
 };
 

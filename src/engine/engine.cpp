@@ -6,7 +6,8 @@
 
 #include "core/clock.h"
 #include "core/error.h"
-#include "engine/plan_source.h"
+#include "device/work_list.h"
+#include "engine/dispatch_source.h"
 #include "render/foveation_frame.h"
 
 namespace multiray {
@@ -46,6 +47,22 @@ std::vector<float> pixel_weights(const std::vector<ViewSetup>& views,
   return w;
 }
 
+// One framebuffer per view of width x height (reused when the size is right).
+void size_images(std::vector<Framebuffer>& images, size_t views, int width, int height) {
+  images.resize(views);
+  for (auto& img : images)
+    if (img.width != width || img.height != height) img = Framebuffer(width, height);
+}
+
+// Nearest-pixel upsampling of `from` into `to` (any sizes).
+void upsample(const Framebuffer& from, Framebuffer& to) {
+  for (int y = 0; y < to.height; ++y) {
+    const int sy = int(int64_t(y) * from.height / to.height);
+    for (int x = 0; x < to.width; ++x)
+      to.at(x, y) = from.at(int(int64_t(x) * from.width / to.width), sy);
+  }
+}
+
 }  // namespace
 
 Engine::Engine(std::vector<Device*> devices, std::unique_ptr<balance::Balancer> balancer)
@@ -56,109 +73,133 @@ Engine::Engine(std::vector<Device*> devices, std::unique_ptr<balance::Balancer> 
   if (devices_.empty()) throw InputError("no devices to render with");
 }
 
+void Engine::apply_perturbations(int frame) {
+  for (const Perturbation& p : perturbations_)
+    if (p.frame == frame && p.device >= 0 && size_t(p.device) < devices_.size())
+      devices_[size_t(p.device)]->set_emulated_speed(p.speed);
+}
+
 FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
-                                 const RenderSettings& settings) {
-  const size_t n = devices_.size();
+                                 const RenderSettings& settings,
+                                 std::vector<Framebuffer>& images) {
   FrameRecord rec;
   rec.frame = frame;
-  for (const Perturbation& p : perturbations_)
-    if (p.frame == frame && p.device >= 0 && size_t(p.device) < n)
-      devices_[size_t(p.device)]->set_emulated_speed(p.speed);
-
+  apply_perturbations(frame);
   balance::FrameShape shape;
   shape.width = views.at(0).width;
   shape.height = views.at(0).height;
   shape.views = int(views.size());
   shape.pixel_weight = pixel_weights(views, settings);
-  images_.resize(views.size());
-  for (auto& img : images_)
-    if (img.width != shape.width || img.height != shape.height)
-      img = Framebuffer(shape.width, shape.height);
+  size_images(images, views.size(), shape.width, shape.height);
 
   Stopwatch clock;
   last_plan_ = balancer_->plan(shape, frame);
   rec.plan_ms = clock.elapsed_ms();
-  handed_out_ = 0;
-  frame_pixels_ = shape.pixels();
-  PlanWorkSource source(last_plan_, shape, &handed_out_);
-  FrameJob job{views, settings, &images_};
+  rec.quality = last_plan_.quality;
 
-  // Every live device renders on its own thread; the device measures its own time.
-  std::vector<DeviceReport> reports(n);
+  // The plan's quality: smaller views (rendered into scaled_images_, upsampled after) and
+  // a longer ray step.
+  const double scale = last_plan_.quality.image_scale;
+  const bool scaled = scale != 1.0;
+  if (scaled && shape.weighted())
+    throw InputError("a reduced image scale does not work with adaptive or foveated sampling");
+  const balance::FrameShape rendered = balance::scaled_shape(shape, scale);
+  FrameJob job{views, settings, scaled ? &scaled_images_ : &images};
+  job.settings.step_scale = float(settings.step_scale * last_plan_.quality.step_scale);
+  for (ViewSetup& v : job.views) v.width = rendered.width, v.height = rendered.height;
+  if (scaled) size_images(scaled_images_, views.size(), rendered.width, rendered.height);
+
+  handed_out_ = 0;
+  frame_pixels_ = rendered.pixels();
+  DispatchSource source(last_plan_, rendered, &handed_out_);
   clock.restart();
+  std::vector<DeviceReport> reports = run_devices(job, source);
+  rec.frame_ms = clock.elapsed_ms();
+
+  clock.restart();
+  recover_failures(job, source, reports, rec);
+  if (scaled)
+    for (size_t v = 0; v < images.size(); ++v) upsample(scaled_images_[v], images[v]);
+  rec.gather_ms = clock.elapsed_ms();
+  rec.stolen = source.dispatcher().stolen();
+
+  stats_ = balance::FrameStats{};
+  stats_.frame = frame;
+  stats_.shape = rendered;
+  record(reports, rec);
+  clock.restart();
+  balancer_->update(stats_);
+  rec.update_ms = clock.elapsed_ms();
+  return rec;
+}
+
+std::vector<DeviceReport> Engine::run_devices(const FrameJob& job, WorkSource& source) {
+  // Every live device renders on its own thread; the device measures its own time.
+  const size_t n = devices_.size();
+  std::vector<DeviceReport> reports(n);
   std::vector<std::function<void()>> jobs(n);
   for (size_t i = 0; i < n; ++i)
     if (alive_[i]) jobs[i] = [&, i] { reports[i] = devices_[i]->render(job, source, int(i)); };
   threads_.run(jobs);
-  rec.frame_ms = clock.elapsed_ms();
+  return reports;
+}
 
-  // Gather: devices wrote their pixels in place; what is left is work a failed device
-  // did not finish, which the first live device renders now.
-  clock.restart();
-  for (size_t i = 0; i < n; ++i) {
+void Engine::recover_failures(const FrameJob& job, DispatchSource& source,
+                              std::vector<DeviceReport>& reports, FrameRecord& rec) {
+  balance::Dispatcher& dispatch = source.dispatcher();
+  for (size_t i = 0; i < devices_.size(); ++i) {
     if (!alive_[i] || !reports[i].failed) continue;
     alive_[i] = false;
     balancer_->drop_device(int(i));
     rec.messages.push_back("device " + std::to_string(i) + " (" + devices_[i]->info().name +
                            ") failed and was dropped: " + reports[i].error);
-    std::vector<bool> done(source.items().size(), false);
-    for (const UnitReport& u : reports[i].units) done[u.unit.id] = true;
-    std::vector<WorkUnit> redo;
-    for (uint32_t id = 0; id < source.items().size(); ++id)
-      if (source.taken_by(id) == int(i) && !done[id])
-        redo.push_back(to_unit(source.items()[id], id));
-    for (uint32_t id : source.take_remaining(int(i)))
-      redo.push_back(to_unit(source.items()[id], id));
+    // What it started but did not report, and what was still waiting in its list.
+    std::vector<bool> done(dispatch.items().size(), false);
+    for (const ItemReport& r : reports[i].items) done[r.id] = true;
+    std::vector<uint32_t> redo;
+    for (uint32_t id = 0; id < dispatch.items().size(); ++id)
+      if (dispatch.taken_by(id) == int(i) && !done[id]) redo.push_back(id);
+    for (uint32_t id : dispatch.take_remaining(int(i))) redo.push_back(id);
+
     const auto helper = std::find(alive_.begin(), alive_.end(), true);
     if (helper == alive_.end()) throw DeviceError("every device has failed: " + reports[i].error);
     const size_t h = size_t(helper - alive_.begin());
-    ListWorkSource list(redo);
+    std::vector<WorkItem> items;
+    for (uint32_t id : redo) items.push_back(dispatch.items()[id]);
+    ListWorkSource list(items, redo);
     DeviceReport extra;
-    std::vector<std::function<void()>> redo_job(n);
+    std::vector<std::function<void()>> redo_job(devices_.size());
     redo_job[h] = [&] { extra = devices_[h]->render(job, list, int(h)); };
     threads_.run(redo_job);
     DeviceReport& r = reports[h];
-    r.units.insert(r.units.end(), extra.units.begin(), extra.units.end());
+    r.items.insert(r.items.end(), extra.items.begin(), extra.items.end());
     r.samples += extra.samples, r.pixels += extra.pixels, r.rays += extra.rays;
-    r.busy_ms += extra.busy_ms, r.wall_ms += extra.wall_ms;
+    r.busy_ms += extra.busy_ms, r.time_ms += extra.time_ms;
   }
-  rec.gather_ms = clock.elapsed_ms();
-  rec.stolen = source.stolen();
+}
 
-  // Stats for the record and for the balancer.
-  balance::FrameStats stats;
-  stats.frame = frame;
-  stats.shape = shape;
-  stats.devices.resize(n);
+void Engine::record(std::vector<DeviceReport>& reports, FrameRecord& rec) {
+  const size_t n = devices_.size();
   uint64_t total_samples = 0;
   for (const auto& r : reports) total_samples += r.samples;
   std::vector<double> live_times;
-  rec.devices.resize(n);
+  stats_.devices.resize(n);
   rendered_.assign(n, {});
   for (size_t i = 0; i < n; ++i) {
-    const DeviceReport& r = reports[i];
-    DeviceFrameRecord& d = rec.devices[i];
-    d.alive = alive_[i];
-    d.time_ms = r.wall_ms, d.busy_ms = r.busy_ms;
-    d.samples = r.samples, d.pixels = r.pixels, d.rays = r.rays;
-    d.units = int(r.units.size());
-    d.work_share = total_samples ? double(r.samples) / double(total_samples) : 0.0;
-    d.planned_share = i < last_plan_.ratios.size() ? last_plan_.ratios[i] : 0.0;
-    if (alive_[i]) live_times.push_back(r.wall_ms);
-    balance::DeviceFrameStats& s = stats.devices[i];
+    DeviceReport& r = reports[i];
+    r.alive = alive_[i];
+    r.work_share = total_samples ? double(r.samples) / double(total_samples) : 0.0;
+    r.planned_share = i < last_plan_.ratios.size() ? last_plan_.ratios[i] : 0.0;
+    if (alive_[i]) live_times.push_back(r.time_ms);
+    balance::DeviceFrameStats& s = stats_.devices[i];
     s.alive = alive_[i];
-    s.time_ms = r.wall_ms, s.busy_ms = r.busy_ms;
+    s.time_ms = r.time_ms, s.busy_ms = r.busy_ms;
     s.samples = double(r.samples), s.pixels = double(r.pixels);
-    for (const UnitReport& u : r.units) {
-      s.items.push_back({source.items()[u.unit.id], u.time_ms, double(u.samples)});
-      rendered_[i].push_back(source.items()[u.unit.id]);
-    }
+    s.items = r.items;
+    for (const ItemReport& it : r.items) rendered_[i].push_back(it.item);
   }
   imbalance_of(live_times, rec.imbalance, rec.deviation);
-  clock.restart();
-  balancer_->update(stats);
-  rec.update_ms = clock.elapsed_ms();
-  return rec;
+  rec.devices = std::move(reports);
 }
 
 }  // namespace multiray

@@ -1,5 +1,6 @@
-// The frame loop: plan -> all devices render concurrently -> gather -> stats -> balancer
-// update. One Engine per (scene, device set, balancer); frames are rendered in order.
+// One frame at a time: plan -> all devices render concurrently -> gather -> stats ->
+// balancer update. One Engine per (device set, balancer); frames are rendered in order.
+// The frame loop around it (views per frame, observers, several balancers) is Session.
 #pragma once
 
 #include <algorithm>
@@ -22,22 +23,35 @@ struct Perturbation {
   double speed = 1.0;
 };
 
+class DispatchSource;
+
 class Engine {
  public:
   Engine(std::vector<Device*> devices, std::unique_ptr<balance::Balancer> balancer);
 
-  // Renders all `views` of `frame` (same size each) and returns the measurements. The
-  // images are in images() afterwards. Throws DeviceError when every device has failed.
+  // Renders all `views` of `frame` (same size each) into `images` (resized to one
+  // output-size image per view) and returns the measurements. Applies the plan's quality:
+  // at image_scale < 1 the views are rendered smaller and upsampled (nearest pixel); the
+  // settings' step_scale is multiplied by the plan's. Throws DeviceError when every device
+  // has failed, InputError for a reduced image scale with irregular sampling.
   FrameRecord render_frame(int frame, const std::vector<ViewSetup>& views,
-                           const RenderSettings& settings);
+                           const RenderSettings& settings, std::vector<Framebuffer>& images);
+  // The same into images() (tests, simple callers).
+  FrameRecord render_frame(int frame, const std::vector<ViewSetup>& views,
+                           const RenderSettings& settings) {
+    return render_frame(frame, views, settings, images_);
+  }
 
   const std::vector<Framebuffer>& images() const { return images_; }
   const balance::Plan& last_plan() const { return last_plan_; }
   // The items each device actually rendered in the last frame (after pulls and steals).
   const std::vector<std::vector<balance::WorkItem>>& last_rendered() const { return rendered_; }
+  // What the balancer was told about the last frame (per-item times included).
+  const balance::FrameStats& last_stats() const { return stats_; }
   balance::Balancer& balancer() { return *balancer_; }
   void set_perturbations(std::vector<Perturbation> p) { perturbations_ = std::move(p); }
   bool alive(int device) const { return alive_[size_t(device)]; }
+  size_t device_count() const { return devices_.size(); }
   // Fraction of the current frame's pixels handed to devices so far, in [0, 1]; safe to
   // call from another thread while render_frame() runs (for progress display).
   double progress() const {
@@ -46,13 +60,22 @@ class Engine {
   }
 
  private:
+  void apply_perturbations(int frame);
+  std::vector<DeviceReport> run_devices(const FrameJob& job, WorkSource& source);
+  // Re-renders what failed devices left, on the first live device; drops the failed ones.
+  void recover_failures(const FrameJob& job, DispatchSource& source,
+                        std::vector<DeviceReport>& reports, FrameRecord& rec);
+  // Fills rec.devices, rendered_ and stats_ from the reports.
+  void record(std::vector<DeviceReport>& reports, FrameRecord& rec);
+
   std::vector<Device*> devices_;
   DeviceThreads threads_;
   std::unique_ptr<balance::Balancer> balancer_;
-  std::vector<Framebuffer> images_;
+  std::vector<Framebuffer> images_, scaled_images_;
   std::vector<bool> alive_;
   std::vector<Perturbation> perturbations_;
   balance::Plan last_plan_;
+  balance::FrameStats stats_;
   std::vector<std::vector<balance::WorkItem>> rendered_;
   std::atomic<int64_t> handed_out_{0}, frame_pixels_{0};
 };

@@ -7,26 +7,20 @@
 #include <string>
 #include <vector>
 
-namespace multiray {
+#include "balance/plan.h"
+#include "device/device.h"
 
-struct DeviceFrameRecord {
-  double time_ms = 0;  // device's own wall time for the frame (busy + emulated idle)
-  double busy_ms = 0;  // rendering only
-  uint64_t samples = 0, pixels = 0, rays = 0;
-  int units = 0;
-  double work_share = 0;     // fraction of the frame's samples this device rendered
-  double planned_share = 0;  // ratio the balancer intended
-  bool alive = true;
-};
+namespace multiray {
 
 struct FrameRecord {
   int frame = 0;
-  double frame_ms = 0;   // engine wall time: devices started -> all finished
-  double plan_ms = 0;    // balancer plan()
-  double gather_ms = 0;  // recovery of failed work + composition after the devices
-  double update_ms = 0;  // balancer update()
-  int stolen = 0;        // items taken by stealing
-  std::vector<DeviceFrameRecord> devices;
+  double frame_ms = 0;                // engine wall time: devices started -> all finished
+  double plan_ms = 0;                 // balancer plan()
+  double gather_ms = 0;               // recovery of failed work + composition after the devices
+  double update_ms = 0;               // balancer update()
+  int stolen = 0;                     // items taken by stealing
+  std::vector<DeviceReport> devices;  // per device, with the engine's alive/share fields
+  balance::Quality quality;           // the plan's quality, as rendered
   double imbalance = 0;               // t_max / t_mean - 1 over live devices
   double deviation = 0;               // max |t_i - t_mean| / t_mean (Harada)
   std::vector<std::string> messages;  // e.g. a device dropped

@@ -34,7 +34,7 @@ float AmbientOcclusion::occlusion(const Ray& primary, Rng& rng, const RenderSett
 }
 
 KernelStats AmbientOcclusion::render_rect(const ViewSetup& view, const RenderSettings& settings,
-                                          PixelRect rect, Framebuffer& out) const {
+                                          Rect rect, Framebuffer& out) const {
   KernelStats stats;
   const PinholeCamera camera(view.camera, view.width, view.height);
   for (int y = rect.y0; y < rect.y1; ++y)

@@ -7,26 +7,27 @@
 
 #include "core/image.h"
 #include "core/rect.h"
+#include "render/kernel.h"
 #include "render/render_types.h"
 
 namespace multiray {
 
 class Rng;
 
-class AmbientOcclusion {
+class AmbientOcclusion : public Kernel {
  public:
   explicit AmbientOcclusion(const RenderScene& rs);
 
   // Renders every pixel of `rect` (the view's sample map or settings.spp samples each)
   // into `out`. Safe to call concurrently for disjoint rectangles.
-  KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, PixelRect rect,
-                          Framebuffer& out) const;
+  KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, Rect rect,
+                          Framebuffer& out) const override;
 
   // One AO sample through each of `samples[0..n)` (the position is the sample, no jitter),
   // its unoccluded fraction written to `value[i]` (grey). Random numbers from
   // (key, 0, frame, view, seed). Safe to call concurrently.
   KernelStats render_samples(const ViewSetup& view, const RenderSettings& settings,
-                             const ImageSample* samples, size_t n, Vec3* value) const;
+                             const ImageSample* samples, size_t n, Vec3* value) const override;
 
  private:
   // The unoccluded fraction seen along `primary`, drawing the occlusion rays from `rng`.

@@ -17,9 +17,6 @@ const FoveationFrame& foveation_of(const ViewSetup& view) {
   return f;
 }
 
-FoveatedKernel::FoveatedKernel(const PathTracer& tracer, const AmbientOcclusion& ao)
-    : tracer_(tracer), ao_(ao) {}
-
 KernelStats FoveatedKernel::shade(const ViewSetup& view, const RenderSettings& settings,
                                   const uint32_t* idx, size_t n, Vec3* values) const {
   const FoveationFrame& f = *view.foveation;
@@ -34,16 +31,14 @@ KernelStats FoveatedKernel::shade(const ViewSetup& view, const RenderSettings& s
       const uint32_t s = idx[first + i];
       samples[i] = ImageSample{f.position[s].x, f.position[s].y, f.id[s]};
     }
-    stats += settings.integrator == Integrator::AO
-                 ? ao_.render_samples(view, settings, samples.data(), m, result.data())
-                 : tracer_.render_samples(view, settings, samples.data(), m, result.data());
+    stats += sampled_.render_samples(view, settings, samples.data(), m, result.data());
     for (size_t i = 0; i < m; ++i) values[idx[first + i]] = result[i];
   }
   return stats;
 }
 
 KernelStats FoveatedKernel::render_rect(const ViewSetup& view, const RenderSettings& settings,
-                                        PixelRect rect, Framebuffer& out,
+                                        Rect rect, Framebuffer& out,
                                         std::vector<Vec3>& scratch) const {
   const FoveationFrame& f = foveation_of(view);
   if (scratch.size() < f.size()) scratch.resize(f.size());
@@ -53,8 +48,7 @@ KernelStats FoveatedKernel::render_rect(const ViewSetup& view, const RenderSetti
   return stats;
 }
 
-void reconstruct_rect(const FoveationFrame& f, const Vec3* values, PixelRect rect,
-                      Framebuffer& out) {
+void reconstruct_rect(const FoveationFrame& f, const Vec3* values, Rect rect, Framebuffer& out) {
   for (int y = rect.y0; y < rect.y1; ++y)
     for (int x = rect.x0; x < rect.x1; ++x) {
       const uint32_t* nb = f.neighbours_of(x, y);

@@ -10,9 +10,8 @@
 
 #include "core/image.h"
 #include "core/rect.h"
-#include "render/ambient_occlusion.h"
 #include "render/foveation_frame.h"
-#include "render/path_tracer.h"
+#include "render/kernel.h"
 
 namespace multiray {
 
@@ -22,24 +21,24 @@ const FoveationFrame& foveation_of(const ViewSetup& view);
 
 class FoveatedKernel {
  public:
-  // Both integrators must outlive the kernel.
-  FoveatedKernel(const PathTracer& tracer, const AmbientOcclusion& ao);
+  // `sampled` renders the samples (a kernel with KernelEntry::point_samples); it must
+  // outlive this object.
+  explicit FoveatedKernel(const Kernel& sampled) : sampled_(sampled) {}
 
-  // Renders samples `idx[0..n)` of `*view.foveation` with the integrator `settings` names
-  // and writes sample s's value to values[s] (`values` holds at least
-  // view.foveation->size() entries). Sample s is a camera ray through position[s] with
-  // random numbers keyed by id[s]. Safe to call concurrently for disjoint index lists.
+  // Renders samples `idx[0..n)` of `*view.foveation` with the sampled kernel and writes sample s's
+  // value to values[s] (`values` holds at least view.foveation->size() entries). Sample s is a
+  // camera ray through position[s] with random numbers keyed by id[s]. Safe to call concurrently
+  // for disjoint index lists.
   KernelStats shade(const ViewSetup& view, const RenderSettings& settings, const uint32_t* idx,
                     size_t n, Vec3* values) const;
 
   // The whole job for `rect` on the calling thread: select, shade, reconstruct into `out`
   // (the view's full-size image). `scratch` is resized to the frame's sample count.
-  KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, PixelRect rect,
+  KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, Rect rect,
                           Framebuffer& out, std::vector<Vec3>& scratch) const;
 
  private:
-  const PathTracer& tracer_;
-  const AmbientOcclusion& ao_;
+  const Kernel& sampled_;
 };
 
 // Writes every pixel of `rect` into `out`: the weighted mean of the values of its k
@@ -48,7 +47,6 @@ class FoveatedKernel {
 // is taken as v0 + Σ_{j>0} w_j (v_j - v0), v0 the nearest sample's value: mathematically
 // Σ w_j v_j since the weights sum to 1, but exactly v0 when all neighbours agree, so a
 // constant image reconstructs exactly whatever the rounding of the weights.
-void reconstruct_rect(const FoveationFrame& f, const Vec3* values, PixelRect rect,
-                      Framebuffer& out);
+void reconstruct_rect(const FoveationFrame& f, const Vec3* values, Rect rect, Framebuffer& out);
 
 }  // namespace multiray

@@ -124,7 +124,7 @@ void index_samples(FoveationFrame& f) {
 
 }  // namespace
 
-uint64_t samples_in_rect(const FoveationFrame& f, PixelRect rect) {
+uint64_t samples_in_rect(const FoveationFrame& f, Rect rect) {
   double sum = 0;
   for (int y = std::max(rect.y0, 0); y < std::min(rect.y1, f.height); ++y)
     for (int x = std::max(rect.x0, 0); x < std::min(rect.x1, f.width); ++x)
@@ -153,7 +153,7 @@ FoveationFrame prepare_foveation_frame(const FoveationPattern& pattern, float ga
   return f;
 }
 
-std::vector<uint32_t> select_samples(const FoveationFrame& f, PixelRect rect) {
+std::vector<uint32_t> select_samples(const FoveationFrame& f, Rect rect) {
   std::vector<uint32_t> out;
   rect.x0 = std::max(rect.x0, 0), rect.y0 = std::max(rect.y0, 0);
   rect.x1 = std::min(rect.x1, f.width), rect.y1 = std::min(rect.y1, f.height);

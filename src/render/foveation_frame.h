@@ -79,11 +79,11 @@ FoveationFrame prepare_foveation_frame(const FoveationPattern& pattern, float ga
 // Indices of the samples whose disc (radius sqrt(radius2)) reaches a pixel centre of
 // `rect`, ascending. Contract (the radius rule): it contains every sample in the
 // neighbour list of every pixel of `rect`, so the rect can be reconstructed from them.
-std::vector<uint32_t> select_samples(const FoveationFrame& f, PixelRect rect);
+std::vector<uint32_t> select_samples(const FoveationFrame& f, Rect rect);
 
 // The frame's used samples positioned inside `rect` (the sum of pixel_samples over it):
 // the rect's share of the frame's work in the units balancers split by.
-uint64_t samples_in_rect(const FoveationFrame& f, PixelRect rect);
+uint64_t samples_in_rect(const FoveationFrame& f, Rect rect);
 
 // Squared distance from `p` to the box [x0, x1] x [y0, y1] (0 inside). The radii and the
 // selection both use this one function (a pixel centre is a box with x0 = x1, y0 = y1):

@@ -195,8 +195,8 @@ void PathTracer::trace_batch(std::vector<PathState>& paths, const RenderSettings
   }
 }
 
-KernelStats PathTracer::render_rect(const ViewSetup& view, const RenderSettings& settings,
-                                    PixelRect rect, Framebuffer& out, RayLog* log) const {
+KernelStats PathTracer::render_rect_logged(const ViewSetup& view, const RenderSettings& settings,
+                                           Rect rect, Framebuffer& out, RayLog* log) const {
   KernelStats stats;
   if (rect.area() == 0) return stats;
   const PinholeCamera camera(view.camera, view.width, view.height);

@@ -9,26 +9,28 @@
 
 #include "core/image.h"
 #include "core/rect.h"
+#include "render/kernel.h"
 #include "render/render_types.h"
 
 namespace multiray {
 
 struct PathState;
 
-class PathTracer {
+class PathTracer : public Kernel {
  public:
   explicit PathTracer(const RenderScene& rs);
 
-  // Renders every pixel of `rect` into `out` (the view's full-size image). Safe to call
-  // concurrently for disjoint rectangles. `log`, if given, must not be shared by threads.
-  KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, PixelRect rect,
-                          Framebuffer& out, RayLog* log = nullptr) const;
+  KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, Rect rect,
+                          Framebuffer& out) const override {
+    return render_rect_logged(view, settings, rect, out, nullptr);
+  }
+  // render_rect(), recording every ray in `log` if given (must not be shared by threads).
+  KernelStats render_rect_logged(const ViewSetup& view, const RenderSettings& settings, Rect rect,
+                                 Framebuffer& out, RayLog* log) const;
 
-  // Traces one path through each of `samples[0..n)` (no jitter: the position is the
-  // sample) and writes its radiance to `radiance[i]` (non-finite results become 0).
-  // Random numbers from (key, 0, frame, view, seed). Safe to call concurrently.
+  // One path per sample; non-finite radiance becomes 0.
   KernelStats render_samples(const ViewSetup& view, const RenderSettings& settings,
-                             const ImageSample* samples, size_t n, Vec3* radiance) const;
+                             const ImageSample* samples, size_t n, Vec3* radiance) const override;
 
  private:
   // Advances path `p` by one bounce given its closest hit (nullptr: it left the scene).

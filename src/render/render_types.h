@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "render/accel.h"
@@ -14,19 +15,17 @@ namespace multiray {
 
 struct FoveationFrame;
 
-enum class Integrator {
-  Path,  // path tracing with NEE + MIS (path_tracer.h)
-  AO,    // ambient occlusion (ambient_occlusion.h)
-};
-
 struct RenderSettings {
-  int spp = 16;         // samples per pixel (unless the view has a sample map)
-  int max_bounces = 8;  // scattering events per path
-  int rr_start = 3;     // first bounce at which Russian roulette may end a path
-  uint64_t seed = 0;    // changes every random number (for variance tests)
-  Integrator integrator = Integrator::Path;
-  int ao_rays = 2;           // occlusion rays per AO sample
-  float ao_distance = 0.0f;  // occlusion range, scene units; 0: 0.3 of the scene size
+  int spp = 16;                 // samples per pixel (unless the view has a sample map)
+  int max_bounces = 8;          // scattering events per path
+  int rr_start = 3;             // first bounce at which Russian roulette may end a path
+  uint64_t seed = 0;            // changes every random number (for variance tests)
+  std::string kernel = "path";  // which kernel renders (render/kernel.h: cpu_kernels())
+  int ao_rays = 2;              // occlusion rays per AO sample
+  float ao_distance = 0.0f;     // occlusion range, scene units; 0: 0.3 of the scene size
+  // Ray step relative to the user's, for kernels that march along rays (volumes); set by
+  // the engine from Plan::quality for frame-time targeting. Surface kernels ignore it.
+  float step_scale = 1.0f;
 };
 
 // One view of one frame: what the camera sees and the size of its image.

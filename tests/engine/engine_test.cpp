@@ -22,8 +22,8 @@ std::vector<ViewSetup> views(const Scene& s, int frame) {
 }
 
 // Renders frames 0..frames-1 and returns the last image.
-std::vector<Vec3> render_with(const RenderScene& rs, const std::string& spec, int devices,
-                              int frames, std::vector<double> speeds = {}) {
+std::vector<Vec3> render_with(SceneCache& rs, const std::string& spec, int devices, int frames,
+                              std::vector<double> speeds = {}) {
   std::vector<std::unique_ptr<CpuDevice>> owned;
   std::vector<Device*> ptrs;
   for (int i = 0; i < devices; ++i) {
@@ -35,7 +35,7 @@ std::vector<Vec3> render_with(const RenderScene& rs, const std::string& spec, in
   Engine engine(ptrs, balance::make_balancer(spec, devices));
   RenderSettings settings{.spp = 1, .max_bounces = 4};
   for (int f = 0; f < frames; ++f) {
-    const FrameRecord rec = engine.render_frame(f, views(rs.scene, f), settings);
+    const FrameRecord rec = engine.render_frame(f, views(rs.scene(), f), settings);
     uint64_t pixels = 0;
     for (const auto& d : rec.devices) pixels += d.pixels;
     EXPECT_EQ(pixels, uint64_t(kW) * kH) << spec << " frame " << f;  // each pixel once
@@ -45,7 +45,7 @@ std::vector<Vec3> render_with(const RenderScene& rs, const std::string& spec, in
 
 TEST(Engine, ImageIsBitIdenticalForEveryBalancerAndDeviceCount) {
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   const auto reference = render_with(rs, "uniform", 1, 3);
   for (const std::string& name : balance::balancer_names())
     for (int devices : {1, 2, 5}) {
@@ -58,7 +58,7 @@ TEST(Engine, ImageIsBitIdenticalForEveryBalancerAndDeviceCount) {
 
 TEST(Engine, RecordsTimesSharesAndImbalance) {
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   CpuDevice fast(rs, {}, "cpu"), slow(rs, CpuDeviceOptions{.speed = 0.25}, "cpu:speed=0.25");
   Engine engine({&fast, &slow}, balance::make_balancer("uniform", 2));
   const FrameRecord rec = engine.render_frame(0, views(scene, 0), RenderSettings{.spp = 2});
@@ -74,7 +74,7 @@ TEST(Engine, RecordsTimesSharesAndImbalance) {
 // and the image equals a healthy run's.
 class FailingDevice : public Device {
  public:
-  explicit FailingDevice(const RenderScene& rs) : inner_(rs, {}, "cpu") {
+  explicit FailingDevice(SceneCache& rs) : inner_(rs, {}, "cpu") {
     info_ = inner_.info();
     info_.name = "failing test device";
   }
@@ -82,8 +82,8 @@ class FailingDevice : public Device {
   void set_emulated_speed(double) override {}
   DeviceReport render(const FrameJob& job, WorkSource& source, int index) override {
     DeviceReport r;
-    WorkUnit u;
-    if (source.next(index, u)) {  // takes one unit and "loses" it
+    uint32_t id;
+    if (source.next(index, id)) {  // takes one item and "loses" it
       r.failed = true;
       r.error = "injected failure";
     }
@@ -98,7 +98,7 @@ class FailingDevice : public Device {
 
 TEST(Engine, FailedDeviceIsDroppedAndItsWorkRedone) {
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   const auto reference = render_with(rs, "uniform", 1, 1);
   CpuDevice good(rs, {}, "cpu");
   FailingDevice bad(rs);
@@ -126,7 +126,7 @@ namespace {
 // Progress counts the pixels handed to devices: all of them once a frame is done.
 TEST(Engine, ProgressReachesOneAtTheEndOfAFrame) {
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   CpuDevice a(rs, {}, "cpu"), b(rs, {}, "cpu");
   Engine engine({&a, &b}, balance::make_balancer("queue:tile=8", 2));
   EXPECT_EQ(engine.progress(), 0.0);

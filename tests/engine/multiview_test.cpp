@@ -26,7 +26,7 @@ std::vector<ViewSetup> grid_views(const Scene& s, const CameraRig& rig, int fram
   return out;
 }
 
-std::vector<Framebuffer> render(const RenderScene& rs, const std::string& spec, int devices) {
+std::vector<Framebuffer> render(SceneCache& rs, const std::string& spec, int devices) {
   std::vector<std::unique_ptr<CpuDevice>> owned;
   std::vector<Device*> ptrs;
   for (int i = 0; i < devices; ++i) {
@@ -37,7 +37,7 @@ std::vector<Framebuffer> render(const RenderScene& rs, const std::string& spec, 
   const CameraRig rig = CameraRig::grid(3, 2, 0.2f);
   for (int f = 0; f < 2; ++f) {
     const FrameRecord rec =
-        engine.render_frame(f, grid_views(rs.scene, rig, f), RenderSettings{.spp = 1});
+        engine.render_frame(f, grid_views(rs.scene(), rig, f), RenderSettings{.spp = 1});
     uint64_t pixels = 0;
     for (const auto& d : rec.devices) pixels += d.pixels;
     EXPECT_EQ(pixels, uint64_t(kW) * kH * 6) << spec;
@@ -47,7 +47,7 @@ std::vector<Framebuffer> render(const RenderScene& rs, const std::string& spec, 
 
 TEST(Multiview, ViewsAreBitIdenticalForEveryMappingAndDeviceCount) {
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   const auto reference = render(rs, "uniform", 1);
   ASSERT_EQ(reference.size(), 6u);
   // The views differ from each other (the rig moves the camera).

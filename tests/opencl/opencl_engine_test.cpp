@@ -25,7 +25,7 @@ constexpr int kW = 32, kH = 32;
 TEST(OpenClEngine, MixedCpuAndOpenClMatchesCpuStatistically) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   CpuDevice cpu(rs, {}, "cpu");
   OpenClDevice cl(rs, {}, "opencl:0");
   const int frames = 32;
@@ -59,7 +59,7 @@ TEST(OpenClEngine, MixedCpuAndOpenClMatchesCpuStatistically) {
 TEST(OpenClEngine, InjectedFailureIsRecoveredBitExactly) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   const RenderSettings s{.spp = 2, .max_bounces = 4};
   OpenClDevice healthy(rs, {}, "opencl:0");
   OpenClDevice failing(rs, OpenClDeviceOptions{.fail_after = 1}, "opencl:0:fail_after=1");

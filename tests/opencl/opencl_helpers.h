@@ -31,10 +31,9 @@ inline ViewSetup view_of(const Scene& scene, int w, int h, int frame = 0) {
 // Renders `regions` of one view with `devices` running concurrently, each pulling from
 // one shared list. Fails the test when a device reports a failure.
 inline Framebuffer render_on(const std::vector<Device*>& devices, const ViewSetup& view,
-                             const RenderSettings& settings,
-                             const std::vector<PixelRect>& regions) {
-  std::vector<WorkUnit> units;
-  for (const PixelRect& r : regions) units.push_back(WorkUnit{r, 0, uint32_t(units.size())});
+                             const RenderSettings& settings, const std::vector<Rect>& regions) {
+  std::vector<WorkItem> units;
+  for (const Rect& r : regions) units.push_back(WorkItem{r, 0});
   ListWorkSource source(units);
   std::vector<Framebuffer> out{Framebuffer(view.width, view.height)};
   FrameJob job{{view}, settings, &out};

@@ -59,7 +59,7 @@ PixelStats batches(Device& device, const Scene& scene, int spp, uint64_t first_s
 }
 
 void expect_matches_cpu(const Scene& scene, int spp) {
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   CpuDevice cpu(rs, {}, "cpu");
   OpenClDevice cl(rs, {}, "opencl:0");
   const PixelStats ref = batches(cpu, scene, spp, 1000), got = batches(cl, scene, spp, 2000);
@@ -103,7 +103,7 @@ TEST(OpenClMatch, TexturesAndGlassMatchCpuStatistically) {
 TEST(OpenClMatch, SameSeedGivesNearlyTheCpuImage) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   CpuDevice cpu(rs, {}, "cpu");
   OpenClDevice cl(rs, {}, "opencl:0");
   const RenderSettings s{.spp = 4, .max_bounces = 6, .seed = 5};
@@ -123,7 +123,7 @@ TEST(OpenClMatch, SameSeedGivesNearlyTheCpuImage) {
 TEST(OpenClMatch, SampleMapGivesNearlyTheCpuImage) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   CpuDevice cpu(rs, {}, "cpu");
   OpenClDevice cl(rs, {}, "opencl:0");
   std::vector<uint8_t> map(size_t(kW) * kH);
@@ -135,7 +135,7 @@ TEST(OpenClMatch, SampleMapGivesNearlyTheCpuImage) {
   const Framebuffer a = render_whole(cpu, view, s);
   std::vector<Framebuffer> out{Framebuffer(kW, kH)};
   FrameJob job{{view}, s, &out};
-  ListWorkSource whole({WorkUnit{{0, 0, kW, kH}, 0, 0}});
+  ListWorkSource whole({WorkItem{{0, 0, kW, kH}, 0}});
   const DeviceReport r = cl.render(job, whole, 0);
   ASSERT_FALSE(r.failed) << r.error;
   EXPECT_EQ(r.samples, total);

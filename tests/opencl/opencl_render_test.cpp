@@ -31,7 +31,7 @@ TEST(OpenClFurnace, EveryPixelEqualsLeOverOneMinusAlbedo) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   for (float albedo : {0.5f, 0.8f}) {
     const Scene scene = make_furnace_sphere(albedo, 1.0f);
-    const RenderScene rs(scene);
+    SceneCache rs(scene);
     OpenClDevice device(rs, {}, "opencl:0");
     RenderSettings s;
     s.spp = 256;
@@ -49,7 +49,7 @@ TEST(OpenClFurnace, EveryPixelEqualsLeOverOneMinusAlbedo) {
 TEST(OpenClLitPlane, RadianceIsAlbedoTimesSky) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   const Scene scene = make_lit_plane(0.5f, 2.0f);
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   OpenClDevice device(rs, {}, "opencl:0");
   const Framebuffer fb =
       render_whole(device, view_of(scene, 24, 16), RenderSettings{.spp = 4, .max_bounces = 4});
@@ -62,14 +62,14 @@ TEST(OpenClLitPlane, RadianceIsAlbedoTimesSky) {
 TEST(OpenClSplit, ImageIsBitIdenticalForAnySplit) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   const int w = 37, h = 23;
   const ViewSetup view = view_of(scene, w, h, 3);
   const RenderSettings s{.spp = 2, .max_bounces = 5, .seed = 7};
   OpenClDevice a(rs, {}, "opencl:0");
   const Framebuffer whole = render_whole(a, view, s);
 
-  std::vector<PixelRect> tiles;
+  std::vector<Rect> tiles;
   for (int y = 0; y < h; y += 5)
     for (int x = 0; x < w; x += 7) tiles.push_back({x, y, std::min(w, x + 7), std::min(h, y + 5)});
   EXPECT_TRUE(same_bits(render_on({&a}, view, s, tiles), whole)) << "tiles";
@@ -84,16 +84,16 @@ TEST(OpenClSplit, ImageIsBitIdenticalForAnySplit) {
 TEST(OpenClDevice, RefusesAmbientOcclusionWithoutTakingWork) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   OpenClDevice device(rs, {}, "opencl:0");
   std::vector<Framebuffer> out{Framebuffer(8, 8)};
-  FrameJob job{{view_of(scene, 8, 8)}, RenderSettings{.integrator = Integrator::AO}, &out};
-  ListWorkSource source({WorkUnit{{0, 0, 8, 8}, 0, 0}});
+  FrameJob job{{view_of(scene, 8, 8)}, RenderSettings{.kernel = "ao"}, &out};
+  ListWorkSource source({WorkItem{{0, 0, 8, 8}, 0}});
   const DeviceReport r = device.render(job, source, 0);
   EXPECT_TRUE(r.failed);
-  EXPECT_NE(r.error.find("ambient occlusion"), std::string::npos) << r.error;
-  WorkUnit u;
-  EXPECT_TRUE(source.next(0, u));  // the unit is still there
+  EXPECT_NE(r.error.find("cannot run the ao kernel"), std::string::npos) << r.error;
+  uint32_t id;
+  EXPECT_TRUE(source.next(0, id));  // the unit is still there
 }
 
 // The second device built from the same source loads the kernel binary from the disk cache.
@@ -106,7 +106,7 @@ TEST(OpenClProgram, KernelBinaryIsCachedOnDisk) {
   const std::string saved = old ? old : "";
   setenv("XDG_CACHE_HOME", dir.c_str(), 1);
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   {
     OpenClDevice first(rs, {}, "opencl:0");
     EXPECT_FALSE(first.kernel_from_cache());
@@ -154,7 +154,7 @@ TEST(OpenClSpec, ParsesIndexAndKeys) {
 TEST(OpenClSpec, MissingDeviceIsAClearError) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   try {
     create_devices("opencl:999", rs);
     FAIL() << "expected an InputError";

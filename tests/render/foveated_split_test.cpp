@@ -31,32 +31,31 @@ bool same_bits(const Framebuffer& a, const Framebuffer& b) {
 }
 
 // Renders `rects` one after the other with the kernel (each rect renders its own samples).
-Framebuffer render_rects(const RenderScene& rs, const ViewSetup& v, const RenderSettings& s,
-                         const std::vector<PixelRect>& rects) {
-  const PathTracer tracer(rs);
-  const AmbientOcclusion ao(rs);
-  const FoveatedKernel kernel(tracer, ao);
+Framebuffer render_rects(SceneCache& rs, const ViewSetup& v, const RenderSettings& s,
+                         const std::vector<Rect>& rects) {
+  const std::unique_ptr<Kernel> sampled = find_cpu_kernel(s.kernel)->make(rs.embree());
+  const FoveatedKernel kernel(*sampled);
   Framebuffer fb(v.width, v.height);
   std::vector<Vec3> scratch;
-  for (const PixelRect& r : rects) kernel.render_rect(v, s, r, fb, scratch);
+  for (const Rect& r : rects) kernel.render_rect(v, s, r, fb, scratch);
   return fb;
 }
 
 TEST(FoveatedSampling, ImageIsIndependentOfRectsAndDevicesBitForBit) {
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   const FoveationPattern pattern = make_foveation_pattern(kW, kH, {});
-  for (const Integrator integrator : {Integrator::AO, Integrator::Path}) {
+  for (const char* kernel_name : {"ao", "path"}) {
     RenderSettings s;
-    s.integrator = integrator;
+    s.kernel = kernel_name;
     s.max_bounces = 3;
     const FoveationFrame f = prepare_foveation_frame(pattern, 0.35f, 0.6f);
     const ViewSetup v = foveated_view(scene, f, 2);
     const Framebuffer whole = render_rects(rs, v, s, {{0, 0, kW, kH}});
     // Uneven pieces: thin strips, a single pixel, a column through the fovea.
-    const std::vector<PixelRect> pieces = {{0, 0, kW, 3},   {0, 3, 20, 30},  {20, 3, 21, 4},
-                                           {21, 3, 22, 30}, {20, 4, 21, 30}, {22, 3, kW, 30},
-                                           {0, 30, kW, kH}};
+    const std::vector<Rect> pieces = {{0, 0, kW, 3},   {0, 3, 20, 30},  {20, 3, 21, 4},
+                                      {21, 3, 22, 30}, {20, 4, 21, 30}, {22, 3, kW, 30},
+                                      {0, 30, kW, kH}};
     EXPECT_TRUE(same_bits(whole, render_rects(rs, v, s, pieces)));
     // Three CPU devices of two threads each pulling the pieces concurrently.
     CpuDeviceOptions two_threads;
@@ -64,8 +63,8 @@ TEST(FoveatedSampling, ImageIsIndependentOfRectsAndDevicesBitForBit) {
     std::vector<std::unique_ptr<CpuDevice>> devices;
     for (int i = 0; i < 3; ++i)
       devices.push_back(std::make_unique<CpuDevice>(rs, two_threads, "cpu:threads=2"));
-    std::vector<WorkUnit> units;
-    for (const PixelRect& r : pieces) units.push_back(WorkUnit{r, 0, uint32_t(units.size())});
+    std::vector<WorkItem> units;
+    for (const Rect& r : pieces) units.push_back(WorkItem{r, 0});
     ListWorkSource source(units);
     std::vector<Framebuffer> out{Framebuffer(kW, kH)};
     const FrameJob job{{v}, s, &out};
@@ -81,12 +80,12 @@ TEST(FoveatedSampling, ImageIsIndependentOfRectsAndDevicesBitForBit) {
 // frame instead of reading out of bounds.
 TEST(FoveatedSampling, DeviceRefusesDataOfAnotherSize) {
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   const FoveationFrame f = prepare_foveation_frame(make_foveation_pattern(12, 12, {}), 0.5f, 0.5f);
   ViewSetup v = foveated_view(scene, f, 0);
   v.width = 10, v.height = 10;
   CpuDevice device(rs, {}, "cpu");
-  ListWorkSource source({WorkUnit{{0, 0, 10, 10}, 0, 0}});
+  ListWorkSource source({WorkItem{{0, 0, 10, 10}, 0}});
   std::vector<Framebuffer> out{Framebuffer(10, 10)};
   const DeviceReport r = device.render(FrameJob{{v}, RenderSettings{}, &out}, source, 0);
   EXPECT_TRUE(r.failed);
@@ -97,10 +96,10 @@ TEST(FoveatedSampling, DeviceRefusesDataOfAnotherSize) {
 // devices of different emulated speeds reproduces the single-rect image of each frame.
 TEST(FoveatedSampling, EngineImagesMatchForEveryBalancerAndDeviceCount) {
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   const FoveationPattern pattern = make_foveation_pattern(kW, kH, {});
   RenderSettings s;
-  s.integrator = Integrator::AO;
+  s.kernel = "ao";
   std::vector<FoveationFrame> frames;
   std::vector<Framebuffer> reference;
   for (int f = 0; f < 3; ++f) {
@@ -139,13 +138,13 @@ TEST(FoveatedSampling, EngineImagesMatchForEveryBalancerAndDeviceCount) {
 // smaller in area than the other.
 TEST(FoveatedSampling, SemiStaticSplitsBySamplesNotArea) {
   const Scene scene = make_cornell_box();
-  const RenderScene rs(scene);
+  SceneCache rs(scene);
   const int w = 64, h = 64;
   const FoveationFrame f = prepare_foveation_frame(make_foveation_pattern(w, h, {}), 0.5f, 0.2f);
   CpuDevice a(rs, {}, "cpu"), b(rs, {}, "cpu");
   Engine engine({&a, &b}, balance::make_balancer("semi-static", 2));
   RenderSettings s;
-  s.integrator = Integrator::AO;
+  s.kernel = "ao";
   engine.render_frame(0, {foveated_view(scene, f, 0)}, s);
   const balance::Plan& plan = engine.last_plan();
   int64_t area[2] = {0, 0};

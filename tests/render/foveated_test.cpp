@@ -14,11 +14,10 @@ namespace {
 
 // Renders `rect` of a foveated view of `scene` with the kernel, on the calling thread.
 Framebuffer render_foveated(const Scene& scene, const FoveationFrame& f, RenderSettings s,
-                            PixelRect rect = {}) {
+                            Rect rect = {}) {
   const RenderScene rs(scene);
-  const PathTracer tracer(rs);
-  const AmbientOcclusion ao(rs);
-  const FoveatedKernel kernel(tracer, ao);
+  const std::unique_ptr<Kernel> sampled = find_cpu_kernel(s.kernel)->make(rs);
+  const FoveatedKernel kernel(*sampled);
   ViewSetup v;
   v.camera = scene.cameras[0];
   v.width = f.width, v.height = f.height, v.foveation = &f;
@@ -69,11 +68,11 @@ TEST(FoveatedReconstruction, ConstantSceneIsExact) {
   const Scene plane = make_lit_plane(0.5f, 1.0f);
   const FoveationFrame f = prepare_foveation_frame(make_foveation_pattern(48, 32, {}), 0.3f, 0.6f);
   RenderSettings s;
-  s.integrator = Integrator::AO;
+  s.kernel = "ao";
   s.ao_rays = 2;
   s.ao_distance = 5.0f;
   for (const Vec3& p : render_foveated(plane, f, s).pixels) ASSERT_EQ(p.x, 1.0f);
-  s.integrator = Integrator::Path;
+  s.kernel = "path";
   s.max_bounces = 1;
   for (const Vec3& p : render_foveated(plane, f, s).pixels)
     for (int c = 0; c < 3; ++c) ASSERT_NEAR(p[c], 0.5f, 1e-6f);
@@ -126,7 +125,7 @@ TEST(FoveatedReconstruction, LinearGradientStaysWithinBound) {
 TEST(FoveatedReconstruction, EveryPixelGetsAValue) {
   const Scene scene = make_cornell_box();
   RenderSettings s;
-  s.integrator = Integrator::AO;
+  s.kernel = "ao";
   const std::pair<int, int> sizes[] = {{1, 1}, {2, 1}, {1, 3}, {7, 5}, {33, 17}, {97, 61}};
   const std::pair<float, float> gazes[] = {{0.5f, 0.5f}, {0, 0}, {1, 1}, {1, 0}, {0.1f, 0.9f}};
   for (const auto& [w, h] : sizes) {

@@ -13,7 +13,7 @@ namespace multiray {
 namespace {
 
 Framebuffer render_ao(const Scene& scene, int w, int h, RenderSettings s,
-                      const std::vector<uint8_t>* map = nullptr, PixelRect rect = {}) {
+                      const std::vector<uint8_t>* map = nullptr, Rect rect = {}) {
   const RenderScene rs(scene);
   const AmbientOcclusion ao(rs);
   ViewSetup v;
@@ -29,7 +29,7 @@ Framebuffer render_ao(const Scene& scene, int w, int h, RenderSettings s,
 // longer than the diameter hits: the answers are exactly 1 and 0.
 TEST(AmbientOcclusion, KnownAnswersOpenPlaneAndClosedSphere) {
   RenderSettings s;
-  s.integrator = Integrator::AO;
+  s.kernel = "ao";
   s.spp = 4;
   s.ao_rays = 4;
   s.ao_distance = 5.0f;
@@ -97,7 +97,7 @@ TEST(AdaptiveSampling, SampleMapIsHonouredAndSplitIndependent) {
   EXPECT_GT(edges, 40);   // the box has plenty of edges
   EXPECT_LT(edges, 600);  // but most pixels are not on one
   RenderSettings s;
-  s.integrator = Integrator::AO;
+  s.kernel = "ao";
   const Framebuffer whole = render_ao(scene, 40, 30, s, &map);
   Framebuffer parts = render_ao(scene, 40, 30, s, &map, {0, 0, 40, 13});
   const Framebuffer lower = render_ao(scene, 40, 30, s, &map, {0, 13, 40, 30});

@@ -14,15 +14,15 @@ namespace multiray::testing {
 // Renders `regions` of one view on `device_count` CPU devices running concurrently
 // (devices pull regions from one shared list).
 inline Framebuffer render_regions(const Scene& scene, int w, int h, const RenderSettings& settings,
-                                  const std::vector<PixelRect>& regions, int device_count = 1,
+                                  const std::vector<Rect>& regions, int device_count = 1,
                                   int threads = 1, int frame = 0) {
-  RenderScene rs(scene);
+  SceneCache rs(scene);
   std::vector<std::unique_ptr<CpuDevice>> devices;
   for (int i = 0; i < device_count; ++i)
     devices.push_back(
         std::make_unique<CpuDevice>(rs, CpuDeviceOptions{.threads = threads}, "cpu"));
-  std::vector<WorkUnit> units;
-  for (const PixelRect& r : regions) units.push_back(WorkUnit{r, 0, uint32_t(units.size())});
+  std::vector<WorkItem> units;
+  for (const Rect& r : regions) units.push_back(WorkItem{r, 0});
   ListWorkSource source(units);
   std::vector<Framebuffer> out{Framebuffer(w, h)};
   ViewSetup view;

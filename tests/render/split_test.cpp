@@ -29,9 +29,8 @@ TEST_F(SplitIndependence, TwoRegions) {
 }
 
 TEST_F(SplitIndependence, SevenIrregularRegionsOnThreeDevices) {
-  const std::vector<PixelRect> regions{{0, 0, 13, 37}, {13, 0, 61, 5},  {13, 5, 40, 6},
-                                       {40, 5, 61, 6}, {13, 6, 14, 37}, {14, 6, 50, 37},
-                                       {50, 6, 61, 37}};
+  const std::vector<Rect> regions{{0, 0, 13, 37},  {13, 0, 61, 5},  {13, 5, 40, 6}, {40, 5, 61, 6},
+                                  {13, 6, 14, 37}, {14, 6, 50, 37}, {50, 6, 61, 37}};
   const auto fb = testing::render_regions(scene_, kW, kH, settings_, regions, 3, 1);
   EXPECT_TRUE(bit_identical(reference_, fb));
 }

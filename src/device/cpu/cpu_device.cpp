@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <map>
 #include <optional>
+#include <stdexcept>
 #include <thread>
 
 #include <oneapi/tbb/blocked_range2d.h>
@@ -16,8 +18,8 @@
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/cpu/cgroup_quota.h"
-#include "render/ambient_occlusion.h"
 #include "render/foveated.h"
+#include "render/kernel.h"
 
 namespace multiray {
 
@@ -54,7 +56,8 @@ class ThreadSetup : public oneapi::tbb::task_scheduler_observer {
 
 struct CpuDevice::Impl {
   Impl(const RenderScene& rs, const CpuDeviceOptions& o, const std::string& name)
-      : tracer(rs), ao(rs), foveated(tracer, ao), opts(o), arena(o.threads, 1) {
+      : opts(o), arena(o.threads, 1) {
+    for (const KernelEntry& e : cpu_kernels()) kernels.emplace(e.name, e.make(rs));
     if (o.quota > 0) quota.emplace(name, o.quota * o.threads);
     setup.emplace(arena, o.cores, quota ? &*quota : nullptr);
   }
@@ -64,9 +67,14 @@ struct CpuDevice::Impl {
     // can reach (the caller's), the rest leave when the process ends.
     if (quota) CgroupQuota::leave_current_thread();
   }
-  PathTracer tracer;
-  AmbientOcclusion ao;
-  FoveatedKernel foveated;
+  // Throws std::invalid_argument for a kernel this device does not have (a failed frame).
+  const Kernel& kernel(const std::string& name) const {
+    const auto it = kernels.find(name);
+    if (it == kernels.end())
+      throw std::invalid_argument("cpu device has no kernel '" + name + "'");
+    return *it->second;
+  }
+  std::map<std::string, std::unique_ptr<Kernel>> kernels;  // every CPU kernel, by name
   // Foveated sampling: values of the samples rendered in this render() call, and for
   // each sample the (call, view) it was last rendered for, so that a sample needed by
   // several units of one device in one frame is rendered once.
@@ -80,7 +88,7 @@ struct CpuDevice::Impl {
   std::atomic<double> speed{1.0};
 };
 
-CpuDevice::CpuDevice(const RenderScene& rs, CpuDeviceOptions opts, std::string spec) {
+CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec) {
   if (opts.threads < 1 || opts.threads > 1024)
     throw InputError("cpu device: threads must be in 1..1024, got " +
                      std::to_string(opts.threads));
@@ -92,13 +100,14 @@ CpuDevice::CpuDevice(const RenderScene& rs, CpuDeviceOptions opts, std::string s
   if (!(opts.speed > 0 && opts.speed <= 1))
     throw InputError("cpu device: speed must be in (0, 1], got " + std::to_string(opts.speed));
   static std::atomic<int> counter{0};
-  impl_ = std::make_unique<Impl>(rs, opts, "cpu" + std::to_string(counter++));
+  impl_ = std::make_unique<Impl>(scenes.embree(), opts, "cpu" + std::to_string(counter++));
   impl_->speed = opts.speed;
   info_.type = "cpu";
   info_.spec = std::move(spec);
   info_.threads = opts.threads;
   info_.emulated_speed = opts.speed;
   info_.cpu_quota = opts.quota;
+  info_.caps = capabilities();
   info_.name =
       "cpu (" + std::to_string(opts.threads) + (opts.threads == 1 ? " thread" : " threads");
   if (!opts.cores.empty()) {
@@ -111,6 +120,14 @@ CpuDevice::CpuDevice(const RenderScene& rs, CpuDeviceOptions opts, std::string s
 }
 
 CpuDevice::~CpuDevice() = default;
+
+DeviceCapabilities CpuDevice::capabilities() {
+  DeviceCapabilities caps;
+  for (const KernelEntry& e : cpu_kernels()) caps.kernels.push_back(e.name);
+  caps.sampling = {"uniform", "adaptive", "foveated"};
+  caps.representation = "embree";
+  return caps;
+}
 
 void CpuDevice::set_emulated_speed(double speed) {
   impl_->speed = speed;
@@ -130,51 +147,41 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
   ++impl_->render_calls;
   const int tile = std::max(1, impl_->opts.tile);
   try {
-    WorkUnit unit;
     SlowdownEmulator slowdown(impl_->speed.load());
-    while (source.next(index, unit)) {
-      const Stopwatch unit_clock;
-      const ViewSetup& view = job.views.at(unit.view);
-      Framebuffer& out = job.outputs->at(unit.view);
+    const Kernel& kernel = impl_->kernel(job.settings.kernel);
+    for (uint32_t id; source.next(index, id);) {
+      const Stopwatch item_clock;
+      const WorkItem& item = source.item(id);
+      const ViewSetup& view = job.views.at(size_t(item.view));
+      Framebuffer& out = job.outputs->at(size_t(item.view));
       std::atomic<uint64_t> samples{0}, rays{0};
-      const PixelRect r = unit.rect;
+      const Rect r = item.rect;
       impl_->arena.execute([&] {
-        if (view.foveation) return render_foveated(job, view, r, out, samples, rays);
+        if (view.foveation) return render_foveated(job, kernel, view, r, out, samples, rays);
         oneapi::tbb::parallel_for(
             oneapi::tbb::blocked_range2d<int>(r.y0, r.y1, tile, r.x0, r.x1, tile),
             [&](const oneapi::tbb::blocked_range2d<int>& b) {
-              const PixelRect sub{b.cols().begin(), b.rows().begin(), b.cols().end(),
-                                  b.rows().end()};
-              const KernelStats ks = job.settings.integrator == Integrator::AO
-                                         ? impl_->ao.render_rect(view, job.settings, sub, out)
-                                         : impl_->tracer.render_rect(view, job.settings, sub, out);
+              const Rect sub{b.cols().begin(), b.rows().begin(), b.cols().end(), b.rows().end()};
+              const KernelStats ks = kernel.render_rect(view, job.settings, sub, out);
               samples += ks.samples;
               rays += ks.rays;
             });
       });
-      const double busy = unit_clock.elapsed_ms();
+      const double busy = item_clock.elapsed_ms();
       slowdown.after_unit(busy);
-      UnitReport ur;
-      ur.unit = unit;
-      ur.busy_ms = busy;
-      ur.time_ms = unit_clock.elapsed_ms();
-      ur.samples = samples;
-      report.units.push_back(ur);
-      report.busy_ms += busy;
-      report.samples += samples;
-      report.rays += rays;
-      report.pixels += uint64_t(r.area());
+      report.add(ItemReport{item, item_clock.elapsed_ms(), double(samples.load()), busy, id},
+                 rays);
     }
   } catch (const std::exception& e) {
     report.failed = true;
     report.error = e.what();
   }
-  report.wall_ms = frame_clock.elapsed_ms();
+  report.time_ms = frame_clock.elapsed_ms();
   return report;
 }
 
-void CpuDevice::render_foveated(const FrameJob& job, const ViewSetup& view, PixelRect r,
-                                Framebuffer& out, std::atomic<uint64_t>& samples,
+void CpuDevice::render_foveated(const FrameJob& job, const Kernel& kernel, const ViewSetup& view,
+                                Rect r, Framebuffer& out, std::atomic<uint64_t>& samples,
                                 std::atomic<uint64_t>& rays) {
   // The unit's samples are rendered once for the whole unit (not per thread tile, which
   // would render the samples on tile borders twice), then its pixels reconstructed.
@@ -202,7 +209,7 @@ void CpuDevice::render_foveated(const FrameJob& job, const ViewSetup& view, Pixe
   const int tile = std::max(1, impl_->opts.tile);
   oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<size_t>(0, idx.size(), 64),
                             [&](const oneapi::tbb::blocked_range<size_t>& b) {
-                              const KernelStats ks = impl_->foveated.shade(
+                              const KernelStats ks = FoveatedKernel(kernel).shade(
                                   view, job.settings, idx.data() + b.begin(), b.size(), values);
                               rays += ks.rays;
                             });

@@ -1,4 +1,4 @@
-// CPU device: the Embree path tracer, ambient occlusion and foveated sampling run by a
+// CPU device: every CPU kernel (render/kernel.h) and foveated sampling, run by a
 // oneTBB task arena of N threads, optionally pinned to given cores and optionally throttled
 // by a cgroup CPU quota.
 #pragma once
@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "device/device.h"
+#include "device/scene_cache.h"
+#include "render/kernel.h"
 
 namespace multiray {
 
@@ -21,11 +23,15 @@ struct CpuDeviceOptions {
 
 class CpuDevice : public Device {
  public:
-  // `rs` must outlive the device; several CPU devices share one RenderScene (one BVH).
+  // Uses the "embree" representation of `scenes` (shared by every CPU device: one BVH);
+  // `scenes` must outlive the device.
   // Throws InputError when the options are impossible on this machine (e.g. core id out
   // of range) and DeviceError when a requested quota cannot be applied.
-  CpuDevice(const RenderScene& rs, CpuDeviceOptions opts, std::string spec);
+  CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec);
   ~CpuDevice() override;
+
+  // Every CPU kernel, every sampling mode, on the "embree" representation.
+  static DeviceCapabilities capabilities();
 
   const DeviceInfo& info() const override { return info_; }
   DeviceReport render(const FrameJob& job, WorkSource& source, int index) override;
@@ -34,8 +40,9 @@ class CpuDevice : public Device {
  private:
   // Renders unit rect `r` of a foveated view: its samples, then its pixels. Runs inside
   // the device's arena.
-  void render_foveated(const FrameJob& job, const ViewSetup& view, PixelRect r, Framebuffer& out,
-                       std::atomic<uint64_t>& samples, std::atomic<uint64_t>& rays);
+  void render_foveated(const FrameJob& job, const Kernel& kernel, const ViewSetup& view, Rect r,
+                       Framebuffer& out, std::atomic<uint64_t>& samples,
+                       std::atomic<uint64_t>& rays);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -134,7 +134,7 @@ struct OpenClDevice::Impl {
   }
 
   // Renders `r` of `view` into `out` in launches of at most tile x tile pixels.
-  KernelStats render_rect(const ViewSetup& view, const RenderSettings& st, PixelRect r,
+  KernelStats render_rect(const ViewSetup& view, const RenderSettings& st, Rect r,
                           Framebuffer& out) {
     KernelStats stats;
     const PinholeCamera cam(view.camera, view.width, view.height);
@@ -190,8 +190,17 @@ struct OpenClDevice::Impl {
   }
 };
 
-OpenClDevice::OpenClDevice(const RenderScene& rs, OpenClDeviceOptions opts, std::string spec)
+DeviceCapabilities OpenClDevice::capabilities() {
+  DeviceCapabilities caps;
+  caps.kernels = {"path"};
+  caps.sampling = {"uniform", "adaptive"};  // per-pixel sample maps; no foveated patterns
+  caps.representation = "opencl-flat-bvh";
+  return caps;
+}
+
+OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::string spec)
     : impl_(std::make_unique<Impl>()) {
+  const RenderScene& rs = scenes.embree();  // flattened into this device's own buffers
   if (!(opts.speed > 0 && opts.speed <= 1))
     throw InputError("opencl device: speed must be in (0, 1], got " + std::to_string(opts.speed));
   if (opts.tile < 1 || opts.tile > 4096)
@@ -224,6 +233,7 @@ OpenClDevice::OpenClDevice(const RenderScene& rs, OpenClDeviceOptions opts, std:
                       "): setting up failed: " + cl_util::describe(e));
   }
   info_.type = "opencl";
+  info_.caps = capabilities();
   info_.spec = std::move(spec);
   info_.emulated_speed = opts.speed;
   info_.name = "opencl " + std::to_string(opts.index) + " (" + name;
@@ -259,41 +269,31 @@ DeviceReport OpenClDevice::render(const FrameJob& job, WorkSource& source, int i
   // Refuse, before taking any work, what the kernel does not implement: the engine then
   // drops this device and the others render the frame.
   std::string unsupported;
-  if (job.settings.integrator != Integrator::Path)
-    unsupported = "only the path tracer (not ambient occlusion)";
   for (const ViewSetup& v : job.views)
-    if (v.foveation) unsupported = "no foveated sampling";
+    if (v.foveation) unsupported = unsupported_job(info_, job.settings.kernel, "foveated");
+  if (unsupported.empty()) unsupported = unsupported_job(info_, job.settings.kernel, "uniform");
   if (!unsupported.empty()) {
     report.failed = true;
-    report.error = info_.name + ": the OpenCL kernel implements " + unsupported;
-    report.wall_ms = frame_clock.elapsed_ms();
+    report.error = unsupported;
+    report.time_ms = frame_clock.elapsed_ms();
     return report;
   }
   try {
-    WorkUnit unit;
     SlowdownEmulator slowdown(impl_->speed.load());
-    while (source.next(index, unit)) {
+    for (uint32_t id; source.next(index, id);) {
       if (impl_->opts.fail_after >= 0 && impl_->units_done >= impl_->opts.fail_after) {
         report.failed = true;
         report.error = "injected failure after " + std::to_string(impl_->units_done) +
                        " units (fail_after, a testing aid)";
         break;
       }
-      const Stopwatch unit_clock;
-      const KernelStats ks = impl_->render_rect(job.views.at(unit.view), job.settings, unit.rect,
-                                                job.outputs->at(unit.view));
-      const double busy = unit_clock.elapsed_ms();
+      const Stopwatch item_clock;
+      const WorkItem& item = source.item(id);
+      const KernelStats ks = impl_->render_rect(job.views.at(size_t(item.view)), job.settings,
+                                                item.rect, job.outputs->at(size_t(item.view)));
+      const double busy = item_clock.elapsed_ms();
       slowdown.after_unit(busy);
-      UnitReport ur;
-      ur.unit = unit;
-      ur.busy_ms = busy;
-      ur.time_ms = unit_clock.elapsed_ms();
-      ur.samples = ks.samples;
-      report.units.push_back(ur);
-      report.busy_ms += busy;
-      report.samples += ks.samples;
-      report.rays += ks.rays;
-      report.pixels += uint64_t(unit.rect.area());
+      report.add(ItemReport{item, item_clock.elapsed_ms(), double(ks.samples), busy, id}, ks.rays);
       ++impl_->units_done;
     }
   } catch (const cl::Error& e) {
@@ -303,7 +303,7 @@ DeviceReport OpenClDevice::render(const FrameJob& job, WorkSource& source, int i
     report.failed = true;
     report.error = info_.name + ": " + e.what();
   }
-  report.wall_ms = frame_clock.elapsed_ms();
+  report.time_ms = frame_clock.elapsed_ms();
   return report;
 }
 

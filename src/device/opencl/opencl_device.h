@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "device/device.h"
+#include "device/scene_cache.h"
 
 namespace multiray {
 
@@ -28,11 +29,15 @@ struct OpenClDeviceOptions {
 
 class OpenClDevice : public Device {
  public:
-  // `rs` must outlive the device. Throws InputError when `opts` are impossible here (no
+  // Flattens the "embree" representation of `scenes` into its own buffers (`scenes` must
+  // outlive the device). Throws InputError when `opts` are impossible here (no
   // such device index, bad values) and DeviceError when the device cannot be set up
   // (kernel build error with the compiler's log, scene too large, out of memory).
-  OpenClDevice(const RenderScene& rs, OpenClDeviceOptions opts, std::string spec);
+  OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::string spec);
   ~OpenClDevice() override;
+
+  // The path tracer only, uniform or per-pixel (adaptive) sampling.
+  static DeviceCapabilities capabilities();
 
   const DeviceInfo& info() const override { return info_; }
   // Never throws: an OpenCL error (or the injected failure) returns failed = true, with

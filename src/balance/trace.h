@@ -1,0 +1,65 @@
+// Traces: what every work item cost on the device that rendered it, frame by frame, in a
+// compact text format (docs/traces.md) that the simulator can replay. Recorded by
+// `multiray render|bench --trace FILE`; replayed by replay_trace() (and, later,
+// `multiray simulate`) through the very balancer and Dispatcher code the engine runs.
+//
+// Format, one record per line, fields separated by single spaces:
+//   multiray-trace 1
+//   balancer SPEC
+//   device INDEX SPEED NAME...          (SPEED: emulated speed factor, 1 = full)
+//   frame FRAME WIDTH HEIGHT VIEWS      (starts a frame; the shape the items refer to)
+//   time DEVICE ALIVE TIME_MS BUSY_MS   (the device's frame; ALIVE 1 or 0)
+//   item DEVICE ID VIEW X0 Y0 X1 Y1 SAMPLES TIME_MS BUSY_MS
+// Times are milliseconds measured inside the device (TIME wall incl. emulated idle, BUSY
+// rendering only), written with 17 significant digits so a read trace equals the written one.
+#pragma once
+
+#include <istream>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "balance/simulate.h"
+#include "balance/stats.h"
+
+namespace multiray::balance {
+
+struct TraceDevice {
+  std::string name;
+  double speed = 1.0;  // emulated speed factor when recorded (1: full speed)
+};
+
+struct Trace {
+  std::string balancer;
+  std::vector<TraceDevice> devices;
+  std::vector<FrameStats> frames;  // shapes carry size and views (no pixel weights)
+};
+
+// Writes a trace as frames finish. Check the stream after the last frame.
+class TraceWriter {
+ public:
+  TraceWriter(std::ostream& out, const std::string& balancer,
+              const std::vector<TraceDevice>& devices);
+  void frame(const FrameStats& stats);
+
+ private:
+  std::ostream& out_;
+};
+
+void write_trace(std::ostream& out, const Trace& trace);
+// Throws std::invalid_argument naming the line for anything malformed: an unknown record,
+// a missing or non-numeric field, a number out of range, a device or frame out of order.
+Trace read_trace(std::istream& in);
+
+// The cost (ms at speed 1) of an item of frame `frame_index` of `trace`: an item recorded
+// exactly as is costs its recorded time × its device's speed; any other item costs the
+// recorded cost density (per unit of weight, spread evenly over each recorded item) summed
+// over its pixels. `shape` supplies pixel weights (may be empty).
+CostFn trace_cost(const Trace& trace, size_t frame_index, const FrameShape& shape);
+
+// Replays `trace` through `balancer` on simulated devices (default: one per traced device
+// at its recorded speed), frame by frame, with trace_cost() as each frame's cost.
+std::vector<SimFrame> replay_trace(const Trace& trace, Balancer& balancer,
+                                   std::vector<SimDevice> devices = {});
+
+}  // namespace multiray::balance

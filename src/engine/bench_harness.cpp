@@ -1,0 +1,116 @@
+#include "engine/bench_harness.h"
+
+#include <algorithm>
+#include <thread>
+
+#include "core/error.h"
+#include "device/work_list.h"
+
+namespace multiray {
+
+std::vector<int> spread_frames(int first, int frames, int count) {
+  std::vector<int> out;
+  const int span = frames - first;
+  count = std::min(count, span);
+  for (int k = 0; k < count; ++k) out.push_back(first + int(int64_t(k) * span / count));
+  return out;
+}
+
+namespace {
+
+// Emulated speeds as the perturbations set them at `frame`.
+std::vector<double> speeds_at(const std::vector<Perturbation>& perturbations,
+                              std::vector<double> speeds, int frame) {
+  for (const Perturbation& p : perturbations)
+    if (p.frame <= frame) speeds[size_t(p.device)] = p.speed;
+  return speeds;
+}
+
+// Each device renders all of `in` alone at the frame's emulated speeds, on a thread of its
+// own (as in the engine, so pinning and quotas apply to that thread only). Leaves the
+// devices at those speeds.
+IdealSample measure_ideal(const std::vector<Device*>& devices, const std::vector<double>& speeds,
+                          const FrameInput& in, const RenderSettings& settings, int frame) {
+  const int w = in.views.at(0).width, h = in.views.at(0).height;
+  std::vector<Framebuffer> out(in.views.size(), Framebuffer(w, h));
+  const FrameJob job{in.views, settings, &out};
+  IdealSample sample;
+  sample.frame = frame;
+  double inv = 0;
+  for (size_t i = 0; i < devices.size(); ++i) {
+    devices[i]->set_emulated_speed(speeds[i]);
+    std::vector<WorkItem> whole;
+    for (int v = 0; v < int(in.views.size()); ++v) whole.push_back(WorkItem{Rect{0, 0, w, h}, v});
+    ListWorkSource source(whole);
+    DeviceReport r;
+    std::thread([&] { r = devices[i]->render(job, source, int(i)); }).join();
+    if (r.failed) throw DeviceError("device " + std::to_string(i) + " failed: " + r.error);
+    inv += 1.0 / std::max(r.time_ms, 1e-6);
+    sample.device_alone_ms.push_back(r.time_ms);
+  }
+  sample.ideal_ms = 1.0 / inv;
+  return sample;
+}
+
+class BenchObserver : public FrameObserver {
+ public:
+  BenchObserver(const std::vector<Device*>& devices, const std::vector<double>& speeds,
+                const std::vector<Perturbation>& perturbations, const RenderSettings& settings,
+                const BenchConfig& config, const std::function<void(int)>& on_frame,
+                BenchResult& result)
+      : devices_(devices),
+        speeds_(speeds),
+        perturbations_(perturbations),
+        settings_(settings),
+        config_(config),
+        on_frame_(on_frame),
+        result_(result) {}
+
+  void before_frame(int frame, const FrameInput& in) override {
+    if (on_frame_) on_frame_(frame);
+    result_.sampling_ms.push_back(in.sampling_ms);
+    if (std::find(result_.sampled.begin(), result_.sampled.end(), frame) != result_.sampled.end())
+      result_.ideal.push_back(measure_ideal(devices_, speeds_at(perturbations_, speeds_, frame),
+                                            in, settings_, frame));
+  }
+
+  void on_frame(const std::shared_ptr<const FrameResult>& r) override {
+    BenchLane& lane = result_.lanes[r->lane];
+    lane.records.push_back(r->record);
+    uint64_t hash = 0xcbf29ce484222325ull;
+    for (const Framebuffer& img : r->images) hash = image_hash(img, hash);
+    lane.image_hashes.push_back(hash);
+    if (r->lane > 0 && hash != result_.lanes[0].image_hashes.back())
+      result_.mismatched_frames[r->lane].push_back(r->frame);
+    if (r->frame == config_.partition_frame) lane.partition = r->rendered;
+  }
+
+ private:
+  const std::vector<Device*>& devices_;
+  const std::vector<double>& speeds_;
+  const std::vector<Perturbation>& perturbations_;
+  const RenderSettings& settings_;
+  const BenchConfig& config_;
+  const std::function<void(int)>& on_frame_;
+  BenchResult& result_;
+};
+
+}  // namespace
+
+BenchResult run_bench(Session& session, const std::vector<Device*>& devices,
+                      const std::vector<double>& speeds,
+                      const std::vector<Perturbation>& perturbations,
+                      const RenderSettings& settings, const BenchConfig& config,
+                      const std::function<void(int)>& on_frame) {
+  BenchResult result;
+  result.sampled = spread_frames(config.warmup, config.frames, config.ideal_frames);
+  result.lanes.resize(session.lanes());
+  result.mismatched_frames.resize(session.lanes());
+  for (size_t k = 0; k < session.lanes(); ++k)
+    result.lanes[k].spec = session.engine(k).balancer().spec();
+  BenchObserver observer(devices, speeds, perturbations, settings, config, on_frame, result);
+  session.run(0, config.frames, observer);
+  return result;
+}
+
+}  // namespace multiray

@@ -1,0 +1,59 @@
+// The benchmark harness behind `multiray bench`: every balancer (one Session lane each)
+// renders the same frames, interleaved frame by frame, and on sampled frames each device
+// renders the whole frame alone first, giving the frame's ideal time 1 / Σ_i (1 / T_i).
+// Interleaving makes load from other programs on a shared machine hit every balancer
+// alike, so the comparison stays fair. Output formats (table, JSON, plots) are the CLI's.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/session.h"
+
+namespace multiray {
+
+struct BenchConfig {
+  int frames = 100;
+  int warmup = 10;           // frames left out of summaries (balancers settling)
+  int ideal_frames = 20;     // frames (spread over those after the warm-up) timed alone
+  int partition_frame = -1;  // frame whose rendered items are kept per lane (-1: none)
+};
+
+// What each device measured rendering one sampled frame alone.
+struct IdealSample {
+  int frame = 0;
+  std::vector<double> device_alone_ms;
+  double ideal_ms = 0;
+};
+
+struct BenchLane {
+  std::string spec;  // the balancer's full spec
+  std::vector<FrameRecord> records;
+  std::vector<uint64_t> image_hashes;                     // per frame, over every view
+  std::vector<std::vector<balance::WorkItem>> partition;  // at partition_frame
+};
+
+struct BenchResult {
+  std::vector<int> sampled;  // frames whose ideal was measured, increasing
+  std::vector<IdealSample> ideal;
+  std::vector<double> sampling_ms;  // per frame: host set-up of irregular sampling
+  std::vector<BenchLane> lanes;
+  // Per lane, frames whose images differ from lane 0's (should be none).
+  std::vector<std::vector<int>> mismatched_frames;
+};
+
+// `count` frames spread evenly over [first, frames - 1].
+std::vector<int> spread_frames(int first, int frames, int count);
+
+// Runs the benchmark on `session` (its devices are `devices`; `speeds` their emulated
+// speeds before any perturbation; `perturbations` as given to the session). `on_frame`,
+// if set, is called with each frame number before it renders (progress display).
+BenchResult run_bench(Session& session, const std::vector<Device*>& devices,
+                      const std::vector<double>& speeds,
+                      const std::vector<Perturbation>& perturbations,
+                      const RenderSettings& settings, const BenchConfig& config,
+                      const std::function<void(int)>& on_frame = {});
+
+}  // namespace multiray

@@ -1,0 +1,67 @@
+#include "engine/session.h"
+
+#include "core/error.h"
+
+namespace multiray {
+
+Session::Session(std::vector<Device*> devices,
+                 std::vector<std::unique_ptr<balance::Balancer>> lanes, FrameViews views,
+                 CameraPath path, RenderSettings settings)
+    : devices_(std::move(devices)),
+      views_(std::move(views)),
+      path_(std::move(path)),
+      settings_(settings) {
+  if (lanes.empty()) throw InputError("a session needs at least one balancer");
+  for (auto& balancer : lanes)
+    engines_.push_back(std::make_unique<Engine>(devices_, std::move(balancer)));
+  buffers_.resize(engines_.size());
+}
+
+void Session::set_perturbations(const std::vector<Perturbation>& p) {
+  for (auto& e : engines_) e->set_perturbations(p);
+}
+
+void Session::set_camera(std::optional<Camera> camera) {
+  std::lock_guard<std::mutex> lock(camera_mutex_);
+  camera_ = camera;
+}
+
+Camera Session::camera_at(int frame) const {
+  std::lock_guard<std::mutex> lock(camera_mutex_);
+  return camera_ ? *camera_ : path_.at(frame);
+}
+
+double Session::progress() const { return engines_[active_lane_.load()]->progress(); }
+
+std::shared_ptr<FrameResult> Session::free_buffer(size_t lane) {
+  // A buffer only the session references is free: no observer can read it any more.
+  for (auto& b : buffers_[lane])
+    if (b.use_count() == 1) return b;
+  buffers_[lane].push_back(std::make_shared<FrameResult>());
+  return buffers_[lane].back();
+}
+
+int Session::run(int first, int count, FrameObserver& observer) {
+  stop_ = false;
+  int done = 0;
+  for (int frame = first; frame < first + count && !stop_; ++frame, ++done) {
+    const FrameInput input = views_.make(frame, camera_at(frame));
+    observer.before_frame(frame, input);
+    for (size_t lane = 0; lane < engines_.size(); ++lane) {
+      active_lane_ = lane;
+      Engine& engine = *engines_[lane];
+      std::shared_ptr<FrameResult> out = free_buffer(lane);
+      out->lane = lane;
+      out->frame = frame;
+      out->sampling_ms = input.sampling_ms;
+      out->record = engine.render_frame(frame, input.views, settings_, out->images);
+      out->plan = engine.last_plan();
+      out->rendered = engine.last_rendered();
+      out->stats = engine.last_stats();
+      observer.on_frame(out);
+    }
+  }
+  return done;
+}
+
+}  // namespace multiray

@@ -1,0 +1,92 @@
+// The one frame loop, used by `render`, `bench` (and the live viewer and the MPI master to
+// come): for each frame, the views are made (camera path, or the camera the caller set),
+// then every lane — one Engine, i.e. one balancer over the shared devices — renders the
+// frame in turn, and the observer is handed each finished frame.
+//
+// Finished frames are handed over as shared_ptr<const FrameResult>. The session never
+// writes into a result an observer still holds: it renders into a buffer nobody else
+// references (double-buffered in the usual case, more buffers if an observer keeps frames
+// longer), so an observer may pass a frame to another thread (an encoder, a web socket)
+// while the next frame renders, with no data race.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "balance/balancer.h"
+#include "engine/engine.h"
+#include "engine/frame_views.h"
+#include "scene/camera_path.h"
+
+namespace multiray {
+
+// One lane's rendering of one frame.
+struct FrameResult {
+  size_t lane = 0;
+  int frame = 0;
+  FrameRecord record;
+  std::vector<Framebuffer> images;  // every view at the output size
+  balance::Plan plan;               // what the balancer planned
+  // What each device actually rendered (after pulls and steals), per device.
+  std::vector<std::vector<balance::WorkItem>> rendered;
+  balance::FrameStats stats;  // per-item measurements, as the balancer was told
+  double sampling_ms = 0;     // host set-up of the frame's views (outside the frame time)
+};
+
+class FrameObserver {
+ public:
+  virtual ~FrameObserver() = default;
+  // Before any lane renders `frame` (e.g. a benchmark times each device alone here).
+  virtual void before_frame(int /*frame*/, const FrameInput& /*input*/) {}
+  // After lane `result->lane` finished frame `result->frame`. The result stays valid for as
+  // long as the observer holds it.
+  virtual void on_frame(const std::shared_ptr<const FrameResult>& result) = 0;
+};
+
+class Session {
+ public:
+  // Devices are shared by all lanes (which render one after the other) and must outlive
+  // the session. One lane per balancer; at least one.
+  Session(std::vector<Device*> devices, std::vector<std::unique_ptr<balance::Balancer>> lanes,
+          FrameViews views, CameraPath path, RenderSettings settings);
+
+  void set_perturbations(const std::vector<Perturbation>& p);
+
+  // The camera of the following frames, instead of the path's: for interactive use.
+  // Thread-safe; takes effect at the next frame. std::nullopt returns to the path.
+  void set_camera(std::optional<Camera> camera);
+  // Asks run() to return after the frame being rendered. Thread-safe (signal handlers
+  // should set a flag that an observer or another thread turns into this call).
+  void request_stop() { stop_ = true; }
+
+  // Renders frames [first, first + count) on every lane, calling `observer` as described
+  // above. Returns the number of frames every lane completed (fewer after request_stop()).
+  // Throws DeviceError when every device of a lane has failed.
+  int run(int first, int count, FrameObserver& observer);
+
+  size_t lanes() const { return engines_.size(); }
+  Engine& engine(size_t lane) { return *engines_.at(lane); }
+  // Progress of the frame being rendered in [0, 1], for a progress display; thread-safe.
+  double progress() const;
+  const FrameViews& views() const { return views_; }
+
+ private:
+  std::shared_ptr<FrameResult> free_buffer(size_t lane);
+  Camera camera_at(int frame) const;
+
+  std::vector<Device*> devices_;
+  std::vector<std::unique_ptr<Engine>> engines_;
+  std::vector<std::vector<std::shared_ptr<FrameResult>>> buffers_;  // per lane
+  FrameViews views_;
+  CameraPath path_;
+  RenderSettings settings_;
+  mutable std::mutex camera_mutex_;
+  std::optional<Camera> camera_;
+  std::atomic<bool> stop_{false};
+  std::atomic<size_t> active_lane_{0};
+};
+
+}  // namespace multiray

@@ -1,0 +1,39 @@
+#include "render/kernel.h"
+
+#include <stdexcept>
+
+#include "render/ambient_occlusion.h"
+#include "render/depth_kernel.h"
+#include "render/path_tracer.h"
+
+namespace multiray {
+
+KernelStats Kernel::render_samples(const ViewSetup&, const RenderSettings&, const ImageSample*,
+                                   size_t, Vec3*) const {
+  throw std::logic_error("this kernel cannot render samples at arbitrary image positions");
+}
+
+namespace {
+template <class K>
+std::unique_ptr<Kernel> make(const RenderScene& rs) {
+  return std::make_unique<K>(rs);
+}
+}  // namespace
+
+const std::vector<KernelEntry>& cpu_kernels() {
+  static const std::vector<KernelEntry> entries{
+      {"path", "path tracing with next-event estimation and MIS", true, &make<PathTracer>},
+      {"ao", "ambient occlusion (--ao-rays, --ao-distance)", true, &make<AmbientOcclusion>},
+      {"depth", "distance to the first surface, one ray per pixel (debugging)", true,
+       &make<DepthKernel>},
+  };
+  return entries;
+}
+
+const KernelEntry* find_cpu_kernel(const std::string& name) {
+  for (const KernelEntry& e : cpu_kernels())
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+}  // namespace multiray
