@@ -9,6 +9,7 @@
 #include "balance/layout.h"
 #include "balance/plan.h"
 #include "balance/queue.h"
+#include "balance/region.h"
 #include "balance/semi_static.h"
 #include "balance/simulate.h"
 #include "balance/static_ratios.h"

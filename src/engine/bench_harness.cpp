@@ -83,6 +83,7 @@ class BenchObserver : public FrameObserver {
     if (r->lane > 0 && hash != result_.lanes[0].image_hashes.back())
       result_.mismatched_frames[r->lane].push_back(r->frame);
     if (r->frame == config_.partition_frame) lane.partition = r->rendered;
+    if (config_.keep_stats) lane.stats.push_back(r->stats);
   }
 
  private:

@@ -19,6 +19,7 @@ struct BenchConfig {
   int warmup = 10;           // frames left out of summaries (balancers settling)
   int ideal_frames = 20;     // frames (spread over those after the warm-up) timed alone
   int partition_frame = -1;  // frame whose rendered items are kept per lane (-1: none)
+  bool keep_stats = false;   // keep every frame's per-item stats per lane (for traces)
 };
 
 // What each device measured rendering one sampled frame alone.
@@ -33,6 +34,7 @@ struct BenchLane {
   std::vector<FrameRecord> records;
   std::vector<uint64_t> image_hashes;                     // per frame, over every view
   std::vector<std::vector<balance::WorkItem>> partition;  // at partition_frame
+  std::vector<balance::FrameStats> stats;                 // per frame, with keep_stats
 };
 
 struct BenchResult {

@@ -1,0 +1,103 @@
+// Traces: written and read back unchanged; malformed ones refused with the line number;
+// replayed through the simulator they give back the recorded per-device work.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "balance/trace.h"
+#include "sim_harness.h"
+
+namespace multiray::balance {
+namespace {
+
+// A run of `spec` on the simulator, recorded as a trace.
+Trace record(const std::string& spec, const std::vector<double>& speeds, int frames) {
+  const FrameShape shape{80, 48, 2, {}};
+  auto balancer = make_balancer(spec, int(speeds.size()));
+  const auto run = simulate_run(*balancer, shape, testing::constant(speeds),
+                                testing::uneven_cost(shape), frames);
+  Trace t;
+  t.balancer = balancer->spec();
+  for (double s : speeds) t.devices.push_back({"sim device", s});
+  for (const SimFrame& f : run) t.frames.push_back(f.stats);
+  return t;
+}
+
+std::string text(const Trace& t) {
+  std::ostringstream out;
+  write_trace(out, t);
+  return out.str();
+}
+
+TEST(Trace, RoundTripsExactly) {
+  const Trace t = record("hybrid", {1.0, 0.5}, 4);
+  std::istringstream in(text(t));
+  const Trace back = read_trace(in);
+  EXPECT_EQ(text(back), text(t));
+  ASSERT_EQ(back.frames.size(), 4u);
+  EXPECT_EQ(back.devices[1].speed, 0.5);
+  EXPECT_EQ(back.frames[2].devices[1].items.size(), t.frames[2].devices[1].items.size());
+  EXPECT_EQ(back.frames[2].devices[1].time_ms, t.frames[2].devices[1].time_ms);
+}
+
+TEST(Trace, MalformedTracesAreRefusedWithTheLine) {
+  const std::string good = "multiray-trace 1\nbalancer uniform\ndevice 0 1 cpu\nframe 0 4 4 1\n";
+  for (const auto& [bad, line] : std::vector<std::pair<std::string, std::string>>{
+           {"not a trace\n", "line 1"},
+           {good + "item 0 0 0 0 0 5 4 16 1 1\n", "line 5"},    // x1 beyond the width
+           {good + "item 1 0 0 0 0 4 4 16 1 1\n", "line 5"},    // no device 1
+           {good + "time 0 1 nan 1\n", "line 5"},               // not a finite number
+           {good + "item 0 0 0 0 0 4 4 16 1\n", "line 5"},      // a field missing
+           {good + "item 0 0 0 0 0 4 4 16 1 1 9\n", "line 5"},  // one too many
+           {"multiray-trace 1\nitem 0 0 0 0 0 4 4 16 1 1\n", "line 2"},
+           {"multiray-trace 1\ndevice 3 1 cpu\n", "line 2"},
+           {"multiray-trace 1\nbogus\n", "line 2"},
+           {good + "frame 1 0 4 1\n", "line 5"}}) {
+    std::istringstream in(bad);
+    try {
+      read_trace(in);
+      ADD_FAILURE() << "accepted: " << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(line), std::string::npos) << e.what();
+    }
+  }
+}
+
+// Replaying a trace with the balancer that recorded it reproduces every frame's plan and
+// the items each device rendered, exactly.
+TEST(Trace, ReplayGivesTheRecordedPerDeviceWork) {
+  for (const char* spec : {"hybrid", "queue:tile=16", "semi-static", "dlb"}) {
+    const Trace t = record(spec, {1.0, 0.5, 0.25}, 6);
+    std::istringstream in(text(t));
+    const Trace read = read_trace(in);
+    auto balancer = make_balancer(spec, 3);
+    const auto replay = replay_trace(read, *balancer);
+    ASSERT_EQ(replay.size(), t.frames.size());
+    for (size_t f = 0; f < replay.size(); ++f)
+      for (size_t d = 0; d < 3; ++d) {
+        const auto& want = t.frames[f].devices[d].items;
+        const auto& got = replay[f].stats.devices[d].items;
+        ASSERT_EQ(got.size(), want.size()) << spec << " frame " << f << " device " << d;
+        for (size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i].item, want[i].item) << spec;
+      }
+  }
+}
+
+// Items the recording never saw (another balancer's split) cost what the recorded cost
+// density says: replaying a uniform trace's costs under hybrid keeps the frame's total.
+TEST(Trace, CostOfOtherItemsFollowsTheRecordedDensity) {
+  const Trace t = record("uniform", {1.0, 1.0}, 1);
+  const FrameShape& shape = t.frames[0].shape;
+  const CostFn cost = trace_cost(t, 0, shape);
+  double recorded = 0;
+  for (const auto& d : t.frames[0].devices)
+    for (const ItemReport& r : d.items) recorded += r.time_ms;
+  double whole = 0;
+  for (int v = 0; v < shape.views; ++v)
+    for (int y = 0; y < shape.height; y += 3)
+      whole += cost(WorkItem{Rect{0, y, shape.width, std::min(y + 3, shape.height)}, v});
+  EXPECT_NEAR(whole, recorded, 1e-3 * recorded);
+}
+
+}  // namespace
+}  // namespace multiray::balance
