@@ -5,6 +5,7 @@
 #include <fmt/core.h>
 
 #include "app/commands.h"
+#include "device/device_factory.h"
 #ifdef MULTIRAY_HAS_OPENCL
 #include "device/opencl/opencl_platform.h"
 #endif
@@ -39,6 +40,20 @@ Runner add_devices_command(CLI::App& app) {
       print_row("opencl", fmt::format("{} ({})", d.name, d.kind), d.compute_units,
                 gib(double(d.memory_bytes)), fmt::format("opencl:{}", d.index));
 #endif
+    fmt::print(
+        "\nWhat each backend runs (--integrator, --sampling) and on which scene "
+        "representation:\n");
+    for (const char* type : {"cpu", "opencl"}) {
+      const DeviceCapabilities caps = backend_capabilities(type);
+      if (caps.kernels.empty()) continue;
+      auto list = [](const std::vector<std::string>& v) {
+        std::string out;
+        for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
+        return out;
+      };
+      fmt::print("  {:<7} kernels: {}; sampling: {}; representation: {}\n", type,
+                 list(caps.kernels), list(caps.sampling), caps.representation);
+    }
     fmt::print(
         "\nAdd :speed=S (emulated slowdown) or :quota=Q (real cgroup throttle) to any cpu "
         "spec.\n");

@@ -13,6 +13,7 @@
 #include "app/stats_json.h"
 #include "app/trace_file.h"
 #include "core/error.h"
+#include "render/kernel.h"
 
 namespace multiray::app {
 
@@ -59,7 +60,11 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
   cmd.add_option("--mapping", o.mapping,
                  "Multiview task mapping: strips (each device renders its share of every view's "
                  "shuffled strips) or views (whole views per device; uniform, static, dlb)");
-  cmd.add_option("--integrator", o.integrator, "path (path tracing) or ao (ambient occlusion)")
+  std::string kernels;
+  for (const KernelEntry& e : cpu_kernels())
+    kernels += (kernels.empty() ? "" : "; ") + e.name + ": " + e.help;
+  cmd.add_option("--integrator", o.integrator,
+                 "The kernel that renders (OpenCL devices: path only). " + kernels)
       ->capture_default_str();
   cmd.add_option("--ao-rays", o.ao_rays, "Occlusion rays per AO sample")->capture_default_str();
   cmd.add_option("--ao-distance", o.ao_distance,

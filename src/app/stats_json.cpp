@@ -33,7 +33,9 @@ nlohmann::json devices_to_json(const std::vector<std::unique_ptr<Device>>& devic
                    {"threads", i.threads},
                    {"emulated_speed", i.emulated_speed},
                    {"emulated", i.emulated_speed < 1.0},
-                   {"cpu_quota", i.cpu_quota}});
+                   {"cpu_quota", i.cpu_quota},
+                   {"representation", i.caps.representation},
+                   {"kernels", i.caps.kernels}});
   }
   return out;
 }

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "support/run_cli.h"
@@ -134,6 +135,46 @@ TEST(Cli, BadSceneFiles) {
   expect_input_error(
       "render " + temp_file("broken.gltf", "{\"asset\": {\"version\": \"2.0\"") + " --res 8x8",
       "broken.gltf");
+}
+
+}  // namespace
+
+namespace {
+
+// --trace writes every item once: per frame, the items' areas add up to the image.
+TEST(Cli, TraceRecordsEveryItemOfEveryFrame) {
+  const std::string dir = ::testing::TempDir() + "/cli_trace";
+  std::filesystem::remove_all(dir);
+  const std::string trace = dir + ".trace";
+  const Result r =
+      run("render --res 40x24 --spp 1 --frames 3 --camera-path orbit:6 --devices "
+          "cpu,cpu:speed=0.5 --balancer hybrid -q --trace " +
+          trace + " --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream in(trace);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "multiray-trace 1");
+  std::vector<long> area;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string kind;
+    ls >> kind;
+    if (kind == "frame") area.push_back(0);
+    if (kind != "item") continue;
+    long device, id, view, x0, y0, x1, y1;
+    ls >> device >> id >> view >> x0 >> y0 >> x1 >> y1;
+    area.back() += (x1 - x0) * (y1 - y0);
+  }
+  EXPECT_EQ(area, (std::vector<long>{40 * 24, 40 * 24, 40 * 24}));
+  expect_input_error("render --res 8x8 --trace /nonexistent/dir/t.trace --out " + dir, "trace");
+}
+
+TEST(Cli, DepthKernelRunsAndUnknownKernelsAreRefused) {
+  const std::string dir = ::testing::TempDir() + "/cli_depth";
+  const Result r = run("render --res 16x12 --integrator depth --devices cpu,cpu --out " + dir);
+  EXPECT_EQ(r.code, 0) << r.out;
+  expect_input_error("render --integrator nothing", "--integrator");
 }
 
 }  // namespace
