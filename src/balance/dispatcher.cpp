@@ -57,19 +57,26 @@ bool Dispatcher::steal(uint32_t& id) {
   return true;
 }
 
-bool Dispatcher::next(int device, uint32_t& id) {
+bool Dispatcher::next(int device, uint32_t& id, Via* via) {
   if (device < 0) return false;
   const size_t d = size_t(device);
   std::lock_guard<std::mutex> lock(mutex_);
   auto& mine = own(d);
-  if (mine.empty()) pull_shared(d, batch_);
+  Via how = Via::Own;
+  if (mine.empty() && !shared_.empty()) {
+    pull_shared(d, batch_);
+    how = Via::Shared;
+  }
   if (!mine.empty()) {
     id = mine.front();
     mine.pop_front();
     own_weight_[d] -= weight_[id];
-  } else if (!steal_ || !steal(id)) {
+  } else if (steal_ && steal(id)) {
+    how = Via::Stolen;
+  } else {
     return false;
   }
+  if (via) *via = how;
   taken_by_[id] = device;
   return true;
 }

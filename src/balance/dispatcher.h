@@ -32,8 +32,13 @@ class Dispatcher {
   // ItemReport::id and items() use these numbers. `shape` gives the item weights.
   Dispatcher(const Plan& plan, const FrameShape& shape);
 
+  // How an item reached its device: its own list (assigned, or pulled earlier in a batch),
+  // a pull from the shared queue (one request to whoever holds the queue), or a steal.
+  enum class Via { Own, Shared, Stolen };
+
   // Starts the next item for `device` by the rules above; false when nothing is left.
-  bool next(int device, uint32_t& id);
+  // `via`, if given, says how the item came.
+  bool next(int device, uint32_t& id, Via* via = nullptr);
   // Starts up to `max` items at once (one request, e.g. one network round trip); appends
   // their ids to `out` and returns how many.
   size_t next(int device, size_t max, std::vector<uint32_t>& out);

@@ -52,13 +52,51 @@ CostFn pixel_cost(const FrameShape& shape,
 FrameStats simulate(const Plan& plan, const FrameShape& shape,
                     const std::vector<SimDevice>& devices, const CostFn& cost, int frame,
                     uint64_t seed) {
+  return simulate_linked(plan, shape, devices, cost, SimLink{}, frame, seed).stats;
+}
+
+namespace {
+
+// A result message: ready at the device at `ready` ms, `bytes` long.
+struct Message {
+  double ready = 0, bytes = 0;
+  size_t device = 0;
+};
+
+// When the master has received every message: each crosses after one latency, one at a
+// time on a shared master link (first ready, first sent), or on its device's own link.
+double last_arrival(std::vector<Message> messages, size_t devices, const SimLink& link) {
+  const double bytes_per_ms = link.mbit_per_s > 0 ? link.mbit_per_s * 1e6 / 8 / 1e3 : 0;
+  std::sort(messages.begin(), messages.end(),
+            [](const Message& a, const Message& b) { return a.ready < b.ready; });
+  std::vector<double> link_free(link.shared_master ? 1 : devices, 0.0);
+  double last = 0;
+  for (const Message& m : messages) {
+    double& free = link_free[link.shared_master ? 0 : m.device];
+    const double start = std::max(m.ready + link.latency_ms, free);
+    const double done = start + (bytes_per_ms > 0 ? m.bytes / bytes_per_ms : 0.0);
+    free = done;
+    last = std::max(last, done);
+  }
+  return last;
+}
+
+}  // namespace
+
+SimFrame simulate_linked(const Plan& plan, const FrameShape& shape,
+                         const std::vector<SimDevice>& devices, const CostFn& cost,
+                         const SimLink& link, int frame, uint64_t seed) {
   const size_t n = devices.size();
   if (plan.assigned.size() != n)
     throw std::invalid_argument("plan has " + std::to_string(plan.assigned.size()) +
                                 " device lists for " + std::to_string(n) + " devices");
   Dispatcher dispatch(plan, shape);
+  // Static plans (no queue, no stealing) send each device's results once, at its end.
+  const bool batched_results = plan.shared.empty() && !plan.steal;
 
-  FrameStats stats;
+  SimFrame out;
+  out.plan = plan;
+  FrameStats& stats = out.stats;
   stats.frame = frame;
   stats.shape = shape;
   stats.devices.resize(n);
@@ -74,14 +112,21 @@ FrameStats simulate(const Plan& plan, const FrameShape& shape,
       throw std::invalid_argument("device " + std::to_string(i) + " has a speed <= 0");
     frame_factor[i] = 1 + d.frame_noise * symmetric_unit(rng);
     stats.devices[i].alive = d.alive;
-    if (d.alive) ready.push({0.0, i});
+    if (d.alive) ready.push({link.latency_ms, i});  // the frame's start reaches it
   }
 
+  std::vector<Message> messages;
+  std::vector<double> unsent(n, 0.0);  // batched results: pixels not yet sent
   while (!ready.empty()) {
-    const auto [clock, i] = ready.top();
+    auto [clock, i] = ready.top();
     ready.pop();
     uint32_t id;
-    if (!dispatch.next(int(i), id)) continue;  // out of work: the device is done
+    Dispatcher::Via via;
+    if (!dispatch.next(int(i), id, &via)) {  // out of work: the device is done
+      if (unsent[i] > 0) messages.push_back({clock, unsent[i] * link.bytes_per_pixel, i});
+      continue;
+    }
+    if (via != Dispatcher::Via::Own) clock += 2 * link.latency_ms;  // asked the master
     const WorkItem& item = dispatch.items()[id];
     const double w = dispatch.weight(id);
     const SimDevice& d = devices[i];
@@ -90,25 +135,31 @@ FrameStats simulate(const Plan& plan, const FrameShape& shape,
     const double dt =
         d.item_overhead_ms + run_time(start, c, d.speed * frame_factor[i], d.change_at_ms,
                                       d.speed_after * frame_factor[i]);
-    DeviceFrameStats& out = stats.devices[i];
-    out.items.push_back(ItemReport{item, dt, w, dt, id});
-    out.time_ms = out.busy_ms = clock + dt;
-    out.samples += w;
-    out.pixels += double(item.rect.area());
+    DeviceFrameStats& dev = stats.devices[i];
+    dev.items.push_back(ItemReport{item, dt, w, dt, id});
+    dev.time_ms = dev.busy_ms = clock + dt;
+    dev.samples += w;
+    dev.pixels += double(item.rect.area());
+    if (batched_results)
+      unsent[i] += double(item.rect.area());
+    else
+      messages.push_back({clock + dt, double(item.rect.area()) * link.bytes_per_pixel, i});
     ready.push({clock + dt, i});
   }
-  return stats;
+  for (const DeviceFrameStats& dev : stats.devices)
+    out.frame_ms = std::max(out.frame_ms, dev.time_ms);
+  if (link.active()) out.frame_ms = std::max(out.frame_ms, last_arrival(messages, n, link));
+  return out;
 }
 
 std::vector<SimFrame> simulate_run(
     Balancer& balancer, const FrameShape& shape,
     const std::function<std::vector<SimDevice>(int frame)>& devices_at, const CostFn& cost,
-    int frames, uint64_t seed) {
+    int frames, uint64_t seed, const SimLink& link) {
   std::vector<SimFrame> run;
   for (int f = 0; f < frames; ++f) {
-    SimFrame sf;
-    sf.plan = balancer.plan(shape, f);
-    sf.stats = simulate(sf.plan, shape, devices_at(f), cost, f, seed);
+    SimFrame sf =
+        simulate_linked(balancer.plan(shape, f), shape, devices_at(f), cost, link, f, seed);
     balancer.update(sf.stats);
     run.push_back(std::move(sf));
   }

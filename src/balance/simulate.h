@@ -26,6 +26,27 @@ struct SimDevice {
   bool alive = true;  // a dead device renders nothing (its items may be stolen)
 };
 
+// A network between the devices and the master that hands out work and gathers results,
+// after Seo, Park & Ihm (Sensors 2022, Fig. 6). Emulated in virtual time: every message
+// takes `latency_ms`; a result of B bytes then takes B / bandwidth to cross. With
+// `shared_master` the master's one link carries every device's results in turn (first
+// ready, first sent), as on Seo's Wi-Fi cluster; otherwise each device has its own.
+// Protocol: a frame's start (and the device's own list) reaches every device after one
+// latency; each pull from the shared queue and each steal is a round trip (2 latencies)
+// before the device can render; results are sent as items finish, overlapping rendering
+// (a sender thread), except for plans without a shared queue and without stealing, whose
+// devices send everything in one message when they finish (Seo's static batched
+// strategy).
+struct SimLink {
+  double latency_ms = 0;                                  // one way
+  double mbit_per_s = 0;                                  // link bandwidth; 0: unlimited
+  bool shared_master = true;                              // one link at the master for all results
+  double bytes_per_pixel = 4;                             // result bytes per pixel (8-bit RGBA)
+  static SimLink lan() { return {0.1, 10000, true, 4}; }  // 0.1 ms, 10 Gbit/s
+  static SimLink wifi() { return {5.0, 200, true, 4}; }   // 5 ms, 200 Mbit/s (mobile)
+  bool active() const { return latency_ms > 0 || mbit_per_s > 0; }
+};
+
 // Cost of an item in ms at speed 1.
 using CostFn = std::function<double(const WorkItem&)>;
 
@@ -45,10 +66,19 @@ FrameStats simulate(const Plan& plan, const FrameShape& shape,
                     const std::vector<SimDevice>& devices, const CostFn& cost, int frame = 0,
                     uint64_t seed = 0);
 
+// One simulated frame: what the devices measured, and when the master had every result
+// (frame_ms; without a link, the last device's finish).
 struct SimFrame {
   Plan plan;
   FrameStats stats;
+  double frame_ms = 0;
 };
+
+// simulate() behind `link`: device times include the waits for work; frame_ms when the
+// last result arrived at the master. Same inputs and `seed` give the same result.
+SimFrame simulate_linked(const Plan& plan, const FrameShape& shape,
+                         const std::vector<SimDevice>& devices, const CostFn& cost,
+                         const SimLink& link, int frame = 0, uint64_t seed = 0);
 
 // plan → simulate → update for frames 0..frames-1. `devices_at(frame)` gives the device
 // models of each frame (speed changes between frames, deaths); a device reported dead is
@@ -56,6 +86,6 @@ struct SimFrame {
 std::vector<SimFrame> simulate_run(
     Balancer& balancer, const FrameShape& shape,
     const std::function<std::vector<SimDevice>(int frame)>& devices_at, const CostFn& cost,
-    int frames, uint64_t seed = 0);
+    int frames, uint64_t seed = 0, const SimLink& link = {});
 
 }  // namespace multiray::balance

@@ -188,17 +188,24 @@ CostFn trace_cost(const Trace& trace, size_t frame_index, const FrameShape& shap
   };
 }
 
-std::vector<SimFrame> replay_trace(const Trace& trace, Balancer& balancer,
-                                   std::vector<SimDevice> devices) {
-  if (devices.empty())
-    for (const TraceDevice& d : trace.devices) devices.push_back(SimDevice{d.speed});
+std::vector<SimFrame> replay_trace(
+    const Trace& trace, Balancer& balancer,
+    const std::function<std::vector<SimDevice>(int frame)>& devices_at, const SimLink& link,
+    int frames, uint64_t seed) {
+  if (trace.frames.empty()) throw std::invalid_argument("the trace has no frames");
+  std::vector<SimDevice> recorded;
+  for (const TraceDevice& d : trace.devices) recorded.push_back(SimDevice{d.speed});
+  if (frames <= 0) frames = int(trace.frames.size());
+  std::vector<CostFn> costs(trace.frames.size());  // built when first needed
   std::vector<SimFrame> run;
-  for (size_t k = 0; k < trace.frames.size(); ++k) {
+  for (int f = 0; f < frames; ++f) {
+    const size_t k = size_t(f) % trace.frames.size();
     const FrameShape& shape = trace.frames[k].shape;
-    const int frame = trace.frames[k].frame;
-    SimFrame sf;
-    sf.plan = balancer.plan(shape, frame);
-    sf.stats = simulate(sf.plan, shape, devices, trace_cost(trace, k, shape), frame);
+    if (!costs[k]) costs[k] = trace_cost(trace, k, shape);
+    const int frame = frames == int(trace.frames.size()) ? trace.frames[k].frame : f;
+    SimFrame sf =
+        simulate_linked(balancer.plan(shape, frame), shape,
+                        devices_at ? devices_at(frame) : recorded, costs[k], link, frame, seed);
     balancer.update(sf.stats);
     run.push_back(std::move(sf));
   }

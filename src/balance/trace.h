@@ -14,6 +14,7 @@
 // rendering only), written with 17 significant digits so a read trace equals the written one.
 #pragma once
 
+#include <functional>
 #include <istream>
 #include <ostream>
 #include <string>
@@ -57,9 +58,13 @@ Trace read_trace(std::istream& in);
 // over its pixels. `shape` supplies pixel weights (may be empty).
 CostFn trace_cost(const Trace& trace, size_t frame_index, const FrameShape& shape);
 
-// Replays `trace` through `balancer` on simulated devices (default: one per traced device
-// at its recorded speed), frame by frame, with trace_cost() as each frame's cost.
-std::vector<SimFrame> replay_trace(const Trace& trace, Balancer& balancer,
-                                   std::vector<SimDevice> devices = {});
+// Replays `trace` through `balancer` on simulated devices, frame by frame, with
+// trace_cost() as each frame's cost: `frames` frames (0: as many as the trace has; more
+// cycle through the trace), on `devices_at(frame)` (default: one device per traced device
+// at its recorded speed), behind `link`. The balancer must be made for that many devices.
+std::vector<SimFrame> replay_trace(
+    const Trace& trace, Balancer& balancer,
+    const std::function<std::vector<SimDevice>(int frame)>& devices_at = {},
+    const SimLink& link = {}, int frames = 0, uint64_t seed = 0);
 
 }  // namespace multiray::balance
