@@ -5,7 +5,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <thread>
 
 #include <fmt/core.h>
@@ -15,6 +14,7 @@
 #include "app/commands.h"
 #include "app/report_plots.h"
 #include "app/stats_json.h"
+#include "balance/spec.h"
 #include "core/error.h"
 #include "engine/bench_harness.h"
 
@@ -29,14 +29,6 @@ struct BenchOptions {
   int warmup = 10;
   int ideal_frames = 20;
 };
-
-std::vector<std::string> split_list(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
 
 }  // namespace
 
@@ -62,7 +54,7 @@ Runner add_bench_command(CLI::App& app) {
                   "actual frame times, over the frames after --warmup")
       ->capture_default_str();
   return [=]() -> int {
-    const auto specs = split_list(b->balancers);
+    const auto specs = balance::split_spec_list(b->balancers);
     if (specs.empty()) throw InputError("--balancers is empty");
     if (b->warmup < 0 || b->warmup >= o->frames)
       throw InputError("--warmup must be in 0.." + std::to_string(o->frames - 1));

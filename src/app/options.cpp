@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include "app/stats_json.h"
+#include "balance/spec.h"
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/device_factory.h"
@@ -136,17 +138,24 @@ std::unique_ptr<Session> Setup::make_session(const std::vector<std::string>& spe
   return session;
 }
 
-std::string apply_mapping(const std::string& spec, const std::string& mapping) {
-  if (mapping.empty()) return spec;
+std::string apply_mapping(const std::string& text, const std::string& mapping) {
+  if (mapping.empty()) return text;
   if (mapping != "strips" && mapping != "views")
     throw InputError("--mapping '" + mapping + "' must be strips or views");
-  const std::string name = spec.substr(0, spec.find(':'));
+  const balance::Spec spec = [&] {
+    try {
+      return balance::Spec(text);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(std::string("--balancer: ") + e.what());
+    }
+  }();
+  const std::string& name = spec.name();
   if (name == "uniform" || name == "static" || name == "dlb")
-    return spec.find("layout=") == std::string::npos ? spec + ":layout=" + mapping : spec;
+    return spec.has("layout") ? text : text + ":layout=" + mapping;
   if (mapping == "views")
     throw InputError("--mapping views works with the uniform, static and dlb balancers, not '" +
                      name + "'");
-  return spec;  // queue, semi-static and hybrid lay out work their own way
+  return text;  // queue, semi-static and hybrid lay out work their own way
 }
 
 Setup make_setup(const CommonOptions& o) {

@@ -1,8 +1,11 @@
 #include "device/device_factory.h"
 
-#include <cmath>
-#include <set>
+#include <algorithm>
+#include <cctype>
+#include <limits>
+#include <stdexcept>
 
+#include "balance/spec.h"
 #include "core/error.h"
 #include "device/cpu/cpu_device.h"
 #ifdef MULTIRAY_HAS_OPENCL
@@ -13,158 +16,109 @@ namespace multiray {
 
 namespace {
 
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
+// Runs `f`, turning the std::invalid_argument of a bad spec (whose message already starts
+// "--devices '<device>': ") into the InputError the CLI reports.
+template <class F>
+auto as_input_error(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const std::invalid_argument& e) {
+    throw InputError(e.what());
+  }
+}
+
+// One device of a `--devices` list, with a known type that this multiray can run.
+balance::Spec device_spec(const std::string& item) {
+  balance::SpecSyntax syntax;
+  syntax.label = "--devices";
+  syntax.positional_key = "index";  // opencl:N
+  balance::Spec spec(item, syntax);
+  if (spec.name() != "cpu" && spec.name() != "opencl")
+    spec.fail("unknown device type '" + spec.name() + "' (known: cpu, opencl)");
+#ifndef MULTIRAY_HAS_OPENCL
+  if (spec.name() == "opencl")
+    spec.fail(
+        "this multiray was built without OpenCL (install ocl-icd-opencl-dev, "
+        "opencl-clhpp-headers and configure with -DMULTIRAY_WITH_OPENCL=ON)");
+#endif
+  return spec;
+}
+
+// A core id: decimal digits only, below 100000 (so "-1", "1.5" and "0x2" are no ids).
+int core_id(const std::string& s) {
+  if (s.empty() || s.size() > 5 ||
+      !std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); }))
+    return -1;
+  return std::stoi(s);
+}
+
+// "0", "0+2", "0-3", "0-1+4"; empty when `cores` is absent.
+std::vector<int> read_cores(balance::Spec& spec) {
+  const std::string list = spec.get_string("cores", "", {});
+  if (!spec.has("cores")) return {};
+  std::vector<int> cores;
   size_t start = 0;
   for (;;) {
-    const size_t pos = s.find(sep, start);
-    out.push_back(s.substr(start, pos - start));
-    if (pos == std::string::npos) return out;
-    start = pos + 1;
+    const size_t plus = list.find('+', start);
+    const std::string part = list.substr(start, plus - start);
+    const size_t dash = part.find('-');
+    const int a = core_id(part.substr(0, dash));
+    const int b = dash == std::string::npos ? a : core_id(part.substr(dash + 1));
+    if (a < 0 || b < a || b - a > 4096)
+      spec.fail("cores=" + list + " is not a core list like 0, 0+2 or 0-3");
+    for (int c = a; c <= b; ++c) cores.push_back(c);
+    if (plus == std::string::npos) return cores;
+    start = plus + 1;
   }
 }
 
-double parse_number(const DeviceSpec& d, const std::string& key) {
-  const std::string& v = d.options.at(key);
-  size_t used = 0;
-  double x = 0;
-  try {
-    x = std::stod(v, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (used != v.size() || v.empty() || !std::isfinite(x))
-    throw InputError("--devices '" + d.text + "': " + key + "=" + v + " is not a number");
-  return x;
+CpuDeviceOptions read_cpu_options(balance::Spec& spec) {
+  spec.accept_only({"threads", "cores", "speed", "quota", "tile"});
+  CpuDeviceOptions o;
+  o.threads = spec.get_int("threads", o.threads, 1, 1024);
+  o.cores = read_cores(spec);
+  o.speed = spec.get_positive("speed", o.speed, 1.0);  // emulated slowdown
+  o.quota = spec.get_positive("quota", o.quota, 1.0);  // of a core per thread
+  o.tile = spec.get_int("tile", o.tile, 1, 4096);
+  spec.finish();
+  return o;
 }
 
-int parse_int(const DeviceSpec& d, const std::string& key) {
-  const double x = parse_number(d, key);
-  if (x != std::floor(x))
-    throw InputError("--devices '" + d.text + "': " + key + " must be an integer");
-  return int(x);
+#ifdef MULTIRAY_HAS_OPENCL
+OpenClDeviceOptions read_opencl_options(balance::Spec& spec) {
+  spec.accept_only({"index", "speed", "tile", "wg", "cores", "fail_after"});
+  OpenClDeviceOptions o;
+  o.index = spec.get_int("index", o.index, 0, 65535);
+  o.speed = spec.get_positive("speed", o.speed, 1.0);  // emulated slowdown
+  o.tile = spec.get_int("tile", o.tile, 1, 4096);
+  o.work_group = spec.get_int("wg", o.work_group, 1, 4096);
+  o.cores = read_cores(spec);
+  o.fail_after = spec.get_int("fail_after", o.fail_after, 0, std::numeric_limits<int>::max());
+  spec.finish();
+  return o;
 }
-
-std::vector<int> parse_cores(const DeviceSpec& d) {
-  std::vector<int> cores;
-  for (const std::string& part : split(d.options.at("cores"), '+')) {
-    const auto dash = part.find('-');
-    try {
-      size_t used = 0;
-      if (dash == std::string::npos) {
-        cores.push_back(std::stoi(part, &used));
-        if (used != part.size()) throw std::invalid_argument(part);
-      } else {
-        const int a = std::stoi(part.substr(0, dash)), b = std::stoi(part.substr(dash + 1));
-        if (b < a || b - a > 4096) throw std::invalid_argument(part);
-        for (int c = a; c <= b; ++c) cores.push_back(c);
-      }
-    } catch (const std::exception&) {
-      throw InputError("--devices '" + d.text + "': cores=" + d.options.at("cores") +
-                       " is not a core list like 0, 0+2 or 0-3");
-    }
-  }
-  return cores;
-}
-
-const std::set<std::string> kCpuKeys{"threads", "cores", "speed", "quota", "tile"};
-const std::set<std::string> kOpenClKeys{"speed", "tile", "wg", "cores", "fail_after"};
+#endif
 
 }  // namespace
 
 std::vector<DeviceSpec> parse_device_specs(const std::string& text) {
   if (text.empty()) throw InputError("--devices is empty; try --devices cpu");
   std::vector<DeviceSpec> specs;
-  for (const std::string& item : split(text, ',')) {
-    DeviceSpec d;
-    d.text = item;
-    const auto parts = split(item, ':');
-    d.type = parts[0];
-    if (d.type != "cpu" && d.type != "opencl")
-      throw InputError("--devices: unknown device type '" + d.type + "' in '" + item +
-                       "' (known: cpu, opencl)");
-#ifndef MULTIRAY_HAS_OPENCL
-    if (d.type == "opencl")
-      throw InputError("--devices '" + item +
-                       "': this multiray was built without OpenCL (install ocl-icd-opencl-dev, "
-                       "opencl-clhpp-headers and configure with -DMULTIRAY_WITH_OPENCL=ON)");
+  for (const std::string& item : balance::split_spec_list(text)) {
+    if (item.empty())
+      throw InputError("--devices '" + text + "': a device is empty (stray comma?)");
+    specs.push_back(as_input_error([&] {
+      balance::Spec spec = device_spec(item);
+#ifdef MULTIRAY_HAS_OPENCL
+      if (spec.name() == "opencl") read_opencl_options(spec);
 #endif
-    size_t first = 1;
-    // opencl:N — the device index may be given bare, before the KEY=VALUE options.
-    if (d.type == "opencl" && parts.size() > 1 && !parts[1].empty() &&
-        parts[1].find('=') == std::string::npos) {
-      d.options["index"] = parts[1];
-      first = 2;
-    }
-    for (size_t i = first; i < parts.size(); ++i) {
-      const auto eq = parts[i].find('=');
-      if (eq == std::string::npos || eq == 0)
-        throw InputError("--devices '" + item + "': expected KEY=VALUE, got '" + parts[i] + "'");
-      const std::string key = parts[i].substr(0, eq);
-      const std::set<std::string>& known = d.type == "cpu" ? kCpuKeys : kOpenClKeys;
-      if (!known.count(key)) {
-        std::string list;
-        for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-        throw InputError("--devices '" + item + "': unknown option '" + key + "' (known: " + list +
-                         ")");
-      }
-      if (!d.options.emplace(key, parts[i].substr(eq + 1)).second)
-        throw InputError("--devices '" + item + "': option '" + key + "' given twice");
-    }
-    specs.push_back(std::move(d));
+      if (spec.name() == "cpu") read_cpu_options(spec);
+      return DeviceSpec{spec.name(), spec.options(), item};
+    }));
   }
   if (specs.size() > 64) throw InputError("--devices: at most 64 devices are supported");
   return specs;
 }
-
-namespace {
-
-std::unique_ptr<Device> create_cpu_device(const DeviceSpec& d, SceneCache& scenes) {
-  CpuDeviceOptions o;
-  if (d.options.count("threads")) o.threads = parse_int(d, "threads");
-  if (d.options.count("cores")) o.cores = parse_cores(d);
-  if (d.options.count("speed")) o.speed = parse_number(d, "speed");
-  if (d.options.count("quota")) o.quota = parse_number(d, "quota");
-  if (d.options.count("tile")) o.tile = parse_int(d, "tile");
-  if (o.threads < 1 || o.threads > 1024)
-    throw InputError("--devices '" + d.text + "': threads must be in 1..1024");
-  if (!(o.speed > 0 && o.speed <= 1))
-    throw InputError("--devices '" + d.text + "': speed must be in (0, 1] (emulated slowdown)");
-  if (d.options.count("quota") && !(o.quota > 0 && o.quota <= 1))
-    throw InputError("--devices '" + d.text + "': quota must be in (0, 1] of a core per thread");
-  if (o.tile < 1 || o.tile > 4096)
-    throw InputError("--devices '" + d.text + "': tile must be in 1..4096");
-  return std::make_unique<CpuDevice>(scenes, o, d.text);
-}
-
-#ifdef MULTIRAY_HAS_OPENCL
-std::unique_ptr<Device> create_opencl_device(const DeviceSpec& d, SceneCache& scenes) {
-  OpenClDeviceOptions o;
-  if (d.options.count("index")) o.index = parse_int(d, "index");
-  if (d.options.count("speed")) o.speed = parse_number(d, "speed");
-  if (d.options.count("tile")) o.tile = parse_int(d, "tile");
-  if (d.options.count("wg")) o.work_group = parse_int(d, "wg");
-  if (d.options.count("cores")) o.cores = parse_cores(d);
-  if (d.options.count("fail_after")) o.fail_after = parse_int(d, "fail_after");
-  if (o.index < 0)
-    throw InputError("--devices '" + d.text + "': the OpenCL device index must be >= 0");
-  if (!(o.speed > 0 && o.speed <= 1))
-    throw InputError("--devices '" + d.text + "': speed must be in (0, 1] (emulated slowdown)");
-  if (o.tile < 1 || o.tile > 4096)
-    throw InputError("--devices '" + d.text + "': tile must be in 1..4096");
-  if (o.work_group < 1 || o.work_group > 4096)
-    throw InputError("--devices '" + d.text + "': wg must be in 1..4096");
-  if (o.fail_after < 0 && d.options.count("fail_after"))
-    throw InputError("--devices '" + d.text + "': fail_after must be >= 0");
-  try {
-    return std::make_unique<OpenClDevice>(scenes, o, d.text);
-  } catch (const InputError& e) {
-    throw InputError("--devices '" + d.text + "': " + e.what());
-  }
-}
-#endif
-
-}  // namespace
 
 DeviceCapabilities backend_capabilities(const std::string& type) {
 #ifdef MULTIRAY_HAS_OPENCL
@@ -175,13 +129,19 @@ DeviceCapabilities backend_capabilities(const std::string& type) {
 }
 
 std::unique_ptr<Device> create_device(const DeviceSpec& d, SceneCache& scenes) {
+  balance::Spec spec = as_input_error([&] { return device_spec(d.text); });
 #ifdef MULTIRAY_HAS_OPENCL
-  if (d.type == "opencl") return create_opencl_device(d, scenes);
-#else
-  if (d.type == "opencl")
-    throw InputError("--devices '" + d.text + "': this multiray was built without OpenCL");
+  if (spec.name() == "opencl") {
+    const OpenClDeviceOptions o = as_input_error([&] { return read_opencl_options(spec); });
+    try {
+      return std::make_unique<OpenClDevice>(scenes, o, d.text);
+    } catch (const InputError& e) {
+      throw InputError("--devices '" + d.text + "': " + e.what());
+    }
+  }
 #endif
-  return create_cpu_device(d, scenes);
+  const CpuDeviceOptions o = as_input_error([&] { return read_cpu_options(spec); });
+  return std::make_unique<CpuDevice>(scenes, o, d.text);
 }
 
 std::vector<std::unique_ptr<Device>> create_devices(const std::string& text, SceneCache& scenes) {

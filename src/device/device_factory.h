@@ -1,6 +1,7 @@
 // Turning `--devices` strings into devices.
 //
-// Grammar: DEVICE[,DEVICE...] where DEVICE is TYPE[:KEY=VALUE...].
+// Grammar: DEVICE[,DEVICE...] where DEVICE is TYPE[:KEY=VALUE...], a balance::Spec (see
+// balance/spec.h) whose options are checked as below when the list is parsed.
 //   cpu:threads=N:cores=LIST:speed=S:quota=Q:tile=T
 //     threads  worker threads (default 1)
 //     cores    cores to pin to: "0", "0+2", "0-3" (default: not pinned)
@@ -8,8 +9,8 @@
 //     quota    real throttle: fraction of a core per thread via cgroup v1 (default none)
 //     tile     pixel block size handed to threads (default 16)
 //   opencl[:N]:speed=S:tile=T:wg=W:cores=LIST:fail_after=K
-//     N        global OpenCL device index over all platforms, as `multiray devices` lists
-//              them (default 0)
+//     N        (or index=N) global OpenCL device index over all platforms, as
+//              `multiray devices` lists them (default 0)
 //     speed    emulated speed in (0, 1], as for cpu
 //     tile     side of the largest square one kernel launch renders (default 256)
 //     wg       work-group size (default 64, clamped to the kernel's maximum)
@@ -31,14 +32,17 @@
 
 namespace multiray {
 
+// One checked device of a `--devices` list. create_device() reads `text`; `type` and
+// `options` (the bare `opencl:N` under "index") show what it says.
 struct DeviceSpec {
   std::string type;
   std::map<std::string, std::string> options;
   std::string text;  // the original text of this device
 };
 
-// Throws InputError with a one-line message naming the bad part (also for `opencl` when
-// multiray was built without OpenCL).
+// Parses and checks every option's value, so that a bad list fails before a scene is
+// loaded. Throws InputError with a one-line message "--devices '<device>': <what>" (also
+// for `opencl` when multiray was built without OpenCL).
 std::vector<DeviceSpec> parse_device_specs(const std::string& text);
 
 // What devices of backend `type` ("cpu", "opencl") can run, known before any is created
