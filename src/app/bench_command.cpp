@@ -14,6 +14,7 @@
 #include "app/commands.h"
 #include "app/report_plots.h"
 #include "app/stats_json.h"
+#include "app/trace_file.h"
 #include "balance/spec.h"
 #include "core/error.h"
 #include "engine/bench_harness.h"
@@ -26,6 +27,7 @@ struct BenchOptions {
   std::string balancers = "uniform,static,queue,semi-static,dlb,hybrid";
   std::string json_path;
   std::string report_dir;
+  std::string trace_prefix;
   int warmup = 10;
   int ideal_frames = 20;
 };
@@ -46,6 +48,9 @@ Runner add_bench_command(CLI::App& app) {
   cmd->add_option("--json", b->json_path, "Write all measurements as JSON to this file");
   cmd->add_option("--report", b->report_dir,
                   "Folder for plots: <balancer>_timeline.svg, <balancer>_partition.png");
+  cmd->add_option("--trace", b->trace_prefix,
+                  "Write one trace per balancer, PREFIX-<balancer>.trace: every work item's "
+                  "device, view, rect, samples, busy and wall time (format: docs/traces.md)");
   cmd->add_option("--warmup", b->warmup, "Frames left out of the summary (balancers settling)")
       ->capture_default_str();
   cmd->add_option("--ideal-frames", b->ideal_frames,
@@ -100,6 +105,7 @@ Runner add_bench_command(CLI::App& app) {
     config.warmup = b->warmup;
     config.ideal_frames = b->ideal_frames;
     config.partition_frame = b->report_dir.empty() ? -1 : o->frames / 2;
+    config.keep_stats = !b->trace_prefix.empty();
     const BenchResult result = run_bench(
         *session, s.device_ptrs(), initial, s.perturbations, s.settings, config, [&](int f) {
           if (stderr_is_tty()) fmt::print(stderr, "\rframe {}/{} ", f + 1, o->frames);
@@ -150,6 +156,11 @@ Runner add_bench_command(CLI::App& app) {
            {"mismatched_frames", mismatched},
            {"frames", frames},
            {"summary", summary_to_json(summaries[k], b->warmup, ideal_mean, result.sampled)}});
+      if (!b->trace_prefix.empty()) {
+        TraceFile trace(fmt::format("{}-{}.trace", b->trace_prefix, name), lane.spec, s.devices);
+        for (const balance::FrameStats& f : lane.stats) trace.writer().frame(f);
+        trace.close();
+      }
       if (!b->report_dir.empty()) {
         write_partition_png(fmt::format("{}/{}_partition.png", b->report_dir, name), s.res.width,
                             s.res.height, lane.partition);

@@ -18,6 +18,7 @@ void add_common_options(CLI::App& cmd, CommonOptions& o);
 Runner add_render_command(CLI::App& app);
 Runner add_bench_command(CLI::App& app);
 Runner add_devices_command(CLI::App& app);
+Runner add_simulate_command(CLI::App& app);
 
 // True when stderr is a terminal (progress lines are drawn only then).
 bool stderr_is_tty();

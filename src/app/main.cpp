@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
       "cpu:threads=1:cores=0,cpu:threads=1:cores=1\n"
       "  multiray bench --devices cpu:threads=1,cpu:threads=1:speed=0.33 --frames 100 "
       "--camera-path orbit --json bench.json --report report\n"
+      "  multiray render --trace run.trace --devices cpu,cpu:speed=0.5 --frames 30\n"
+      "  multiray simulate run.trace --devices 2,16,256 --link wifi --plot scaling.svg\n"
       "  multiray devices\n",
       "multiray"};
   app.require_subcommand(1);
@@ -26,6 +28,7 @@ int main(int argc, char** argv) {
   app::Runner render = app::add_render_command(app);
   app::Runner bench = app::add_bench_command(app);
   app::Runner devices = app::add_devices_command(app);
+  app::Runner simulate = app::add_simulate_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -42,6 +45,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("render")) return render();
     if (app.got_subcommand("bench")) return bench();
     if (app.got_subcommand("devices")) return devices();
+    if (app.got_subcommand("simulate")) return simulate();
   } catch (const InputError& e) {
     fmt::print(stderr, "multiray: error: {}\n", e.what());
     return 2;

@@ -1,6 +1,7 @@
 #include "app/report_plots.h"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 
 #include <fmt/core.h>
@@ -103,6 +104,62 @@ void write_partition_png(const std::string& path, int width, int height,
     }
   }
   write_png_rgb8(path, width, height, rgb);
+}
+
+void write_scaling_svg(const std::string& path, const std::string& title,
+                       const std::vector<ScalingSeries>& series) {
+  const double W = 900, H = 520, left = 70, right = 190, top = 50, plot_h = 400;
+  const double plot_w = W - left - right;
+  double lo = 1e300, hi = 0;
+  for (const auto& s : series)
+    for (const auto& [n, e] : s.points) lo = std::min(lo, n), hi = std::max(hi, n);
+  if (!(hi > 0)) return;
+  const double l0 = std::log2(lo), l1 = std::max(std::log2(hi), l0 + 1);
+  auto x_of = [&](double n) { return left + (std::log2(n) - l0) / (l1 - l0) * plot_w; };
+  auto y_of = [&](double e) { return top + plot_h * (1 - std::clamp(e, 0.0, 1.0)); };
+  std::string svg = fmt::format(
+      "<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' font-family='sans-serif' "
+      "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n"
+      "<text x='{}' y='24' font-size='14'>{}</text>\n",
+      W, H, left, title);
+  for (int k = 0; k <= 10; k += 2) {
+    const double y = y_of(k / 10.0);
+    svg += fmt::format(
+        "<line x1='{}' y1='{:.1f}' x2='{}' y2='{:.1f}' stroke='#ddd'/><text x='{}' y='{:.1f}' "
+        "text-anchor='end'>{:.1f}</text>\n",
+        left, y, left + plot_w, y, left - 6, y + 4, k / 10.0);
+  }
+  for (double n = std::exp2(std::ceil(l0)); n <= std::exp2(l1) + 0.5; n *= 2)
+    svg += fmt::format(
+        "<line x1='{0:.1f}' y1='{1}' x2='{0:.1f}' y2='{2}' stroke='#eee'/><text x='{0:.1f}' "
+        "y='{3}' text-anchor='middle'>{4}</text>\n",
+        x_of(n), top, top + plot_h, top + plot_h + 16, int(n));
+  svg += fmt::format(
+      "<text x='{}' y='{}' text-anchor='middle'>devices</text><text x='16' y='{}' "
+      "transform='rotate(-90 16 {})' text-anchor='middle'>efficiency</text>\n",
+      left + plot_w / 2, top + plot_h + 36, top + plot_h / 2, top + plot_h / 2);
+  for (size_t i = 0; i < series.size(); ++i) {
+    std::string pts;
+    for (const auto& [n, e] : series[i].points)
+      pts += fmt::format("{:.1f},{:.1f} ", x_of(n), y_of(e));
+    svg += fmt::format("<polyline points='{}' fill='none' stroke='{}' stroke-width='2'/>\n", pts,
+                       device_colour(i));
+    for (const auto& [n, e] : series[i].points)
+      svg += fmt::format("<circle cx='{:.1f}' cy='{:.1f}' r='3' fill='{}'/>\n", x_of(n), y_of(e),
+                         device_colour(i));
+    const double ly = top + 14 + 18 * double(i);
+    const double last = series[i].points.empty() ? 0 : series[i].points.back().second;
+    svg += fmt::format(
+        "<rect x='{}' y='{:.1f}' width='12' height='12' fill='{}'/><text x='{}' y='{:.1f}'>{} "
+        "({:.2f} at {})</text>\n",
+        left + plot_w + 12, ly - 10, device_colour(i), left + plot_w + 28, ly, series[i].name,
+        last, series[i].points.empty() ? 0 : int(series[i].points.back().first));
+  }
+  svg += "</svg>\n";
+  std::ofstream out(path);
+  out << svg;
+  out.close();
+  if (!out) throw InputError("cannot write '" + path + "'");
 }
 
 }  // namespace multiray::app

@@ -20,6 +20,16 @@ void write_timeline_svg(const std::string& path, const std::string& title,
 void write_partition_png(const std::string& path, int width, int height,
                          const std::vector<std::vector<balance::WorkItem>>& rendered);
 
+// One line of a scaling plot: (device count, efficiency) points.
+struct ScalingSeries {
+  std::string name;
+  std::vector<std::pair<double, double>> points;
+};
+
+// Efficiency (0..1) against device count (log2 axis), one line per series, with values.
+void write_scaling_svg(const std::string& path, const std::string& title,
+                       const std::vector<ScalingSeries>& series);
+
 // The colour of device i in every plot.
 const char* device_colour(size_t i);
 

@@ -11,6 +11,7 @@
 #include "balance/queue.h"
 #include "balance/region.h"
 #include "balance/semi_static.h"
+#include "balance/sim_study.h"
 #include "balance/simulate.h"
 #include "balance/static_ratios.h"
 #include "balance/stats.h"

@@ -1,0 +1,196 @@
+// `multiray simulate`: a recorded trace replayed on many virtual devices, behind an
+// emulated link, with every balancer, in virtual time (balance/sim_study.h).
+#include <chrono>
+#include <fstream>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "app/report_plots.h"
+#include "balance/balancer.h"
+#include "balance/sim_study.h"
+#include "balance/spec.h"
+#include "core/error.h"
+
+namespace multiray::app {
+
+namespace {
+
+struct SimulateOptions {
+  std::string trace_path;
+  std::string devices = "2,4,8,16";
+  std::string speeds = "equal";
+  double noise = 0;
+  double slowdown = 1;
+  std::string link = "none";
+  std::string balancers;  // empty: all
+  int frames = 0;
+  int warmup = -1;  // -1: a tenth of the frames
+  uint64_t seed = 0;
+  std::string json_path, plot_path;
+};
+
+std::vector<int> device_counts(const std::string& text) {
+  std::vector<int> out;
+  for (const std::string& item : balance::split_spec_list(text)) {
+    size_t used = 0;
+    int n = 0;
+    try {
+      n = std::stoi(item, &used);
+    } catch (...) {
+      used = 0;
+    }
+    if (used != item.size() || n < 1 || n > 4096)
+      throw InputError("--devices: '" + item + "' is not a device count in 1..4096");
+    out.push_back(n);
+  }
+  if (out.empty()) throw InputError("--devices is empty");
+  return out;
+}
+
+balance::Trace load_trace(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot read trace '" + path + "'");
+  try {
+    return balance::read_trace(in);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("trace '" + path + "': " + e.what());
+  }
+}
+
+}  // namespace
+
+Runner add_simulate_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "simulate",
+      "Replay a recorded trace (render/bench --trace) on many virtual devices, behind an "
+      "emulated link, with every balancer, in virtual time");
+  auto o = std::make_shared<SimulateOptions>();
+  cmd->add_option("trace", o->trace_path, "Trace file written by render --trace")->required();
+  cmd->add_option("--devices", o->devices,
+                  "Device counts to simulate, comma-separated (each 1..4096)")
+      ->capture_default_str();
+  cmd->add_option("--speeds", o->speeds,
+                  "Device speeds: equal, linear:MIN (1 down to MIN), random:MIN (uniform in "
+                  "[MIN, 1], from --seed) or list:A/B/... (repeated)")
+      ->capture_default_str();
+  cmd->add_option("--noise", o->noise,
+                  "Per-frame speed noise: each device's speed times 1 + U(-x, x) every frame")
+      ->capture_default_str();
+  cmd->add_option("--slowdown", o->slowdown,
+                  "Every virtual device this many times slower than the recording device (e.g. "
+                  "phones or small GPUs); makes rendering weigh more against the link")
+      ->capture_default_str();
+  cmd->add_option("--link", o->link,
+                  "Emulated link to the master: none, lan (0.1 ms, 10 Gbit/s), wifi (5 ms, "
+                  "200 Mbit/s, as Seo et al.'s mobile cluster) or LATENCY_MS:MBIT; the "
+                  "master's link is shared by all devices")
+      ->capture_default_str();
+  cmd->add_option("--balancers", o->balancers, "Balancer specs, comma-separated (default: all)");
+  cmd->add_option("--frames", o->frames, "Frames to simulate (0: the trace's; more cycle it)")
+      ->capture_default_str();
+  cmd->add_option("--warmup", o->warmup, "Frames left out of the summary (default: a tenth)");
+  cmd->add_option("--seed", o->seed, "Seed of random speeds and noise")->capture_default_str();
+  cmd->add_option("--json", o->json_path, "Write every result as JSON to this file");
+  cmd->add_option("--plot", o->plot_path, "Write efficiency vs device count as SVG");
+  return [o]() -> int {
+    const balance::Trace trace = load_trace(o->trace_path);
+    const std::vector<int> counts = device_counts(o->devices);
+    std::vector<std::string> specs =
+        o->balancers.empty() ? balance::balancer_names() : balance::split_spec_list(o->balancers);
+    if (!(o->noise >= 0 && o->noise < 1)) throw InputError("--noise must be in [0, 1)");
+    balance::StudyConfig config;
+    config.frame_noise = o->noise;
+    if (!(o->slowdown >= 1e-3 && o->slowdown <= 1e6))
+      throw InputError("--slowdown must be in [0.001, 1e6]");
+    config.slowdown = o->slowdown;
+    config.seed = o->seed;
+    config.frames = o->frames;
+    if (o->frames < 0 || o->frames > 1000000) throw InputError("--frames must be in 0..1000000");
+    const int frames = o->frames > 0 ? o->frames : int(trace.frames.size());
+    config.warmup = o->warmup >= 0 ? o->warmup : frames / 10;
+    try {
+      config.link = balance::parse_link(o->link);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(std::string("--link: ") + e.what());
+    }
+    fmt::print("trace {} ({} frames of {}x{} x {} views, recorded with {} on {} devices)\n",
+               o->trace_path, trace.frames.size(), trace.frames[0].shape.width,
+               trace.frames[0].shape.height, trace.frames[0].shape.views, trace.balancer,
+               trace.devices.size());
+    fmt::print(
+        "simulated (virtual time, emulated devices and link): {} frames, warm-up {}, speeds {}, "
+        "slowdown {}, noise {}, link {}\n",
+        frames, config.warmup, o->speeds, o->slowdown, o->noise, o->link);
+    fmt::print("{:>7}  {:<16} {:>12} {:>12} {:>10} {:>10}\n", "devices", "balancer", "frame ms",
+               "ideal ms", "efficiency", "imbalance");
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<balance::StudyResult> results;
+    for (int n : counts) {
+      try {
+        config.speeds = balance::device_speeds(o->speeds, n, o->seed);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(std::string("--speeds: ") + e.what());
+      }
+      for (const std::string& spec : specs) {
+        try {
+          results.push_back(balance::run_study(trace, spec, config));
+        } catch (const std::invalid_argument& e) {
+          throw InputError(std::string("--balancers: ") + e.what());
+        }
+        const auto& r = results.back();
+        fmt::print("{:>7}  {:<16} {:>12.3f} {:>12.3f} {:>10.3f} {:>9.1f}%\n", n,
+                   spec.substr(0, 16), r.mean_frame_ms, r.mean_ideal_ms, r.efficiency,
+                   100 * r.mean_imbalance);
+      }
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fmt::print("({} simulations in {:.2f} s of real time)\n", results.size(), seconds);
+    if (!o->json_path.empty()) {
+      nlohmann::json runs = nlohmann::json::array();
+      for (const auto& r : results)
+        runs.push_back({{"balancer", r.balancer},
+                        {"devices", r.devices},
+                        {"mean_frame_ms", r.mean_frame_ms},
+                        {"mean_ideal_ms", r.mean_ideal_ms},
+                        {"efficiency", r.efficiency},
+                        {"mean_imbalance", r.mean_imbalance},
+                        {"frame_ms", r.frame_ms}});
+      nlohmann::json doc{{"trace", o->trace_path},
+                         {"speeds", o->speeds},
+                         {"noise", o->noise},
+                         {"slowdown", o->slowdown},
+                         {"link", o->link},
+                         {"frames", frames},
+                         {"warmup", config.warmup},
+                         {"timing",
+                          "virtual time (simulated); ideal = frame cost / sum of "
+                          "device speeds, without link or noise"},
+                         {"runs", runs}};
+      std::ofstream out(o->json_path);
+      out << doc.dump(1) << "\n";
+      out.close();
+      if (!out) throw InputError("cannot write '" + o->json_path + "'");
+    }
+    if (!o->plot_path.empty()) {
+      std::vector<ScalingSeries> series(specs.size());
+      for (size_t k = 0; k < specs.size(); ++k) {
+        series[k].name = specs[k];
+        for (size_t c = 0; c < counts.size(); ++c) {
+          const auto& r = results[c * specs.size() + k];
+          series[k].points.push_back({double(r.devices), r.efficiency});
+        }
+      }
+      write_scaling_svg(o->plot_path,
+                        fmt::format("efficiency (ideal / simulated frame time) — {}, speeds {}, "
+                                    "link {} (emulated, virtual time)",
+                                    o->trace_path, o->speeds, o->link),
+                        series);
+    }
+    return 0;
+  };
+}
+
+}  // namespace multiray::app

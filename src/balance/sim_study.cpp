@@ -1,0 +1,120 @@
+#include "balance/sim_study.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace multiray::balance {
+
+namespace {
+
+double number(const std::string& text, const std::string& what, double lo, double hi) {
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (text.empty() || used != text.size() || !std::isfinite(v) || v < lo || v > hi)
+    throw std::invalid_argument(what + ": '" + text + "' is not a number in [" +
+                                std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return v;
+}
+
+// The cost of every pixel of trace frame `k` at speed 1.
+double frame_cost(const Trace& trace, size_t k) {
+  double c = 0;
+  for (size_t d = 0; d < trace.frames[k].devices.size(); ++d)
+    for (const ItemReport& r : trace.frames[k].devices[d].items)
+      c += r.time_ms * trace.devices[d].speed;
+  return c;
+}
+
+}  // namespace
+
+std::vector<double> device_speeds(const std::string& dist, int n, uint64_t seed) {
+  if (n < 1 || n > 4096) throw std::invalid_argument("device count must be in 1..4096");
+  const auto colon = dist.find(':');
+  const std::string kind = dist.substr(0, colon);
+  const std::string arg = colon == std::string::npos ? "" : dist.substr(colon + 1);
+  std::vector<double> s(size_t(n), 1.0);
+  if (kind == "equal" && colon == std::string::npos) return s;
+  if (kind == "linear") {
+    const double lo = number(arg, "speeds linear:MIN", 1e-6, 1);
+    for (int i = 0; i < n; ++i) s[size_t(i)] = n == 1 ? 1 : 1 - (1 - lo) * i / double(n - 1);
+    return s;
+  }
+  if (kind == "random") {
+    const double lo = number(arg, "speeds random:MIN", 1e-6, 1);
+    std::mt19937_64 rng(seed ^ 0x5eedull);
+    for (double& v : s) v = lo + (1 - lo) * double(rng() >> 11) * 0x1p-53;
+    return s;
+  }
+  if (kind == "list") {
+    std::vector<double> list;
+    std::stringstream ss(arg);
+    for (std::string item; std::getline(ss, item, '/');)
+      list.push_back(number(item, "speeds list", 1e-6, 1));
+    if (list.empty()) throw std::invalid_argument("speeds list: give at least one speed");
+    for (int i = 0; i < n; ++i) s[size_t(i)] = list[size_t(i) % list.size()];
+    return s;
+  }
+  throw std::invalid_argument("speeds '" + dist +
+                              "' must be equal, linear:MIN, random:MIN or list:A/B/...");
+}
+
+SimLink parse_link(const std::string& text) {
+  if (text == "lan") return SimLink::lan();
+  if (text == "wifi") return SimLink::wifi();
+  if (text == "none") return SimLink{};
+  const auto colon = text.find(':');
+  if (colon == std::string::npos)
+    throw std::invalid_argument("link '" + text + "' must be lan, wifi, none or LATENCY_MS:MBIT");
+  SimLink l;
+  l.latency_ms = number(text.substr(0, colon), "link latency (ms)", 0, 1e6);
+  l.mbit_per_s = number(text.substr(colon + 1), "link bandwidth (Mbit/s)", 1e-6, 1e9);
+  return l;
+}
+
+StudyResult run_study(const Trace& trace, const std::string& spec, const StudyConfig& cfg) {
+  if (cfg.speeds.empty()) throw std::invalid_argument("no devices to simulate");
+  if (trace.frames.empty()) throw std::invalid_argument("the trace has no frames");
+  const int n = int(cfg.speeds.size());
+  auto balancer = make_balancer(spec, n);
+  std::vector<SimDevice> devices(cfg.speeds.size());
+  if (!(cfg.slowdown >= 1e-6 && cfg.slowdown <= 1e6))
+    throw std::invalid_argument("slowdown must be in [1e-6, 1e6]");
+  double speed_sum = 0;
+  for (size_t i = 0; i < devices.size(); ++i) {
+    devices[i].speed = cfg.speeds[i] / cfg.slowdown;
+    devices[i].frame_noise = cfg.frame_noise;
+    speed_sum += devices[i].speed;
+  }
+  const int frames = cfg.frames > 0 ? cfg.frames : int(trace.frames.size());
+  if (cfg.warmup < 0 || cfg.warmup >= frames)
+    throw std::invalid_argument("warm-up must be in 0.." + std::to_string(frames - 1));
+  const auto run = replay_trace(
+      trace, *balancer, [&](int) { return devices; }, cfg.link, frames, cfg.seed);
+  StudyResult r;
+  r.balancer = balancer->spec();
+  r.devices = n;
+  double actual = 0, ideal = 0;
+  for (int f = 0; f < frames; ++f) {
+    r.frame_ms.push_back(run[size_t(f)].frame_ms);
+    if (f < cfg.warmup) continue;
+    actual += run[size_t(f)].frame_ms;
+    ideal += frame_cost(trace, size_t(f) % trace.frames.size()) / speed_sum;
+    r.mean_imbalance += imbalance(run[size_t(f)].stats);
+  }
+  const int counted = frames - cfg.warmup;
+  r.mean_frame_ms = actual / counted;
+  r.mean_ideal_ms = ideal / counted;
+  r.efficiency = actual > 0 ? ideal / actual : 0;
+  r.mean_imbalance /= counted;
+  return r;
+}
+
+}  // namespace multiray::balance

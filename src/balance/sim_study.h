@@ -1,0 +1,50 @@
+// A simulation study: a recorded trace replayed on N virtual devices of given speeds,
+// behind a given link, with several balancers, in virtual time (what `multiray simulate`
+// runs). Device speeds come from a small distribution language so that studies from 2 to
+// 4096 devices are one command.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "balance/trace.h"
+
+namespace multiray::balance {
+
+// Speeds (relative, the fastest 1) of `n` devices from `dist`:
+//   equal          every device 1
+//   linear:MIN     evenly spread from 1 down to MIN (MIN in (0, 1])
+//   random:MIN     uniform in [MIN, 1], drawn from `seed`
+//   list:A/B/...   the listed speeds (each in (0, 1]), repeated to n devices
+// Throws std::invalid_argument with one line for anything else.
+std::vector<double> device_speeds(const std::string& dist, int n, uint64_t seed);
+
+// "lan", "wifi", "none", or "LATENCY_MS:MBIT" (e.g. "2:100"). Throws std::invalid_argument.
+SimLink parse_link(const std::string& text);
+
+struct StudyConfig {
+  std::vector<double> speeds;  // one per device
+  double frame_noise = 0;      // each device's speed scaled by 1 + U(-x, x) per frame
+  double slowdown = 1;         // every device this many times slower than the recording one
+  SimLink link;
+  int frames = 0;  // 0: the trace's frame count
+  int warmup = 0;  // frames left out of the summary
+  uint64_t seed = 0;
+};
+
+struct StudyResult {
+  std::string balancer;  // full spec
+  int devices = 0;
+  double mean_frame_ms = 0;      // frames after the warm-up, until the master has every result
+  double mean_ideal_ms = 0;      // same frames: frame cost / sum of speeds (no link, no noise)
+  double efficiency = 0;         // sum ideal / sum actual over those frames
+  double mean_imbalance = 0;     // device times, as balance::imbalance()
+  std::vector<double> frame_ms;  // every frame
+};
+
+// Replays `trace` with the balancer `spec` (made for config.speeds.size() devices).
+// Throws std::invalid_argument for a bad spec or config.
+StudyResult run_study(const Trace& trace, const std::string& spec, const StudyConfig& config);
+
+}  // namespace multiray::balance

@@ -1,0 +1,74 @@
+// Simulation studies: the speed distributions and links they accept, and what a study of
+// a known trace must give.
+#include <gtest/gtest.h>
+
+#include "balance/sim_study.h"
+#include "sim_harness.h"
+
+namespace multiray::balance {
+namespace {
+
+// A trace of `frames` frames whose cost is 1 µs per pixel, recorded on one device.
+Trace flat_trace(int frames) {
+  const FrameShape shape{64, 48, 1, {}};
+  auto b = make_balancer("uniform", 1);
+  Trace t;
+  t.balancer = b->spec();
+  t.devices.push_back({"recorder", 1.0});
+  for (const auto& f :
+       simulate_run(*b, shape, testing::constant({1.0}), uniform_cost(shape, 1e-3), frames))
+    t.frames.push_back(f.stats);
+  return t;
+}
+
+TEST(SimStudy, SpeedDistributions) {
+  EXPECT_EQ(device_speeds("equal", 3, 0), (std::vector<double>{1, 1, 1}));
+  EXPECT_EQ(device_speeds("linear:0.5", 3, 0), (std::vector<double>{1, 0.75, 0.5}));
+  EXPECT_EQ(device_speeds("list:1/0.25", 3, 0), (std::vector<double>{1, 0.25, 1}));
+  const auto r = device_speeds("random:0.2", 100, 7);
+  for (double v : r) EXPECT_TRUE(v >= 0.2 && v <= 1) << v;
+  EXPECT_EQ(r, device_speeds("random:0.2", 100, 7));  // deterministic per seed
+  EXPECT_NE(r, device_speeds("random:0.2", 100, 8));
+  for (const char* bad : {"", "fast", "linear:0", "linear:2", "list:", "list:1/x", "random:-1",
+                          "equal:1", "linear:nan"})
+    EXPECT_THROW(device_speeds(bad, 4, 0), std::invalid_argument) << bad;
+  EXPECT_THROW(device_speeds("equal", 0, 0), std::invalid_argument);
+  EXPECT_THROW(device_speeds("equal", 5000, 0), std::invalid_argument);
+}
+
+TEST(SimStudy, Links) {
+  EXPECT_EQ(parse_link("wifi").latency_ms, 5);
+  EXPECT_FALSE(parse_link("none").active());
+  const SimLink l = parse_link("2:100");
+  EXPECT_EQ(l.latency_ms, 2);
+  EXPECT_EQ(l.mbit_per_s, 100);
+  for (const char* bad : {"", "fast", "2", "2:0", "-1:10", "x:10", "1:inf"})
+    EXPECT_THROW(parse_link(bad), std::invalid_argument) << bad;
+}
+
+TEST(SimStudy, WithoutLinkAStaticSplitOfEqualDevicesIsIdeal) {
+  StudyConfig c;
+  c.speeds = {1, 1, 1, 1};
+  const StudyResult r = run_study(flat_trace(5), "uniform", c);
+  EXPECT_EQ(r.devices, 4);
+  EXPECT_NEAR(r.mean_ideal_ms, 64 * 48 * 1e-3 / 4, 1e-9);
+  EXPECT_NEAR(r.efficiency, 1.0, 1e-6);  // costs pass through float pixel maps
+}
+
+TEST(SimStudy, ASlowLinkCostsEfficiencyAndSlowerDevicesHideIt) {
+  StudyConfig c;
+  c.speeds = device_speeds("equal", 8, 0);
+  c.link = SimLink::wifi();
+  const Trace t = flat_trace(4);
+  const double fast = run_study(t, "uniform", c).efficiency;
+  c.slowdown = 1000;  // rendering now dwarfs the link
+  const double slow = run_study(t, "uniform", c).efficiency;
+  EXPECT_LT(fast, 0.5);
+  EXPECT_GT(slow, 0.8);
+  EXPECT_THROW(run_study(t, "nonsense", c), std::invalid_argument);
+  c.warmup = 4;  // no frame left to count
+  EXPECT_THROW(run_study(t, "uniform", c), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace multiray::balance
