@@ -3,6 +3,9 @@
 #include "balance/dlb.h"
 #include "balance/hybrid.h"
 #include "balance/layout.h"
+#include "balance/peers_cycles.h"
+#include "balance/peers_equalizer.h"
+#include "balance/peers_ospray.h"
 #include "balance/queue.h"
 #include "balance/semi_static.h"
 #include "balance/spec.h"
@@ -52,6 +55,18 @@ std::unique_ptr<Balancer> build(Spec& spec, int n) {
     o.steal = spec.get_bool("steal", o.steal);
     return std::make_unique<HybridBalancer>(n, o);
   }
+  // The peers' balancers (peers_*.h), for comparison.
+  if (name == "cycles")
+    return std::make_unique<CyclesBalancer>(n, spec.get_double("interval_ms", 1000, 0, 1e9));
+  if (name == "equalizer")
+    return std::make_unique<EqualizerBalancer>(n, spec.get_double("damping", 0.5, 0, 1));
+  if (name == "ospray-static")
+    return std::make_unique<OsprayStaticBalancer>(n, spec.get_int("tile", 64, 1, 4096));
+  if (name == "ospray-dynamic") {
+    const int tile = spec.get_int("tile", 64, 1, 4096);
+    const int prefetch = spec.get_int("prefetch", 4, 1, 1024);
+    return std::make_unique<OsprayDynamicBalancer>(n, tile, prefetch);
+  }
   std::string known;
   for (const std::string& b : balancer_names()) known += (known.empty() ? "" : ", ") + b;
   spec.fail("unknown balancer '" + name + "' (known: " + known + ")");
@@ -59,7 +74,8 @@ std::unique_ptr<Balancer> build(Spec& spec, int n) {
 }  // namespace
 
 std::vector<std::string> balancer_names() {
-  return {"uniform", "static", "queue", "semi-static", "dlb", "hybrid"};
+  return {"uniform", "static", "queue",     "semi-static",   "dlb",
+          "hybrid",  "cycles", "equalizer", "ospray-static", "ospray-dynamic"};
 }
 
 std::unique_ptr<Balancer> make_balancer(const std::string& text, int device_count) {

@@ -45,12 +45,17 @@ class Balancer {
 //   dlb[:interval=5][:band=0.1][:slow=0.75][:bits=auto][:layout=strips|views]
 //   hybrid[:bands=8][:taper=0.7][:tail=0.02][:alpha=0.5][:jump=0.2][:gamma=0.5]
 //         [:min_chunk=256][:steal=1]
+// and, to compare against the peers (peers_*.h):
+//   cycles[:interval_ms=1000]                    (Blender Cycles)
+//   equalizer[:damping=0.5]                      (Equalizer's load equalizer, 2D)
+//   ospray-static[:tile=64]                      (OSPRay MPI, round-robin tiles)
+//   ospray-dynamic[:tile=64][:prefetch=4]        (OSPRay MPI, tiles on request)
 // docs/balancers.md explains each parameter. Throws std::invalid_argument with a one-line
 // message for an unknown name or option, a malformed or out-of-range value, or
 // device_count outside 1..4096.
 std::unique_ptr<Balancer> make_balancer(const std::string& spec, int device_count);
 
-// The names make_balancer accepts, in the order of DESIGN.md.
+// The names make_balancer accepts, in the order of DESIGN.md, then the peers' balancers.
 std::vector<std::string> balancer_names();
 
 }  // namespace multiray::balance

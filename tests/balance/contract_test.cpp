@@ -3,6 +3,7 @@
 // never yield NaN ratios; dropped devices get nothing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -16,20 +17,31 @@ namespace {
 using testing::constant;
 using testing::flat_cost;
 
-const std::vector<std::string> kSpecs = {"uniform",
-                                         "uniform:layout=columns",
-                                         "uniform:layout=strips",
-                                         "uniform:layout=views",
-                                         "static",
-                                         "queue",
-                                         "queue:tile=7:batch=3",
-                                         "semi-static",
-                                         "dlb",
-                                         "dlb:bits=3",
-                                         "dlb:layout=views",
-                                         "hybrid",
-                                         "hybrid:bands=1:steal=0",
-                                         "hybrid:bands=3:taper=0.9:min_chunk=1"};
+const std::vector<std::string> kSpecs = {
+    "uniform",
+    "uniform:layout=columns",
+    "uniform:layout=strips",
+    "uniform:layout=views",
+    "static",
+    "queue",
+    "queue:tile=7:batch=3",
+    "semi-static",
+    "dlb",
+    "dlb:bits=3",
+    "dlb:layout=views",
+    "hybrid",
+    "hybrid:bands=1:steal=0",
+    "hybrid:bands=3:taper=0.9:min_chunk=1",
+    // The peers' balancers (peers_*.h).
+    "cycles",
+    "cycles:interval_ms=0",
+    "equalizer",
+    "equalizer:damping=0",
+    "ospray-static",
+    "ospray-static:tile=7",
+    "ospray-dynamic",
+    "ospray-dynamic:tile=7:prefetch=3",
+};
 
 std::vector<FrameShape> shapes() {
   FrameShape weighted{64, 48, 2, {}};
@@ -70,7 +82,9 @@ TEST_P(Contract, GarbageTimingsKeepRatiosFinite) {
   // window, so the checks below also cover its deferred update.)
   const std::vector<std::vector<double>> unusable = {
       {0, 0, 0}, {-1, -5, -3}, {nan, nan, nan}, {inf, inf, inf}, {0, -inf, nan}};
-  const bool measures_shares = GetParam().rfind("queue", 0) == 0;  // ratios = work done
+  // Queues report last frame's work done as ratios (ospray-dynamic is a queue too).
+  const bool measures_shares =
+      GetParam().rfind("queue", 0) == 0 || GetParam().rfind("ospray-dynamic", 0) == 0;
   auto expect_unchanged = [&](const Plan& before, const std::string& what) {
     const Plan p = b->plan(shape, 8);
     expect_sane(p, shape, 3, GetParam() + " " + what);
@@ -154,6 +168,12 @@ TEST_P(Contract, RejectsInvalidShapes) {
   EXPECT_THROW(b->plan(FrameShape{4, 4, 0, {}}, 0), std::invalid_argument);
   EXPECT_THROW(b->plan(FrameShape{4, 4, 1, {1.0f, 2.0f}}, 0), std::invalid_argument);
   EXPECT_EQ(check_plan(b->plan(FrameShape{0, 0, 1, {}}, 0), FrameShape{0, 0, 1, {}}, 2), "");
+}
+
+// Every registered balancer is in kSpecs, so a new one cannot skip the contract.
+TEST(ContractSpecs, CoverEveryRegisteredBalancer) {
+  for (const std::string& name : balancer_names())
+    EXPECT_NE(std::find(kSpecs.begin(), kSpecs.end(), name), kSpecs.end()) << name;
 }
 
 INSTANTIATE_TEST_SUITE_P(AllBalancers, Contract, ::testing::ValuesIn(kSpecs),

@@ -24,10 +24,25 @@ struct Case {
 // recovery: semi-static is a blend (α = 0.4: the error shrinks 0.6× a frame); dlb waits
 // for its check every 5 frames and may need two; hybrid steals within the frame of the
 // change (which stays under 10%, see below) and plans with the new speed from the next.
+//
+// The peers' balancers (peers_*.h), with what their designs allow: cycles stops inside
+// its 2% dead band (a pair may stay up to 4% apart, a share ~4.5% off) and moves each
+// device only 1/N of the way per rebalance (20 frames for 5 devices); its own 1 s
+// interval is ~17 frames here, longer than the 20 frames after the change this test
+// watches, so the case runs at 250 ms (peers_test.cpp tests the interval itself).
+// equalizer damps every level of its tree by 0.5 (8 devices settle in ~35 frames) and
+// gives each device one rectangle, so the 49-pixel-wide column of the 0.5-speed device
+// is 2% off by rounding alone. ospray-dynamic is a queue (tile 16 here, as queue's 32).
+// Like uniform and static, ospray-static never adapts and is not listed.
 const std::vector<Case> kCases = {
-    {"semi-static", 15, 0.02, 0.01, 0.01, 6},  {"dlb", 5, 0.02, 0.02, 0.02, 10},
-    {"hybrid", 1, 0.02, 0.01, 0.01, 1},        {"hybrid:steal=0", 4, 0.02, 0.01, 0.01, 3},
+    {"semi-static", 15, 0.02, 0.01, 0.01, 6},
+    {"dlb", 5, 0.02, 0.02, 0.02, 10},
+    {"hybrid", 1, 0.02, 0.01, 0.01, 1},
+    {"hybrid:steal=0", 4, 0.02, 0.01, 0.01, 3},
     {"queue:tile=32", 1, 0.05, 0.03, 0.05, 0},
+    {"cycles:interval_ms=250", 20, 0.05, 0.035, 0.04, 10},
+    {"equalizer", 35, 0.03, 0.02, 0.01, 3},
+    {"ospray-dynamic:tile=16", 1, 0.05, 0.03, 0.05, 0},
 };
 
 class Convergence : public ::testing::TestWithParam<Case> {};
