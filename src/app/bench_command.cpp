@@ -24,7 +24,8 @@ namespace multiray::app {
 namespace {
 
 struct BenchOptions {
-  std::string balancers = "uniform,static,queue,semi-static,dlb,hybrid";
+  std::string balancers =
+      "uniform,static,queue,semi-static,dlb,hybrid,cycles,equalizer,ospray-static,ospray-dynamic";
   std::string json_path;
   std::string report_dir;
   std::string trace_prefix;
@@ -68,7 +69,7 @@ Runner add_bench_command(CLI::App& app) {
     Setup s = make_setup(*o);
     std::vector<std::string> mapped;
     for (const auto& spec : specs) mapped.push_back(apply_mapping(spec, o->mapping));
-    std::unique_ptr<Session> session = s.make_session(mapped);  // checks every spec
+    std::unique_ptr<Session> session = s.make_session(mapped, "--balancers");  // checks every spec
     if (!b->report_dir.empty()) {
       std::error_code ec;
       std::filesystem::create_directories(b->report_dir, ec);

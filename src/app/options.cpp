@@ -128,10 +128,11 @@ std::vector<Device*> Setup::device_ptrs() const {
   return out;
 }
 
-std::unique_ptr<Session> Setup::make_session(const std::vector<std::string>& specs) const {
+std::unique_ptr<Session> Setup::make_session(const std::vector<std::string>& specs,
+                                             const std::string& option) const {
   std::vector<std::unique_ptr<balance::Balancer>> lanes;
   for (const std::string& spec : specs)
-    lanes.push_back(make_balancer_or_throw(spec, int(devices.size())));
+    lanes.push_back(make_balancer_or_throw(spec, int(devices.size()), option));
   auto session =
       std::make_unique<Session>(device_ptrs(), std::move(lanes), *views, path, settings);
   session->set_perturbations(perturbations);

@@ -75,7 +75,9 @@ struct Setup {
 
   std::vector<Device*> device_ptrs() const;
   // A session over the devices with one lane per balancer spec (each already checked).
-  std::unique_ptr<Session> make_session(const std::vector<std::string>& balancer_specs) const;
+  // Bad specs are reported as coming from `option`.
+  std::unique_ptr<Session> make_session(const std::vector<std::string>& balancer_specs,
+                                        const std::string& option = "--balancer") const;
 };
 
 // Validates every option before loading anything expensive, then loads the scene and

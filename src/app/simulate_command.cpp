@@ -8,6 +8,7 @@
 
 #include "app/commands.h"
 #include "app/report_plots.h"
+#include "app/stats_json.h"
 #include "balance/balancer.h"
 #include "balance/sim_study.h"
 #include "balance/spec.h"
@@ -115,6 +116,16 @@ Runner add_simulate_command(CLI::App& app) {
     } catch (const std::invalid_argument& e) {
       throw InputError(std::string("--link: ") + e.what());
     }
+    // Everything is checked before anything is printed: one line for bad input.
+    std::vector<std::vector<double>> speeds;
+    for (int n : counts) {
+      try {
+        speeds.push_back(balance::device_speeds(o->speeds, n, o->seed));
+      } catch (const std::invalid_argument& e) {
+        throw InputError(std::string("--speeds: ") + e.what());
+      }
+      for (const std::string& spec : specs) make_balancer_or_throw(spec, n, "--balancers");
+    }
     fmt::print("trace {} ({} frames of {}x{} x {} views, recorded with {} on {} devices)\n",
                o->trace_path, trace.frames.size(), trace.frames[0].shape.width,
                trace.frames[0].shape.height, trace.frames[0].shape.views, trace.balancer,
@@ -127,12 +138,9 @@ Runner add_simulate_command(CLI::App& app) {
                "ideal ms", "efficiency", "imbalance");
     const auto start = std::chrono::steady_clock::now();
     std::vector<balance::StudyResult> results;
-    for (int n : counts) {
-      try {
-        config.speeds = balance::device_speeds(o->speeds, n, o->seed);
-      } catch (const std::invalid_argument& e) {
-        throw InputError(std::string("--speeds: ") + e.what());
-      }
+    for (size_t c = 0; c < counts.size(); ++c) {
+      const int n = counts[c];
+      config.speeds = speeds[c];
       for (const std::string& spec : specs) {
         try {
           results.push_back(balance::run_study(trace, spec, config));

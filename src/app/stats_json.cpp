@@ -40,11 +40,12 @@ nlohmann::json devices_to_json(const std::vector<std::unique_ptr<Device>>& devic
   return out;
 }
 
-std::unique_ptr<balance::Balancer> make_balancer_or_throw(const std::string& spec, int devices) {
+std::unique_ptr<balance::Balancer> make_balancer_or_throw(const std::string& spec, int devices,
+                                                          const std::string& option) {
   try {
     return balance::make_balancer(spec, devices);
   } catch (const std::invalid_argument& e) {
-    throw InputError(std::string("--balancer: ") + e.what());
+    throw InputError(option + ": " + e.what());
   }
 }
 

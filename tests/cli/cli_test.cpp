@@ -178,3 +178,37 @@ TEST(Cli, DepthKernelRunsAndUnknownKernelsAreRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+// A trace recorded by render, replayed by simulate on more devices behind a link.
+TEST(Cli, SimulateReplaysARecordedTrace) {
+  const std::string dir = ::testing::TempDir() + "/cli_sim";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string trace = dir + "/run.trace";
+  ASSERT_EQ(run("render -q --res 32x24 --spp 1 --frames 3 --devices cpu,cpu --trace " + trace +
+                " --out " + dir)
+                .code,
+            0);
+  const Result r = run("simulate " + trace +
+                       " --devices 2,8 --link wifi --slowdown 20 --frames 6 "
+                       "--balancers uniform,hybrid --json " +
+                       dir + "/sim.json --plot " + dir + "/sim.svg");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("virtual time"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("hybrid"));
+  EXPECT_GT(std::filesystem::file_size(dir + "/sim.svg"), 500u);
+  std::ifstream json(dir + "/sim.json");
+  const std::string text((std::istreambuf_iterator<char>(json)), {});
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n') > 10, true);
+  expect_input_error("simulate " + trace + " --devices 0", "--devices");
+  expect_input_error("simulate " + trace + " --link moon", "--link");
+  expect_input_error("simulate " + trace + " --speeds linear:7", "--speeds");
+  expect_input_error("simulate " + trace + " --balancers nonsense", "--balancers");
+  expect_input_error("simulate /nonexistent.trace", "trace");
+  expect_input_error("simulate " + temp_file("bad.trace", "multiray-trace 1\nframe 0 -4 4 1\n"),
+                     "line 2");
+}
+
+}  // namespace
