@@ -1,6 +1,7 @@
 // `multiray simulate`: a recorded trace replayed on many virtual devices, behind an
 // emulated link, with every balancer, in virtual time (balance/sim_study.h).
 #include <chrono>
+#include <cmath>
 #include <fstream>
 
 #include <fmt/core.h>
@@ -30,7 +31,34 @@ struct SimulateOptions {
   int warmup = -1;  // -1: a tenth of the frames
   uint64_t seed = 0;
   std::string json_path, plot_path;
+  bool validate = false;
 };
+
+// --validate: the trace replayed with the balancer and devices that recorded it; the
+// simulated frame times against the recorded ones (the slowest device's time per frame).
+int validate(const balance::Trace& trace) {
+  auto balancer = make_balancer_or_throw(trace.balancer, int(trace.devices.size()), "the trace");
+  const auto run = balance::replay_trace(trace, *balancer);
+  fmt::print("replay of {} frames with {} on the {} recorded devices (speeds", trace.frames.size(),
+             trace.balancer, trace.devices.size());
+  for (const auto& d : trace.devices) fmt::print(" {:g}", d.speed);
+  fmt::print(")\n{:>6} {:>12} {:>12} {:>8}\n", "frame", "recorded ms", "simulated ms", "error");
+  double sum_err = 0, max_err = 0;
+  for (size_t f = 0; f < run.size(); ++f) {
+    const double rec = balance::frame_time_ms(trace.frames[f]);
+    const double sim = run[f].frame_ms;
+    const double err = rec > 0 ? (sim - rec) / rec : 0;
+    sum_err += std::abs(err);
+    max_err = std::max(max_err, std::abs(err));
+    fmt::print("{:>6} {:>12.3f} {:>12.3f} {:>7.1f}%\n", trace.frames[f].frame, rec, sim,
+               100 * err);
+  }
+  fmt::print(
+      "mean |error| {:.1f}%, largest {:.1f}% (device times: measured inside the devices; "
+      "simulated: virtual time)\n",
+      100 * sum_err / double(run.size()), 100 * max_err);
+  return 0;
+}
 
 std::vector<int> device_counts(const std::string& text) {
   std::vector<int> out;
@@ -94,9 +122,13 @@ Runner add_simulate_command(CLI::App& app) {
   cmd->add_option("--warmup", o->warmup, "Frames left out of the summary (default: a tenth)");
   cmd->add_option("--seed", o->seed, "Seed of random speeds and noise")->capture_default_str();
   cmd->add_option("--json", o->json_path, "Write every result as JSON to this file");
+  cmd->add_flag("--validate", o->validate,
+                "Replay the trace with the balancer and devices that recorded it and compare "
+                "the simulated frame times with the recorded ones");
   cmd->add_option("--plot", o->plot_path, "Write efficiency vs device count as SVG");
   return [o]() -> int {
     const balance::Trace trace = load_trace(o->trace_path);
+    if (o->validate) return validate(trace);
     const std::vector<int> counts = device_counts(o->devices);
     std::vector<std::string> specs =
         o->balancers.empty() ? balance::balancer_names() : balance::split_spec_list(o->balancers);
