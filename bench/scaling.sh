@@ -69,4 +69,23 @@ for b in ["hybrid", "semi-static", "uniform"]:
     err = sum(abs(s - r) / r for r, s in pairs) / len(pairs)
     print(f"{b:12s} {sum(r for r, _ in pairs)/len(pairs):8.2f} {sum(s for _, s in pairs)/len(pairs):8.2f} {100*err:6.1f}%")
 PY
+
+# Leria et al.: a 3x3 light field (320x180 per view, 1 spp) on a heterogeneous pair and
+# quadruple; speed-up of each balancer over uniform = uniform's frame time / its own.
+"$bin" render $record --res 320x180 --spp 1 --views 3x3 --devices cpu:threads=1 \
+  --balancer queue:tile=16 --trace "$out/lightfield.trace" --out "$out/lightfield_frames"
+leria="--frames 100 --warmup 10 --balancers uniform,dlb,hybrid,semi-static,cycles,equalizer"
+"$bin" simulate "$out/lightfield.trace" --devices 2 --speeds list:1/0.33 $leria \
+  > "$out/leria_2.txt"
+"$bin" simulate "$out/lightfield.trace" --devices 4 --speeds list:1/0.8/0.5/0.25 $leria \
+  > "$out/leria_4.txt"
+
+# Harada (& Fujita): adaptive AO (edge pixels 5 spp, others 1); deviation of device times
+# on two devices (1 : 0.5) and four whose speeds sum to 2 (0.8, 0.6, 0.4, 0.2).
+"$bin" render $record --integrator ao --sampling adaptive --devices cpu:threads=1 \
+  --balancer queue:tile=16 --trace "$out/adaptive_ao.trace" --out "$out/adaptive_frames"
+"$bin" simulate "$out/adaptive_ao.trace" --devices 2 --speeds list:1/0.5 --noise 0.05 \
+  --frames 100 --warmup 10 --balancers semi-static,hybrid,queue,cycles,equalizer > "$out/harada_2.txt"
+"$bin" simulate "$out/adaptive_ao.trace" --devices 4 --speeds list:0.8/0.6/0.4/0.2 --noise 0.05 \
+  --frames 100 --warmup 10 --balancers semi-static,hybrid,queue,cycles,equalizer > "$out/harada_4.txt"
 echo "results in $out"

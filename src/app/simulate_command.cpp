@@ -166,8 +166,8 @@ Runner add_simulate_command(CLI::App& app) {
         "simulated (virtual time, emulated devices and link): {} frames, warm-up {}, speeds {}, "
         "slowdown {}, noise {}, link {}\n",
         frames, config.warmup, o->speeds, o->slowdown, o->noise, o->link);
-    fmt::print("{:>7}  {:<16} {:>12} {:>12} {:>10} {:>10}\n", "devices", "balancer", "frame ms",
-               "ideal ms", "efficiency", "imbalance");
+    fmt::print("{:>7}  {:<16} {:>12} {:>12} {:>10} {:>10} {:>10}\n", "devices", "balancer",
+               "frame ms", "ideal ms", "efficiency", "imbalance", "deviation");
     const auto start = std::chrono::steady_clock::now();
     std::vector<balance::StudyResult> results;
     for (size_t c = 0; c < counts.size(); ++c) {
@@ -180,9 +180,9 @@ Runner add_simulate_command(CLI::App& app) {
           throw InputError(std::string("--balancers: ") + e.what());
         }
         const auto& r = results.back();
-        fmt::print("{:>7}  {:<16} {:>12.3f} {:>12.3f} {:>10.3f} {:>9.1f}%\n", n,
+        fmt::print("{:>7}  {:<16} {:>12.3f} {:>12.3f} {:>10.3f} {:>9.1f}% {:>9.1f}%\n", n,
                    spec.substr(0, 16), r.mean_frame_ms, r.mean_ideal_ms, r.efficiency,
-                   100 * r.mean_imbalance);
+                   100 * r.mean_imbalance, 100 * r.mean_deviation);
       }
     }
     const double seconds =
@@ -197,6 +197,7 @@ Runner add_simulate_command(CLI::App& app) {
                         {"mean_ideal_ms", r.mean_ideal_ms},
                         {"efficiency", r.efficiency},
                         {"mean_imbalance", r.mean_imbalance},
+                        {"mean_deviation", r.mean_deviation},
                         {"frame_ms", r.frame_ms}});
       nlohmann::json doc{{"trace", o->trace_path},
                          {"speeds", o->speeds},

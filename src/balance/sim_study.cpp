@@ -108,12 +108,14 @@ StudyResult run_study(const Trace& trace, const std::string& spec, const StudyCo
     actual += run[size_t(f)].frame_ms;
     ideal += frame_cost(trace, size_t(f) % trace.frames.size()) / speed_sum;
     r.mean_imbalance += imbalance(run[size_t(f)].stats);
+    r.mean_deviation += deviation(run[size_t(f)].stats);
   }
   const int counted = frames - cfg.warmup;
   r.mean_frame_ms = actual / counted;
   r.mean_ideal_ms = ideal / counted;
   r.efficiency = actual > 0 ? ideal / actual : 0;
   r.mean_imbalance /= counted;
+  r.mean_deviation /= counted;
   return r;
 }
 

@@ -40,6 +40,7 @@ struct StudyResult {
   double mean_ideal_ms = 0;      // same frames: frame cost / sum of speeds (no link, no noise)
   double efficiency = 0;         // sum ideal / sum actual over those frames
   double mean_imbalance = 0;     // device times, as balance::imbalance()
+  double mean_deviation = 0;     // device times, as balance::deviation() (Harada)
   std::vector<double> frame_ms;  // every frame
 };
 
