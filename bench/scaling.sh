@@ -20,7 +20,8 @@ bin="$build/src/app/multiray"
 root=$(cd "$(dirname "$0")/.." && pwd)
 sponza="$root/../shared/data/meshes/dabrovic_sponza/sponza.obj"
 mkdir -p "$out"
-record="--res 640x360 --spp 4 --frames 40 --camera-path orbit:40 -q"
+anim="--frames 40 --camera-path orbit:40 -q"
+record="--res 640x360 --spp 4 $anim"
 
 "$bin" render $record --devices cpu:threads=1 --balancer queue:tile=16 \
   --trace "$out/cornell.trace" --out "$out/cornell_frames"
@@ -72,7 +73,7 @@ PY
 
 # Leria et al.: a 3x3 light field (320x180 per view, 1 spp) on a heterogeneous pair and
 # quadruple; speed-up of each balancer over uniform = uniform's frame time / its own.
-"$bin" render $record --res 320x180 --spp 1 --views 3x3 --devices cpu:threads=1 \
+"$bin" render $anim --res 320x180 --spp 1 --views 3x3 --devices cpu:threads=1 \
   --balancer queue:tile=16 --trace "$out/lightfield.trace" --out "$out/lightfield_frames"
 leria="--frames 100 --warmup 10 --balancers uniform,dlb,hybrid,semi-static,cycles,equalizer"
 "$bin" simulate "$out/lightfield.trace" --devices 2 --speeds list:1/0.33 $leria \
@@ -82,7 +83,7 @@ leria="--frames 100 --warmup 10 --balancers uniform,dlb,hybrid,semi-static,cycle
 
 # Harada (& Fujita): adaptive AO (edge pixels 5 spp, others 1); deviation of device times
 # on two devices (1 : 0.5) and four whose speeds sum to 2 (0.8, 0.6, 0.4, 0.2).
-"$bin" render $record --integrator ao --sampling adaptive --devices cpu:threads=1 \
+"$bin" render $anim --res 640x360 --integrator ao --sampling adaptive --devices cpu:threads=1 \
   --balancer queue:tile=16 --trace "$out/adaptive_ao.trace" --out "$out/adaptive_frames"
 "$bin" simulate "$out/adaptive_ao.trace" --devices 2 --speeds list:1/0.5 --noise 0.05 \
   --frames 100 --warmup 10 --balancers semi-static,hybrid,queue,cycles,equalizer > "$out/harada_2.txt"

@@ -108,7 +108,7 @@ void write_partition_png(const std::string& path, int width, int height,
 
 void write_scaling_svg(const std::string& path, const std::string& title,
                        const std::vector<ScalingSeries>& series) {
-  const double W = 900, H = 520, left = 70, right = 190, top = 50, plot_h = 400;
+  const double W = 1040, H = 540, left = 70, right = 270, top = 64, plot_h = 400;
   const double plot_w = W - left - right;
   double lo = 1e300, hi = 0;
   for (const auto& s : series)
@@ -120,8 +120,12 @@ void write_scaling_svg(const std::string& path, const std::string& title,
   std::string svg = fmt::format(
       "<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' font-family='sans-serif' "
       "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n"
-      "<text x='{}' y='24' font-size='14'>{}</text>\n",
-      W, H, left, title);
+      "<text x='{}' y='22' font-size='14'>{}</text>\n",
+      W, H, left, title.substr(0, title.find(" — ")));
+  // Details after " — " go on a second, smaller line.
+  if (title.find(" — ") != std::string::npos)
+    svg += fmt::format("<text x='{}' y='42' font-size='11' fill='#444'>{}</text>\n", left,
+                       title.substr(title.find(" — ") + 5));
   for (int k = 0; k <= 10; k += 2) {
     const double y = y_of(k / 10.0);
     svg += fmt::format(
