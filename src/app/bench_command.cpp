@@ -17,6 +17,7 @@
 #include "app/trace_file.h"
 #include "balance/spec.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "engine/bench_harness.h"
 
 namespace multiray::app {
@@ -66,7 +67,7 @@ Runner add_bench_command(CLI::App& app) {
       throw InputError("--warmup must be in 0.." + std::to_string(o->frames - 1));
     if (b->ideal_frames < 1 || b->ideal_frames > 1000)
       throw InputError("--ideal-frames must be in 1..1000");
-    Setup s = make_setup(*o);
+    Setup s = make_setup(*o, int(specs.size()));
     std::vector<std::string> mapped;
     for (const auto& spec : specs) mapped.push_back(apply_mapping(spec, o->mapping));
     std::unique_ptr<Session> session = s.make_session(mapped, "--balancers");  // checks every spec
@@ -190,9 +191,7 @@ Runner add_bench_command(CLI::App& app) {
                           "engine around all devices"},
                          {"ideal", ideal_detail},
                          {"runs", runs_json}};
-      std::ofstream out(b->json_path);
-      if (!out) throw InputError("cannot write '" + b->json_path + "'");
-      out << doc.dump(1) << "\n";
+      write_file_atomically(b->json_path, doc.dump(1) + "\n");
     }
     return 0;
   };

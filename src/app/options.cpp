@@ -1,10 +1,17 @@
 #include "app/options.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+
+#include <fmt/core.h>
 
 #include "app/stats_json.h"
 #include "balance/spec.h"
@@ -13,6 +20,7 @@
 #include "device/device_factory.h"
 #include "render/kernel.h"
 #include "scene/builders.h"
+#include "scene/camera_check.h"
 #include "scene/loaders.h"
 
 namespace multiray::app {
@@ -50,6 +58,17 @@ bool has_emitter(const Scene& scene) {
 
 }  // namespace
 
+uint64_t parse_seed(const std::string& text) {
+  // Digits only: "-1" must not wrap around to 2^64 - 1, nor "1e3" become 1.
+  bool digits = !text.empty() && text.size() <= 20;
+  for (char c : text) digits &= c >= '0' && c <= '9';
+  errno = 0;
+  const unsigned long long v = digits ? std::strtoull(text.c_str(), nullptr, 10) : 0;
+  if (!digits || errno == ERANGE)
+    throw InputError("--seed '" + text + "' must be a whole number in 0..18446744073709551615");
+  return uint64_t(v);
+}
+
 Resolution parse_resolution(const std::string& text) {
   const auto x = text.find('x');
   if (x == std::string::npos) throw InputError("--res '" + text + "' must look like 640x360");
@@ -71,12 +90,8 @@ Camera parse_camera(const std::string& text) {
   float v[10];
   for (int i = 0; i < 10; ++i) v[i] = float(to_number(parts[size_t(i)], "--camera"));
   Camera c{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
-  if (!(c.fov_y_deg > 0 && c.fov_y_deg < 180))
-    throw InputError("--camera: fov must be in (0, 180) degrees");
-  if (length(c.target - c.eye) == 0)
-    throw InputError("--camera: eye and target are the same point");
-  if (length(cross(c.target - c.eye, c.up)) == 0)
-    throw InputError("--camera: up is parallel to the viewing direction");
+  const std::string problem = camera_problem(c);  // checked as floats, as rendered
+  if (!problem.empty()) throw InputError("--camera: " + problem);
   return c;
 }
 
@@ -92,7 +107,8 @@ GazePath parse_gaze(const std::string& gaze, const std::string& path) {
     g.radius = 0.25f;
     if (path != "orbit") {
       const double period = to_number(path.substr(6), "--gaze-path orbit period");
-      if (!(period > 0)) throw InputError("--gaze-path: the orbit period must be > 0 frames");
+      if (!(period >= 1e-3 && period <= 1e9))
+        throw InputError("--gaze-path: the orbit period must be in [0.001, 1e9] frames");
       g.period = float(period);
     }
   } else if (path != "fixed") {
@@ -115,8 +131,9 @@ std::vector<Perturbation> parse_perturbations(const std::vector<std::string>& it
     if (d < 0 || d != std::floor(d) || d >= device_count)
       throw InputError("--perturb '" + it + "': device must be 0.." +
                        std::to_string(device_count - 1));
-    if (!(s > 0 && s <= 1))
-      throw InputError("--perturb '" + it + "': speed must be in (0, 1] (emulated)");
+    if (f > 1e9) throw InputError("--perturb '" + it + "': frame must be at most 1e9");
+    if (!(s >= kMinEmulatedSpeed && s <= 1))
+      throw InputError("--perturb '" + it + "': speed must be in [0.01, 1] (emulated)");
     out.push_back({int(f), int(d), s});
   }
   return out;
@@ -159,7 +176,38 @@ std::string apply_mapping(const std::string& text, const std::string& mapping) {
   return text;  // queue, semi-static and hybrid lay out work their own way
 }
 
-Setup make_setup(const CommonOptions& o) {
+double parse_memory_limit(const std::string& text) {
+  if (text == "auto")
+    return 0.5 * double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+  double unit = 1;
+  std::string digits = text;
+  if (!digits.empty() && std::string("KMGT").find(digits.back()) != std::string::npos) {
+    unit = std::pow(1024.0, double(std::string("KMGT").find(digits.back()) + 1));
+    digits.pop_back();
+  }
+  const double v = to_number(digits, "--max-memory") * unit;
+  if (!(v >= 1 << 20 && v <= 1e15))
+    throw InputError("--max-memory '" + text + "' must be auto or a size from 1M to 1e15 bytes");
+  return v;
+}
+
+MemoryEstimate estimate_memory(const CommonOptions& o, int views, int width, int height,
+                               int lanes) {
+  MemoryEstimate m;
+  std::error_code ec;
+  if (!o.scene_path.empty()) {
+    const auto size = std::filesystem::file_size(o.scene_path, ec);
+    if (!ec) m.scene_bytes = 12.0 * double(size);
+  }
+  const double pixels = double(views) * width * height;
+  const double per_pixel = sizeof(Vec3) * (2.0 * lanes + 2)        // results, engine, quilt
+                           + (o.sampling == "adaptive" ? 32 : 0)   // G-buffer, maps
+                           + (o.sampling == "foveated" ? 80 : 0);  // neighbours, weights
+  m.frame_bytes = pixels * per_pixel;
+  return m;
+}
+
+Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>& before_load) {
   Setup s;
   s.res = parse_resolution(o.resolution);
   if (o.spp < 1 || o.spp > 1 << 20) throw InputError("--spp must be in 1..1048576");
@@ -214,7 +262,7 @@ Setup make_setup(const CommonOptions& o) {
     throw InputError("--periphery-spp must be in [1/4096, --fovea-spp] samples per pixel");
   s.settings.spp = o.spp;
   s.settings.max_bounces = o.bounces;
-  s.settings.seed = o.seed;
+  s.settings.seed = parse_seed(o.seed);
   std::optional<Camera> cli_camera;
   if (!o.camera.empty()) cli_camera = parse_camera(o.camera);
   // "threads=0" means every hardware thread; resolved here so the spec stays readable.
@@ -234,6 +282,15 @@ Setup make_setup(const CommonOptions& o) {
   }
   s.perturbations = parse_perturbations(o.perturb, int(specs.size()));
 
+  const double limit = parse_memory_limit(o.max_memory);
+  const MemoryEstimate need =
+      estimate_memory(o, rig.view_count(), s.res.width, s.res.height, lanes);
+  if (need.total() > limit)
+    throw InputError(fmt::format(
+        "this run needs about {:.1f} GB ({:.1f} GB of frames, {:.1f} GB of scene), more than "
+        "the {:.1f} GB allowed (--max-memory; default: half of physical memory)",
+        need.total() / 1e9, need.frame_bytes / 1e9, need.scene_bytes / 1e9, limit / 1e9));
+  if (before_load) before_load();
   s.scene = std::make_unique<Scene>(o.scene_path.empty() ? make_cornell_box()
                                                          : load_scene(o.scene_path));
   const float aspect = float(s.res.width) / float(s.res.height);
@@ -246,7 +303,8 @@ Setup make_setup(const CommonOptions& o) {
   } else if (cp == "orbit" || cp.rfind("orbit:", 0) == 0) {
     const double period =
         cp == "orbit" ? 100.0 : to_number(cp.substr(6), "--camera-path orbit period");
-    if (!(period > 0)) throw InputError("--camera-path: the orbit period must be > 0 frames");
+    if (!(period >= 1e-3 && period <= 1e9))
+      throw InputError("--camera-path: the orbit period must be in [0.001, 1e9] frames");
     s.path = CameraPath::orbit(base, float(period));
   } else {
     s.path = CameraPath::from_json_file(cp);
@@ -257,7 +315,7 @@ Setup make_setup(const CommonOptions& o) {
       throw InputError("--env '" + o.env + "' must be one number or R,G,B");
     for (int c = 0; c < 3; ++c) {
       const double v = to_number(parts[parts.size() == 1 ? 0 : size_t(c)], "--env");
-      if (v < 0) throw InputError("--env must not be negative");
+      if (v < 0 || v > 1e9) throw InputError("--env must be in [0, 1e9]");
       s.scene->environment[c] = float(v);
     }
   } else if (max_component(s.scene->environment) <= 0 && !has_emitter(*s.scene)) {

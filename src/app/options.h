@@ -2,6 +2,7 @@
 // Everything here throws InputError with a one-line message on bad input.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -26,7 +27,7 @@ struct CommonOptions {
   std::string camera;                     // "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov" or empty
   std::string camera_path = "fixed";      // fixed | orbit | orbit:PERIOD | FILE.json
   std::string devices = "cpu:threads=0";  // threads=0: all hardware threads
-  uint64_t seed = 0;
+  std::string seed = "0";  // a whole number in [0, 2^64); parsed strictly in make_setup
   std::string env =
       "auto";  // constant sky radiance "R,G,B" or "V"; auto: the scene's, or 1 if it has no light
   std::vector<std::string> perturb;  // FRAME:DEVICE:SPEED
@@ -42,6 +43,7 @@ struct CommonOptions {
   std::string gaze = "0.5,0.5";      // foveated: gaze point X,Y, normalised, (0,0) top left
   std::string gaze_path = "fixed";   // foveated: fixed | orbit | orbit:PERIOD
   FoveationParams foveation;         // foveated: --fovea-spp, --fovea-radius, --periphery-spp
+  std::string max_memory = "auto";   // bytes (K/M/G suffixes) or auto: half of physical RAM
 };
 
 // Parses --gaze "X,Y" (each in [0, 1]) and --gaze-path (fixed | orbit | orbit:PERIOD).
@@ -52,6 +54,7 @@ struct Resolution {
 };
 
 Resolution parse_resolution(const std::string& text);
+uint64_t parse_seed(const std::string& text);
 Camera parse_camera(const std::string& text);
 // Adds the layout `mapping` asks for to a balancer spec: strips (every device renders its
 // share of every view's shuffled strips) or views (whole views per device). Empty: spec
@@ -80,8 +83,24 @@ struct Setup {
                                         const std::string& option = "--balancer") const;
 };
 
-// Validates every option before loading anything expensive, then loads the scene and
-// creates the devices.
-Setup make_setup(const CommonOptions& o);
+// Memory a run is estimated to need before it takes it, in bytes: the scene (from its file
+// size: loaded geometry, BVH and shading records are within ~12x a mesh file) and the
+// frames (every view's float image in the session's buffers, `lanes` of them, plus
+// per-pixel sample data of irregular sampling). A refusal beats an out-of-memory kill.
+struct MemoryEstimate {
+  double scene_bytes = 0, frame_bytes = 0;
+  double total() const { return scene_bytes + frame_bytes; }
+};
+MemoryEstimate estimate_memory(const CommonOptions& o, int views, int width, int height,
+                               int lanes);
+// --max-memory: "auto" (half of physical memory) or a size like 8G, 512M, 100000 (bytes).
+double parse_memory_limit(const std::string& text);
+
+// Validates every option before loading anything expensive (the memory estimate
+// included, for `lanes` balancers), then loads the scene and creates the devices.
+// `before_load`, if given, runs after the options are checked and before the scene loads
+// (e.g. preparing the output folder: its refusal then costs nothing).
+Setup make_setup(const CommonOptions& o, int lanes = 1,
+                 const std::function<void()>& before_load = {});
 
 }  // namespace multiray::app

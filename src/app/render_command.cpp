@@ -10,9 +10,11 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/interrupt.h"
 #include "app/stats_json.h"
 #include "app/trace_file.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "render/kernel.h"
 
 namespace multiray::app {
@@ -50,6 +52,10 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                  "has no lights")
       ->capture_default_str();
   cmd.add_option("--seed", o.seed, "Seed for all random numbers")->capture_default_str();
+  cmd.add_option("--max-memory", o.max_memory,
+                 "Refuse runs estimated to need more memory than this: auto (half of physical "
+                 "memory) or a size such as 8G or 512M")
+      ->capture_default_str();
   cmd.add_option("--views", o.views,
                  "Light-field grid of parallel views KxL (e.g. 3x3, 5x5), following the camera "
                  "path")
@@ -147,6 +153,30 @@ class RenderOutput : public FrameObserver {
   nlohmann::json json_ = nlohmann::json::array();
 };
 
+// Makes `dir` ready for this run's outputs. A folder holding an earlier run's outputs
+// (stats.json, frame_*) is refused, unless `overwrite`, when exactly those files are
+// removed first, so the folder never mixes two runs. Other files are left alone.
+void prepare_output_folder(const std::string& dir, bool overwrite) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError("cannot create output folder '" + dir + "': " + ec.message());
+  std::vector<fs::path> earlier;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name == "stats.json" || name.rfind("frame_", 0) == 0) earlier.push_back(e.path());
+  }
+  if (ec) throw InputError("cannot read output folder '" + dir + "': " + ec.message());
+  if (earlier.empty()) return;
+  if (!overwrite)
+    throw InputError("--out '" + dir + "' holds an earlier run's outputs (" +
+                     earlier.front().filename().string() +
+                     ", ...); pass --overwrite to replace them, or choose another folder");
+  for (const fs::path& p : earlier)
+    if (!fs::remove(p, ec) || ec)
+      throw InputError("cannot remove '" + p.string() + "': " + ec.message());
+}
+
 // On a terminal, a line shows how much of the frame has been handed to devices.
 class ProgressLine {
  public:
@@ -181,7 +211,14 @@ Runner add_render_command(CLI::App& app) {
   auto trace_path = std::make_shared<std::string>();
   auto quiet = std::make_shared<bool>(false);
   add_common_options(*cmd, *o);
-  cmd->add_option("--out", *out_dir, "Output folder (created if missing)")->capture_default_str();
+  auto overwrite = std::make_shared<bool>(false);
+  cmd->add_option("--out", *out_dir,
+                  "Output folder (created if missing). A folder with an earlier run's outputs "
+                  "(stats.json, frame_*) is refused unless --overwrite is given")
+      ->capture_default_str();
+  cmd->add_flag("--overwrite", *overwrite,
+                "Replace an earlier run's outputs in --out (its stats.json and frame_* files "
+                "are deleted first; other files are kept)");
   cmd->add_flag("--exr", *exr, "Also write linear-light OpenEXR files");
   cmd->add_option("--balancer", *balancer,
                   "How work is split between devices: uniform, static[:ratios=A/B/..], "
@@ -192,30 +229,42 @@ Runner add_render_command(CLI::App& app) {
                   "this file (format: docs/traces.md), for `multiray simulate` and analysis");
   cmd->add_flag("-q,--quiet", *quiet, "No per-frame lines");
   return [=]() -> int {
-    Setup s = make_setup(*o);
     const std::string spec = apply_mapping(*balancer, o->mapping);
+    Setup s = make_setup(*o, 1, [&] { prepare_output_folder(*out_dir, *overwrite); });
     std::unique_ptr<Session> session = s.make_session({spec});
     for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
-    std::error_code ec;
-    std::filesystem::create_directories(*out_dir, ec);
-    if (ec) throw InputError("cannot create output folder '" + *out_dir + "': " + ec.message());
     std::unique_ptr<TraceFile> trace;
     if (!trace_path->empty())
       trace = std::make_unique<TraceFile>(*trace_path, session->engine(0).balancer().spec(),
                                           s.devices);
     RenderOutput output(*out_dir, *exr, *quiet, s.views->rig().columns, o->frames,
                         trace ? &trace->writer() : nullptr);
+    int done = 0;
+    int interrupted = 0;
+    std::string signal_name;
     {
+      InterruptWatch watch(*session);
       ProgressLine progress(*session, o->frames);
-      session->run(0, o->frames, output);
+      done = session->run(0, o->frames, output);
+      interrupted = watch.signal();
+      signal_name = watch.signal_name();
     }
     if (trace) trace->close();
     nlohmann::json doc{{"scene", s.scene->name},
                        {"devices", devices_to_json(s.devices)},
                        {"balancer", session->engine(0).balancer().spec()},
                        {"views", s.views->rig().view_count()},
+                       {"frames_requested", o->frames},
                        {"frames", output.json()}};
-    std::ofstream(*out_dir + "/stats.json") << doc.dump(1) << "\n";
+    if (interrupted) doc["interrupted_by"] = signal_name;
+    write_file_atomically(*out_dir + "/stats.json", doc.dump(1) + "\n");
+    if (interrupted) {
+      fmt::print(stderr,
+                 "multiray: interrupted by {} after {} of {} frames; their images and "
+                 "stats.json are complete\n",
+                 signal_name, done, o->frames);
+      return 128 + interrupted;
+    }
     return 0;
   };
 }

@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "core/error.h"
+#include "core/file_io.h"
 #include "core/image.h"
 
 namespace multiray::app {
@@ -80,9 +81,7 @@ void write_timeline_svg(const std::string& path, const std::string& title,
   svg += fmt::format("<text x='{}' y='{}' text-anchor='middle'>frame (0..{})</text>\n",
                      left + plot_w / 2, by + bottom_h + 30, n - 1);
   svg += "</svg>\n";
-  std::ofstream out(path);
-  if (!out) throw InputError("cannot write '" + path + "'");
-  out << svg;
+  write_file_atomically(path, svg);
 }
 
 void write_partition_png(const std::string& path, int width, int height,
@@ -160,10 +159,7 @@ void write_scaling_svg(const std::string& path, const std::string& title,
         last, series[i].points.empty() ? 0 : int(series[i].points.back().first));
   }
   svg += "</svg>\n";
-  std::ofstream out(path);
-  out << svg;
-  out.close();
-  if (!out) throw InputError("cannot write '" + path + "'");
+  write_file_atomically(path, svg);
 }
 
 }  // namespace multiray::app

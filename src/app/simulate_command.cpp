@@ -14,6 +14,7 @@
 #include "balance/sim_study.h"
 #include "balance/spec.h"
 #include "core/error.h"
+#include "core/file_io.h"
 
 namespace multiray::app {
 
@@ -210,10 +211,7 @@ Runner add_simulate_command(CLI::App& app) {
                           "virtual time (simulated); ideal = frame cost / sum of "
                           "device speeds, without link or noise"},
                          {"runs", runs}};
-      std::ofstream out(o->json_path);
-      out << doc.dump(1) << "\n";
-      out.close();
-      if (!out) throw InputError("cannot write '" + o->json_path + "'");
+      write_file_atomically(o->json_path, doc.dump(1) + "\n");
     }
     if (!o->plot_path.empty()) {
       std::vector<ScalingSeries> series(specs.size());

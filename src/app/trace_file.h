@@ -1,6 +1,8 @@
-// --trace FILE: a trace (balance/trace.h) written frame by frame as frames finish.
+// --trace FILE: a trace (balance/trace.h) written frame by frame as frames finish, into a
+// temporary file beside FILE that becomes FILE only when close() has checked every write.
 #pragma once
 
+#include <cstdio>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -17,7 +19,7 @@ class TraceFile {
   // Throws InputError when the file cannot be created.
   TraceFile(const std::string& path, const std::string& balancer,
             const std::vector<std::unique_ptr<Device>>& devices)
-      : path_(path), out_(path) {
+      : path_(path), temp_(path + ".part"), out_(temp_) {
     if (!out_) throw InputError("cannot write trace '" + path + "'");
     std::vector<balance::TraceDevice> list;
     for (const auto& d : devices) list.push_back({d->info().name, d->info().emulated_speed});
@@ -27,11 +29,14 @@ class TraceFile {
   // Flushes and checks every write; throws InputError when any failed (e.g. a full disk).
   void close() {
     out_.close();
-    if (!out_) throw InputError("writing trace '" + path_ + "' failed");
+    if (!out_ || std::rename(temp_.c_str(), path_.c_str()) != 0) {
+      std::remove(temp_.c_str());
+      throw InputError("writing trace '" + path_ + "' failed");
+    }
   }
 
  private:
-  std::string path_;
+  std::string path_, temp_;
   std::ofstream out_;
   std::unique_ptr<balance::TraceWriter> writer_;
 };

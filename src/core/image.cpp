@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/file_io.h"
 
 namespace multiray {
 
@@ -55,8 +56,15 @@ Framebuffer make_quilt(const std::vector<Framebuffer>& views, int columns) {
 
 void write_png_rgb8(const std::string& path, int width, int height,
                     const std::vector<uint8_t>& rgb) {
-  if (!stbi_write_png(path.c_str(), width, height, 3, rgb.data(), width * 3))
-    throw InputError("cannot write PNG '" + path + "'");
+  // Encoded in memory (stb's own file writer does not check its writes), then written
+  // atomically.
+  std::string png;
+  auto append = [](void* out, void* data, int size) {
+    static_cast<std::string*>(out)->append(static_cast<const char*>(data), size_t(size));
+  };
+  if (!stbi_write_png_to_func(append, &png, width, height, 3, rgb.data(), width * 3))
+    throw InputError("cannot encode PNG '" + path + "'");
+  write_file_atomically(path, png);
 }
 
 void write_png(const std::string& path, const Framebuffer& fb, float exposure) {
@@ -71,9 +79,13 @@ void write_exr(const std::string& path, const Framebuffer& fb) {
         const Vec3 c = fb.at(x, y);
         px[y][x] = Imf::Rgba(c.x, c.y, c.z, 1.0f);
       }
-    Imf::RgbaOutputFile file(path.c_str(), fb.width, fb.height, Imf::WRITE_RGBA);
-    file.setFrameBuffer(&px[0][0], 1, size_t(fb.width));
-    file.writePixels(fb.height);
+    replace_file_atomically(path, [&](const std::string& temp) {
+      Imf::RgbaOutputFile file(temp.c_str(), fb.width, fb.height, Imf::WRITE_RGBA);
+      file.setFrameBuffer(&px[0][0], 1, size_t(fb.width));
+      file.writePixels(fb.height);
+    });
+  } catch (const InputError&) {
+    throw;
   } catch (const std::exception& e) {
     throw InputError("cannot write EXR '" + path + "': " + e.what());
   }

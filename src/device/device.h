@@ -21,6 +21,10 @@ namespace multiray {
 using balance::ItemReport;
 using balance::WorkItem;
 
+// Slowest emulated speed a device or --perturb may ask for: a device idling 99% of the
+// time. Slower ones would only make runs that never finish.
+constexpr double kMinEmulatedSpeed = 0.01;
+
 // What a backend can run. Names are those of RenderSettings::kernel (render/kernel.h),
 // of --sampling, and of the scene representations in SceneCache.
 struct DeviceCapabilities {

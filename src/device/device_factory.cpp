@@ -73,13 +73,14 @@ std::vector<int> read_cores(balance::Spec& spec) {
 }
 
 CpuDeviceOptions read_cpu_options(balance::Spec& spec) {
-  spec.accept_only({"threads", "cores", "speed", "quota", "tile"});
+  spec.accept_only({"threads", "cores", "speed", "quota", "tile", "fail_after"});
   CpuDeviceOptions o;
   o.threads = spec.get_int("threads", o.threads, 1, 1024);
   o.cores = read_cores(spec);
-  o.speed = spec.get_positive("speed", o.speed, 1.0);  // emulated slowdown
-  o.quota = spec.get_positive("quota", o.quota, 1.0);  // of a core per thread
+  o.speed = spec.get_double("speed", o.speed, kMinEmulatedSpeed, 1.0);  // emulated
+  o.quota = spec.get_positive("quota", o.quota, 1.0);                   // of a core per thread
   o.tile = spec.get_int("tile", o.tile, 1, 4096);
+  o.fail_after = spec.get_int("fail_after", o.fail_after, 0, std::numeric_limits<int>::max());
   spec.finish();
   return o;
 }
@@ -89,7 +90,7 @@ OpenClDeviceOptions read_opencl_options(balance::Spec& spec) {
   spec.accept_only({"index", "speed", "tile", "wg", "cores", "fail_after"});
   OpenClDeviceOptions o;
   o.index = spec.get_int("index", o.index, 0, 65535);
-  o.speed = spec.get_positive("speed", o.speed, 1.0);  // emulated slowdown
+  o.speed = spec.get_double("speed", o.speed, kMinEmulatedSpeed, 1.0);  // emulated
   o.tile = spec.get_int("tile", o.tile, 1, 4096);
   o.work_group = spec.get_int("wg", o.work_group, 1, 4096);
   o.cores = read_cores(spec);

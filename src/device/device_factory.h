@@ -2,10 +2,11 @@
 //
 // Grammar: DEVICE[,DEVICE...] where DEVICE is TYPE[:KEY=VALUE...], a balance::Spec (see
 // balance/spec.h) whose options are checked as below when the list is parsed.
-//   cpu:threads=N:cores=LIST:speed=S:quota=Q:tile=T
+//   cpu:threads=N:cores=LIST:speed=S:quota=Q:tile=T:fail_after=K
 //     threads  worker threads (default 1)
 //     cores    cores to pin to: "0", "0+2", "0-3" (default: not pinned)
-//     speed    emulated speed in (0, 1]: idles after each unit (default 1)
+//     speed    emulated speed in [0.01, 1]: idles after each item (default 1)
+//     fail_after  testing aid: the device fails when it pulls an item after K items
 //     quota    real throttle: fraction of a core per thread via cgroup v1 (default none)
 //     tile     pixel block size handed to threads (default 16)
 //   opencl[:N]:speed=S:tile=T:wg=W:cores=LIST:fail_after=K

@@ -172,6 +172,7 @@ TEST(Cli, TraceRecordsEveryItemOfEveryFrame) {
 
 TEST(Cli, DepthKernelRunsAndUnknownKernelsAreRefused) {
   const std::string dir = ::testing::TempDir() + "/cli_depth";
+  std::filesystem::remove_all(dir);
   const Result r = run("render --res 16x12 --integrator depth --devices cpu,cpu --out " + dir);
   EXPECT_EQ(r.code, 0) << r.out;
   expect_input_error("render --integrator nothing", "--integrator");

@@ -136,3 +136,33 @@ TEST(Engine, ProgressReachesOneAtTheEndOfAFrame) {
 
 }  // namespace
 }  // namespace multiray
+
+namespace multiray {
+namespace {
+
+// A device that fails at any point of a frame — before its first item, in the middle, at
+// its last — loses no pixel: what it took and did not finish is rendered by the other.
+TEST(Engine, DeviceFailingAtEveryPositionLosesNoPixel) {
+  const Scene scene = make_cornell_box();
+  SceneCache cache(scene);
+  const RenderSettings settings{.spp = 1, .max_bounces = 2};
+  CpuDevice alone(cache, {}, "cpu");
+  Engine reference({&alone}, balance::make_balancer("uniform", 1));
+  reference.render_frame(0, views(scene, 0), settings);
+  for (const char* spec : {"queue:tile=8", "hybrid", "uniform"})
+    for (int k = 0; k <= 12; ++k) {
+      CpuDevice failing(cache, CpuDeviceOptions{.fail_after = k}, "cpu:fail_after");
+      CpuDevice good(cache, {}, "cpu");
+      Engine engine({&failing, &good}, balance::make_balancer(spec, 2));
+      const FrameRecord rec = engine.render_frame(0, views(scene, 0), settings);
+      EXPECT_EQ(rec.devices[0].pixels + rec.devices[1].pixels, uint64_t(kW) * kH)
+          << spec << " k=" << k;
+      EXPECT_EQ(std::memcmp(engine.images()[0].pixels.data(), reference.images()[0].pixels.data(),
+                            size_t(kW * kH) * sizeof(Vec3)),
+                0)
+          << spec << " fails after " << k;
+    }
+}
+
+}  // namespace
+}  // namespace multiray

@@ -3,6 +3,7 @@
 // the CLI instead of creating devices here).
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 #include "opencl_helpers.h"
@@ -35,10 +36,11 @@ TEST(OpenClCli, TwoPoclBasicDevicesRenderConcurrently) {
   if (list_opencl_devices()[0].platform.find("Portable Computing Language") == std::string::npos)
     GTEST_SKIP() << "needs PoCL";
   const std::string out = ::testing::TempDir() + "/multiray_two_pocl";
+  std::filesystem::remove_all(out);
   for (int i = 0; i < 3; ++i) {
     const Result r = run("POCL_DEVICES='basic basic'",
                          "render --devices opencl:0,opencl:1:tile=16 --frames 3 --res 48x32 "
-                         "--spp 2 -q --out " +
+                         "--spp 2 -q --overwrite --out " +
                              out);
     ASSERT_EQ(r.code, 0) << r.out;
   }

@@ -86,6 +86,7 @@ struct CpuDevice::Impl {
   oneapi::tbb::task_arena arena;
   std::optional<ThreadSetup> setup;
   std::atomic<double> speed{1.0};
+  int items_done = 0;  // over the device's lifetime, for fail_after
 };
 
 CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec) {
@@ -150,6 +151,10 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
     SlowdownEmulator slowdown(impl_->speed.load());
     const Kernel& kernel = impl_->kernel(job.settings.kernel);
     for (uint32_t id; source.next(index, id);) {
+      if (impl_->opts.fail_after >= 0 && impl_->items_done >= impl_->opts.fail_after)
+        throw std::runtime_error("injected failure after " + std::to_string(impl_->items_done) +
+                                 " items (fail_after, a testing aid)");
+      ++impl_->items_done;
       const Stopwatch item_clock;
       const WorkItem& item = source.item(id);
       const ViewSetup& view = job.views.at(size_t(item.view));

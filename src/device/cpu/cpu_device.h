@@ -19,6 +19,7 @@ struct CpuDeviceOptions {
   double speed = 1.0;      // emulated speed factor (idle after each unit), (0, 1]
   double quota = 0.0;      // fraction of one core per thread via cgroup v1; 0 = none
   int tile = 16;           // side of the pixel blocks handed to the threads
+  int fail_after = -1;     // testing aid: fail when pulling an item after this many items
 };
 
 class CpuDevice : public Device {
