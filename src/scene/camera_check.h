@@ -12,7 +12,8 @@ namespace multiray {
 // Largest coordinate magnitude accepted for eye and target, scene units. Rays start at the
 // eye and Embree needs org + t·dir finite over the scene; 1e18 leaves room for scenes up
 // to ~1e19 across without overflowing float (max ~3.4e38) in products and dot products.
-constexpr float kMaxCameraCoordinate = 1e18f;
+// Scene vertices have the same limit (validate() in scene.h).
+constexpr float kMaxCameraCoordinate = kMaxSceneCoordinate;
 
 // Empty when `c` is usable; otherwise one line saying what is wrong: a non-finite or
 // too-large coordinate, eye == target (or too close to normalise the view direction), an

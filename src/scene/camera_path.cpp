@@ -1,10 +1,13 @@
 #include "scene/camera_path.h"
 
+#include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "scene/camera_check.h"
 
 namespace multiray {
 
@@ -16,15 +19,29 @@ CameraPath CameraPath::fixed(const Camera& cam) {
 }
 
 CameraPath CameraPath::orbit(const Camera& base, float period_frames) {
+  if (!std::isfinite(period_frames) || !(period_frames >= kMinOrbitPeriod)) {
+    char got[32];
+    std::snprintf(got, sizeof got, "%g", double(period_frames));
+    throw InputError(std::string("camera orbit: the period must be a finite number of frames ") +
+                     ">= 0.001 (got " + got + ")");
+  }
+  if (const std::string problem = camera_problem(base); !problem.empty())
+    throw InputError("camera orbit: " + problem);
   CameraPath p;
   p.kind_ = Kind::Orbit;
   p.base_ = base;
-  p.period_ = period_frames > 0 ? period_frames : 100.0f;
+  p.period_ = period_frames;
   return p;
 }
 
 CameraPath CameraPath::keyframes(std::vector<Keyframe> keys) {
   if (keys.empty()) throw InputError("camera path has no keyframes");
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const std::string where = "camera path keyframe " + std::to_string(i) + ": ";
+    if (!std::isfinite(keys[i].frame)) throw InputError(where + "the frame is not finite");
+    if (const std::string problem = camera_problem(keys[i].camera); !problem.empty())
+      throw InputError(where + problem);
+  }
   for (size_t i = 1; i < keys.size(); ++i)
     if (!(keys[i].frame > keys[i - 1].frame))
       throw InputError("camera path keyframes must have increasing frame numbers");
@@ -43,15 +60,21 @@ Vec3 catmull_rom(Vec3 p0, Vec3 p1, Vec3 p2, Vec3 p3, float t) {
          0.5f;
 }
 
+// JSON number `j` as a float; InputError unless it is finite as a float (1e39 is a fine
+// double but an infinite float, and casting it is undefined behaviour).
+float read_float(const nlohmann::json& j, const std::string& what, const std::string& where) {
+  if (!j.is_number()) throw InputError(where + ": '" + what + "' must be a number");
+  const double d = j.get<double>();
+  if (!std::isfinite(d) || std::abs(d) > double(FLT_MAX))
+    throw InputError(where + ": '" + what + "' is not a finite float");
+  return float(d);
+}
+
 Vec3 read_vec3(const nlohmann::json& j, const char* key, const std::string& where) {
   if (!j.contains(key) || !j[key].is_array() || j[key].size() != 3)
     throw InputError(where + ": '" + key + "' must be an array of 3 numbers");
   Vec3 v;
-  for (int i = 0; i < 3; ++i) {
-    if (!j[key][i].is_number()) throw InputError(where + ": '" + key + "' must hold numbers");
-    v[i] = j[key][i].get<float>();
-  }
-  if (!is_finite(v)) throw InputError(where + ": '" + key + "' is not finite");
+  for (int i = 0; i < 3; ++i) v[i] = read_float(j[key][size_t(i)], key, where);
   return v;
 }
 
@@ -75,13 +98,15 @@ CameraPath CameraPath::from_json_file(const std::string& path) {
     if (!k.is_object() || !k.contains("frame") || !k["frame"].is_number())
       throw InputError(where + ": needs a numeric 'frame'");
     Keyframe kf;
-    kf.frame = k["frame"].get<float>();
+    kf.frame = read_float(k["frame"], "frame", where);
     kf.camera.eye = read_vec3(k, "eye", where);
     kf.camera.target = read_vec3(k, "target", where);
     kf.camera.up = k.contains("up") ? read_vec3(k, "up", where) : Vec3(0, 1, 0);
-    kf.camera.fov_y_deg = k.value("fov", 45.0f);
+    kf.camera.fov_y_deg = k.contains("fov") ? read_float(k["fov"], "fov", where) : 45.0f;
     if (!(kf.camera.fov_y_deg > 0 && kf.camera.fov_y_deg < 180))
       throw InputError(where + ": 'fov' must be between 0 and 180 degrees");
+    if (const std::string problem = camera_problem(kf.camera); !problem.empty())
+      throw InputError(where + ": " + problem);
     keys.push_back(kf);
   }
   try {
@@ -96,11 +121,15 @@ Camera CameraPath::at(int frame) const {
     case Kind::Fixed:
       return base_;
     case Kind::Orbit: {
+      // The phase in double, reduced first: finite for every int frame and period >=
+      // kMinOrbitPeriod, and exactly 0 at whole revolutions.
+      const double turns = std::fmod(double(frame), double(period_)) / double(period_);
+      const double angle = 2.0 * double(kPi) * turns;
+      const float cs = float(std::cos(angle)), sn = float(std::sin(angle));
+      auto turn = [&](Vec3 d) { return Vec3(cs * d.x + sn * d.z, d.y, -sn * d.x + cs * d.z); };
       Camera c = base_;
-      const float angle = 2.0f * kPi * float(frame) / period_;
-      const Vec3 d = base_.eye - base_.target;
-      const float cs = std::cos(angle), sn = std::sin(angle);
-      c.eye = base_.target + Vec3(cs * d.x + sn * d.z, d.y, -sn * d.x + cs * d.z);
+      c.eye = base_.target + turn(base_.eye - base_.target);
+      c.up = turn(base_.up);
       return c;
     }
     case Kind::Keys: {
@@ -126,7 +155,12 @@ Camera CameraPath::at(int frame) const {
           catmull_rom(before(&Camera::target), b.target, c.target, after(&Camera::target), t);
       out.up = normalize(lerp(b.up, c.up, t));
       out.fov_y_deg = b.fov_y_deg + (c.fov_y_deg - b.fov_y_deg) * t;
-      return out;
+      if (camera_problem(out).empty()) return out;
+      // The spline overshot into an unusable camera: linear, else the nearer key.
+      out.eye = lerp(b.eye, c.eye, t);
+      out.target = lerp(b.target, c.target, t);
+      if (camera_problem(out).empty()) return out;
+      return t < 0.5f ? b : c;
     }
   }
   return base_;

@@ -16,18 +16,33 @@ struct Keyframe {
 
 class CameraPath {
  public:
+  // Shortest orbit period accepted, frames: shorter ones turn the angle into noise, and
+  // below ~1e-38 into infinity (NaN cameras).
+  static constexpr float kMinOrbitPeriod = 1e-3f;
+
   // A still camera.
   static CameraPath fixed(const Camera& cam);
   // Orbit around `base.target` in the horizontal plane through base.eye, one revolution
-  // every `period_frames` frames, starting at base.eye.
+  // every `period_frames` frames, starting at base.eye; the up vector turns with the
+  // eye, so every frame's camera is a rotated copy of `base`. Throws InputError when
+  // the period is not finite or below kMinOrbitPeriod, or camera_problem() rejects base.
   static CameraPath orbit(const Camera& base, float period_frames);
   // Keyframes interpolated with Catmull-Rom splines through eye and target (linear for
-  // fov and up), clamped at the ends. Keyframes must have increasing frame numbers.
+  // fov and up), clamped at the ends. Keyframes must have finite, increasing frame
+  // numbers and cameras camera_problem() accepts; InputError "camera path keyframe <i>:
+  // <problem>" otherwise.
   static CameraPath keyframes(std::vector<Keyframe> keys);
   // Reads {"keyframes":[{"frame":0,"eye":[x,y,z],"target":[...],"up":[...],"fov":45},...]}.
-  // Throws InputError naming the file and the problem.
+  // Throws InputError "camera path '<path>' keyframe <i>: <problem>" (or naming just
+  // the file) for bad JSON, numbers that are not finite as floats, and cameras
+  // camera_problem() rejects.
   static CameraPath from_json_file(const std::string& path);
 
+  // The camera of frame `frame`. Always one camera_problem() accepts: between two valid
+  // keyframes the spline can still overshoot into an unusable camera (eye and target
+  // paths crossing make eye == target; opposite up vectors interpolate through zero),
+  // and then the frame gets the linear interpolation of the two keys, or if that is
+  // unusable too, the nearer key.
   Camera at(int frame) const;
 
  private:

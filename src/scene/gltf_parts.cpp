@@ -67,12 +67,12 @@ Mat4 local_transform(const tg::Node& n) {
   Mat4 m;
   if (n.matrix.size() == 16) {  // column-major in glTF
     for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c) m.m[r][c] = float(n.matrix[size_t(c) * 4 + r]);
+      for (int c = 0; c < 4; ++c) m.m[r][c] = to_float(n.matrix[size_t(c) * 4 + r]);
     return m;
   }
   Mat4 t, r, s;
   if (n.translation.size() == 3)
-    for (int i = 0; i < 3; ++i) t.m[i][3] = float(n.translation[i]);
+    for (int i = 0; i < 3; ++i) t.m[i][3] = to_float(n.translation[i]);
   if (n.rotation.size() == 4) {
     double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
     const double len = std::sqrt(x * x + y * y + z * z + w * w);
@@ -84,7 +84,7 @@ Mat4 local_transform(const tg::Node& n) {
       for (int j = 0; j < 3; ++j) r.m[i][j] = float(q[i][j]);
   }
   if (n.scale.size() == 3)
-    for (int i = 0; i < 3; ++i) s.m[i][i] = float(n.scale[i]);
+    for (int i = 0; i < 3; ++i) s.m[i][i] = to_float(n.scale[i]);
   return t * r * s;
 }
 

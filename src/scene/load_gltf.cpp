@@ -5,6 +5,10 @@
 // Images are not decoded by tinygltf: a custom image callback keeps the encoded bytes
 // and always succeeds, so a missing or corrupt image never fails the scene, and only
 // the images a material actually uses are decoded (with stb_image) afterwards.
+// tinygltf reads buffer and image files through our file callbacks, which go through
+// SceneFiles: it never opens a FIFO, a file outside the model's folder or past the byte
+// limit. The node graph is measured before any instance is built (check_instancing).
+#include <sys/stat.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -13,8 +17,10 @@
 #include <map>
 #include <optional>
 
+#include "scene/camera_check.h"
 #include "scene/gltf_parts.h"
 #include "scene/loaders.h"
+#include "scene/scene_files.h"
 
 namespace multiray {
 namespace {
@@ -29,6 +35,12 @@ using detail::local_transform;
 // Refuse scenes larger than this after instancing (about 10 GB of scene data) rather
 // than running out of memory on a hostile node graph that instances a mesh 2^n times.
 constexpr size_t kMaxTriangles = size_t(1) << 28;
+// Vertices after instancing: three per triangle at most for sane meshes, and below 2^32
+// so that uint32_t indices cannot wrap.
+constexpr size_t kMaxVertices = 3 * kMaxTriangles;
+// Node visits of the walk (each one a matrix product, maybe a camera): a graph of empty
+// nodes nested 10 deep with 10 children each would otherwise take 10^10 steps.
+constexpr size_t kMaxNodeInstances = size_t(1) << 24;
 
 // One primitive's triangles in mesh space, read once however often it is instanced.
 struct Primitive {
@@ -41,10 +53,11 @@ struct Primitive {
 // Reads one parsed model into a Scene. Use once: read() keeps its walk state in members.
 class GltfReader {
  public:
-  GltfReader(const std::string& path, const tg::Model& model)
-      : path_(path), m_(model), on_path_(model.nodes.size(), 0) {}
+  GltfReader(const std::string& path, const tg::Model& model, const LoadOptions& options)
+      : path_(path), m_(model), options_(options), on_path_(model.nodes.size(), 0) {}
   // The scene of the model: every mesh instance of the hierarchy baked into world space,
   // materials (plus a "default" one if some primitive has none), textures and cameras.
+  // Fails before building anything when check_instancing() does.
   Scene read();
 
  private:
@@ -59,20 +72,24 @@ class GltfReader {
 
   // The node walk behind read().
   std::vector<int> roots() const;
+  void check_instancing(const std::vector<int>& roots);
   void walk(int root, Scene* scene);
   Mat4 enter(int index, const Mat4& parent, Scene* scene);
-  void add_camera(const tg::Node& node, const Mat4& world, Scene* scene) const;
+  void add_camera(const tg::Node& node, const Mat4& world, Scene* scene);
   void add_instance(int mesh_index, const Mat4& world, Scene* scene);
   uint32_t material_id(const Primitive& p, Scene* scene);
 
   const std::string& path_;
   const tg::Model& m_;
+  const LoadOptions& options_;
   std::map<int, std::vector<Primitive>> meshes_;
   std::map<int, int> texture_of_image_;
   // Walk state.
-  std::vector<char> on_path_;  // per node: 1 while it is on the current path
-  size_t triangles_ = 0;       // triangles added so far, instances counted
-  bool any_uvs_ = false;       // some instanced primitive has TEXCOORD_0
+  std::vector<char> on_path_;   // per node: 1 while it is on the current path
+  size_t triangles_ = 0;        // triangles added so far, instances counted
+  bool any_uvs_ = false;        // some instanced primitive has TEXCOORD_0
+  size_t dropped_cameras_ = 0;  // cameras camera_problem() refused
+  std::string camera_problem_;  // the first one's problem
   std::optional<uint32_t> default_material_;
 };
 
@@ -133,13 +150,14 @@ const std::vector<Primitive>& GltfReader::mesh(int index) {
     if (has_n) {  // indexed as in the file
       prim.indices = std::move(idx);
       for (size_t i = 0; i < pos.count; ++i) prim.positions.push_back(p3(pos, i));
-      for (size_t i = 0; i < pos.count; ++i) prim.normals.push_back(normalize(p3(nrm, i)));
+      for (size_t i = 0; i < pos.count; ++i)
+        prim.normals.push_back(detail::shading_normal(p3(nrm, i)));  // NaN if unusable
       for (size_t i = 0; has_uv && i < pos.count; ++i)
         prim.uvs.push_back(Vec2{uv.get(i, 0), uv.get(i, 1)});
     } else {  // the spec asks for flat normals: one vertex per corner
       for (size_t t = 0; t < idx.size(); t += 3) {
         const Vec3 a = p3(pos, idx[t]), b = p3(pos, idx[t + 1]), c = p3(pos, idx[t + 2]);
-        const Vec3 n = normalize(cross(b - a, c - a));
+        const Vec3 n = detail::flat_normal(a, b, c);
         for (int k = 0; k < 3; ++k) {
           prim.indices.push_back(uint32_t(prim.positions.size()));
           prim.positions.push_back(p3(pos, idx[t + k]));
@@ -256,6 +274,84 @@ std::vector<int> GltfReader::roots() const {
   return roots;
 }
 
+namespace {
+
+// Triangles, vertices and node visits a subtree adds when walked once. Sums saturate at
+// UINT64_MAX instead of wrapping.
+struct Cost {
+  uint64_t triangles = 0, vertices = 0, nodes = 0;
+  Cost& operator+=(const Cost& o) {
+    auto add = [](uint64_t a, uint64_t b) { return a > UINT64_MAX - b ? UINT64_MAX : a + b; };
+    triangles = add(triangles, o.triangles);
+    vertices = add(vertices, o.vertices);
+    nodes = add(nodes, o.nodes);
+    return *this;
+  }
+};
+
+std::string count_text(uint64_t n) { return n == UINT64_MAX ? "over 1.8e19" : std::to_string(n); }
+
+}  // namespace
+
+// What walking `roots` would build, computed per node once (memoised over the node
+// graph, a DAG when valid) in time linear in nodes + child links, so a 1 KB file whose
+// nodes instance their children 10 times, 10 levels deep, is refused at once instead of
+// after gigabytes. A child listed k times counts k times: that is the instance
+// multiplication. Fails like walk() on missing nodes and cycles (a node met again while
+// it is still on the depth-first path), and when the totals exceed the caps.
+void GltfReader::check_instancing(const std::vector<int>& roots) {
+  enum : char { kNew, kOnPath, kDone };
+  std::vector<char> state(m_.nodes.size(), kNew);
+  std::vector<Cost> cost(m_.nodes.size());
+  auto reach = [&](int index) {  // true if `index` still needs to be visited
+    if (index < 0 || size_t(index) >= m_.nodes.size())
+      fail("node " + std::to_string(index) + " does not exist");
+    if (state[size_t(index)] == kOnPath)
+      fail("node hierarchy has a cycle through node " + std::to_string(index));
+    if (state[size_t(index)] == kDone) return false;
+    state[size_t(index)] = kOnPath;
+    return true;
+  };
+  struct Frame {
+    int node;
+    size_t next_child = 0;
+  };
+  Cost total;
+  for (int root : roots) {
+    std::vector<Frame> stack;
+    if (reach(root)) stack.push_back({root});
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      const tg::Node& node = m_.nodes[size_t(f.node)];
+      if (f.next_child < node.children.size()) {
+        const int child = node.children[f.next_child++];
+        if (reach(child)) stack.push_back({child});
+        continue;
+      }
+      Cost c;
+      c.nodes = 1;
+      if (node.mesh >= 0)
+        for (const Primitive& p : mesh(node.mesh)) {
+          c.triangles += p.indices.size() / 3;
+          c.vertices += p.positions.size();
+        }
+      for (int child : node.children) c += cost[size_t(child)];
+      cost[size_t(f.node)] = c;
+      state[size_t(f.node)] = kDone;
+      stack.pop_back();
+    }
+    total += cost[size_t(root)];
+  }
+  auto refuse = [&](uint64_t n, const char* what, size_t limit) {
+    fail("the node hierarchy instances " + count_text(n) + " " + what +
+         ", more than the limit of " + std::to_string(limit) +
+         " (refused before building any instance)");
+  };
+  if (total.triangles > kMaxTriangles) refuse(total.triangles, "triangles", kMaxTriangles);
+  if (total.vertices > kMaxVertices) refuse(total.vertices, "vertices", kMaxVertices);
+  if (total.nodes > kMaxNodeInstances) refuse(total.nodes, "nodes", kMaxNodeInstances);
+}
+
 // Depth-first walk of the hierarchy under `root`, with an explicit stack. A node already
 // on the current path means the hierarchy has a cycle (invalid glTF), which would
 // otherwise never end; enter() fails on it.
@@ -298,19 +394,28 @@ Mat4 GltfReader::enter(int index, const Mat4& parent, Scene* scene) {
   return world;
 }
 
-// Appends the node's camera to scene->cameras if it is a perspective camera that yields
-// a finite eye and a field of view in (0, 180) degrees; other cameras are ignored.
-void GltfReader::add_camera(const tg::Node& node, const Mat4& world, Scene* scene) const {
+// Appends the node's camera to scene->cameras if it is a perspective camera that
+// camera_problem() accepts; other perspective cameras are counted for one warning, and
+// orthographic ones are ignored.
+void GltfReader::add_camera(const tg::Node& node, const Mat4& world, Scene* scene) {
   if (node.camera < 0 || size_t(node.camera) >= m_.cameras.size() ||
       m_.cameras[size_t(node.camera)].type != "perspective")
     return;
   Camera cam;
   cam.eye = world.point(Vec3(0, 0, 0));
-  cam.target = cam.eye + normalize(world.vector(Vec3(0, 0, -1)));
+  // The target one unit ahead, or further where float cannot resolve that from the eye
+  // (an eye at 1e8 plus a unit vector rounds back to the eye).
+  const float reach = std::max(
+      1.0f, 1e-3f * std::max({std::abs(cam.eye.x), std::abs(cam.eye.y), std::abs(cam.eye.z)}));
+  cam.target = cam.eye + normalize(world.vector(Vec3(0, 0, -1))) * reach;
   cam.up = normalize(world.vector(Vec3(0, 1, 0)));
-  cam.fov_y_deg = float(m_.cameras[size_t(node.camera)].perspective.yfov * 180.0 / kPi);
-  if (is_finite(cam.eye) && cam.fov_y_deg > 0 && cam.fov_y_deg < 180)
+  cam.fov_y_deg = detail::to_float(m_.cameras[size_t(node.camera)].perspective.yfov * 180.0 / kPi);
+  const std::string problem = camera_problem(cam);
+  if (problem.empty()) {
     scene->cameras.push_back(cam);
+  } else if (dropped_cameras_++ == 0) {
+    camera_problem_ = problem;
+  }
 }
 
 // Appends mesh `mesh_index` transformed by `world` to *scene: vertices in world space,
@@ -327,7 +432,7 @@ void GltfReader::add_instance(int mesh_index, const Mat4& world, Scene* scene) {
     const uint32_t base = uint32_t(scene->positions.size());
     for (size_t i = 0; i < p.positions.size(); ++i) {
       scene->positions.push_back(world.point(p.positions[i]));
-      scene->normals.push_back(normalize(nm.vector(p.normals[i])));
+      scene->normals.push_back(detail::shading_normal(nm.vector(p.normals[i])));
       scene->uvs.push_back(p.uvs.empty() ? Vec2{} : p.uvs[i]);
     }
     any_uvs_ |= !p.uvs.empty();
@@ -355,7 +460,12 @@ Scene GltfReader::read() {
   Scene scene;
   scene.name = detail::file_name(path_);
   for (const tg::Material& gm : m_.materials) scene.materials.push_back(material(gm, &scene));
-  for (int root : roots()) walk(root, &scene);
+  const std::vector<int> starts = roots();
+  check_instancing(starts);
+  for (int root : starts) walk(root, &scene);
+  if (dropped_cameras_ > 0)
+    detail::warn(options_, path_,
+                 std::to_string(dropped_cameras_) + " camera(s) not used: " + camera_problem_);
   // Every vertex got a uv (zero where its primitive has none); keep them only if any is real.
   if (!any_uvs_) scene.uvs.clear();
   return scene;
@@ -363,11 +473,44 @@ Scene GltfReader::read() {
 
 }  // namespace
 
-Scene load_gltf(const std::string& path) {
-  const std::string bytes = detail::read_file(path);  // clear messages for missing/empty
+namespace {
+
+// tinygltf's file callbacks, so that every buffer and image file goes through SceneFiles.
+// FileExists only stat()s (tinygltf's own opens the file, and opening a FIFO blocks);
+// a refused read leaves its reason in `refused` and in tinygltf's message.
+struct FileAccess {
+  detail::SceneFiles* files;
+  std::vector<std::string> refused;  // one line per refused file, in order
+};
+
+bool file_exists(const std::string& path, void*) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0;
+}
+
+std::string expand_file_path(const std::string& path, void*) { return path; }
+
+bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                     void* user) {
+  auto* access = static_cast<FileAccess*>(user);
+  std::string why;
+  if (access->files->read(path, out, &why)) return true;
+  access->refused.push_back(why);
+  if (err != nullptr) *err += why;
+  return false;
+}
+
+}  // namespace
+
+Scene load_gltf(const std::string& path, const LoadOptions& options) {
+  detail::SceneFiles files(path, options);
+  const std::string bytes = files.read_scene_file();  // clear messages for missing/empty
   tg::Model model;
   tg::TinyGLTF ctx;
   ctx.SetImageLoader(&keep_encoded_image, &model);
+  FileAccess access{&files, {}};
+  ctx.SetFsCallbacks(
+      tg::FsCallbacks{&file_exists, &expand_file_path, &read_whole_file, nullptr, &access});
   std::string err, warn;
   const std::string base_dir = [&] {
     const size_t slash = path.find_last_of('/');
@@ -386,10 +529,18 @@ Scene load_gltf(const std::string& path) {
   } catch (const std::exception& e) {
     detail::fail(path, std::string("malformed glTF: ") + e.what());
   }
-  if (!ok)
+  if (!ok) {
+    // Only buffers are required; a refused one is named in tinygltf's error.
+    for (const std::string& why : access.refused)
+      if (err.find(why) != std::string::npos) detail::fail(path, "buffer refused: " + why);
     detail::fail(path, "malformed glTF: " + (err.empty() ? std::string("parse error") : err));
-  Scene scene = GltfReader(path, model).read();
-  detail::validate_loaded(scene, path);
+  }
+  Scene scene = GltfReader(path, model, options).read();
+  detail::validate_loaded(&scene, path, options);
+  // Every refusal of a successful load was an image (tinygltf only warns about those).
+  for (const std::string& why : access.refused)
+    detail::warn(options, path,
+                 "image refused: " + why + "; materials using it keep their colour factor");
   return scene;
 }
 

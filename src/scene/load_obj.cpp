@@ -15,12 +15,12 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <system_error>
 
 #include "scene/loaders.h"
+#include "scene/scene_files.h"
 
 namespace multiray {
 namespace {
@@ -68,41 +68,52 @@ void check_vertex_lines(const std::string& path, const std::string& text) {
 // Finds a file named in an OBJ or MTL file, relative to `dir`. Exporters often get the
 // letter case wrong (10 of the 18 texture names in Dabrovic Sponza) or use '\'
 // separators, so if the exact path does not exist its directory is searched for a name
-// differing only in case. Returns "" if there is none.
+// differing only in case. Returns "" if there is none. What it returns may be anything
+// but a directory (a FIFO, a file outside `dir`): SceneFiles decides whether to read it.
+// Only stat() and directory listings here, never open().
 std::string resolve_file(const fs::path& dir, std::string name) {
   std::replace(name.begin(), name.end(), '\\', '/');
   const fs::path exact = dir / name;
   std::error_code ec;
-  if (fs::is_regular_file(exact, ec)) return exact.string();
+  const fs::file_status st = fs::status(exact, ec);
+  if (fs::exists(st) && !fs::is_directory(st)) return exact.string();
   auto lower = [](std::string s) {
     for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
     return s;
   };
   const std::string wanted = lower(exact.filename().string());
   for (fs::directory_iterator it(exact.parent_path(), ec), end; !ec && it != end; it.increment(ec))
-    if (lower(it->path().filename().string()) == wanted && it->is_regular_file(ec))
+    if (lower(it->path().filename().string()) == wanted && !it->is_directory(ec))
       return it->path().string();
   return {};
 }
 
-// `mtllib` reader using resolve_file (tinyobjloader's own reader is case-sensitive and
-// splits its search path at ':'). A missing MTL file is not an error: the faces then
-// get the default material.
+// `mtllib` reader using resolve_file and SceneFiles (tinyobjloader's own reader is
+// case-sensitive, splits its search path at ':' and opens whatever it finds). A missing
+// MTL file is not an error: the faces then get the default material; so do they when
+// the file is refused, with a warning.
 class MtlReader : public tinyobj::MaterialReader {
  public:
-  explicit MtlReader(fs::path dir) : dir_(std::move(dir)) {}
+  MtlReader(fs::path dir, detail::SceneFiles* files) : dir_(std::move(dir)), files_(files) {}
   bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
                   std::map<std::string, int>* names, std::string* warn,
                   std::string* err) override {
     const std::string file = resolve_file(dir_, name);
-    std::ifstream in(file);
-    if (file.empty() || !in) return false;
+    if (file.empty()) return false;
+    std::string text, why;
+    if (!files_->read(file, &text, &why)) {
+      detail::warn(files_->options(), files_->scene_path(),
+                   "material library refused: " + why + "; its faces get the default material");
+      return false;
+    }
+    std::istringstream in(text);
     tinyobj::LoadMtl(names, materials, &in, warn, err);
     return true;
   }
 
  private:
   fs::path dir_;
+  detail::SceneFiles* files_;
 };
 
 // Element i of a flat xyz array (indices checked by the caller).
@@ -112,8 +123,9 @@ Vec3 vec3_at(const std::vector<float>& xyz, int i) {
 
 }  // namespace
 
-Scene load_obj(const std::string& path) {
-  const std::string text = detail::read_file(path);
+Scene load_obj(const std::string& path, const LoadOptions& options) {
+  detail::SceneFiles files(path, options);
+  const std::string text = files.read_scene_file();
   check_vertex_lines(path, text);
 
   const fs::path dir =
@@ -123,7 +135,7 @@ Scene load_obj(const std::string& path) {
   std::vector<tinyobj::material_t> mtls;
   std::string warn, err;
   std::istringstream in(text);
-  MtlReader mtl_reader(dir);
+  MtlReader mtl_reader(dir, &files);
   if (!tinyobj::LoadObj(&attrib, &shapes, &mtls, &warn, &err, &in, &mtl_reader,
                         /*triangulate=*/false, /*default_vcols_fallback=*/false))
     detail::fail(path, "malformed OBJ: " + (err.empty() ? std::string("parse error") : err));
@@ -146,10 +158,18 @@ Scene load_obj(const std::string& path) {
     const std::string file = resolve_file(dir, m.diffuse_texname);
     if (file.empty()) continue;  // missing texture: keep the plain colour
     auto [it, inserted] = texture_of_file.try_emplace(file, -1);
-    Texture tex;
-    if (inserted && detail::decode_texture_file(file, &tex)) {
-      it->second = int(scene.textures.size());
-      scene.textures.push_back(std::move(tex));
+    if (inserted) {
+      std::string bytes, why;
+      Texture tex;
+      if (!files.read(file, &bytes, &why))
+        detail::warn(
+            options, path,
+            "texture refused: " + why + "; material '" + m.name + "' keeps its plain colour");
+      else if (detail::decode_texture(reinterpret_cast<const unsigned char*>(bytes.data()),
+                                      bytes.size(), &tex)) {
+        it->second = int(scene.textures.size());
+        scene.textures.push_back(std::move(tex));
+      }
     }
     out.base_color_texture = it->second;
   }
@@ -194,14 +214,18 @@ Scene load_obj(const std::string& path) {
           const bool diag02 = dot(d02, d02) < dot(d13, d13);
           if (!diag02) tri[0] = k == 1 ? 0 : 1, tri[1] = k == 1 ? 1 : 2, tri[2] = 3;
         }
-        const Vec3 flat = normalize(cross(pos(tri[1]) - pos(tri[0]), pos(tri[2]) - pos(tri[0])));
+        const Vec3 flat = detail::flat_normal(pos(tri[0]), pos(tri[1]), pos(tri[2]));
         for (size_t j : tri) {
           scene.indices.push_back(uint32_t(scene.positions.size()));
           scene.positions.push_back(pos(j));
           if (with_normals) {  // corners without a (non-zero) normal get the flat one
-            const Vec3 n =
-                c[j].normal_index >= 0 ? vec3_at(attrib.normals, c[j].normal_index) : Vec3();
-            scene.normals.push_back(length(n) > 0 ? normalize(n) : flat);
+            Vec3 n = flat;
+            if (c[j].normal_index >= 0) {
+              const Vec3 file_n =
+                  detail::shading_normal(vec3_at(attrib.normals, c[j].normal_index));
+              if (is_finite(file_n)) n = file_n;
+            }
+            scene.normals.push_back(n);
           }
           if (with_uvs) {  // OBJ has v = 0 at the bottom; Texture wants it at the top
             const int t = c[j].texcoord_index;
@@ -216,7 +240,7 @@ Scene load_obj(const std::string& path) {
   }
   if (scene.positions.size() > UINT32_MAX) detail::fail(path, "too many triangles");
   if (used_default) scene.materials.emplace_back().name = "default";
-  detail::validate_loaded(scene, path);
+  detail::validate_loaded(&scene, path, options);
   return scene;
 }
 

@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "scene/loaders.h"
+#include "scene/scene_files.h"
 
 namespace multiray {
 namespace {
@@ -283,7 +284,8 @@ std::vector<int> vertex_columns(const Element& e, int* found) {
 
 // Reads the `e.count` vertices of vertex element `e` into scene->positions (resized to
 // `e.count`), and into scene->normals (normalised) and scene->uvs (v flipped) when the
-// element has all their components. Fails when x, y or z is missing.
+// element has all their components (unusable normals are NaN until validate_loaded()
+// repairs them). Fails when x, y or z is missing.
 void read_vertices(const std::string& path, const Element& e, Body* body, Scene* scene) {
   int found = 0;
   const std::vector<int> column = vertex_columns(e, &found);
@@ -302,11 +304,11 @@ void read_vertices(const std::string& path, const Element& e, Body* body, Scene*
         for (double k = 0; k < n; ++k) body->read(p.type, "a vertex property list");
       } else {
         const double x = body->read(p.type, "vertex data");
-        if (column[i] >= 0) val[column[i]] = float(x);
+        if (column[i] >= 0) val[column[i]] = detail::to_float(x);
       }
     }
     scene->positions[v] = Vec3(val[0], val[1], val[2]);
-    if (has_normals) scene->normals[v] = normalize(Vec3(val[3], val[4], val[5]));
+    if (has_normals) scene->normals[v] = detail::shading_normal(Vec3(val[3], val[4], val[5]));
     // PLY texture coordinates have v = 0 at the bottom; Texture wants it at the top.
     if (has_uvs) scene->uvs[v] = Vec2{val[6], 1.0f - val[7]};
   }
@@ -373,7 +375,7 @@ void skip_element(const Element& e, Body* body) {
 // Completes the scene read from the body: requires vertices and faces, checks every
 // index against the vertex count, gives all triangles one default material, and
 // validates the result as every loader does.
-void build_mesh(const std::string& path, Scene* scene) {
+void build_mesh(const std::string& path, const LoadOptions& options, Scene* scene) {
   if (scene->positions.empty()) detail::fail(path, "no 'vertex' element with vertices");
   if (scene->indices.empty()) detail::fail(path, "no faces (point clouds are not supported)");
   for (const uint32_t index : scene->indices)
@@ -382,13 +384,13 @@ void build_mesh(const std::string& path, Scene* scene) {
                              std::to_string(scene->positions.size()) + " vertices)");
   scene->materials.emplace_back().name = "default";
   scene->material_ids.assign(scene->triangle_count(), 0);
-  detail::validate_loaded(*scene, path);
+  detail::validate_loaded(scene, path, options);
 }
 
 }  // namespace
 
-Scene load_ply(const std::string& path) {
-  const std::string data = detail::read_file(path);
+Scene load_ply(const std::string& path, const LoadOptions& options) {
+  const std::string data = detail::SceneFiles(path, options).read_scene_file();
   const Header header = parse_header(path, data);
   check_counts(path, header, data.size());
 
@@ -405,7 +407,7 @@ Scene load_ply(const std::string& path) {
     else
       skip_element(e, &body);
   }
-  build_mesh(path, &scene);
+  build_mesh(path, options, &scene);
   return scene;
 }
 

@@ -4,28 +4,49 @@
 // malformed data: every count, offset and index read from a file is checked before use.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <string>
 
 #include "scene/scene.h"
 
 namespace multiray {
 
+// What a load may read, and where its warnings go. The defaults are the safe choice for
+// files from anywhere: every file is checked with stat() before it is opened, so a FIFO,
+// device or directory is refused without ever being opened (it could block forever).
+struct LoadOptions {
+  // Files the scene file names (glTF buffers and images, OBJ material libraries and
+  // textures) are read only if they lie inside the scene file's folder after symlinks
+  // and '..' are resolved. True lifts that restriction (never the regular-file one).
+  bool allow_outside = false;
+  // Bytes one load may read: the scene file plus every file it names, together.
+  uint64_t max_total_bytes = uint64_t(4) << 30;  // 4 GiB
+  // Receives one line per thing the load dropped but could do without (a refused
+  // image or material library, repaired normals, an unusable camera). Unset: printed to
+  // stderr as "multiray: warning: <line>".
+  std::function<void(const std::string& line)> warn;
+};
+
 // Dispatches on the extension, case-insensitively: .gltf/.glb, .obj, .ply.
-Scene load_scene(const std::string& path);
+Scene load_scene(const std::string& path, const LoadOptions& options = {});
 
 // glTF 2.0, text (.gltf) or binary (.glb). Triangles of the default scene; materials
 // from metallic-roughness plus emissive strength, transmission and IOR extensions;
 // base-colour textures; perspective cameras. Missing or undecodable images only drop
-// that texture.
-Scene load_gltf(const std::string& path);
+// that texture; refused ones (see LoadOptions) also give a warning. A refused buffer
+// is an error. Node graphs that would instance more than 2^28 triangles are refused
+// before any instance is built.
+Scene load_gltf(const std::string& path, const LoadOptions& options = {});
 
 // Wavefront OBJ with its MTL files (Kd, Ke, map_Kd). Without materials every triangle
-// gets one diffuse grey material.
-Scene load_obj(const std::string& path);
+// gets one diffuse grey material. A refused MTL file or texture gives a warning and
+// the faces keep the default material or the plain colour.
+Scene load_obj(const std::string& path, const LoadOptions& options = {});
 
 // Stanford PLY, ascii or binary (either byte order): vertex positions, optional normals
 // and texture coordinates, polygon faces.
-Scene load_ply(const std::string& path);
+Scene load_ply(const std::string& path, const LoadOptions& options = {});
 
 // Helpers shared by the loaders (texture_load.cpp). Not part of the public interface.
 namespace detail {
@@ -37,18 +58,31 @@ std::string file_name(const std::string& path);
 // message stays one line (library error strings often end in '\n').
 [[noreturn]] void fail(const std::string& path, const std::string& what);
 
+// Sends "<path>: <what>" to options.warn (or stderr).
+void warn(const LoadOptions& options, const std::string& path, const std::string& what);
+
+// The last step of every loader: replaces unusable shading normals (see
+// shading_normal) by face normals, with one warning saying how many, then
 // validate(scene), with its message re-issued as "<path>: <problem>" like every other
 // loader error.
-void validate_loaded(const Scene& scene, const std::string& path);
+void validate_loaded(Scene* scene, const std::string& path, const LoadOptions& options);
 
-// Whole file contents. Throws InputError (via fail) when it is missing, not a regular
-// file, unreadable or empty.
-std::string read_file(const std::string& path);
+// `n` scaled to unit length (computed in double, so huge components do not overflow),
+// or NaN in every component when `n` has no direction: zero, NaN or infinite. Loaders
+// store that NaN and validate_loaded() replaces it by a face normal.
+Vec3 shading_normal(Vec3 n);
+
+// Unit normal of triangle a, b, c (right-handed), or +z if it has no area. Computed in
+// double: vertices up to 1e18 apart have a cross product whose float length overflows.
+Vec3 flat_normal(Vec3 a, Vec3 b, Vec3 c);
+
+// `x` as a float: out-of-range values become +-infinity (a plain cast would be undefined
+// behaviour), NaN stays NaN.
+float to_float(double x);
 
 // Decodes an encoded image (JPEG, PNG, ...) with stb_image. Returns false, leaving `out`
 // untouched, when the data is not a decodable image.
 bool decode_texture(const unsigned char* bytes, size_t size, Texture* out);
-bool decode_texture_file(const std::string& path, Texture* out);
 
 }  // namespace detail
 }  // namespace multiray

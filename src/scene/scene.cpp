@@ -1,7 +1,9 @@
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "core/error.h"
@@ -109,10 +111,18 @@ void validate(const Scene& s) {
     throw InputError(where + "normal count does not match vertex count");
   if (!s.uvs.empty() && s.uvs.size() != s.positions.size())
     throw InputError(where + "uv count does not match vertex count");
-  for (size_t i = 0; i < s.positions.size(); ++i)
-    if (!is_finite(s.positions[i]))
+  for (size_t i = 0; i < s.positions.size(); ++i) {
+    const Vec3 p = s.positions[i];
+    if (!is_finite(p))
       throw InputError(where + "vertex " + std::to_string(i) +
                        " has a NaN or infinite coordinate");
+    if (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) > kMaxSceneCoordinate) {
+      char xyz[96];
+      std::snprintf(xyz, sizeof xyz, "(%g, %g, %g)", p.x, p.y, p.z);
+      throw InputError(where + "vertex " + std::to_string(i) + " at " + xyz +
+                       " lies beyond 1e18 on some axis (the limit for scene coordinates)");
+    }
+  }
   for (size_t i = 0; i < s.normals.size(); ++i)
     if (!is_finite(s.normals[i]))
       throw InputError(where + "normal " + std::to_string(i) + " is NaN or infinite");

@@ -75,10 +75,16 @@ struct Scene {
   Camera default_camera(float aspect) const;
 };
 
+// Largest coordinate magnitude of a scene vertex, scene units. Keeps the scene's bounds,
+// their extent and the products Embree forms from them finite in float (max ~3.4e38);
+// the same limit as for cameras (kMaxCameraCoordinate).
+constexpr float kMaxSceneCoordinate = 1e18f;
+
 // Checks the invariants every backend relies on and throws InputError naming the first
-// violation: indices in range, finite positions/normals/uvs, material ids in range,
-// attribute arrays of matching size, at least one triangle of non-zero area.
-// Degenerate (zero-area) triangles are allowed; they are never hit.
+// violation: indices in range, finite positions/normals/uvs, positions within
+// kMaxSceneCoordinate, material ids in range, attribute arrays of matching size, at least
+// one triangle of non-zero area. Degenerate (zero-area) triangles are allowed; they are
+// never hit.
 void validate(const Scene& scene);
 
 }  // namespace multiray

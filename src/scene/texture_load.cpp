@@ -1,17 +1,18 @@
-// Loader helpers shared by the three formats: extension dispatch, file reading, one-line
-// error messages and texture decoding (stb_image from Debian's libstb; the
-// implementation is compiled into that library, so no STB_IMAGE_IMPLEMENTATION here).
+// Loader helpers shared by the three formats: extension dispatch, one-line error
+// messages and warnings, the final repair-and-validate step, and texture decoding (stb_image from
+// Debian's libstb; the implementation is compiled into that library, so no
+// STB_IMAGE_IMPLEMENTATION here).
 #include <stb_image.h>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cfloat>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <system_error>
+#include <limits>
 
 #include "core/error.h"
 #include "scene/loaders.h"
@@ -20,13 +21,13 @@ namespace multiray {
 
 namespace fs = std::filesystem;
 
-Scene load_scene(const std::string& path) {
+Scene load_scene(const std::string& path, const LoadOptions& options) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext == ".gltf" || ext == ".glb") return load_gltf(path);
-  if (ext == ".obj") return load_obj(path);
-  if (ext == ".ply") return load_ply(path);
+  if (ext == ".gltf" || ext == ".glb") return load_gltf(path, options);
+  if (ext == ".obj") return load_obj(path, options);
+  if (ext == ".ply") return load_ply(path, options);
   detail::fail(path,
                "unknown scene file extension '" + ext + "' (supported: .gltf, .glb, .obj, .ply)");
 }
@@ -53,28 +54,87 @@ void fail(const std::string& path, const std::string& what) {
   throw InputError(path + ": " + line);
 }
 
-void validate_loaded(const Scene& scene, const std::string& path) {
+void warn(const LoadOptions& options, const std::string& path, const std::string& what) {
+  const std::string line = path + ": " + what;
+  if (options.warn)
+    options.warn(line);
+  else
+    std::fprintf(stderr, "multiray: warning: %s\n", line.c_str());
+}
+
+Vec3 shading_normal(Vec3 n) {
+  const double x = n.x, y = n.y, z = n.z;
+  const double len = std::sqrt(x * x + y * y + z * z);  // finite for any finite floats
+  if (!std::isfinite(len) || !(len > 0)) return Vec3(std::numeric_limits<float>::quiet_NaN());
+  return Vec3(float(x / len), float(y / len), float(z / len));
+}
+
+Vec3 flat_normal(Vec3 a, Vec3 b, Vec3 c) {
+  const double u[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
+  const double v[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
+  const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                       u[0] * v[1] - u[1] * v[0]};
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(len > 0) || !std::isfinite(len)) return Vec3(0, 0, 1);
+  return Vec3(float(n[0] / len), float(n[1] / len), float(n[2] / len));
+}
+
+float to_float(double x) {
+  if (std::isnan(x)) return std::numeric_limits<float>::quiet_NaN();
+  if (x > double(FLT_MAX)) return std::numeric_limits<float>::infinity();
+  if (x < -double(FLT_MAX)) return -std::numeric_limits<float>::infinity();
+  return float(x);
+}
+
+namespace {
+
+// Unit face normal of triangle `t`, or +z if an index is out of range.
+Vec3 face_normal(const Scene& s, size_t t) {
+  for (int k = 0; k < 3; ++k)
+    if (s.indices[3 * t + size_t(k)] >= s.positions.size()) return Vec3(0, 0, 1);
+  return flat_normal(s.positions[s.indices[3 * t]], s.positions[s.indices[3 * t + 1]],
+                     s.positions[s.indices[3 * t + 2]]);
+}
+
+// Replaces every shading normal that is not a finite unit vector (the NaN that
+// shading_normal() gives for a zero, NaN or infinite normal in the file) by the face
+// normal of the first triangle using the vertex (+z for a vertex no triangle uses).
+// Returns how many were replaced. Leaves scenes whose arrays do not match to validate().
+size_t repair_normals(Scene* s) {
+  if (s->normals.size() != s->positions.size()) return 0;
+  auto bad = [](Vec3 n) {
+    const float l = length(n);
+    return !is_finite(n) || !(std::abs(l - 1.0f) < 1e-3f);
+  };
+  size_t count = 0;
+  for (size_t t = 0; t < s->triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = s->indices[3 * t + size_t(k)];
+      if (v >= s->normals.size() || !bad(s->normals[v])) continue;
+      s->normals[v] = face_normal(*s, t);
+      ++count;
+    }
+  for (Vec3& n : s->normals)
+    if (bad(n)) n = Vec3(0, 0, 1), ++count;
+  return count;
+}
+
+}  // namespace
+
+void validate_loaded(Scene* scene, const std::string& path, const LoadOptions& options) {
+  const size_t repaired = repair_normals(scene);
   try {
-    validate(scene);
+    validate(*scene);
   } catch (const InputError& e) {
     std::string what = e.what();
-    const std::string prefix = "scene '" + scene.name + "': ";
+    const std::string prefix = "scene '" + scene->name + "': ";
     if (what.compare(0, prefix.size(), prefix) == 0) what.erase(0, prefix.size());
     fail(path, what);
   }
-}
-
-std::string read_file(const std::string& path) {
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (!fs::exists(st)) fail(path, "file not found");
-  if (!fs::is_regular_file(st)) fail(path, "not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open file for reading");
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) fail(path, "read error");
-  if (data.empty()) fail(path, "file is empty");
-  return data;
+  if (repaired > 0)  // only for scenes that load: one line, not one per vertex
+    warn(options, path,
+         std::to_string(repaired) +
+             " shading normal(s) were zero, NaN or infinite; replaced by face normals");
 }
 
 bool decode_texture(const unsigned char* bytes, size_t size, Texture* out) {
@@ -86,14 +146,6 @@ bool decode_texture(const unsigned char* bytes, size_t size, Texture* out) {
   if (ok) *out = Texture::from_srgb8(px, w, h, 3);
   stbi_image_free(px);
   return ok;
-}
-
-bool decode_texture_file(const std::string& path, Texture* out) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return false;
-  std::ifstream in(path, std::ios::binary);
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return decode_texture(reinterpret_cast<const unsigned char*>(data.data()), data.size(), out);
 }
 
 }  // namespace detail
