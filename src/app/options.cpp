@@ -291,8 +291,10 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
         "the {:.1f} GB allowed (--max-memory; default: half of physical memory)",
         need.total() / 1e9, need.frame_bytes / 1e9, need.scene_bytes / 1e9, limit / 1e9));
   if (before_load) before_load();
+  LoadOptions load;
+  load.allow_outside = o.allow_outside_paths;
   s.scene = std::make_unique<Scene>(o.scene_path.empty() ? make_cornell_box()
-                                                         : load_scene(o.scene_path));
+                                                         : load_scene(o.scene_path, load));
   const float aspect = float(s.res.width) / float(s.res.height);
   const Camera base = cli_camera                  ? *cli_camera
                       : !s.scene->cameras.empty() ? s.scene->cameras.front()

@@ -43,6 +43,7 @@ struct CommonOptions {
   std::string gaze = "0.5,0.5";      // foveated: gaze point X,Y, normalised, (0,0) top left
   std::string gaze_path = "fixed";   // foveated: fixed | orbit | orbit:PERIOD
   FoveationParams foveation;         // foveated: --fovea-spp, --fovea-radius, --periphery-spp
+  bool allow_outside_paths = false;  // files a scene names may lie outside its folder
   std::string max_memory = "auto";   // bytes (K/M/G suffixes) or auto: half of physical RAM
 };
 

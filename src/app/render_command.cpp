@@ -52,6 +52,10 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                  "has no lights")
       ->capture_default_str();
   cmd.add_option("--seed", o.seed, "Seed for all random numbers")->capture_default_str();
+  cmd.add_flag("--allow-outside-paths", o.allow_outside_paths,
+               "Let a scene file name files outside its own folder (buffers, images, material "
+               "libraries); by default they are refused, with a warning or an error. Only "
+               "regular files are ever read");
   cmd.add_option("--max-memory", o.max_memory,
                  "Refuse runs estimated to need more memory than this: auto (half of physical "
                  "memory) or a size such as 8G or 512M")

@@ -1,0 +1,131 @@
+// The hostile user of the issue "Nothing lost, nothing crashes": numbers that overflow
+// after conversion, full disks, signals mid-run, a reused output folder, memory bombs.
+// Each case failed (crash, hang, rc 0 with a wrong or lost output) before it was fixed.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <sys/mount.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "support/run_cli.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using multiray::testing::run_cli;
+
+std::string fresh_dir(const std::string& name) {
+  const std::string dir = ::testing::TempDir() + "/robust_" + name;
+  fs::remove_all(dir);
+  return dir;
+}
+
+// One line on stderr naming `word`, exit code 2.
+void expect_refused(const std::string& args, const std::string& word) {
+  const auto r = run_cli(MULTIRAY_BIN, args);
+  EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+  EXPECT_THAT(r.out, ::testing::StartsWith("multiray: error: ")) << args;
+  EXPECT_THAT(r.out, ::testing::HasSubstr(word)) << args;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << args << "\n" << r.out;
+}
+
+TEST(Hostile, NumbersThatOverflowAfterConversionAreRefused) {
+  const std::string out = " --res 8x8 --out " + fresh_dir("numbers");
+  expect_refused("render --camera 3e38,0,3,-3e38,0,0,0,1,0,45" + out, "--camera");
+  expect_refused("render --camera 1e39,0,3,0,0,0,0,1,0,45" + out, "--camera");
+  expect_refused("render --camera 0,0,3,0,0,3,0,1,0,45" + out, "--camera");
+  expect_refused("render --camera 0,0,3,0,0,0,0,0,0,45" + out, "--camera");
+  expect_refused("render --env 1e39" + out, "--env");
+  expect_refused("render --devices cpu:speed=1e-9" + out, "speed");
+  expect_refused("render --devices cpu:speed=1e-300" + out, "speed");
+  expect_refused("render --perturb 1e20:0:0.5" + out, "--perturb");
+  expect_refused("render --seed -1" + out, "--seed");
+  expect_refused("render --camera-path orbit:1e-50" + out, "--camera-path");
+  expect_refused("render --sampling foveated --gaze-path orbit:1e-50" + out, "--gaze-path");
+}
+
+TEST(Hostile, MemoryIsEstimatedBeforeItIsTaken) {
+  const std::string out = " --out " + fresh_dir("memory");
+  expect_refused("render --views 64x64 --res 512x512" + out, "needs about");
+  expect_refused("render --res 512x512 --max-memory 1M" + out, "--max-memory");
+  expect_refused("render --max-memory plenty" + out, "--max-memory");
+}
+
+TEST(Hostile, AnEarlierRunsOutputsAreRefusedOrReplacedAsAWhole) {
+  const std::string dir = fresh_dir("reuse");
+  ASSERT_EQ(run_cli(MULTIRAY_BIN, "render -q --res 8x8 --frames 3 --out " + dir).code, 0);
+  expect_refused("render -q --res 8x8 --out " + dir, "--overwrite");
+  ASSERT_EQ(run_cli(MULTIRAY_BIN, "render -q --res 8x8 --frames 1 --overwrite --out " + dir).code,
+            0);
+  EXPECT_TRUE(fs::exists(dir + "/frame_0000.png"));
+  EXPECT_FALSE(fs::exists(dir + "/frame_0002.png"));  // no leftover of the first run
+}
+
+TEST(Hostile, AFullDiskIsOneLineAndLeavesNoPartialFile) {
+  const std::string dir = fresh_dir("full");
+  fs::create_directories(dir);
+  if (mount("tmpfs", dir.c_str(), "tmpfs", 0, "size=32k") != 0)
+    GTEST_SKIP() << "cannot mount a small tmpfs here (needs root): " << std::strerror(errno);
+  const auto r = run_cli(MULTIRAY_BIN, "render -q --res 256x256 --frames 2 --out " + dir + "/o");
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir + "/o")) left.push_back(e.path().filename());
+  umount(dir.c_str());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("No space left on device"));
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  EXPECT_TRUE(left.empty()) << left.front();  // no truncated PNG, no temporary file
+}
+
+TEST(Hostile, AnOutputLinkedToDevFullIsReplacedWhole) {
+  const std::string dir = fresh_dir("devfull");
+  fs::create_directories(dir);
+  fs::create_symlink("/dev/full", dir + "/frame_0000.png");
+  const auto r = run_cli(MULTIRAY_BIN, "render -q --res 16x16 --overwrite --out " + dir);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_FALSE(fs::is_symlink(dir + "/frame_0000.png"));
+  EXPECT_GT(fs::file_size(dir + "/frame_0000.png"), 100u);
+}
+
+TEST(Hostile, SigintKeepsTheFramesDoneAndTheirStats) {
+  const std::string dir = fresh_dir("sigint");
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {  // the child: multiray, quiet, far more frames than it will get to
+    freopen("/dev/null", "w", stdout);
+    freopen("/dev/null", "w", stderr);
+    execl(MULTIRAY_BIN, MULTIRAY_BIN, "render", "-q", "--res", "64x36", "--spp", "4", "--frames",
+          "100000", "--out", dir.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Interrupt once a few frames are written (at most 60 s later).
+  for (int i = 0; i < 600 && !fs::exists(dir + "/frame_0003.png"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGINT) << status;
+  std::ifstream in(dir + "/stats.json");
+  ASSERT_TRUE(in) << "stats.json missing";
+  const auto doc = nlohmann::json::parse(in);
+  EXPECT_EQ(doc.value("interrupted_by", ""), "SIGINT");
+  const size_t frames = doc.at("frames").size();
+  EXPECT_GE(frames, 4u);
+  EXPECT_LT(frames, 100000u);
+  size_t pngs = 0, others = 0;
+  for (const auto& e : fs::directory_iterator(dir))
+    (e.path().extension() == ".png" ? pngs : others) += 1;
+  EXPECT_EQ(pngs, frames);  // every frame in stats.json has its image, and no other
+  EXPECT_EQ(others, 1u);    // stats.json; no temporary file left
+}
+
+}  // namespace
