@@ -12,6 +12,7 @@
 
 #include "app/bench_summary.h"
 #include "app/commands.h"
+#include "app/interrupt.h"
 #include "app/report_plots.h"
 #include "app/stats_json.h"
 #include "app/trace_file.h"
@@ -108,11 +109,23 @@ Runner add_bench_command(CLI::App& app) {
     config.ideal_frames = b->ideal_frames;
     config.partition_frame = b->report_dir.empty() ? -1 : o->frames / 2;
     config.keep_stats = !b->trace_prefix.empty();
-    const BenchResult result = run_bench(
-        *session, s.device_ptrs(), initial, s.perturbations, s.settings, config, [&](int f) {
-          if (stderr_is_tty()) fmt::print(stderr, "\rframe {}/{} ", f + 1, o->frames);
-        });
-    if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
+    BenchResult result;
+    {
+      InterruptWatch watch(*session);
+      result = run_bench(*session, s.device_ptrs(), initial, s.perturbations, s.settings, config,
+                         [&](int f) {
+                           if (stderr_is_tty())
+                             fmt::print(stderr, "\rframe {}/{} ", f + 1, o->frames);
+                         });
+      if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
+      if (watch.signal()) {
+        // A summary of a cut-short run would mislead; nothing is written.
+        fmt::print(stderr, "multiray: bench interrupted by {} after {} of {} frames; no output\n",
+                   watch.signal_name(), result.lanes.empty() ? 0 : result.lanes[0].records.size(),
+                   o->frames);
+        return 128 + watch.signal();
+      }
+    }
     for (const BenchLane& lane : result.lanes)
       for (const FrameRecord& rec : lane.records)
         for (const auto& m : rec.messages) fmt::print(stderr, "multiray: warning: {}\n", m);
