@@ -53,6 +53,7 @@ std::unique_ptr<Balancer> build(Spec& spec, int n) {
     o.gamma = spec.get_double("gamma", o.gamma, 0.0, 1.0);
     o.min_chunk = spec.get_int("min_chunk", o.min_chunk, 1, 1 << 30);
     o.steal = spec.get_bool("steal", o.steal);
+    o.overhead = spec.get_double("overhead", o.overhead, 0.0, 0.9);
     return std::make_unique<HybridBalancer>(n, o);
   }
   // The peers' balancers (peers_*.h), for comparison.

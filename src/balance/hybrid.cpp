@@ -17,13 +17,19 @@ namespace multiray::balance {
 HybridBalancer::HybridBalancer(int device_count) : HybridBalancer(device_count, Options{}) {}
 
 HybridBalancer::HybridBalancer(int device_count, const Options& options)
-    : BalancerBase(device_count), opt_(options), speed_(size_t(device_count), 0.0) {}
+    : BalancerBase(device_count),
+      opt_(options),
+      speed_(size_t(device_count), 0.0),
+      overhead_(size_t(device_count), 0.0),
+      overhead_sum_(size_t(device_count), 0.0),
+      overhead_weight_(size_t(device_count), 0.0) {}
 
 std::string HybridBalancer::spec() const {
   std::ostringstream s;
   s << "hybrid:bands=" << opt_.bands << ":taper=" << opt_.taper << ":tail=" << opt_.tail
     << ":alpha=" << opt_.alpha << ":jump=" << opt_.jump << ":gamma=" << opt_.gamma
-    << ":min_chunk=" << opt_.min_chunk << ":steal=" << (opt_.steal ? 1 : 0);
+    << ":min_chunk=" << opt_.min_chunk << ":steal=" << (opt_.steal ? 1 : 0)
+    << ":overhead=" << opt_.overhead;
   return s.str();
 }
 
@@ -32,7 +38,7 @@ void HybridBalancer::reset_cost(const FrameShape& shape) {
   cost_shape_ = FrameShape{shape.width, shape.height, shape.views, {}};
 }
 
-std::vector<double> HybridBalancer::shares() const {
+std::vector<double> HybridBalancer::planning_speeds() const {
   // Devices not measured yet get the mean measured speed (all equal if none is).
   double sum = 0;
   int known = 0;
@@ -42,7 +48,38 @@ std::vector<double> HybridBalancer::shares() const {
   std::vector<double> s(speed_.size(), 0.0);
   for (int i = 0; i < device_count(); ++i)
     if (alive(i)) s[size_t(i)] = speed_[size_t(i)] > 0 ? speed_[size_t(i)] : guess;
-  return sanitize(s, even());
+  return s;
+}
+
+std::vector<double> HybridBalancer::overhead_shares(const std::vector<double>& speed,
+                                                    const std::vector<double>& items,
+                                                    double total) const {
+  // n_i = s_i·(T − k_i·o_i), at least s_i·kMinWork·T, and Σn_i = total: the work is
+  // increasing in T, so T is found by bisection.
+  constexpr double kMinWork = 0.05;
+  const size_t n = speed.size();
+  double speed_sum = 0, fixed_max = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (!alive(int(i)) || !(speed[i] > 0)) continue;
+    speed_sum += speed[i];
+    fixed_max = std::max(fixed_max, items[i] * overhead_[i]);
+  }
+  auto work = [&](double t, size_t i) {
+    if (!alive(int(i)) || !(speed[i] > 0)) return 0.0;
+    return speed[i] * std::max(t - items[i] * overhead_[i], kMinWork * t);
+  };
+  const std::vector<double> plain = sanitize(speed, even());
+  if (!(speed_sum > 0) || !(total > 0) || !std::isfinite(total + fixed_max)) return plain;
+  double lo = 0, hi = total / speed_sum + fixed_max;
+  for (int it = 0; it < 100 && hi - lo > 1e-12 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    double sum = 0;
+    for (size_t i = 0; i < n; ++i) sum += work(mid, i);
+    (sum < total ? lo : hi) = mid;
+  }
+  std::vector<double> share(n, 0.0);
+  for (size_t i = 0; i < n; ++i) share[i] = work(hi, i);
+  return sanitize(share, plain);
 }
 
 std::vector<size_t> HybridBalancer::band_order() const {
@@ -58,15 +95,9 @@ std::vector<size_t> HybridBalancer::band_order() const {
 }
 
 std::vector<std::vector<std::vector<double>>> HybridBalancer::chunk_costs(
-    const std::vector<double>& shares, const std::vector<size_t>& order) const {
+    const std::vector<double>& shares, const std::vector<double>& floor,
+    const std::vector<size_t>& order) const {
   const size_t n = shares.size(), m = size_t(opt_.bands);
-  // The smallest chunk: `tail` of the slowest device's share, i.e. what it renders in
-  // `tail` of the ideal frame time.
-  double slowest = 1;
-  for (double sh : shares)
-    if (sh > 0) slowest = std::min(slowest, sh);
-  const double floor = std::max(opt_.tail * slowest, 1e-9);
-
   // chunks[band][device]: cost fractions of the chunks of that piece, front to back. Sizes
   // follow the order the device will render its pieces in, so its last pieces get the
   // small chunks.
@@ -77,14 +108,54 @@ std::vector<std::vector<std::vector<double>>> HybridBalancer::chunk_costs(
     for (size_t i = 0; i < n; ++i) {
       double piece = shares[i] / double(m);
       while (piece > 0) {
-        double c = std::min(piece, std::max(floor, left[i] * (1 - opt_.taper)));
-        if (piece - c < 0.5 * floor || ++count[i] >= kMaxChunks) c = piece;
+        double c = std::min(piece, std::max(floor[i], left[i] * (1 - opt_.taper)));
+        if (piece - c < 0.5 * floor[i] || ++count[i] >= kMaxChunks) c = piece;
         chunks[band][i].push_back(c);
         piece -= c;
         left[i] -= c;
       }
     }
   return chunks;
+}
+
+void HybridBalancer::snap_to_rows(std::vector<int64_t>& cuts, const std::vector<size_t>& owner,
+                                  const std::vector<double>& row_cost, int width,
+                                  const std::vector<double>& shares,
+                                  const std::vector<double>& speed) const {
+  // err[i]: cost device i gained by the moves so far. Each move takes the side that keeps
+  // err² of the two devices it changes smallest, so every device stays within about one
+  // move of its share.
+  double total = 0;
+  for (double c : row_cost) total += std::max(0.0, c);
+  std::vector<double> err(speed.size(), 0.0);
+  for (size_t j = 1; j + 1 < cuts.size(); ++j) {
+    const int64_t c = cuts[j], row = c / width, down = row * width, up = down + width;
+    if (c == down || size_t(row) >= row_cost.size()) continue;
+    const size_t a = owner[j - 1], b = owner[j];  // the chunks before and after the cut
+    const double saved = overhead_[a] + overhead_[b];
+    if (!(saved > 0)) continue;
+    // A move is worth it when its pixels take less time than the fixed costs it saves,
+    // or when it is within kSnapShare of either device's share (the error does not add
+    // up over the moves).
+    const double limit = std::max(saved * std::min(speed[a], speed[b]),
+                                  kSnapShare * std::min(shares[a], shares[b]) * total);
+    const double per_pixel = std::max(0.0, row_cost[size_t(row)]) / width;
+    double best = std::numeric_limits<double>::infinity();
+    int64_t to = c;
+    for (const int64_t target : {down, up}) {
+      if (target < cuts[j - 1] || target > cuts[j + 1]) continue;  // keep the cuts in order
+      const double moved = double(target - c) * per_pixel;         // a gains, b loses
+      if (!(std::abs(moved) <= limit)) continue;
+      const double score =
+          a == b ? std::abs(moved) : std::pow(err[a] + moved, 2) + std::pow(err[b] - moved, 2);
+      if (score < best) best = score, to = target;
+    }
+    if (to == c) continue;
+    const double moved = double(to - c) * per_pixel;
+    err[a] += moved;
+    err[b] -= moved;
+    cuts[j] = to;
+  }
 }
 
 void HybridBalancer::append_chunks(const FrameShape& shape, const std::vector<int64_t>& cuts,
@@ -105,35 +176,45 @@ void HybridBalancer::append_chunks(const FrameShape& shape, const std::vector<in
   if (last_end >= 0) append_flat_range(shape.width, shape.height, last_begin, last_end, out);
 }
 
-Plan HybridBalancer::plan(const FrameShape& shape, int /*frame*/) {
-  validate_shape(shape);
-  if (alive_count() == 0 || shape.pixels() == 0) return empty_plan();
-  if (!cost_shape_.same_size(shape)) reset_cost(shape);
-
-  const WeightMap base(shape.width, shape.height, shape.views, shape.pixel_weight);
-  std::vector<double> row_cost = flat_row_weights(base);
-  for (size_t c = 0; c < row_cost.size(); ++c) row_cost[c] *= cost_[c];
-
-  Plan plan;
-  plan.ratios = shares();
-  plan.steal = opt_.steal;
-  plan.assigned.resize(size_t(device_count()));
+std::vector<std::vector<WorkItem>> HybridBalancer::lay_out(
+    const FrameShape& shape, const std::vector<double>& row_cost,
+    const std::vector<double>& shares, const std::vector<double>& speed) const {
+  // The smallest chunk: `tail` of the slowest device's share, i.e. what it renders in
+  // `tail` of the ideal frame time; for a device with a fixed cost per item, at least
+  // what makes that cost `overhead` of the chunk's time, but no more than 0.4 of a piece
+  // (so its last piece is still cut in chunks of different sizes, which the fit of the
+  // fixed cost needs).
+  const size_t n = shares.size(), m = size_t(opt_.bands);
+  double slowest = 1, total = 0;
+  for (double sh : shares)
+    if (sh > 0) slowest = std::min(slowest, sh);
+  for (double c : row_cost) total += c;
+  std::vector<double> floor(n, std::max(opt_.tail * slowest, 1e-9));
+  const bool model = opt_.overhead > 0 && total > 0 && std::isfinite(total);
+  if (model)
+    for (size_t i = 0; i < n; ++i) {
+      const double f = overhead_[i] * speed[i] * (1 - opt_.overhead) / opt_.overhead / total;
+      if (std::isfinite(f))
+        floor[i] = std::max(floor[i], std::min(f, 0.4 * shares[i] / double(m)));
+    }
 
   // Lay the pieces out band by band (device order rotated by the band index), cut them
   // all with one CDF search, then list each device's pieces in rendering order.
-  const size_t n = plan.assigned.size(), m = size_t(opt_.bands);
   const std::vector<size_t> order = band_order();
-  const auto chunks = chunk_costs(plan.ratios, order);
+  const auto chunks = chunk_costs(shares, floor, order);
   std::vector<double> flat;
   std::vector<size_t> first;  // index in `flat` of the first chunk of each laid-out piece
+  std::vector<size_t> owner;  // device of each chunk in `flat`
   for (size_t b = 0; b < m; ++b)
     for (size_t k = 0; k < n; ++k) {
       first.push_back(flat.size());
       const auto& piece = chunks[b][(k + b) % n];
       flat.insert(flat.end(), piece.begin(), piece.end());
+      owner.insert(owner.end(), piece.size(), (k + b) % n);
     }
   first.push_back(flat.size());
-  const std::vector<int64_t> cuts = cdf_cuts(row_cost, shape.width, flat);
+  std::vector<int64_t> cuts = cdf_cuts(row_cost, shape.width, flat);
+  if (model) snap_to_rows(cuts, owner, row_cost, shape.width, shares, speed);
   std::vector<std::vector<std::vector<WorkItem>>> items(n, std::vector<std::vector<WorkItem>>(m));
   for (size_t b = 0; b < m; ++b)
     for (size_t k = 0; k < n; ++k) {
@@ -142,11 +223,72 @@ Plan HybridBalancer::plan(const FrameShape& shape, int /*frame*/) {
                                       cuts.begin() + long(first[p + 1]) + 1);
       append_chunks(shape, mine, items[(k + b) % n][b]);
     }
+  std::vector<std::vector<WorkItem>> assigned(n);
   for (size_t i = 0; i < n; ++i)
     for (size_t b : order)
-      plan.assigned[i].insert(plan.assigned[i].end(), items[i][b].begin(), items[i][b].end());
+      assigned[i].insert(assigned[i].end(), items[i][b].begin(), items[i][b].end());
+  return assigned;
+}
+
+Plan HybridBalancer::plan(const FrameShape& shape, int /*frame*/) {
+  validate_shape(shape);
+  if (alive_count() == 0 || shape.pixels() == 0) return empty_plan();
+  if (!cost_shape_.same_size(shape)) reset_cost(shape);
+
+  const WeightMap base(shape.width, shape.height, shape.views, shape.pixel_weight);
+  std::vector<double> row_cost = flat_row_weights(base);
+  double total = 0;
+  for (size_t c = 0; c < row_cost.size(); ++c) total += row_cost[c] *= cost_[c];
+
+  const std::vector<double> speed = planning_speeds();
+  Plan plan;
+  plan.ratios = sanitize(speed, even());
+  plan.steal = opt_.steal;
+  plan.assigned = lay_out(shape, row_cost, plan.ratios, speed);
+  bool fixed_costs = false;
+  for (int i = 0; i < device_count(); ++i) fixed_costs |= alive(i) && overhead_[size_t(i)] > 0;
+  if (opt_.overhead > 0 && fixed_costs) {
+    // Count each device's items on the layout by speeds, split so that work plus fixed
+    // costs take every device the same time, and lay the frame out again.
+    std::vector<double> items(plan.assigned.size());
+    for (size_t i = 0; i < items.size(); ++i) items[i] = double(plan.assigned[i].size());
+    plan.ratios = overhead_shares(speed, items, total);
+    plan.assigned = lay_out(shape, row_cost, plan.ratios, speed);
+  }
   return plan;
 }
+
+namespace {
+
+// Intercept of the least-squares line t = o + c/s through (cost, time) pairs, weighted by
+// 1/cost, and its variance (from the residuals). False when there are fewer than 3 usable
+// pairs, the costs differ by less than 2x, or the slope is not positive.
+bool fixed_cost_fit(const std::vector<std::pair<double, double>>& points, double& intercept,
+                    double& variance) {
+  double w = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, lo = std::numeric_limits<double>::infinity(),
+         hi = 0;
+  int count = 0;
+  auto usable = [](double c, double t) { return c > 0 && std::isfinite(c) && valid_time(t); };
+  for (const auto& [c, t] : points) {
+    if (!usable(c, t)) continue;
+    const double wi = 1 / c;
+    w += wi, sx += wi * c, sy += wi * t, sxx += wi * c * c, sxy += wi * c * t;
+    lo = std::min(lo, c), hi = std::max(hi, c), ++count;
+  }
+  if (count < 3 || !(hi >= 2 * lo)) return false;
+  const double det = w * sxx - sx * sx;
+  if (!(det > 0) || !std::isfinite(det)) return false;
+  const double slope = (w * sxy - sx * sy) / det;
+  if (!(slope > 0) || !std::isfinite(slope)) return false;
+  intercept = (sy - slope * sx) / w;
+  double residual = 0;
+  for (const auto& [c, t] : points)
+    if (usable(c, t)) residual += std::pow(t - intercept - slope * c, 2) / c;
+  variance = residual / (count - 2) * sxx / det;
+  return std::isfinite(intercept) && std::isfinite(variance);
+}
+
+}  // namespace
 
 void HybridBalancer::update(const FrameStats& stats) {
   drop_reported_dead(stats);
@@ -173,28 +315,64 @@ void HybridBalancer::update(const FrameStats& stats) {
   };
 
   RowDensity observed(base);
+  std::vector<std::pair<double, double>> points;  // (model cost, time) of each item
   for (int i = 0; i < device_count(); ++i) {
     const DeviceFrameStats* d = device_stats(stats, i);
     if (!d || !valid_time(d->time_ms)) continue;
-    double work = 0, item_time = 0;
+    double work = 0;
+    points.clear();
     for (const ItemReport& r : d->items) {
-      work += model_cost(r.item);
-      if (valid_time(r.time_ms)) item_time += r.time_ms;
+      points.push_back({model_cost(r.item), r.time_ms});
+      work += points.back().first;
     }
     if (d->items.empty()) work = work_done(*d);  // no item reports: assume mean cost 1
     if (!(work > 0) || !std::isfinite(work)) continue;
-    const double measured = work / d->time_ms;
+    // The fixed cost per item, and the device's time net of it. Each frame's fit counts by
+    // its precision (1/variance; a fit on a few items under outside load is worth little
+    // next to one on many), older fits fading by kOverheadMemory a frame. A speed that changed
+    // during the frame makes the last (small) items look dear, as a fixed cost would: the
+    // fit is only taken when the speed measured with the current fixed cost is no jump.
+    const double items = double(d->items.size());
+    double& o = overhead_[size_t(i)];
     double& s = speed_[size_t(i)];
+    const double mean_item = d->time_ms / items;
+    const bool steady =
+        !(s > 0) ||
+        std::abs(work / std::max(d->time_ms - items * o, 0.5 * d->time_ms) / s - 1) <= opt_.jump;
+    double fit = 0, variance = 0;
+    bool timed = false;  // some item has a usable time
+    for (const ItemReport& r : d->items) timed |= valid_time(r.time_ms);
+    if (opt_.overhead > 0 && own_shape && timed) {
+      double& sum = overhead_sum_[size_t(i)];
+      double& weights = overhead_weight_[size_t(i)];
+      sum *= kOverheadMemory, weights *= kOverheadMemory;  // earlier fits age, fit or not
+      if (steady && fixed_cost_fit(points, fit, variance)) {
+        const double weight = 1 / (variance + std::pow(1e-3 * mean_item, 2));
+        sum += weight * std::clamp(fit, -0.5 * mean_item, 0.5 * mean_item);
+        weights += weight;
+      }
+      // Two standard errors below the mean: errors in the model costs bias the intercept
+      // upwards, so only what the frames show clearly counts (and aged evidence fades).
+      const double clear = sum / weights - 2 / std::sqrt(weights);
+      o = std::isfinite(clear) ? std::clamp(clear, 0.0, 0.5 * mean_item) : 0.0;
+    }
+    const double net = std::max(d->time_ms - items * o, 0.5 * d->time_ms);
+    const double measured = work / net;
     if (!(s > 0) || std::abs(measured / s - 1) > opt_.jump)
       s = measured;
     else
       s = (1 - opt_.alpha) * s + opt_.alpha * measured;
-    // Item times rescaled to add up to the device's time (so emulated idle time, if the
-    // engine reports it only per frame, is spread over the items), then into cost units.
-    if (!(item_time > 0) || !own_shape) continue;
-    const double scale = d->time_ms / item_time * measured;
+    // Each item's time net of the fixed cost, as a share of the device's work: its
+    // observed cost (so emulated idle, if the engine reports it only per frame, is
+    // spread over the items).
+    if (!own_shape) continue;
+    double item_time = 0;
     for (const ItemReport& r : d->items)
-      if (valid_time(r.time_ms)) observed.add(r.item, r.time_ms * scale);
+      if (valid_time(r.time_ms)) item_time += std::max(r.time_ms - o, 0.0);
+    if (!(item_time > 0)) continue;
+    const double scale = net / item_time * measured;
+    for (const ItemReport& r : d->items)
+      if (valid_time(r.time_ms)) observed.add(r.item, std::max(r.time_ms - o, 0.0) * scale);
   }
   if (observed.empty()) return;
 
