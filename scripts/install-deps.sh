@@ -1,12 +1,14 @@
 #!/bin/sh
 # Installs multiray's build and test dependencies from Debian 12's packages. Idempotent:
 # when everything is present it only runs dpkg-query (well under a second).
+# clang-15 + libclang-common-15-dev (its libFuzzer runtime) build the fuzz targets
+# (fuzz/README.md); PoCL pulls clang-15 in too, but fuzzing should not rely on that.
 set -eu
 PACKAGES="build-essential cmake pkg-config clang-format libembree-dev libtbb-dev \
   libtinyobjloader-dev libtinygltf-dev libstb-dev libopenexr-dev libcli11-dev \
   nlohmann-json3-dev libfmt-dev libspdlog-dev libgtest-dev libgmock-dev libbenchmark-dev \
   assimp-testmodels libnanoflann-dev pocl-opencl-icd ocl-icd-opencl-dev opencl-headers \
-  opencl-clhpp-headers"
+  opencl-clhpp-headers clang-15 libclang-common-15-dev"
 missing=""
 for p in $PACKAGES; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed"; then

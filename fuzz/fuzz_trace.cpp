@@ -1,0 +1,85 @@
+// Fuzz target of trace files (`multiray simulate TRACE`): balance::read_trace() on the
+// input must return a trace or throw std::invalid_argument (trace.h). A trace it returns
+// must survive a round trip: written and read again, it is written identically. A small
+// one (at most 16 devices, 8 frames, 2^16 pixels a frame) is then replayed with the
+// balancer it names, as `multiray simulate --validate` does, and every simulated frame
+// time must be finite.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <exception>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "balance/balancer.h"
+#include "balance/trace.h"
+#include "fuzz_support.h"
+
+namespace {
+
+// Known finding F2 (docs/reliability.md): a `device` record after the first `frame` makes
+// read_trace() index past the end of that frame's per-device vector (heap overflow on a
+// later `time` or `item` record of the new device; a trace that changes when written and
+// read again otherwise). True for such input, which is skipped until F2 is fixed
+// (MULTIRAY_FUZZ_KNOWN=1 keeps it in).
+bool has_known_fault(const std::string& text) {
+  static const bool skip_known = !std::getenv("MULTIRAY_FUZZ_KNOWN");
+  if (!skip_known) return false;
+  std::istringstream lines(text);
+  bool framed = false;
+  for (std::string line, word; std::getline(lines, line);) {
+    if (!(std::istringstream(line) >> word)) continue;
+    if (word == "frame") framed = true;
+    if (word == "device" && framed) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace multiray;
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  if (has_known_fault(text)) return -1;
+  std::istringstream in(text);
+  balance::Trace trace;
+  try {
+    trace = balance::read_trace(in);
+  } catch (const std::invalid_argument&) {
+    return 0;
+  }
+  std::ostringstream once;
+  balance::write_trace(once, trace);
+  std::istringstream again_in(once.str());
+  std::ostringstream twice;
+  try {
+    balance::write_trace(twice, balance::read_trace(again_in));
+  } catch (const std::invalid_argument& e) {
+    fuzz::fail(std::string("a written trace does not read back: ") + e.what());
+  }
+  if (once.str() != twice.str()) fuzz::fail("a trace changes when written and read again");
+
+  const size_t devices = trace.devices.size();
+  if (devices < 1 || devices > 16 || trace.frames.empty() || trace.frames.size() > 8) return 0;
+  for (const auto& f : trace.frames)
+    if (f.shape.pixels() > (int64_t(1) << 16)) return 0;
+  std::unique_ptr<balance::Balancer> balancer;
+  try {
+    balancer = balance::make_balancer(trace.balancer, int(devices));
+  } catch (const std::invalid_argument&) {
+    return 0;
+  }
+  std::vector<balance::SimFrame> run;
+  try {
+    run = balance::replay_trace(trace, *balancer);
+  } catch (const std::exception& e) {  // `simulate --validate` would call it an internal error
+    fuzz::fail(std::string("replay_trace() of a trace read_trace() accepted throws: ") + e.what());
+  }
+  for (const auto& frame : run)
+    if (!std::isfinite(frame.frame_ms)) fuzz::fail("a replayed frame time is not finite");
+  return 0;
+}
