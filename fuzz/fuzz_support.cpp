@@ -30,9 +30,14 @@ const int kReportFd = dup(2);
 
 fs::path make_scratch_dir() {
   std::error_code ec;
-  fs::path base = fs::is_directory("/dev/shm", ec) && access("/dev/shm", W_OK) == 0
-                      ? fs::path("/dev/shm")
-                      : fs::temp_directory_path(ec);
+  fs::path base;
+  if (const char* given = std::getenv("MULTIRAY_FUZZ_SCRATCH");
+      given && fs::is_directory(given, ec))
+    base = given;
+  else if (fs::is_directory("/dev/shm", ec) && access("/dev/shm", W_OK) == 0)
+    base = "/dev/shm";
+  else
+    base = fs::temp_directory_path(ec);
   if (ec || base.empty()) base = "/tmp";
   std::string pattern = (base / "multiray-fuzz-XXXXXX").string();
   if (!mkdtemp(pattern.data())) fail("cannot create a scratch folder under " + base.string());

@@ -14,9 +14,10 @@
 
 namespace multiray::fuzz {
 
-// A private folder for the files a target writes: under /dev/shm when it exists (writing
-// each input then costs no disk I/O), else under $TMPDIR or /tmp. Made on first use,
-// removed at exit.
+// A private folder for the files a target writes: under $MULTIRAY_FUZZ_SCRATCH when set,
+// else under /dev/shm when it exists (writing each input then costs no disk I/O), else
+// under $TMPDIR or /tmp. Made on first use, removed at a normal exit; libFuzzer ends its
+// runs with _Exit(), so fuzz/run.sh sets MULTIRAY_FUZZ_SCRATCH to a folder it removes.
 const std::filesystem::path& scratch_dir();
 // Removes everything inside scratch_dir().
 void clear_scratch();

@@ -3,7 +3,7 @@
 # each one. fuzz/README.md describes the targets.
 #
 #   fuzz/run.sh smoke  each target for FUZZ_SMOKE_SECONDS (default 5) from its seed corpus,
-#                      with a fixed seed; new inputs are not kept (part of `make test`)
+#                      with a fixed seed; new inputs are not kept (`make fuzz-smoke`)
 #   fuzz/run.sh long   each target for FUZZ_SECONDS (default 60), growing its corpus in
 #                      build-fuzz/corpus/<target>/ (`make fuzz`)
 #
@@ -59,6 +59,12 @@ symbolizer=$(command -v llvm-symbolizer-15 || command -v llvm-symbolizer || true
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1${symbolizer:+:external_symbolizer_path=$symbolizer}}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 if [ -n "${FUZZ_KNOWN:-}" ]; then export MULTIRAY_FUZZ_KNOWN=1; fi
+# The targets' scratch folders (fuzz_support.h), removed however the targets end.
+shm=/dev/shm
+[ -d $shm ] && [ -w $shm ] || shm=${TMPDIR:-/tmp}
+MULTIRAY_FUZZ_SCRATCH=$(mktemp -d "$shm/multiray-fuzz.XXXXXX")
+export MULTIRAY_FUZZ_SCRATCH
+trap 'rm -rf "$MULTIRAY_FUZZ_SCRATCH"' EXIT
 export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$root/cmake/lsan.supp}"
 
 failed=""
