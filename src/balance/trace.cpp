@@ -111,6 +111,8 @@ Trace read_trace(std::istream& in) {
     } else if (kind == "balancer") {
       t.balancer = r.rest();
     } else if (kind == "device") {
+      // Frames size their device lists when they start (fuzz finding F2).
+      if (!t.frames.empty()) r.fail("devices must be declared before the first frame");
       if (r.integer(0, 1 << 16) != int(t.devices.size()))
         r.fail("devices must be numbered 0, 1, ...");
       TraceDevice d;

@@ -1,5 +1,7 @@
 #include "render/accel.h"
 
+#include <cmath>
+
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
@@ -61,6 +63,9 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &ctx, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  // A ray grazing a plane can come back with a NaN distance (Embree divides by a
+  // denormal); counted as a miss, so no later ray starts from a NaN point (fuzz finding F1).
+  if (!std::isfinite(rh.ray.tfar)) return false;
   hit.t = rh.ray.tfar;
   hit.prim = rh.hit.primID;
   hit.u = rh.hit.u;

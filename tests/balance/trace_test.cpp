@@ -52,6 +52,7 @@ TEST(Trace, MalformedTracesAreRefusedWithTheLine) {
            {"multiray-trace 1\nitem 0 0 0 0 0 4 4 16 1 1\n", "line 2"},
            {"multiray-trace 1\ndevice 3 1 cpu\n", "line 2"},
            {"multiray-trace 1\nbogus\n", "line 2"},
+           {good + "device 1 1 late\ntime 1 1 1 1\n", "line 5"},  // a device after a frame
            {good + "frame 1 0 4 1\n", "line 5"}}) {
     std::istringstream in(bad);
     try {
