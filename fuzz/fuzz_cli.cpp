@@ -29,6 +29,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "app/cli.h"
 #include "app/commands.h"
 #include "app/options.h"
 #include "core/error.h"
@@ -172,43 +173,18 @@ bool too_big(CLI::App& app) {
   return false;
 }
 
-// src/app/main.cpp's main(), with what it prints to stderr left out (libFuzzer runs this
-// target with -close_fd_mask=3 anyway).
+// The real command line (app/cli.h), silent, skipping inputs too big to run quickly; an
+// internal error (exit code 4) is a finding.
 int run(int argc, char** argv, const std::vector<std::string>& args) {
-  CLI::App app{"multiray (fuzzed)", "multiray"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "multiray 0.1.0");
-  app::Runner render = app::add_render_command(app);
-  app::Runner bench = app::add_bench_command(app);
-  app::Runner devices = app::add_devices_command(app);
-  app::Runner simulate = app::add_simulate_command(app);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    return 2;
-  }
-  if (too_big(app)) return -1;
-  try {
-    if (app.got_subcommand("render")) return render();
-    if (app.got_subcommand("bench")) return bench();
-    if (app.got_subcommand("devices")) return devices();
-    if (app.got_subcommand("simulate")) return simulate();
-  } catch (const InputError& e) {
-    return 2;
-  } catch (const DeviceError& e) {
-    return 3;
-  } catch (const std::exception& e) {
+  app::CliHooks hooks;
+  hooks.quiet = true;
+  hooks.skip = [](CLI::App& app) { return too_big(app); };
+  hooks.internal_error = [&](const char* what) {
     std::string line = "internal error (exit code 4) from `multiray";
     for (const std::string& a : args) line += " '" + a + "'";
-    fuzz::fail(line + "`: " + e.what());
-  }
-  return 0;
+    fuzz::fail(line + "`: " + what);
+  };
+  return app::run_cli(argc, argv, hooks);
 }
 
 }  // namespace

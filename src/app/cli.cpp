@@ -1,0 +1,67 @@
+// The multiray command line (app/cli.h): parse, dispatch, exit codes.
+#include <cstdio>
+#include <exception>
+
+#include <fmt/core.h>
+#include <oneapi/tbb/global_control.h>
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "core/error.h"
+
+namespace multiray::app {
+
+int run_cli(int argc, char** argv, const CliHooks& hooks) {
+  CLI::App app{
+      "multiray: a ray tracer that splits every frame across CPU cores and other devices and "
+      "balances the work so they all finish together.\n\nExamples:\n"
+      "  multiray render --res 640x360 --spp 16 --out out\n"
+      "  multiray render scene.gltf --frames 100 --camera-path orbit --devices "
+      "cpu:threads=1:cores=0,cpu:threads=1:cores=1\n"
+      "  multiray bench --devices cpu:threads=1,cpu:threads=1:speed=0.33 --frames 100 "
+      "--camera-path orbit --json bench.json --report report\n"
+      "  multiray render --trace run.trace --devices cpu,cpu:speed=0.5 --frames 30\n"
+      "  multiray simulate run.trace --devices 2,16,256 --link wifi --plot scaling.svg\n"
+      "  multiray devices\n",
+      "multiray"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "multiray 0.1.0");
+  Runner render = add_render_command(app);
+  Runner bench = add_bench_command(app);
+  Runner devices = add_devices_command(app);
+  Runner simulate = add_simulate_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    if (!hooks.quiet) fmt::print(stderr, "multiray: error: {} (see multiray --help)\n", e.what());
+    return 2;
+  }
+  if (hooks.skip && hooks.skip(app)) return -1;
+  try {
+    if (app.got_subcommand("render")) return render();
+    if (app.got_subcommand("bench")) return bench();
+    if (app.got_subcommand("devices")) return devices();
+    if (app.got_subcommand("simulate")) return simulate();
+  } catch (const InputError& e) {
+    if (!hooks.quiet) fmt::print(stderr, "multiray: error: {}\n", e.what());
+    return 2;
+  } catch (const DeviceError& e) {
+    if (!hooks.quiet) fmt::print(stderr, "multiray: device error: {}\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    if (hooks.internal_error)
+      hooks.internal_error(e.what());
+    else if (!hooks.quiet)
+      fmt::print(stderr, "multiray: internal error: {}\n", e.what());
+    return 4;
+  }
+  return 0;
+}
+
+}  // namespace multiray::app
