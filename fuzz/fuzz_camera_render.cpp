@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 
 #include "fuzz_support.h"
@@ -22,16 +21,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   c.target = Vec3(f[3], f[4], f[5]);
   c.up = Vec3(f[6], f[7], f[8]);
   c.fov_y_deg = f[9];
-  // Known finding F1 (docs/reliability.md): a camera ray whose direction has a component
-  // of magnitude below ~1e-37 along a triangle's normal gets a hit at distance NaN from
-  // Embree (reciprocal of a denormal), and the next ray's NaN origin trips Embree's
-  // assertion: abort. Such rays come from cameras with a number of magnitude in
-  // (0, 1e-30); they are skipped until F1 is fixed, so that a run looks for other faults.
-  // MULTIRAY_FUZZ_KNOWN=1 (`make fuzz FUZZ_KNOWN=1`) keeps them in.
-  static const bool skip_known = !std::getenv("MULTIRAY_FUZZ_KNOWN");
-  if (skip_known)
-    for (float x : f)
-      if (x != 0 && std::abs(x) < 1e-30f) return -1;
   if (!camera_problem(c).empty()) return 0;
   static const char* const kKernels[] = {"path", "ao", "depth"};
   const char* kernel = size > sizeof f ? kKernels[data[sizeof f] % 3] : "path";

@@ -19,32 +19,9 @@
 #include "balance/trace.h"
 #include "fuzz_support.h"
 
-namespace {
-
-// Known finding F2 (docs/reliability.md): a `device` record after the first `frame` makes
-// read_trace() index past the end of that frame's per-device vector (heap overflow on a
-// later `time` or `item` record of the new device; a trace that changes when written and
-// read again otherwise). True for such input, which is skipped until F2 is fixed
-// (MULTIRAY_FUZZ_KNOWN=1 keeps it in).
-bool has_known_fault(const std::string& text) {
-  static const bool skip_known = !std::getenv("MULTIRAY_FUZZ_KNOWN");
-  if (!skip_known) return false;
-  std::istringstream lines(text);
-  bool framed = false;
-  for (std::string line, word; std::getline(lines, line);) {
-    if (!(std::istringstream(line) >> word)) continue;
-    if (word == "frame") framed = true;
-    if (word == "device" && framed) return true;
-  }
-  return false;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace multiray;
   const std::string text(reinterpret_cast<const char*>(data), size);
-  if (has_known_fault(text)) return -1;
   std::istringstream in(text);
   balance::Trace trace;
   try {
