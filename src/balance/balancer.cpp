@@ -1,5 +1,6 @@
 #include "balance/balancer.h"
 
+#include "balance/bruder.h"
 #include "balance/dlb.h"
 #include "balance/hybrid.h"
 #include "balance/layout.h"
@@ -56,6 +57,13 @@ std::unique_ptr<Balancer> build(Spec& spec, int n) {
     o.overhead = spec.get_double("overhead", o.overhead, 0.0, 0.9);
     return std::make_unique<HybridBalancer>(n, o);
   }
+  if (name == "bruder") {
+    BruderBalancer::Options o;
+    o.zeta = spec.get_double("zeta", o.zeta, 0.0, 1.0);
+    o.tile = spec.get_int("tile", o.tile, 1, 4096);
+    o.steal = spec.get_bool("steal", o.steal);
+    return std::make_unique<BruderBalancer>(n, o);
+  }
   // The peers' balancers (peers_*.h), for comparison.
   if (name == "cycles")
     return std::make_unique<CyclesBalancer>(n, spec.get_double("interval_ms", 1000, 0, 1e9));
@@ -75,8 +83,8 @@ std::unique_ptr<Balancer> build(Spec& spec, int n) {
 }  // namespace
 
 std::vector<std::string> balancer_names() {
-  return {"uniform", "static", "queue",     "semi-static",   "dlb",
-          "hybrid",  "cycles", "equalizer", "ospray-static", "ospray-dynamic"};
+  return {"uniform", "static", "queue",     "semi-static",   "dlb",           "hybrid",
+          "bruder",  "cycles", "equalizer", "ospray-static", "ospray-dynamic"};
 }
 
 std::unique_ptr<Balancer> make_balancer(const std::string& text, int device_count) {

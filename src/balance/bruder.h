@@ -1,0 +1,81 @@
+// `bruder`: prediction-based device shares and a k-d tree of tiles, after V. Bruder,
+// S. Frey & T. Ertl, "Prediction-based load balancing and resolution tuning for
+// interactive volume raycasting", Visual Informatics 1(2), 2017, §6.2.
+//
+// Shares. Device i has a cost per unit of work σ_i (ms per unit of pixel weight) for the
+// coming frame: FrameShape::device_cost[i] when the renderer predicts it, else σ_i
+// measured on the last usable frame (time / pixel weight of the items it rendered; the
+// first frame is uniform). The share is r̂_i = (1/σ_i) / Σ_k (1/σ_k), damped toward
+// uniform: r_i = (1 − ζ)·r̂_i + ζ/n over the n alive devices (see prediction_shares).
+//
+// Layout. Every view is cut into `tile`×`tile` tiles (the last row and column may be
+// partial); the views' grids are laid side by side, view 0 on the left, into one grid, so
+// that one k-d tree distributes all views. A tile costs the pixel weight it holds (its
+// area when the frame is unweighted). kd_split_tiles gives each device one rectangle of
+// tiles; each tile in it becomes one WorkItem, row by row. With `steal`, devices that run
+// dry take the last unstarted tiles of the others (Plan::steal); the paper does not steal.
+//
+// | parameter | default | meaning                                                   |
+// |-----------|---------|-----------------------------------------------------------|
+// | zeta      | 0.5     | ζ in [0, 1], damping of the shares toward uniform (paper) |
+// | tile      | 8       | tile side in pixels, 1–4096 (paper: 8×8)                  |
+// | steal     | 0       | 1: Plan::steal (multiray's addition), 0: as the paper     |
+#pragma once
+
+#include "balance/balancer_base.h"
+#include "partition/weight_map.h"
+
+namespace multiray::balance {
+
+// Device shares from costs per unit of work `sigma` (ms per unit; entries that are not
+// finite and > 0 are unknown) and damping `zeta` in [0, 1], over the devices `alive` marks
+// (all of them when `alive` is empty); dropped devices get 0. Known devices weigh 1/σ_i,
+// unknown ones the mean weight of the known ones (all equal when none is known); then
+// r_i = (1 − ζ)·r̂_i + ζ/n. The result sums to 1 (all 0 when no device is alive).
+//
+// Bruder et al.'s Eq. 3 writes r_i = ∏_{j≠i} σ_j / Σ_k σ_k; that is (1/σ_i)/Σ_k(1/σ_k)
+// only for two devices and does not sum to 1 for more, so the normalised 1/σ form is used.
+std::vector<double> prediction_shares(const std::vector<double>& sigma, double zeta,
+                                      const std::vector<bool>& alive = {});
+
+class BruderBalancer final : public BalancerBase {
+ public:
+  struct Options {
+    // ζ > 0 holds a fast:slow pair away from its ideal split (ζ = 0.5 gives a 3:1 pair
+    // 0.625/0.375 instead of 0.75/0.25). The paper's default is kept for the paper's method,
+    // and its cost is measured (docs/balancers.md).
+    double zeta = 0.5;
+    int tile = 8;        // pixels, >= 1
+    bool steal = false;  // Plan::steal; the paper's plans are static
+  };
+
+  explicit BruderBalancer(int device_count, Options options);
+
+  std::string name() const override { return "bruder"; }
+  std::string spec() const override;
+  Plan plan(const FrameShape& shape, int frame) override;
+  void update(const FrameStats& stats) override;
+
+  // σ_i measured on the last usable frame (ms per unit of pixel weight), NaN while unknown.
+  const std::vector<double>& measured_cost() const { return measured_; }
+  // The shares of the last plan.
+  const std::vector<double>& shares() const { return shares_; }
+
+ private:
+  // σ per device for `shape`: its prediction where usable, else the measured one.
+  std::vector<double> costs_for(const FrameShape& shape) const;
+  // Pixel weight of device `i`'s rendered work in the last planned frame.
+  double work_of(const DeviceFrameStats& d, int i) const;
+
+  Options options_;
+  std::vector<double> measured_;  // per device, NaN = unknown
+  std::vector<double> shares_;
+  // What update() needs of the last plan: its size and weights, each device's planned
+  // work (used when a device reports no items).
+  bool planned_ = false;
+  FrameShape last_size_;  // width, height, views only
+  WeightMap last_weights_;
+  std::vector<double> planned_work_;
+};
+
+}  // namespace multiray::balance
