@@ -10,6 +10,21 @@ find_package(nlohmann_json REQUIRED)
 find_package(fmt REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(nanoflann REQUIRED)  # k nearest samples of foveated sampling
+find_package(dlib REQUIRED)       # dlib::dlib (needs libblas-dev, liblapack-dev, libjpeg-dev)
+
+# Teem (NRRD volumes, src/volume). Debian's TeemConfig.cmake defines Teem_INCLUDE_DIRS but
+# its imported target `teem` points into the package's build tree, so multiray::teem is
+# made here from the installed library and headers (<teem/nrrd.h>).
+find_package(Teem REQUIRED NO_MODULE)
+find_library(MULTIRAY_TEEM_LIBRARY NAMES teem HINTS ${Teem_ROOT_DIR}/lib ${Teem_LIBRARY_DIRS}
+             REQUIRED)
+find_path(MULTIRAY_TEEM_INCLUDE_DIR teem/nrrd.h HINTS ${Teem_INCLUDE_DIRS} REQUIRED)
+if(NOT TARGET multiray::teem)
+  add_library(multiray::teem UNKNOWN IMPORTED)
+  set_target_properties(multiray::teem PROPERTIES
+    IMPORTED_LOCATION "${MULTIRAY_TEEM_LIBRARY}"
+    INTERFACE_INCLUDE_DIRECTORIES "${MULTIRAY_TEEM_INCLUDE_DIR}")
+endif()
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
 

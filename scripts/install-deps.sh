@@ -8,7 +8,8 @@ PACKAGES="build-essential cmake pkg-config clang-format libembree-dev libtbb-dev
   libtinyobjloader-dev libtinygltf-dev libstb-dev libopenexr-dev libcli11-dev \
   nlohmann-json3-dev libfmt-dev libspdlog-dev libgtest-dev libgmock-dev libbenchmark-dev \
   assimp-testmodels libnanoflann-dev pocl-opencl-icd ocl-icd-opencl-dev opencl-headers \
-  opencl-clhpp-headers clang-15 libclang-common-15-dev"
+  opencl-clhpp-headers clang-15 libclang-common-15-dev \
+  libteem-dev libdlib-dev libblas-dev liblapack-dev libjpeg-dev"
 missing=""
 for p in $PACKAGES; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed"; then

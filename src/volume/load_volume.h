@@ -1,0 +1,61 @@
+// Volume loaders: NRRD (attached .nrrd or detached .nhdr + data file, read with Teem) and
+// headerless raw files described on the command line. Both return a Volume whose values
+// are the file's numbers converted to float (no rescaling), or throw InputError with one
+// line "<path>: <problem>". They never trust a number from a file: dimensions, voxel
+// counts, spacings and file sizes are range-checked before anything is allocated, and
+// the memory a load will take is estimated and compared with VolumeLoadOptions::max_bytes
+// before it is taken.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "volume/volume.h"
+
+namespace multiray {
+
+// What a load may read and take. The defaults are the safe choice for files from
+// anywhere; files are checked with stat() before they are opened (a FIFO, directory or
+// device is refused, never read), as scene loads do (scene/loaders.h LoadOptions).
+struct VolumeLoadOptions {
+  // A detached header's data file is read only if it lies inside the header's folder
+  // after symlinks and '..' are resolved; true lifts that rule (not the regular-file one).
+  bool allow_outside = false;
+  // Peak memory one load may take, in bytes (file bytes, decoded samples and the float
+  // values together); 0 = no limit.
+  uint64_t max_bytes = 0;
+};
+
+// A headerless raw file: nx*ny*nz voxels of `type`, x fastest, then y, then z.
+struct RawVolumeSpec {
+  int nx = 0, ny = 0, nz = 0;
+  VoxelType type = VoxelType::u8;
+  bool big_endian = false;  // byte order of 16-bit voxels
+  Vec3 spacing{1, 1, 1};    // world units between voxel centres (each in [1e-6, 1e6])
+};
+
+// Largest ratio between a volume's longest and shortest spacing: ray-marching steps are
+// relative to the shortest (Volume::voxel_length), so a larger ratio means runaway steps.
+constexpr float kMaxSpacingRatio = 1000;
+// Range of one spacing value, in world units.
+constexpr float kMinSpacing = 1e-6f, kMaxSpacing = 1e6f;
+
+// Reads a NRRD file: `path` is an attached .nrrd or a detached .nhdr whose
+// "data file:" names one file (lists and numbered series are refused). Accepts
+// dimension 3 only; types uchar/char/ushort/short (any NRRD spelling: uint8, int16, ...);
+// encodings raw and gzip; either byte order; "spacings" or axis-aligned "space
+// directions" (their lengths; missing: 1; orientation ignored). Raw data must be exactly
+// as long as the header says; gzip data must decode to at least that (trailing bytes
+// after the stream are not detected).
+Volume load_volume(const std::string& path, const VolumeLoadOptions& options = {});
+
+// Reads a raw file described by `spec`; its size must be exactly nx*ny*nz voxels.
+Volume load_raw_volume(const std::string& path, const RawVolumeSpec& spec,
+                       const VolumeLoadOptions& options = {});
+
+// Parses "NXxNYxNZ:TYPE[:be|:le][:spacing=SX,SY,SZ]", e.g. "256x256x108:int16:le"
+// or "256x256x256:uint8:spacing=0.96,0.96,1.5". TYPE: uint8, int8, uint16, int16.
+// Throws InputError "raw volume spec '<text>': <problem>".
+RawVolumeSpec parse_raw_spec(const std::string& text);
+
+}  // namespace multiray
