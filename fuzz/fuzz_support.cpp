@@ -11,9 +11,9 @@
 
 #include "balance/balancer.h"
 #include "device/cpu/cpu_device.h"
-#include "device/scene_cache.h"
 #include "engine/frame_views.h"
 #include "engine/session.h"
+#include "render/scene_cache.h"
 #include "scene/builders.h"
 #include "scene/camera_path.h"
 #include "scene/camera_rig.h"

@@ -90,7 +90,7 @@ Runner add_bench_command(CLI::App& app) {
     fmt::print(
         "scene {}, {}x{} x {} views, {} kernel, {} sampling ({}), {} frames, camera path "
         "{}\n",
-        s.scene->name, s.res.width, s.res.height, s.views->rig().view_count(), o->integrator,
+        s.scene->name, s.res.width, s.res.height, s.views->rig().view_count(), s.settings.kernel,
         o->sampling,
         sampling.mode == Sampling::Adaptive
             ? fmt::format("{} spp on edges, 1 elsewhere", o->edge_spp)
@@ -99,7 +99,7 @@ Runner add_bench_command(CLI::App& app) {
                           "{} pattern samples, gaze path {}",
                           o->foveation.fovea_spp, o->foveation.periphery_spp,
                           sampling.pattern->offsets.size(), o->gaze_path)
-            : std::to_string(o->spp) + " spp",
+            : std::to_string(s.settings.spp) + " spp",
         o->frames, o->camera_path);
     for (const auto& l : labels) fmt::print("  device {}\n", l);
 
@@ -181,7 +181,7 @@ Runner add_bench_command(CLI::App& app) {
                             s.res.height, lane.partition);
         write_timeline_svg(fmt::format("{}/{}_timeline.svg", b->report_dir, name),
                            fmt::format("{} — {} ({}x{}, {} spp)", lane.spec, s.scene->name,
-                                       s.res.width, s.res.height, o->spp),
+                                       s.res.width, s.res.height, s.settings.spp),
                            lane.records, labels);
       }
     }
@@ -194,8 +194,8 @@ Runner add_bench_command(CLI::App& app) {
       nlohmann::json doc{{"scene", s.scene->name},
                          {"resolution", {s.res.width, s.res.height}},
                          {"views", s.views->rig().view_count()},
-                         {"spp", o->spp},
-                         {"integrator", o->integrator},
+                         {"spp", s.settings.spp},
+                         {"integrator", s.settings.kernel},
                          {"sampling", o->sampling},
                          {"frames", o->frames},
                          {"camera_path", o->camera_path},

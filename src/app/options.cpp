@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "device/device_factory.h"
 #include "render/kernel.h"
+#include "render/volume_raycaster.h"
 #include "scene/builders.h"
 #include "scene/camera_check.h"
 #include "scene/loaders.h"
@@ -207,10 +208,37 @@ MemoryEstimate estimate_memory(const CommonOptions& o, int views, int width, int
   return m;
 }
 
+namespace {
+// The kernel the options ask for (by default the one the scene type needs), checked
+// against the scene type before anything loads.
+std::string check_kernel(const CommonOptions& o, bool volume_input) {
+  const std::string kernel =
+      o.integrator.empty() ? (volume_input ? "volume" : "path") : o.integrator;
+  const KernelEntry* e = find_cpu_kernel(kernel);
+  if (!e) {
+    std::string names;
+    for (const KernelEntry& k : cpu_kernels()) names += (names.empty() ? "" : ", ") + k.name;
+    throw InputError("--integrator '" + kernel + "' must be one of " + names);
+  }
+  if ((e->input == KernelInput::volume) != volume_input)
+    throw InputError(volume_input ? "--integrator " + kernel +
+                                        " renders triangles, and the scene is a volume (use "
+                                        "--integrator volume)"
+                                  : "--integrator volume needs a volume (.nhdr, .nrrd, or "
+                                    "--raw), and the scene is a mesh");
+  if (volume_input) {
+    check_volume_options(o.volume);
+    if (o.sampling != "uniform")
+      throw InputError("--sampling " + o.sampling + " is for meshes; volumes use uniform");
+  }
+  return kernel;
+}
+}  // namespace
+
 Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>& before_load) {
   Setup s;
   s.res = parse_resolution(o.resolution);
-  if (o.spp < 1 || o.spp > 1 << 20) throw InputError("--spp must be in 1..1048576");
+  if (o.spp < 0 || o.spp > 1 << 20) throw InputError("--spp must be in 0..1048576 (0: auto)");
   if (o.bounces < 0 || o.bounces > 1024) throw InputError("--bounces must be in 0..1024");
   if (o.frames < 1 || o.frames > 1000000) throw InputError("--frames must be in 1..1000000");
   int columns = 1, rows = 1;
@@ -233,12 +261,8 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
     throw InputError("--stereo must be a finite number >= 0");
   if (int64_t(rig.view_count()) * s.res.width * s.res.height > (int64_t(1) << 30))
     throw InputError("--views x --res is more than 2^30 pixels per frame");
-  if (!find_cpu_kernel(o.integrator)) {
-    std::string names;
-    for (const KernelEntry& e : cpu_kernels()) names += (names.empty() ? "" : ", ") + e.name;
-    throw InputError("--integrator '" + o.integrator + "' must be one of " + names);
-  }
-  s.settings.kernel = o.integrator;
+  const bool volume_input = is_volume_input(o.scene_path, o.volume);
+  s.settings.kernel = check_kernel(o, volume_input);
   if (o.ao_rays < 1 || o.ao_rays > 1024) throw InputError("--ao-rays must be in 1..1024");
   if (!(o.ao_distance >= 0) || !std::isfinite(o.ao_distance))
     throw InputError("--ao-distance must be a finite number >= 0 (0: 0.3 of the scene size)");
@@ -260,7 +284,7 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
   if (!(o.foveation.periphery_spp >= 1.0f / 4096 &&
         o.foveation.periphery_spp <= o.foveation.fovea_spp))
     throw InputError("--periphery-spp must be in [1/4096, --fovea-spp] samples per pixel");
-  s.settings.spp = o.spp;
+  s.settings.spp = o.spp > 0 ? o.spp : volume_input ? 1 : 16;
   s.settings.max_bounces = o.bounces;
   s.settings.seed = parse_seed(o.seed);
   std::optional<Camera> cli_camera;
@@ -293,8 +317,11 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
   if (before_load) before_load();
   LoadOptions load;
   load.allow_outside = o.allow_outside_paths;
-  s.scene = std::make_unique<Scene>(o.scene_path.empty() ? make_cornell_box()
-                                                         : load_scene(o.scene_path, load));
+  s.scene = std::make_unique<Scene>(
+      o.scene_path.empty() ? make_cornell_box()
+      : volume_input       ? load_volume_scene(o.scene_path, o.volume, o.allow_outside_paths,
+                                               uint64_t(std::max(limit - need.frame_bytes, 0.0)))
+                           : load_scene(o.scene_path, load));
   const float aspect = float(s.res.width) / float(s.res.height);
   const Camera base = cli_camera                  ? *cli_camera
                       : !s.scene->cameras.empty() ? s.scene->cameras.front()
@@ -320,7 +347,7 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
       if (v < 0 || v > 1e9) throw InputError("--env must be in [0, 1e9]");
       s.scene->environment[c] = float(v);
     }
-  } else if (max_component(s.scene->environment) <= 0 && !has_emitter(*s.scene)) {
+  } else if (!volume_input && max_component(s.scene->environment) <= 0 && !has_emitter(*s.scene)) {
     s.scene->environment = Vec3(1.0f);
     s.notes.push_back("the scene has no lights; using a white sky (radiance 1), see --env");
   }
@@ -328,6 +355,11 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
     sampling.pattern = std::make_shared<const FoveationPattern>(
         make_foveation_pattern(s.res.width, s.res.height, o.foveation));
   s.scenes = std::make_unique<SceneCache>(*s.scene);
+  if (volume_input) {
+    std::string note;
+    s.settings.volume_style = make_style(*s.scenes, o.volume, s.scene->environment, &note);
+    if (!note.empty()) s.notes.push_back(note);
+  }
   for (const DeviceSpec& d : specs) s.devices.push_back(create_device(d, *s.scenes));
   // The adaptive edge pass runs on the host, on the CPU representation.
   const RenderScene* host = sampling.mode == Sampling::Adaptive ? &s.scenes->embree() : nullptr;

@@ -8,9 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "device/scene_cache.h"
+#include "app/volume_options.h"
 #include "engine/frame_views.h"
 #include "engine/session.h"
+#include "render/scene_cache.h"
 #include "scene/camera_path.h"
 #include "scene/camera_rig.h"
 #include "scene/scene.h"
@@ -21,7 +22,7 @@ namespace multiray::app {
 struct CommonOptions {
   std::string scene_path;  // empty: built-in Cornell box
   std::string resolution = "640x360";
-  int spp = 16;
+  int spp = 0;  // 0: 16 for meshes, 1 for volumes
   int bounces = 8;
   int frames = 1;
   std::string camera;                     // "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov" or empty
@@ -35,7 +36,8 @@ struct CommonOptions {
   float view_spacing = 0.2f;         // between grid views, scene units
   float stereo = 0.0f;               // > 0: a stereo pair this far apart (overrides views)
   std::string mapping;               // strips | views | empty (the balancer's own layout)
-  std::string integrator = "path";   // a CPU kernel's name (render/kernel.h)
+  std::string integrator;            // a CPU kernel's name (render/kernel.h); empty: by scene
+  VolumeOptions volume;              // --tf, --step, --raw
   int ao_rays = 2;
   float ao_distance = 0.0f;          // 0: 0.3 of the scene size
   std::string sampling = "uniform";  // uniform | adaptive | foveated

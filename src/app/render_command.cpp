@@ -23,9 +23,11 @@ bool stderr_is_tty() { return isatty(STDERR_FILENO) == 1; }
 
 void add_common_options(CLI::App& cmd, CommonOptions& o) {
   cmd.add_option("scene", o.scene_path,
-                 "Scene file (.gltf, .glb, .obj, .ply); omitted: the built-in Cornell box");
+                 "Scene file (.gltf, .glb, .obj, .ply) or volume (.nhdr, .nrrd, or raw with "
+                 "--raw); omitted: the built-in Cornell box");
   cmd.add_option("--res", o.resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
-  cmd.add_option("--spp", o.spp, "Samples per pixel")->capture_default_str();
+  cmd.add_option("--spp", o.spp, "Samples per pixel; 0: 16 for meshes, 1 for volumes")
+      ->capture_default_str();
   cmd.add_option("--bounces", o.bounces, "Maximum scattering events per path")
       ->capture_default_str();
   cmd.add_option("--frames", o.frames, "Number of frames to render")->capture_default_str();
@@ -74,8 +76,10 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
   for (const KernelEntry& e : cpu_kernels())
     kernels += (kernels.empty() ? "" : "; ") + e.name + ": " + e.help;
   cmd.add_option("--integrator", o.integrator,
-                 "The kernel that renders (OpenCL devices: path only). " + kernels)
-      ->capture_default_str();
+                 "The kernel that renders; default: path for meshes, volume for volumes "
+                 "(OpenCL devices: path only). " +
+                     kernels);
+  add_volume_options(cmd, o.volume);
   cmd.add_option("--ao-rays", o.ao_rays, "Occlusion rays per AO sample")->capture_default_str();
   cmd.add_option("--ao-distance", o.ao_distance,
                  "Occlusion range in scene units (0: 0.3 of the scene size)")

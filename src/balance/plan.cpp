@@ -31,6 +31,7 @@ FrameShape scaled_shape(const FrameShape& shape, double image_scale) {
   out.width = side(shape.width);
   out.height = side(shape.height);
   out.views = shape.views;
+  out.device_cost = shape.device_cost;
   if (shape.weighted()) {
     out.pixel_weight.reserve(size_t(out.pixels()));
     for (int v = 0; v < out.views; ++v)

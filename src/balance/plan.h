@@ -12,13 +12,21 @@ namespace multiray::balance {
 
 // What is to be rendered this frame: `views` images of width×height pixels.
 //
-// `pixel_weight` is empty (every pixel costs the same) or holds the samples per pixel of
-// every view, views·height·width values, row-major per view, views in order (irregular
-// sampling: adaptive edge samples, foveated patterns). Balancers that split by work
-// (semi-static, hybrid) split by these weights; the others split by area.
+// `pixel_weight` is empty (every pixel costs the same) or holds the work of every pixel of
+// every view, views·height·width values, row-major per view, views in order: samples per
+// pixel under irregular sampling (adaptive edge samples, foveated patterns), or predicted
+// volume samples per pixel (the volume raycaster's cost prediction). Balancers that split
+// by work (semi-static, hybrid, bruder) split by these weights; the others split by area.
+//
+// `device_cost`, when not empty, holds per device a prediction of its cost in ms per unit
+// of pixel weight for this frame (Bruder et al. 2017: sigma_i, learned by the renderer
+// from features of the frame); balancers that use predictions (bruder) split by it, the
+// others ignore it. Entries that are not finite and > 0 mean "no prediction".
 struct FrameShape {
   int width = 0, height = 0, views = 1;
   std::vector<float> pixel_weight;
+  std::vector<double> device_cost =
+      {};  // (an initializer: FrameShape{w, h, v, {}} stays warning-free)
 
   int64_t pixels_per_view() const { return width > 0 && height > 0 ? int64_t(width) * height : 0; }
   int64_t pixels() const { return views > 0 ? pixels_per_view() * views : 0; }

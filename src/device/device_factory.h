@@ -29,7 +29,7 @@
 #include <vector>
 
 #include "device/device.h"
-#include "device/scene_cache.h"
+#include "render/scene_cache.h"
 
 namespace multiray {
 

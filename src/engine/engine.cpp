@@ -86,23 +86,17 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
   rec.frame = frame;
   apply_perturbations(frame);
   balance::FrameShape shape;
-  shape.width = views.at(0).width;
-  shape.height = views.at(0).height;
-  shape.views = int(views.size());
-  shape.pixel_weight = pixel_weights(views, settings);
+  FrameAdvice advice;
+  plan_frame(frame, views, settings, shape, advice, rec);
   size_images(images, views.size(), shape.width, shape.height);
-
-  Stopwatch clock;
-  last_plan_ = balancer_->plan(shape, frame);
-  rec.plan_ms = clock.elapsed_ms();
-  rec.quality = last_plan_.quality;
 
   // The plan's quality: smaller views (rendered into scaled_images_, upsampled after) and
   // a longer ray step.
   const double scale = last_plan_.quality.image_scale;
   const bool scaled = scale != 1.0;
-  if (scaled && shape.weighted())
-    throw InputError("a reduced image scale does not work with adaptive or foveated sampling");
+  for (const ViewSetup& v : views)
+    if (scaled && (v.spp_map || v.foveation))
+      throw InputError("a reduced image scale does not work with adaptive or foveated sampling");
   const balance::FrameShape rendered = balance::scaled_shape(shape, scale);
   FrameJob job{views, settings, scaled ? &scaled_images_ : &images};
   job.settings.step_scale = float(settings.step_scale * last_plan_.quality.step_scale);
@@ -112,7 +106,7 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
   handed_out_ = 0;
   frame_pixels_ = rendered.pixels();
   DispatchSource source(last_plan_, rendered, &handed_out_);
-  clock.restart();
+  Stopwatch clock;
   std::vector<DeviceReport> reports = run_devices(job, source);
   rec.frame_ms = clock.elapsed_ms();
 
@@ -130,7 +124,37 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
   clock.restart();
   balancer_->update(stats_);
   rec.update_ms = clock.elapsed_ms();
+  if (advisor_) advisor_->measured(advice, rec, stats_);
   return rec;
+}
+
+void Engine::plan_frame(int frame, const std::vector<ViewSetup>& views,
+                        const RenderSettings& settings, balance::FrameShape& shape,
+                        FrameAdvice& advice, FrameRecord& rec) {
+  shape.width = views.at(0).width;
+  shape.height = views.at(0).height;
+  shape.views = int(views.size());
+  shape.pixel_weight = pixel_weights(views, settings);
+  Stopwatch clock;
+  if (advisor_) {
+    advice = advisor_->advise(frame, views, settings);
+    advice.advise_ms = rec.advise_ms = clock.elapsed_ms();
+    rec.predicted_ms = advice.predicted_ms;
+    // Sample maps say where samples are; predictions only add where there are none.
+    if (shape.pixel_weight.empty() && int64_t(advice.pixel_work.size()) == shape.pixels())
+      shape.pixel_weight = advice.pixel_work;
+    shape.device_cost = advice.device_cost;
+  }
+  clock.restart();
+  last_plan_ = balancer_->plan(balance::scaled_shape(shape, advice.quality.image_scale), frame);
+  rec.plan_ms = clock.elapsed_ms();
+  if (advisor_) {
+    if (last_plan_.quality.image_scale != 1 || last_plan_.quality.step_scale != 1)
+      throw InputError("balancer " + balancer_->name() +
+                       " sets its own quality and cannot run with frame-time targeting");
+    last_plan_.quality = advice.quality;
+  }
+  rec.quality = last_plan_.quality;
 }
 
 std::vector<DeviceReport> Engine::run_devices(const FrameJob& job, WorkSource& source) {

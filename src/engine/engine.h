@@ -12,6 +12,7 @@
 #include "core/image.h"
 #include "device/device.h"
 #include "engine/device_threads.h"
+#include "engine/frame_advisor.h"
 #include "engine/frame_record.h"
 
 namespace multiray {
@@ -50,6 +51,11 @@ class Engine {
   const balance::FrameStats& last_stats() const { return stats_; }
   balance::Balancer& balancer() { return *balancer_; }
   void set_perturbations(std::vector<Perturbation> p) { perturbations_ = std::move(p); }
+  // Predictions and frame-time targeting for the following frames (frame_advisor.h), or
+  // null for none. The balancer then plans each frame at the advised image scale and must
+  // leave Plan::quality at full quality (render_frame throws InputError otherwise).
+  void set_advisor(std::unique_ptr<FrameAdvisor> advisor) { advisor_ = std::move(advisor); }
+  FrameAdvisor* advisor() { return advisor_.get(); }
   bool alive(int device) const { return alive_[size_t(device)]; }
   size_t device_count() const { return devices_.size(); }
   // Fraction of the current frame's pixels handed to devices so far, in [0, 1]; safe to
@@ -61,6 +67,9 @@ class Engine {
 
  private:
   void apply_perturbations(int frame);
+  // The plan of `frame`: the balancer's, over the advisor's predictions and at its quality.
+  void plan_frame(int frame, const std::vector<ViewSetup>& views, const RenderSettings& settings,
+                  balance::FrameShape& shape, FrameAdvice& advice, FrameRecord& rec);
   std::vector<DeviceReport> run_devices(const FrameJob& job, WorkSource& source);
   // Re-renders what failed devices left, on the first live device; drops the failed ones.
   void recover_failures(const FrameJob& job, DispatchSource& source,
@@ -71,6 +80,7 @@ class Engine {
   std::vector<Device*> devices_;
   DeviceThreads threads_;
   std::unique_ptr<balance::Balancer> balancer_;
+  std::unique_ptr<FrameAdvisor> advisor_;
   std::vector<Framebuffer> images_, scaled_images_;
   std::vector<bool> alive_;
   std::vector<Perturbation> perturbations_;

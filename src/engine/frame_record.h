@@ -18,6 +18,8 @@ struct FrameRecord {
   double plan_ms = 0;                 // balancer plan()
   double gather_ms = 0;               // recovery of failed work + composition after the devices
   double update_ms = 0;               // balancer update()
+  double advise_ms = 0;               // the frame advisor's prediction, if any (pre-pass etc.)
+  double predicted_ms = 0;            // the advisor's predicted frame time (0: none)
   int stolen = 0;                     // items taken by stealing
   std::vector<DeviceReport> devices;  // per device, with the engine's alive/share fields
   balance::Quality quality;           // the plan's quality, as rendered

@@ -21,6 +21,10 @@ void Session::set_perturbations(const std::vector<Perturbation>& p) {
   for (auto& e : engines_) e->set_perturbations(p);
 }
 
+void Session::set_advisors(const std::function<std::unique_ptr<FrameAdvisor>()>& make) {
+  for (auto& e : engines_) e->set_advisor(make ? make() : nullptr);
+}
+
 void Session::set_camera(std::optional<Camera> camera) {
   std::lock_guard<std::mutex> lock(camera_mutex_);
   camera_ = camera;
@@ -46,6 +50,7 @@ int Session::run(int first, int count, FrameObserver& observer) {
   int done = 0;
   for (int frame = first; frame < first + count && !stop_; ++frame, ++done) {
     const FrameInput input = views_.make(frame, camera_at(frame));
+    if (schedule_) schedule_(frame, settings_);
     observer.before_frame(frame, input);
     for (size_t lane = 0; lane < engines_.size(); ++lane) {
       active_lane_ = lane;

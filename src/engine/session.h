@@ -11,6 +11,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -54,6 +55,15 @@ class Session {
           FrameViews views, CameraPath path, RenderSettings settings);
 
   void set_perturbations(const std::vector<Perturbation>& p);
+  // Gives every lane its own advisor (frame_advisor.h) from `make` (called once per lane),
+  // or none when `make` is empty.
+  void set_advisors(const std::function<std::unique_ptr<FrameAdvisor>()>& make);
+  // Settings that change during a run (a transfer function switched at a given frame):
+  // `at(frame, settings)` may change the settings of `frame` before any lane renders it.
+  // Called on the thread that runs run().
+  void set_settings_schedule(std::function<void(int, RenderSettings&)> at) {
+    schedule_ = std::move(at);
+  }
 
   // The camera of the following frames, instead of the path's: for interactive use.
   // Thread-safe; takes effect at the next frame. std::nullopt returns to the path.
@@ -83,6 +93,7 @@ class Session {
   FrameViews views_;
   CameraPath path_;
   RenderSettings settings_;
+  std::function<void(int, RenderSettings&)> schedule_;
   mutable std::mutex camera_mutex_;
   std::optional<Camera> camera_;
   std::atomic<bool> stop_{false};

@@ -5,6 +5,7 @@
 #include "render/ambient_occlusion.h"
 #include "render/depth_kernel.h"
 #include "render/path_tracer.h"
+#include "render/volume_raycaster.h"
 
 namespace multiray {
 
@@ -15,19 +16,27 @@ KernelStats Kernel::render_samples(const ViewSetup&, const RenderSettings&, cons
 
 namespace {
 template <class K>
-std::unique_ptr<Kernel> make(const RenderScene& rs) {
-  return std::make_unique<K>(rs);
+std::unique_ptr<Kernel> make(SceneCache& scenes) {
+  return std::make_unique<K>(scenes.embree());
 }
 }  // namespace
 
 const std::vector<KernelEntry>& cpu_kernels() {
   static const std::vector<KernelEntry> entries{
-      {"path", "path tracing with next-event estimation and MIS", true, &make<PathTracer>},
-      {"ao", "ambient occlusion (--ao-rays, --ao-distance)", true, &make<AmbientOcclusion>},
+      {"path", "path tracing with next-event estimation and MIS", true, KernelInput::mesh,
+       &make<PathTracer>},
+      {"ao", "ambient occlusion (--ao-rays, --ao-distance)", true, KernelInput::mesh,
+       &make<AmbientOcclusion>},
       {"depth", "distance to the first surface, one ray per pixel (debugging)", true,
-       &make<DepthKernel>},
+       KernelInput::mesh, &make<DepthKernel>},
+      {"volume", "volume raycasting (Bruder et al. 2017): --tf, --step", false,
+       KernelInput::volume, &make_volume_raycaster},
   };
   return entries;
+}
+
+bool KernelEntry::accepts(const Scene& scene) const {
+  return input == KernelInput::volume ? scene.volume != nullptr : scene.has_triangles();
 }
 
 const KernelEntry* find_cpu_kernel(const std::string& name) {

@@ -3,9 +3,10 @@
 // or balancer asked. Every pixel must be a pure function of (pixel, sample, frame, view,
 // seed) and the scene representation, so that images do not depend on the split.
 //
-// CPU kernels are listed once, in cpu_kernels(): adding a kernel (a volume raycaster, a
-// debug view) is one class and one entry there; devices, the CLI's checks and `--help`
-// read the list.
+// CPU kernels are listed once, in cpu_kernels(): adding a kernel (a debug view, another
+// integrator) is one class and one entry there; devices, the CLI's checks and `--help`
+// read the list. Each entry says what it renders (triangles or a volume) and builds itself
+// from the representation it needs in the SceneCache.
 #pragma once
 
 #include <cstddef>
@@ -16,6 +17,7 @@
 #include "core/image.h"
 #include "core/rect.h"
 #include "render/render_types.h"
+#include "render/scene_cache.h"
 
 namespace multiray {
 
@@ -37,13 +39,21 @@ class Kernel {
                                      const ImageSample* samples, size_t n, Vec3* values) const;
 };
 
+// What a kernel renders: a scene's triangles or its volume (Scene::volume).
+enum class KernelInput { mesh, volume };
+
 // One CPU kernel: its name (RenderSettings::kernel, --integrator), a line of help, whether
-// it can render samples at arbitrary positions, and how to build it on a scene.
+// it can render samples at arbitrary positions, what it renders, and how to build it from
+// the representation it needs.
 struct KernelEntry {
   std::string name;
   std::string help;
   bool point_samples = false;
-  std::unique_ptr<Kernel> (*make)(const RenderScene& rs) = nullptr;
+  KernelInput input = KernelInput::mesh;
+  std::unique_ptr<Kernel> (*make)(SceneCache& scenes) = nullptr;
+
+  // True when the scene has what this kernel renders.
+  bool accepts(const Scene& scene) const;
 };
 
 // Every CPU kernel, in the order `--help` lists them.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 namespace multiray {
 
 struct FoveationFrame;
+struct VolumeStyle;  // render/volume_raycaster.h
 
 struct RenderSettings {
   int spp = 16;                 // samples per pixel (unless the view has a sample map)
@@ -26,6 +28,9 @@ struct RenderSettings {
   // Ray step relative to the user's, for kernels that march along rays (volumes); set by
   // the engine from Plan::quality for frame-time targeting. Surface kernels ignore it.
   float step_scale = 1.0f;
+  // The volume kernel's transfer function, block opacities and step (null for meshes);
+  // shared, immutable, replaced when the transfer function changes.
+  std::shared_ptr<const VolumeStyle> volume_style = {};
 };
 
 // One view of one frame: what the camera sees and the size of its image.
@@ -55,9 +60,10 @@ struct ImageSample {
 
 struct KernelStats {
   uint64_t samples = 0;  // camera paths
-  uint64_t rays = 0;     // closest-hit plus shadow rays
+  uint64_t rays = 0;     // closest-hit plus shadow rays (volumes: camera rays)
+  uint64_t steps = 0;    // volume samples along rays (7 fetches each), volume kernel only
   KernelStats& operator+=(const KernelStats& o) {
-    samples += o.samples, rays += o.rays;
+    samples += o.samples, rays += o.rays, steps += o.steps;
     return *this;
   }
 };

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "volume/volume.h"
 
 namespace multiray {
 
@@ -83,6 +84,11 @@ Vec3 Texture::sample(Vec2 uv) const {
 
 Bounds3 Scene::bounds() const {
   Bounds3 b;
+  if (volume && indices.empty()) {
+    b.extend(volume->lower());
+    b.extend(volume->lower() + volume->extent());
+    return b;
+  }
   for (uint32_t i : indices) b.extend(positions[i]);
   return b;
 }
@@ -103,6 +109,10 @@ Camera Scene::default_camera(float aspect) const {
 
 void validate(const Scene& s) {
   const std::string where = "scene '" + s.name + "': ";
+  if (s.volume) {
+    if (!s.indices.empty()) throw InputError(where + "holds both triangles and a volume");
+    return;  // checked by its loader (volume/load_volume.h)
+  }
   if (s.indices.empty()) throw InputError(where + "contains no triangles");
   if (s.indices.size() % 3 != 0) throw InputError(where + "index count is not a multiple of 3");
   if (s.material_ids.size() != s.triangle_count())

@@ -5,12 +5,15 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/math.h"
 
 namespace multiray {
+
+struct Volume;  // volume/volume.h
 
 // Colour texture, wrapped (repeat) and bilinearly filtered; lookups return linear RGB.
 // Texels stay 8-bit sRGB (decoded through a table when sampled): a third of the memory
@@ -68,8 +71,14 @@ struct Scene {
   std::vector<Texture> textures;
   Vec3 environment{0, 0, 0};    // constant radiance of rays that leave the scene
   std::vector<Camera> cameras;  // cameras found in the file (may be empty)
+  // A volume for the raycaster (kernel "volume"), or null. A scene read from a volume file
+  // has a volume and no triangles; mesh kernels refuse it and the volume kernel refuses a
+  // scene without one.
+  std::shared_ptr<const Volume> volume;
 
   size_t triangle_count() const { return indices.size() / 3; }
+  bool has_triangles() const { return !indices.empty(); }
+  // The triangles' bounds, or the volume's box for a volume scene.
   Bounds3 bounds() const;
   // A camera that frames the whole scene from the front (+z side, looking at -z).
   Camera default_camera(float aspect) const;
@@ -83,8 +92,8 @@ constexpr float kMaxSceneCoordinate = 1e18f;
 // Checks the invariants every backend relies on and throws InputError naming the first
 // violation: indices in range, finite positions/normals/uvs, positions within
 // kMaxSceneCoordinate, material ids in range, attribute arrays of matching size, at least
-// one triangle of non-zero area. Degenerate (zero-area) triangles are allowed; they are
-// never hit.
+// one triangle of non-zero area unless the scene is a volume (then no triangles at all).
+// Degenerate (zero-area) triangles are allowed; they are never hit.
 void validate(const Scene& scene);
 
 }  // namespace multiray

@@ -32,6 +32,9 @@ const std::vector<std::string> kSpecs = {
     "hybrid",
     "hybrid:bands=1:steal=0",
     "hybrid:bands=3:taper=0.9:min_chunk=1",
+    "bruder",
+    "bruder:zeta=0:tile=5:steal=1",
+    "bruder:tile=1",
     // The peers' balancers (peers_*.h).
     "cycles",
     "cycles:interval_ms=0",

@@ -72,7 +72,7 @@ TEST(Cli, BadOptionsAndValues) {
   expect_input_error("render --res 0x10", "--res");
   expect_input_error("render --res 100000x100000", "--res");
   expect_input_error("render --res axb", "--res");
-  expect_input_error("render --spp 0", "--spp");
+  expect_input_error("render --spp -1", "--spp");
   expect_input_error("render --spp abc", "spp");
   expect_input_error("render --camera 1,2,3", "--camera");
   expect_input_error("render --camera-path /nonexistent/path.json", "path.json");

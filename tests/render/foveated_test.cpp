@@ -15,8 +15,8 @@ namespace {
 // Renders `rect` of a foveated view of `scene` with the kernel, on the calling thread.
 Framebuffer render_foveated(const Scene& scene, const FoveationFrame& f, RenderSettings s,
                             Rect rect = {}) {
-  const RenderScene rs(scene);
-  const std::unique_ptr<Kernel> sampled = find_cpu_kernel(s.kernel)->make(rs);
+  SceneCache scenes(scene);
+  const std::unique_ptr<Kernel> sampled = find_cpu_kernel(s.kernel)->make(scenes);
   const FoveatedKernel kernel(*sampled);
   ViewSetup v;
   v.camera = scene.cameras[0];

@@ -55,9 +55,12 @@ class ThreadSetup : public oneapi::tbb::task_scheduler_observer {
 }  // namespace
 
 struct CpuDevice::Impl {
-  Impl(const RenderScene& rs, const CpuDeviceOptions& o, const std::string& name)
+  // Builds every CPU kernel that can render the cache's scene (each from the
+  // representation it needs, shared with the other devices through the cache).
+  Impl(SceneCache& scenes, const CpuDeviceOptions& o, const std::string& name)
       : opts(o), arena(o.threads, 1) {
-    for (const KernelEntry& e : cpu_kernels()) kernels.emplace(e.name, e.make(rs));
+    for (const KernelEntry& e : cpu_kernels())
+      if (e.accepts(scenes.scene())) kernels.emplace(e.name, e.make(scenes));
     if (o.quota > 0) quota.emplace(name, o.quota * o.threads);
     setup.emplace(arena, o.cores, quota ? &*quota : nullptr);
   }
@@ -101,7 +104,7 @@ CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec
   if (!(opts.speed > 0 && opts.speed <= 1))
     throw InputError("cpu device: speed must be in (0, 1], got " + std::to_string(opts.speed));
   static std::atomic<int> counter{0};
-  impl_ = std::make_unique<Impl>(scenes.embree(), opts, "cpu" + std::to_string(counter++));
+  impl_ = std::make_unique<Impl>(scenes, opts, "cpu" + std::to_string(counter++));
   impl_->speed = opts.speed;
   info_.type = "cpu";
   info_.spec = std::move(spec);

@@ -8,18 +8,18 @@
 #include <vector>
 
 #include "device/device.h"
-#include "device/scene_cache.h"
 #include "render/kernel.h"
+#include "render/scene_cache.h"
 
 namespace multiray {
 
 struct CpuDeviceOptions {
   int threads = 1;
-  std::vector<int> cores;  // empty: not pinned
-  double speed = 1.0;      // emulated speed factor (idle after each unit), (0, 1]
-  double quota = 0.0;      // fraction of one core per thread via cgroup v1; 0 = none
-  int tile = 16;           // side of the pixel blocks handed to the threads
-  int fail_after = -1;     // testing aid: fail when pulling an item after this many items
+  std::vector<int> cores = {};  // empty: not pinned
+  double speed = 1.0;           // emulated speed factor (idle after each unit), (0, 1]
+  double quota = 0.0;           // fraction of one core per thread via cgroup v1; 0 = none
+  int tile = 16;                // side of the pixel blocks handed to the threads
+  int fail_after = -1;          // testing aid: fail when pulling an item after this many items
 };
 
 class CpuDevice : public Device {

@@ -1,0 +1,95 @@
+#include "app/volume_options.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include <CLI/CLI.hpp>
+
+#include "core/error.h"
+#include "render/volume_raycaster.h"
+#include "volume/load_volume.h"
+#include "volume/transfer_function.h"
+
+namespace multiray::app {
+
+namespace {
+// Steps below a hundredth of a voxel only multiply the cost (a 256^3 volume would take
+// tens of thousands of samples per ray); above 64 voxels nothing is left to see.
+constexpr float kMinStep = 0.01f, kMaxStep = 64.0f;
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+std::string preset_list() {
+  std::string names;
+  for (const std::string& n : transfer_preset_names()) names += (names.empty() ? "" : ", ") + n;
+  return names;
+}
+}  // namespace
+
+void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
+  cmd.add_option("--tf", o.tf,
+                 "Volumes: transfer function, a preset (" + preset_list() +
+                     ") or a JSON file (docs/volumes.md); auto: ct-bone for 16-bit data, angio "
+                     "for 8-bit")
+      ->capture_default_str();
+  cmd.add_option("--step", o.step,
+                 "Volumes: ray step in voxel lengths (the shortest spacing), in [0.01, 64]")
+      ->capture_default_str();
+  cmd.add_option("--raw", o.raw,
+                 "Volumes: read the scene file as headerless voxels "
+                 "NXxNYxNZ:TYPE[:be|:le][:spacing=SX,SY,SZ], TYPE uint8, int8, uint16 or int16");
+}
+
+bool is_volume_input(const std::string& path, const VolumeOptions& o) {
+  if (!o.raw.empty()) return true;
+  const std::string ext = lower_extension(path);
+  return ext == ".nhdr" || ext == ".nrrd";
+}
+
+void check_volume_options(const VolumeOptions& o) {
+  if (!(o.step >= kMinStep && o.step <= kMaxStep))
+    throw InputError("--step must be in [0.01, 64] voxel lengths");
+  if (!o.raw.empty()) parse_raw_spec(o.raw);
+}
+
+Scene load_volume_scene(const std::string& path, const VolumeOptions& o, bool allow_outside,
+                        uint64_t max_bytes) {
+  VolumeLoadOptions load;
+  load.allow_outside = allow_outside;
+  load.max_bytes = max_bytes;
+  auto volume =
+      std::make_shared<Volume>(o.raw.empty() ? load_volume(path, load)
+                                             : load_raw_volume(path, parse_raw_spec(o.raw), load));
+  Scene scene;
+  scene.name = volume->name;
+  scene.volume = std::move(volume);
+  validate(scene);
+  return scene;
+}
+
+std::shared_ptr<const VolumeStyle> make_style(SceneCache& scenes, const VolumeOptions& o,
+                                              Vec3 background, std::string* tf_note) {
+  const VolumeScene& vs = volume_scene(scenes);
+  std::string name = o.tf;
+  if (name == "auto") {
+    const bool wide = vs.volume.type == VoxelType::u16 || vs.volume.type == VoxelType::i16;
+    name = wide ? "ct-bone" : "angio";
+    if (tf_note)
+      *tf_note = "transfer function: preset " + name + " (--tf; presets: " + preset_list() + ")";
+  }
+  const auto& presets = transfer_preset_names();
+  const bool preset = std::find(presets.begin(), presets.end(), name) != presets.end();
+  const TransferFunction tf =
+      preset ? transfer_preset(name, vs.volume) : resolve(load_transfer_function(name), vs.volume);
+  auto style = make_volume_style(vs, tf, o.step);
+  style->background = background;
+  return style;
+}
+
+}  // namespace multiray::app

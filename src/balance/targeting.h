@@ -1,0 +1,73 @@
+// Frame-time targeting (Bruder, Frey & Ertl 2017, §5): choose each frame's quality so
+// that it takes a user's target time. Quality is one number, the cost factor c in
+// [min_cost, 1] (1 = full quality): the share of the full-quality work the frame does,
+// spent in ray space (a longer step: step_scale = 1/c), image space (fewer pixels:
+// image_scale = sqrt(c)) or both (hybrid: image_scale = c^(1/4), step_scale = c^(-1/2)).
+// Pure policy over numbers, like the balancers.
+//
+// Modes (all in one run of `multiray bench` to compare, as the paper's Fig. 5a):
+//  - none: always full quality;
+//  - last-frame: scale c by target / (last measured frame time) — the usual reactive
+//    method, which overshoots whenever the cost changes suddenly (a transfer-function
+//    switch, a camera cut);
+//  - predict: the paper's Eq. 2 — with a predictor of the frame time at any c (the
+//    renderer's cost model, evaluated before rendering), extrapolate from the last c,
+//    then refine by bisection on predictions to the largest c predicted to meet the target.
+// In every mode quality rises by at most 1/`max_raise` per frame (the paper: the step
+// shrinks by at most x0.8 a frame), so a transient lull does not cause a spike.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "balance/plan.h"
+
+namespace multiray::balance {
+
+enum class AdaptMode { none, last_frame, predict };
+enum class AdaptSpace { ray, image, hybrid };
+
+struct TargetingConfig {
+  double target_ms = 0;  // > 0
+  AdaptMode mode = AdaptMode::none;
+  AdaptSpace space = AdaptSpace::ray;
+  double min_cost = 1.0 / 64;  // lowest cost factor (coarsest quality), in (0, 1]
+  double max_raise = 0.8;      // c_next <= c / max_raise, in (0, 1]
+  int bisection_steps = 12;
+};
+
+// "none" | "last-frame" | "predict", "ray" | "image" | "hybrid"; std::invalid_argument
+// (one line) otherwise.
+AdaptMode parse_adapt_mode(const std::string& text);
+AdaptSpace parse_adapt_space(const std::string& text);
+const char* adapt_mode_name(AdaptMode m);
+const char* adapt_space_name(AdaptSpace s);
+
+// The quality of cost factor c in `space`.
+Quality quality_of(double cost, AdaptSpace space);
+
+class FrameTimeTargeting {
+ public:
+  // Throws std::invalid_argument for a target that is not finite and > 0, or bounds out
+  // of range.
+  explicit FrameTimeTargeting(const TargetingConfig& config);
+
+  // The cost factor of the next frame. `predict_ms(c)`, when the mode is predict, gives
+  // the predicted frame time at cost factor c (it may return a non-finite or
+  // non-positive number when it cannot predict yet: the factor is then kept).
+  double next(const std::function<double(double)>& predict_ms);
+  // Tells the measured time of the frame last planned (ms; garbage is ignored).
+  void measured(double frame_ms);
+
+  double cost() const { return cost_; }
+  const TargetingConfig& config() const { return config_; }
+
+ private:
+  double clamp_next(double wanted) const;
+
+  TargetingConfig config_;
+  double cost_ = 1.0;     // of the frame last planned
+  double last_ms_ = 0.0;  // its measured time, 0 until known
+};
+
+}  // namespace multiray::balance

@@ -1,0 +1,132 @@
+#include "engine/volume_advisor.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/clock.h"
+#include "render/volume_prepass.h"
+
+namespace multiray {
+
+namespace {
+// A ray that marches no sample still costs its set-up, clipping and block walk: about
+// this many samples' worth (measured on the CPU raycaster, order of magnitude).
+constexpr double kRayOverheadSamples = 2.0;
+
+double log2_clamped(double x) { return std::log2(std::max(x, 1e-9)); }
+}  // namespace
+
+VolumeAdvisor::VolumeAdvisor(const VolumeScene& vs, int device_count,
+                             const VolumeAdvisorConfig& config)
+    : vs_(vs),
+      config_(config),
+      targeting_(config.targeting),
+      models_(size_t(std::max(device_count, 0))),
+      alive_(size_t(std::max(device_count, 0)), true),
+      predicted_sigma_(size_t(std::max(device_count, 0)), 0.0),
+      measured_sigma_(size_t(std::max(device_count, 0)), 0.0) {}
+
+CostFeatures VolumeAdvisor::features(const ViewSetup& view, const VolumeStyle& style,
+                                     double step_scale, double prepass_ms,
+                                     double max_depth) const {
+  const Camera& c = view.camera;
+  const Vec3 d = normalize(c.target - c.eye);
+  const double voxel = vs_.volume.voxel_length();
+  const double distance = length(c.eye);  // the volume is centred on the origin
+  const double pixel =
+      distance * 2 * std::tan(0.5 * c.fov_y_deg * kPi / 180) / std::max(view.height, 1);
+  return {std::atan2(double(d.x), double(d.z)), std::asin(std::clamp(double(d.y), -1.0, 1.0)),
+          log2_clamped(pixel / voxel),          log2_clamped(style.step * step_scale),
+          log2_clamped(1 + prepass_ms),         max_depth / voxel / 256};
+}
+
+double VolumeAdvisor::predict_ms(double c, double full_samples, double pixels) const {
+  const balance::Quality q = balance::quality_of(c, config_.targeting.space);
+  const CostFeatures x = features(view_, *style_, q.step_scale, prepass_ms_, max_depth_);
+  double rate = 0;  // samples per ms of all live devices together
+  for (size_t i = 0; i < models_.size(); ++i) {
+    if (!alive_[i]) continue;
+    const double sigma = models_[i].predict(x);
+    if (!(sigma > 0)) return NAN;
+    rate += 1 / sigma;
+  }
+  const double samples =
+      q.image_scale * q.image_scale * (full_samples / q.step_scale + kRayOverheadSamples * pixels);
+  return rate > 0 ? samples / rate : NAN;
+}
+
+FrameAdvice VolumeAdvisor::advise(int, const std::vector<ViewSetup>& views,
+                                  const RenderSettings& settings) {
+  FrameAdvice advice;
+  if (!settings.volume_style || views.empty()) return advice;
+  style_ = settings.volume_style;
+  view_ = views.front();
+  // Pre-pass: predicted samples of every output pixel at the full-quality step.
+  Stopwatch clock;
+  const double step = style_->step * vs_.volume.voxel_length() * settings.step_scale;
+  double full_samples = 0, pixels = 0;
+  max_depth_ = 0;
+  for (const ViewSetup& v : views) {
+    const VolumePrepass p = run_prepass(vs_, *style_, v, config_.prepass_stride, settings.seed);
+    max_depth_ = std::max(max_depth_, p.max_depth);
+    for (int y = 0; y < v.height; ++y)
+      for (int x = 0; x < v.width; ++x) {
+        const float marched =
+            p.marched[size_t(y / p.stride) * size_t(p.width) + size_t(x / p.stride)];
+        const double samples = double(marched) / step;
+        advice.pixel_work.push_back(float(samples + kRayOverheadSamples));
+        full_samples += samples;
+      }
+    pixels += double(v.width) * double(v.height);
+  }
+  timings_.prepass_ms = prepass_ms_ = clock.elapsed_ms();
+
+  clock.restart();
+  const double c =
+      targeting_.next([&](double cost) { return predict_ms(cost, full_samples, pixels); });
+  advice.quality = balance::quality_of(c, config_.targeting.space);
+  advice.predicted_ms = predict_ms(c, full_samples, pixels);
+  if (!std::isfinite(advice.predicted_ms)) advice.predicted_ms = 0;
+  const CostFeatures x =
+      features(view_, *style_, advice.quality.step_scale, prepass_ms_, max_depth_);
+  for (size_t i = 0; i < models_.size(); ++i) {
+    predicted_sigma_[i] = models_[i].predict(x);
+    // Per unit of pixel work (full-quality samples): the step is step_scale times longer.
+    advice.device_cost.push_back(predicted_sigma_[i] / advice.quality.step_scale);
+  }
+  timings_.predict_ms = clock.elapsed_ms();
+  return advice;
+}
+
+void VolumeAdvisor::measured(const FrameAdvice& advice, const FrameRecord& record,
+                             const balance::FrameStats& stats) {
+  Stopwatch clock;
+  targeting_.measured(record.frame_ms);
+  std::fill(measured_sigma_.begin(), measured_sigma_.end(), 0.0);
+  if (!style_ || !stats.shape.weighted()) return;
+  const balance::FrameShape& shape = stats.shape;  // as rendered: scaled weights
+  const CostFeatures x =
+      features(view_, *style_, advice.quality.step_scale, prepass_ms_, max_depth_);
+  for (size_t i = 0; i < models_.size() && i < stats.devices.size(); ++i) {
+    const balance::DeviceFrameStats& d = stats.devices[i];
+    alive_[i] = d.alive;
+    if (!d.alive) continue;
+    double work = 0;  // predicted samples of what device i rendered, at this frame's step
+    for (const balance::ItemReport& it : d.items) {
+      const Rect& r = it.item.rect;
+      for (int y = r.y0; y < r.y1; ++y)
+        for (int xx = r.x0; xx < r.x1; ++xx)
+          work += shape.pixel_weight[(size_t(it.item.view) * size_t(shape.height) + size_t(y)) *
+                                         size_t(shape.width) +
+                                     size_t(xx)];
+    }
+    work /= advice.quality.step_scale;
+    if (work > 0 && d.time_ms > 0) {
+      measured_sigma_[i] = d.time_ms / work;
+      models_[i].train(x, measured_sigma_[i]);
+    }
+  }
+  timings_.train_ms = clock.elapsed_ms();
+}
+
+}  // namespace multiray

@@ -1,0 +1,70 @@
+// Bruder, Frey & Ertl's prediction for the volume raycaster (2017, §4–5) behind the
+// FrameAdvisor seam: before each frame a pre-pass (render/volume_prepass.h) predicts the
+// samples every pixel will take; per device a KRLS model (cost_model.h) predicts the cost
+// per sample sigma_i from features of the frame. Their product is the paper's analytic
+// frame cost t' = 7·(d_back − d_front)/Δ·σ (the 7 fetches per sample are inside σ), per
+// pixel for the balancer and per frame for frame-time targeting (balance/targeting.h).
+// After the frame each device's measured time over the predicted samples it rendered
+// trains its model.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "balance/targeting.h"
+#include "engine/cost_model.h"
+#include "engine/frame_advisor.h"
+#include "render/volume_raycaster.h"
+
+namespace multiray {
+
+struct VolumeAdvisorConfig {
+  // Mode none still predicts (balancers that use predictions split by them, and the
+  // prediction error is recorded) but always renders at full quality.
+  balance::TargetingConfig targeting;
+  int prepass_stride = 4;  // one pre-pass ray per stride x stride pixels
+  uint64_t seed = 0;
+};
+
+// Where the advisor's time went in the last frame (the paper's Table 3), ms.
+struct AdvisorTimings {
+  double prepass_ms = 0, predict_ms = 0, train_ms = 0;
+};
+
+class VolumeAdvisor : public FrameAdvisor {
+ public:
+  // Throws std::invalid_argument for a bad targeting configuration.
+  VolumeAdvisor(const VolumeScene& vs, int device_count, const VolumeAdvisorConfig& config);
+
+  FrameAdvice advise(int frame, const std::vector<ViewSetup>& views,
+                     const RenderSettings& settings) override;
+  void measured(const FrameAdvice& advice, const FrameRecord& record,
+                const balance::FrameStats& stats) override;
+
+  const AdvisorTimings& timings() const { return timings_; }
+  // Each device's sigma predicted for the last frame and the one measured after it (ms
+  // per sample; 0 where unknown), for the prediction-error plots (paper Fig. 6a).
+  const std::vector<double>& predicted_sigma() const { return predicted_sigma_; }
+  const std::vector<double>& measured_sigma() const { return measured_sigma_; }
+  double cost_factor() const { return targeting_.cost(); }
+
+ private:
+  CostFeatures features(const ViewSetup& view, const VolumeStyle& style, double step_scale,
+                        double prepass_ms, double max_depth) const;
+  // Predicted frame time at cost factor c (NaN while a live device has no model yet).
+  double predict_ms(double c, double full_samples, double pixels) const;
+
+  const VolumeScene& vs_;
+  VolumeAdvisorConfig config_;
+  balance::FrameTimeTargeting targeting_;
+  std::vector<CostModel> models_;
+  std::vector<bool> alive_;
+  // The last frame's inputs, for training after it.
+  ViewSetup view_;
+  std::shared_ptr<const VolumeStyle> style_;
+  double prepass_ms_ = 0, max_depth_ = 0;
+  AdvisorTimings timings_;
+  std::vector<double> predicted_sigma_, measured_sigma_;
+};
+
+}  // namespace multiray
