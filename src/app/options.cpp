@@ -148,13 +148,31 @@ std::vector<Device*> Setup::device_ptrs() const {
 
 std::unique_ptr<Session> Setup::make_session(const std::vector<std::string>& specs,
                                              const std::string& option) const {
+  const size_t modes = volume ? volume->modes().size() : 1;
   std::vector<std::unique_ptr<balance::Balancer>> lanes;
   for (const std::string& spec : specs)
-    lanes.push_back(make_balancer_or_throw(spec, int(devices.size()), option));
+    for (size_t m = 0; m < modes; ++m)
+      lanes.push_back(make_balancer_or_throw(spec, int(devices.size()), option));
   auto session =
       std::make_unique<Session>(device_ptrs(), std::move(lanes), *views, path, settings);
   session->set_perturbations(perturbations);
+  if (volume) {
+    const int n = int(devices.size());
+    session->set_advisors([&, modes, n](size_t lane) { return volume->advisor(lane % modes, n); });
+    session->set_settings_schedule(
+        [v = volume](int frame, RenderSettings& s) { v->apply(frame, s); });
+  }
   return session;
+}
+
+std::vector<std::string> Setup::lane_labels(const std::vector<std::string>& specs) const {
+  std::vector<std::string> labels;
+  const size_t modes = volume ? volume->modes().size() : 1;
+  for (const std::string& spec : specs)
+    for (size_t m = 0; m < modes; ++m)
+      labels.push_back(modes > 1 ? spec + " adapt=" + balance::adapt_mode_name(volume->modes()[m])
+                                 : spec);
+  return labels;
 }
 
 std::string apply_mapping(const std::string& text, const std::string& mapping) {
@@ -356,9 +374,15 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
         make_foveation_pattern(s.res.width, s.res.height, o.foveation));
   s.scenes = std::make_unique<SceneCache>(*s.scene);
   if (volume_input) {
-    std::string note;
-    s.settings.volume_style = make_style(*s.scenes, o.volume, s.scene->environment, &note);
-    if (!note.empty()) s.notes.push_back(note);
+    s.volume = std::make_shared<VolumeRun>(*s.scenes, o.volume, s.scene->environment);
+    s.volume->apply(0, s.settings);
+    for (const std::string& n : s.volume->notes) s.notes.push_back(n);
+    if (const InteractionSequence* seq = s.volume->sequence()) {
+      if (o.camera_path != "fixed" && o.camera_path != "orbit")
+        throw InputError("--sequence and --camera-path " + o.camera_path +
+                         " both move the camera");
+      s.path = sequence_path(*seq, base, o.frames);
+    }
   }
   for (const DeviceSpec& d : specs) s.devices.push_back(create_device(d, *s.scenes));
   // The adaptive edge pass runs on the host, on the CPU representation.

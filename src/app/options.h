@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/volume_options.h"
+#include "app/volume_run.h"
 #include "engine/frame_views.h"
 #include "engine/session.h"
 #include "render/scene_cache.h"
@@ -77,13 +78,19 @@ struct Setup {
   Resolution res;
   RenderSettings settings;
   std::vector<Perturbation> perturbations;
-  std::vector<std::string> notes;  // things the user should know (e.g. a sky was added)
+  std::vector<std::string> notes;     // things the user should know (e.g. a sky was added)
+  std::shared_ptr<VolumeRun> volume;  // volumes only: styles, adaptation, sequence
 
   std::vector<Device*> device_ptrs() const;
-  // A session over the devices with one lane per balancer spec (each already checked).
-  // Bad specs are reported as coming from `option`.
+  // A session over the devices with one lane per balancer spec (each already checked) and,
+  // for volumes, per --adapt mode (spec-major: spec 0 with every mode, then spec 1, ...),
+  // each lane with its own prediction advisor. Bad specs are reported as coming from
+  // `option`.
   std::unique_ptr<Session> make_session(const std::vector<std::string>& balancer_specs,
                                         const std::string& option = "--balancer") const;
+  // The name of each lane make_session(specs) makes: the spec, plus " adapt=MODE" when a
+  // volume run adapts in more than one way.
+  std::vector<std::string> lane_labels(const std::vector<std::string>& balancer_specs) const;
 };
 
 // Memory a run is estimated to need before it takes it, in bytes: the scene (from its file

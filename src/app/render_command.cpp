@@ -137,12 +137,18 @@ class RenderOutput : public FrameObserver {
     for (const auto& m : rec.messages) fmt::print(stderr, "multiray: warning: {}\n", m);
     uint64_t samples = 0, rays = 0;
     for (const auto& d : rec.devices) samples += d.samples, rays += d.rays;
+    // Frame-time targeting: the predicted time and the quality the frame was rendered at.
+    const std::string adapted =
+        rec.predicted_ms > 0 || rec.quality.step_scale != 1 || rec.quality.image_scale != 1
+            ? fmt::format("  predicted {:7.1f} ms  step x{:.2f}  image x{:.2f}", rec.predicted_ms,
+                          rec.quality.step_scale, rec.quality.image_scale)
+            : "";
     if (!quiet_)
       fmt::print(
-          "frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%  -> "
+          "frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%{}  -> "
           "{}.png\n",
           r->frame, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
-          100.0 * rec.imbalance, base + (images.size() > 1 ? "_quilt" : ""));
+          100.0 * rec.imbalance, adapted, base + (images.size() > 1 ? "_quilt" : ""));
     json_.push_back(frame_to_json(rec));
     json_.back()["sampling_ms"] = r->sampling_ms;
     uint64_t hash = 0xcbf29ce484222325ull;
@@ -239,6 +245,8 @@ Runner add_render_command(CLI::App& app) {
   return [=]() -> int {
     const std::string spec = apply_mapping(*balancer, o->mapping);
     Setup s = make_setup(*o, 1, [&] { prepare_output_folder(*out_dir, *overwrite); });
+    if (s.volume && s.volume->modes().size() > 1)
+      throw InputError("--adapt: render takes one mode (bench compares several)");
     std::unique_ptr<Session> session = s.make_session({spec});
     for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
     std::unique_ptr<TraceFile> trace;

@@ -16,11 +16,25 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
     samples.push_back(d.samples);
     pixels.push_back(d.pixels);
   }
-  return {{"frame", rec.frame},         {"frame_ms", rec.frame_ms},   {"device_ms", device_ms},
-          {"busy_ms", busy_ms},         {"work_share", share},        {"planned_share", planned},
-          {"samples", samples},         {"pixels", pixels},           {"imbalance", rec.imbalance},
-          {"deviation", rec.deviation}, {"plan_ms", rec.plan_ms},     {"gather_ms", rec.gather_ms},
-          {"update_ms", rec.update_ms}, {"stolen_items", rec.stolen}, {"messages", rec.messages}};
+  return {{"frame", rec.frame},
+          {"frame_ms", rec.frame_ms},
+          {"device_ms", device_ms},
+          {"busy_ms", busy_ms},
+          {"work_share", share},
+          {"planned_share", planned},
+          {"samples", samples},
+          {"pixels", pixels},
+          {"imbalance", rec.imbalance},
+          {"deviation", rec.deviation},
+          {"plan_ms", rec.plan_ms},
+          {"gather_ms", rec.gather_ms},
+          {"update_ms", rec.update_ms},
+          {"stolen_items", rec.stolen},
+          {"messages", rec.messages},
+          {"quality",
+           {{"image_scale", rec.quality.image_scale}, {"step_scale", rec.quality.step_scale}}},
+          {"advise_ms", rec.advise_ms},
+          {"predicted_ms", rec.predicted_ms}};
 }
 
 nlohmann::json devices_to_json(const std::vector<std::unique_ptr<Device>>& devices) {

@@ -41,6 +41,26 @@ void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
   cmd.add_option("--step", o.step,
                  "Volumes: ray step in voxel lengths (the shortest spacing), in [0.01, 64]")
       ->capture_default_str();
+  cmd.add_option("--target-ms", o.target_ms,
+                 "Volumes: frame-time target in ms for --adapt (0: none)")
+      ->capture_default_str();
+  cmd.add_option("--adapt", o.adapt,
+                 "Volumes: frame-time targeting: none, last-frame (scale quality by the last "
+                 "frame's time), predict (Bruder et al.: choose quality from the predicted "
+                 "time); auto: predict with --target-ms, else none. bench takes a list and runs "
+                 "every balancer once per mode")
+      ->capture_default_str();
+  cmd.add_option("--adapt-space", o.adapt_space,
+                 "Volumes: what --adapt changes: ray (the step), image (the resolution, "
+                 "upsampled) or hybrid (both)")
+      ->capture_default_str();
+  cmd.add_option("--prepass-stride", o.prepass_stride,
+                 "Volumes: one prediction pre-pass ray per NxN pixels (0: no prediction; "
+                 "balancers then split by area)")
+      ->capture_default_str();
+  cmd.add_option("--sequence", o.sequence,
+                 "Volumes: interaction sequence JSON (orbit, zoom, transfer-function switches "
+                 "at given frames; docs/volumes.md); replaces --camera-path");
   cmd.add_option("--raw", o.raw,
                  "Volumes: read the scene file as headerless voxels "
                  "NXxNYxNZ:TYPE[:be|:le][:spacing=SX,SY,SZ], TYPE uint8, int8, uint16 or int16");
@@ -55,6 +75,10 @@ bool is_volume_input(const std::string& path, const VolumeOptions& o) {
 void check_volume_options(const VolumeOptions& o) {
   if (!(o.step >= kMinStep && o.step <= kMaxStep))
     throw InputError("--step must be in [0.01, 64] voxel lengths");
+  if (!(o.target_ms == 0 || (o.target_ms >= 0.1 && o.target_ms <= 1e6)))
+    throw InputError("--target-ms must be 0 (none) or in [0.1, 1e6] ms");
+  if (o.prepass_stride < 0 || o.prepass_stride > 64)
+    throw InputError("--prepass-stride must be in 0..64 (0: no prediction)");
   if (!o.raw.empty()) parse_raw_spec(o.raw);
 }
 

@@ -21,8 +21,9 @@ void Session::set_perturbations(const std::vector<Perturbation>& p) {
   for (auto& e : engines_) e->set_perturbations(p);
 }
 
-void Session::set_advisors(const std::function<std::unique_ptr<FrameAdvisor>()>& make) {
-  for (auto& e : engines_) e->set_advisor(make ? make() : nullptr);
+void Session::set_advisors(const std::function<std::unique_ptr<FrameAdvisor>(size_t lane)>& make) {
+  for (size_t lane = 0; lane < engines_.size(); ++lane)
+    engines_[lane]->set_advisor(make ? make(lane) : nullptr);
 }
 
 void Session::set_camera(std::optional<Camera> camera) {

@@ -55,9 +55,11 @@ class Session {
           FrameViews views, CameraPath path, RenderSettings settings);
 
   void set_perturbations(const std::vector<Perturbation>& p);
-  // Gives every lane its own advisor (frame_advisor.h) from `make` (called once per lane),
-  // or none when `make` is empty.
-  void set_advisors(const std::function<std::unique_ptr<FrameAdvisor>()>& make);
+  // Gives every lane its own advisor (frame_advisor.h): make(lane), called once per lane
+  // (null: none), or none at all when `make` is empty.
+  void set_advisors(const std::function<std::unique_ptr<FrameAdvisor>(size_t lane)>& make);
+  // The settings of the frame being rendered (after the schedule).
+  const RenderSettings& settings() const { return settings_; }
   // Settings that change during a run (a transfer function switched at a given frame):
   // `at(frame, settings)` may change the settings of `frame` before any lane renders it.
   // Called on the thread that runs run().

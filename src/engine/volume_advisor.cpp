@@ -9,9 +9,12 @@
 namespace multiray {
 
 namespace {
-// A ray that marches no sample still costs its set-up, clipping and block walk: about
-// this many samples' worth (measured on the CPU raycaster, order of magnitude).
-constexpr double kRayOverheadSamples = 2.0;
+// Work that the step does not change, in samples' worth: a ray's set-up and clipping, and
+// each block its walk visits. Our addition to the paper's model (whose cost is samples
+// only): without it, at coarse steps the prediction falls far below the measured time and
+// frame-time targeting keeps coarsening to no effect (aneurism, CPU: a 64x coarser step
+// still took 6% of the full-step time).
+constexpr double kRaySamples = 1.0, kBlockSamples = 0.5;
 
 double log2_clamped(double x) { return std::log2(std::max(x, 1e-9)); }
 }  // namespace
@@ -40,7 +43,7 @@ CostFeatures VolumeAdvisor::features(const ViewSetup& view, const VolumeStyle& s
           log2_clamped(1 + prepass_ms),         max_depth / voxel / 256};
 }
 
-double VolumeAdvisor::predict_ms(double c, double full_samples, double pixels) const {
+double VolumeAdvisor::predict_ms(double c, double full_samples, double fixed_samples) const {
   const balance::Quality q = balance::quality_of(c, config_.targeting.space);
   const CostFeatures x = features(view_, *style_, q.step_scale, prepass_ms_, max_depth_);
   double rate = 0;  // samples per ms of all live devices together
@@ -51,7 +54,7 @@ double VolumeAdvisor::predict_ms(double c, double full_samples, double pixels) c
     rate += 1 / sigma;
   }
   const double samples =
-      q.image_scale * q.image_scale * (full_samples / q.step_scale + kRayOverheadSamples * pixels);
+      q.image_scale * q.image_scale * (full_samples / q.step_scale + fixed_samples);
   return rate > 0 ? samples / rate : NAN;
 }
 
@@ -61,38 +64,42 @@ FrameAdvice VolumeAdvisor::advise(int, const std::vector<ViewSetup>& views,
   if (!settings.volume_style || views.empty()) return advice;
   style_ = settings.volume_style;
   view_ = views.front();
-  // Pre-pass: predicted samples of every output pixel at the full-quality step.
+  // Pre-pass: the samples every output pixel takes at the full-quality step, and the work
+  // the step does not change.
   Stopwatch clock;
   const double step = style_->step * vs_.volume.voxel_length() * settings.step_scale;
-  double full_samples = 0, pixels = 0;
+  std::vector<float> samples, fixed;
+  double full_samples = 0, fixed_samples = 0;
   max_depth_ = 0;
   for (const ViewSetup& v : views) {
     const VolumePrepass p = run_prepass(vs_, *style_, v, config_.prepass_stride, settings.seed);
     max_depth_ = std::max(max_depth_, p.max_depth);
     for (int y = 0; y < v.height; ++y)
       for (int x = 0; x < v.width; ++x) {
-        const float marched =
-            p.marched[size_t(y / p.stride) * size_t(p.width) + size_t(x / p.stride)];
-        const double samples = double(marched) / step;
-        advice.pixel_work.push_back(float(samples + kRayOverheadSamples));
-        full_samples += samples;
+        const size_t c = size_t(y / p.stride) * size_t(p.width) + size_t(x / p.stride);
+        samples.push_back(float(double(p.marched[c]) / step));
+        fixed.push_back(float(kRaySamples + kBlockSamples * double(p.blocks[c])));
+        full_samples += samples.back(), fixed_samples += fixed.back();
       }
-    pixels += double(v.width) * double(v.height);
   }
   timings_.prepass_ms = prepass_ms_ = clock.elapsed_ms();
 
   clock.restart();
   const double c =
-      targeting_.next([&](double cost) { return predict_ms(cost, full_samples, pixels); });
+      targeting_.next([&](double cost) { return predict_ms(cost, full_samples, fixed_samples); });
   advice.quality = balance::quality_of(c, config_.targeting.space);
-  advice.predicted_ms = predict_ms(c, full_samples, pixels);
+  advice.predicted_ms = predict_ms(c, full_samples, fixed_samples);
   if (!std::isfinite(advice.predicted_ms)) advice.predicted_ms = 0;
+  // The work of each pixel at the chosen step, in samples; sigma is per such sample.
+  advice.pixel_work.resize(samples.size());
+  const float inv_step = float(1 / advice.quality.step_scale);
+  for (size_t i = 0; i < samples.size(); ++i)
+    advice.pixel_work[i] = samples[i] * inv_step + fixed[i];
   const CostFeatures x =
       features(view_, *style_, advice.quality.step_scale, prepass_ms_, max_depth_);
   for (size_t i = 0; i < models_.size(); ++i) {
     predicted_sigma_[i] = models_[i].predict(x);
-    // Per unit of pixel work (full-quality samples): the step is step_scale times longer.
-    advice.device_cost.push_back(predicted_sigma_[i] / advice.quality.step_scale);
+    advice.device_cost.push_back(predicted_sigma_[i]);
   }
   timings_.predict_ms = clock.elapsed_ms();
   return advice;
@@ -111,7 +118,7 @@ void VolumeAdvisor::measured(const FrameAdvice& advice, const FrameRecord& recor
     const balance::DeviceFrameStats& d = stats.devices[i];
     alive_[i] = d.alive;
     if (!d.alive) continue;
-    double work = 0;  // predicted samples of what device i rendered, at this frame's step
+    double work = 0;  // predicted samples' worth of what device i rendered
     for (const balance::ItemReport& it : d.items) {
       const Rect& r = it.item.rect;
       for (int y = r.y0; y < r.y1; ++y)
@@ -120,7 +127,6 @@ void VolumeAdvisor::measured(const FrameAdvice& advice, const FrameRecord& recor
                                          size_t(shape.width) +
                                      size_t(xx)];
     }
-    work /= advice.quality.step_scale;
     if (work > 0 && d.time_ms > 0) {
       measured_sigma_[i] = d.time_ms / work;
       models_[i].train(x, measured_sigma_[i]);

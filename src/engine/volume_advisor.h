@@ -51,8 +51,9 @@ class VolumeAdvisor : public FrameAdvisor {
  private:
   CostFeatures features(const ViewSetup& view, const VolumeStyle& style, double step_scale,
                         double prepass_ms, double max_depth) const;
-  // Predicted frame time at cost factor c (NaN while a live device has no model yet).
-  double predict_ms(double c, double full_samples, double pixels) const;
+  // Predicted frame time at cost factor c, given the frame's samples at the full-quality
+  // step and the work the step does not change (NaN while a live device has no model).
+  double predict_ms(double c, double full_samples, double fixed_samples) const;
 
   const VolumeScene& vs_;
   VolumeAdvisorConfig config_;

@@ -29,6 +29,7 @@ float draw_opacity(const std::array<float, 16>& histogram, float u) {
 
 struct CoarseRay {
   float marched = 0, front = 1, back = 0;
+  int blocks = 0;  // blocks the kernel's walk visits (up to the estimated termination)
 };
 
 CoarseRay estimate(const VolumeScene& vs, const VolumeStyle& style, const Ray& ray, Rng& rng) {
@@ -40,6 +41,7 @@ CoarseRay estimate(const VolumeScene& vs, const VolumeStyle& style, const Ray& r
   const float voxel = vs.volume.voxel_length();
   float alpha = 0, ert = INFINITY;
   walk_blocks(vs.blocks, r, t0, t1, [&](size_t block, float ta, float tb) {
+    if (ert == INFINITY) ++out.blocks;
     if (style.opacity.max_opacity[block] == 0) return true;
     if (out.front > out.back) out.front = ta;
     out.back = tb;
@@ -71,7 +73,7 @@ VolumePrepass run_prepass(const VolumeScene& vs, const VolumeStyle& style, const
   p.width = (view.width + p.stride - 1) / p.stride;
   p.height = (view.height + p.stride - 1) / p.stride;
   const size_t n = size_t(p.width) * size_t(p.height);
-  p.marched.assign(n, 0), p.front.assign(n, 1), p.back.assign(n, 0);
+  p.marched.assign(n, 0), p.front.assign(n, 1), p.back.assign(n, 0), p.blocks.assign(n, 0);
   const PinholeCamera camera(view.camera, view.width, view.height);
   oneapi::tbb::parallel_for(0, p.height, [&](int cy) {
     for (int cx = 0; cx < p.width; ++cx) {
@@ -83,6 +85,7 @@ VolumePrepass run_prepass(const VolumeScene& vs, const VolumeStyle& style, const
       Rng rng = Rng::for_path(key, 0, view.frame, view.view, seed ^ 0x9e3779b97f4a7c15ull);
       const CoarseRay c = estimate(vs, style, ray, rng);
       p.marched[key] = c.marched, p.front[key] = c.front, p.back[key] = c.back;
+      p.blocks[key] = float(c.blocks);
     }
   });
   for (size_t i = 0; i < n; ++i) {

@@ -22,6 +22,9 @@ struct VolumePrepass {
   // Per coarse pixel, row-major: predicted marched length (world units) and the span
   // through non-empty blocks (front > back when the ray sees none).
   std::vector<float> marched, front, back;
+  // Per coarse pixel: blocks the raycaster's walk visits before the estimated termination
+  // (a cost per ray that the step does not change).
+  std::vector<float> blocks;
   // Features of the frame for the learned part of the model.
   double mean_marched = 0;  // world units, over all coarse pixels
   double max_depth = 0;     // longest span back - front, world units

@@ -1,0 +1,54 @@
+// What a volume run needs beyond the scene: the transfer-function styles (built when first
+// needed, then shared), the frame-time targeting of each lane (--target-ms, --adapt,
+// --adapt-space), the prediction advisor (Bruder et al. 2017) and the interaction sequence
+// whose transfer-function switches change the settings between frames.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/sequence.h"
+#include "app/volume_options.h"
+#include "balance/targeting.h"
+#include "engine/frame_advisor.h"
+#include "render/scene_cache.h"
+
+namespace multiray::app {
+
+class VolumeRun {
+ public:
+  // Checks the adaptation options and reads the sequence; throws InputError.
+  VolumeRun(SceneCache& scenes, const VolumeOptions& o, Vec3 background);
+
+  // The style of transfer function `tf` (a preset or file; "auto" by voxel type), built on
+  // first use. Throws InputError for a bad transfer function.
+  std::shared_ptr<const VolumeStyle> style(const std::string& tf);
+  // Settings schedule (Session::set_settings_schedule): the sequence's transfer function
+  // at `frame`, or --tf.
+  void apply(int frame, RenderSettings& settings);
+
+  // One entry per --adapt mode: each balancer runs once per mode.
+  const std::vector<balance::AdaptMode>& modes() const { return modes_; }
+  // The advisor of a lane adapting with modes()[mode], for `devices` devices.
+  std::unique_ptr<FrameAdvisor> advisor(size_t mode, int devices) const;
+  const InteractionSequence* sequence() const { return has_sequence_ ? &sequence_ : nullptr; }
+  const VolumeOptions& options() const { return o_; }
+  // Lines for the user (the transfer function chosen automatically, ...).
+  std::vector<std::string> notes;
+  // Time the last style took to build (opacity histograms, table), ms: Bruder's Table 3.
+  double last_style_ms = 0;
+
+ private:
+  SceneCache& scenes_;
+  VolumeOptions o_;
+  Vec3 background_;
+  std::vector<balance::AdaptMode> modes_;
+  balance::AdaptSpace space_ = balance::AdaptSpace::ray;
+  InteractionSequence sequence_;
+  bool has_sequence_ = false;
+  std::map<std::string, std::shared_ptr<const VolumeStyle>> styles_;
+};
+
+}  // namespace multiray::app
