@@ -1,12 +1,16 @@
-// OpenCL device: the path tracer of render/ as one OpenCL kernel (kernels/*.cl), on any
-// OpenCL device — GPUs in the field, the CPU through PoCL here. The scene (flat BVH built
-// on the host, shading records, materials, lights, textures) is uploaded once when the
-// device is created; each work unit is then rendered by kernel launches of at most
-// tile x tile pixels, timed on the host around enqueue + finish.
+// OpenCL device: the path tracer and the volume raycaster of render/ as OpenCL kernels
+// (kernels/*.cl), on any OpenCL device — GPUs in the field, the CPU through PoCL here.
+// It builds the kernels that accept the scene, as the CPU device does: for triangles the
+// path tracer (opencl_path_tracer.h: flat BVH built on the host, shading records,
+// materials, lights, textures), for a volume the raycaster (opencl_volume.h: the values,
+// then the transfer table per style), uploaded once when the device is created; each work
+// unit is then rendered by kernel launches of at most tile x tile pixels, timed on the
+// host around enqueue + finish.
 //
-// Images are the CPU's statistically (same materials, lights, RNG streams) and exactly
-// the same on every device of one OpenCL type whatever the split, because every pixel is
-// a pure function of (pixel, sample, frame, view, seed).
+// Images are the CPU's statistically (path tracer: same materials, lights, RNG streams;
+// raycaster: the same arithmetic, expm1 rounding aside) and exactly the same on every
+// device of one OpenCL type whatever the split, because every pixel is a pure function of
+// (pixel, sample, frame, view, seed).
 #pragma once
 
 #include <memory>
@@ -29,14 +33,17 @@ struct OpenClDeviceOptions {
 
 class OpenClDevice : public Device {
  public:
-  // Flattens the "embree" representation of `scenes` into its own buffers (`scenes` must
-  // outlive the device). Throws InputError when `opts` are impossible here (no
-  // such device index, bad values) and DeviceError when the device cannot be set up
-  // (kernel build error with the compiler's log, scene too large, out of memory).
+  // Uploads what its kernels need of `scenes` into its own buffers: the "embree"
+  // representation flattened for a scene with triangles (or without a volume), the
+  // "volume" one for a volume (`scenes` must outlive the device). Throws InputError when
+  // `opts` are impossible here (no such device index, bad values) and DeviceError when the
+  // device cannot be set up (kernel build error with the compiler's log, scene or volume
+  // too large, out of memory).
   OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::string spec);
   ~OpenClDevice() override;
 
-  // The path tracer only, uniform or per-pixel (adaptive) sampling.
+  // The path tracer and the volume raycaster, uniform or per-pixel (adaptive) sampling.
+  // A device's info().caps lists only the kernels it built for its scene.
   static DeviceCapabilities capabilities();
 
   const DeviceInfo& info() const override { return info_; }
@@ -45,7 +52,7 @@ class OpenClDevice : public Device {
   DeviceReport render(const FrameJob& job, WorkSource& source, int index) override;
   void set_emulated_speed(double speed) override;
 
-  // True when the kernel binary came from the on-disk cache (see cl_program.h).
+  // True when every kernel binary came from the on-disk cache (see cl_program.h).
   bool kernel_from_cache() const;
   // The work-group size in use after clamping.
   size_t work_group_size() const;

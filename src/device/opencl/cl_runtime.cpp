@@ -1,0 +1,101 @@
+#include "device/opencl/cl_runtime.h"
+
+#include "core/error.h"
+#include "device/opencl/cl_program.h"
+#include "render/path_tracer.h"
+
+namespace multiray {
+
+ClRuntime::ClRuntime(const cl::Device& d, int device_index, int tile_side, int work_group)
+    : device(d), context(d), queue(context, d), index(device_index), tile(tile_side) {
+  local = std::max<size_t>(
+      1, std::min<size_t>(size_t(work_group), device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>()));
+  launch_items = (size_t(tile) * size_t(tile) + local - 1) / local * local;
+  max_alloc = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+  global_mem = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+}
+
+cl::Kernel ClRuntime::build_kernel(const char* source, const char* name, cl_uint arg_count,
+                                   const std::string& extra_options, bool& from_cache) const {
+  // Every launch has the same global size, and the program is built for that size.
+  // Why: PoCL 3.1 caches compiled work-group functions per (program, local size, grid
+  // width) but releases them by (program, local size) only, so two devices launching
+  // one program with different global sizes at the same moment corrupt its reference
+  // counts and abort (assertion in pocl_release_dlhandle_cache, seen with
+  // POCL_DEVICES="basic basic"). One size per program keeps one cache entry per program.
+  std::string options = "-cl-std=CL1.2 -DMR_GROUP_ITEMS=" + std::to_string(local) +
+                        " -DMR_LAUNCH_ITEMS=" + std::to_string(launch_items);
+  if (!extra_options.empty()) options += " " + extra_options;
+  const cl_util::BuiltProgram built = cl_util::build_program(context, device, source, options);
+  from_cache = built.from_cache;
+  cl::Kernel kernel(built.program, name);
+  const size_t kernel_max = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device);
+  if (kernel_max < local)
+    throw DeviceError("opencl device " + std::to_string(index) + ": work-group size " +
+                      std::to_string(local) + " is too large for the kernel here (at most " +
+                      std::to_string(kernel_max) + "); use :wg=" + std::to_string(kernel_max));
+  const cl_uint args = kernel.getInfo<CL_KERNEL_NUM_ARGS>();
+  if (args != arg_count)
+    throw DeviceError(std::string("OpenCL: ") + name + " has " + std::to_string(args) +
+                      " arguments, the host sets " + std::to_string(arg_count));
+  return kernel;
+}
+
+cl::Buffer ClRuntime::upload(const void* data, size_t bytes, const std::string& what) const {
+  static const cl_float16 zero{};
+  if (bytes > max_alloc)
+    throw DeviceError("OpenCL: " + what + " needs a " + std::to_string(bytes >> 20) +
+                      " MB buffer, the device allows " + std::to_string(max_alloc >> 20) + " MB");
+  if (bytes == 0) data = &zero, bytes = 1;
+  return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes,
+                    const_cast<void*>(data));
+}
+
+ClLaunchBuffers::ClLaunchBuffers(const ClRuntime& rt) {
+  const size_t pixels = size_t(rt.tile) * size_t(rt.tile);
+  host_radiance.resize(pixels);
+  host_counts.resize(pixels);
+  host_spp.resize(pixels);
+  radiance = cl::Buffer(rt.context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
+  counts = cl::Buffer(rt.context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_uint));
+  spp_map = cl::Buffer(rt.context, CL_MEM_READ_ONLY, pixels * sizeof(cl_uchar));
+}
+
+uint64_t ClLaunchBuffers::write_spp(const ClRuntime& rt, const ViewSetup& view,
+                                    const RenderSettings& st, const ClLaunchRect& r) {
+  const size_t n = r.pixels();
+  if (!view.spp_map) return uint64_t(n) * uint64_t(std::max(0, st.spp));
+  // Irregular sampling: this launch's slice of the view's samples-per-pixel map. The
+  // write is non-blocking: host_spp stays unchanged until read() waits for the queue.
+  uint64_t samples = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const int x = r.x + int(i % size_t(r.w)), y = r.y + int(i / size_t(r.w));
+    host_spp[i] = (*view.spp_map)[size_t(y) * size_t(view.width) + size_t(x)];
+    samples += host_spp[i];
+  }
+  rt.queue.enqueueWriteBuffer(spp_map, CL_FALSE, 0, n, host_spp.data());
+  return samples;
+}
+
+uint64_t ClLaunchBuffers::read(const ClRuntime& rt, const ClLaunchRect& r, Framebuffer& out) {
+  const size_t n = r.pixels();
+  rt.queue.enqueueReadBuffer(radiance, CL_FALSE, 0, n * sizeof(cl_float4), host_radiance.data());
+  rt.queue.enqueueReadBuffer(counts, CL_FALSE, 0, n * sizeof(cl_uint), host_counts.data());
+  rt.queue.finish();
+  uint64_t total = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const cl_float4& p = host_radiance[i];
+    out.at(r.x + int(i % size_t(r.w)), r.y + int(i / size_t(r.w))) = Vec3(p.s[0], p.s[1], p.s[2]);
+    total += host_counts[i];
+  }
+  return total;
+}
+
+ClCamera cl_camera(const ViewSetup& view) {
+  const PinholeCamera cam(view.camera, view.width, view.height);
+  return ClCamera{
+      cl_f4(cam.eye), cl_f4(cam.forward), cl_f4(cam.right), cl_f4(cam.up),
+      cl_float4{{cam.scale_x, cam.scale_y, 2.0f / float(view.width), 2.0f / float(view.height)}}};
+}
+
+}  // namespace multiray

@@ -1,0 +1,102 @@
+// What the kernels of one OpenCL device share (context, queue, launch shape, the buffers
+// one launch writes), and the interface each kernel's host side implements. Private to
+// src/device/opencl.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "core/rect.h"
+#include "device/opencl/cl_common.h"
+#include "render/render_types.h"
+
+namespace multiray {
+
+// One OpenCL device, set up once: every kernel of the device uses its queue and launches
+// exactly `launch_items` work-items in groups of `local` (one global size per program,
+// see ClRuntime::build_kernel).
+struct ClRuntime {
+  // Creates the context and queue of `device` and fixes the launch shape for launches of
+  // at most tile x tile pixels with work groups of `work_group` (clamped to the device).
+  ClRuntime(const cl::Device& device, int index, int tile, int work_group);
+
+  // Builds `source` (from the disk cache when it can, cl_program.h) with the launch-shape
+  // options plus `extra_options` and returns its kernel `name`, after checking that it has
+  // `arg_count` arguments and accepts work groups of `local`. Sets `from_cache`. Throws
+  // DeviceError otherwise.
+  cl::Kernel build_kernel(const char* source, const char* name, cl_uint arg_count,
+                          const std::string& extra_options, bool& from_cache) const;
+
+  // A read-only buffer holding `bytes` of `data` (at least one byte: OpenCL has no empty
+  // buffers). Throws DeviceError "<what> needs a N MB buffer, the device allows M MB"
+  // when `bytes` exceeds the device's largest allocation.
+  cl::Buffer upload(const void* data, size_t bytes, const std::string& what) const;
+
+  cl::Device device;
+  cl::Context context;
+  cl::CommandQueue queue;
+  int index = 0;            // `opencl:N`, for messages
+  int tile = 256;           // side of the largest square one launch renders
+  size_t local = 64;        // work-group size
+  size_t launch_items = 0;  // global size of every launch: tile^2 rounded up to `local`
+  uint64_t max_alloc = 0;   // CL_DEVICE_MAX_MEM_ALLOC_SIZE, bytes
+  uint64_t global_mem = 0;  // CL_DEVICE_GLOBAL_MEM_SIZE, bytes
+};
+
+// A piece of a rect that one launch renders: pixels [x, x + w) x [y, y + h).
+struct ClLaunchRect {
+  int x, y, w, h;
+  size_t pixels() const { return size_t(w) * size_t(h); }
+};
+
+// The per-launch buffers every kernel here shares: its output (radiance as float4 and one
+// count per pixel) and its slice of the view's samples-per-pixel map, with host copies.
+struct ClLaunchBuffers {
+  explicit ClLaunchBuffers(const ClRuntime& rt);
+  // Enqueues (non-blocking) the slice of `view`'s sample map for `r` when the view has
+  // one; returns the samples of `r` (settings.spp per pixel without a map).
+  uint64_t write_spp(const ClRuntime& rt, const ViewSetup& view, const RenderSettings& st,
+                     const ClLaunchRect& r);
+  // Enqueues the reads of `r`'s outputs, waits for the queue, writes the radiance into
+  // `out` and returns the sum of the counts.
+  uint64_t read(const ClRuntime& rt, const ClLaunchRect& r, Framebuffer& out);
+
+  cl::Buffer radiance, counts, spp_map;
+  std::vector<cl_float4> host_radiance;
+  std::vector<cl_uint> host_counts;
+  std::vector<cl_uchar> host_spp;
+};
+
+// Calls f(piece) for each launch-sized piece of `r`, row by row.
+template <class F>
+void for_each_launch(Rect r, int tile, F f) {
+  for (int y0 = r.y0; y0 < r.y1; y0 += tile)
+    for (int x0 = r.x0; x0 < r.x1; x0 += tile)
+      f(ClLaunchRect{x0, y0, std::min(tile, r.x1 - x0), std::min(tile, r.y1 - y0)});
+}
+
+// The host side of one kernel of an OpenCL device.
+class ClKernelRunner {
+ public:
+  virtual ~ClKernelRunner() = default;
+  // Renders `rect` of `view` into `out` (the view's full image) in launches of at most
+  // tile x tile pixels. Throws cl::Error, or std::invalid_argument for settings the kernel
+  // cannot render.
+  virtual KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, Rect rect,
+                                  Framebuffer& out) = 0;
+  bool from_cache = false;  // the program binary came from the disk cache
+};
+
+// PinholeCamera's frame as four float4s and its scale (tan half-fov x, tan half-fov y,
+// 2 / width, 2 / height): what both kernels' parameter blocks start with.
+struct ClCamera {
+  cl_float4 eye, forward, right, up, scale;
+};
+ClCamera cl_camera(const ViewSetup& view);
+
+inline cl_float4 cl_f4(Vec3 v, float w = 0) { return cl_float4{{v.x, v.y, v.z, w}}; }
+
+}  // namespace multiray

@@ -1,0 +1,96 @@
+#include "device/opencl/opencl_path_tracer.h"
+
+#include <array>
+#include <stdexcept>
+
+#include "device/opencl/kernel_source.h"
+#include "device/opencl/kernels/launch_params.h"
+#include "device/opencl/scene_buffers.h"
+
+namespace multiray {
+
+namespace {
+
+class ClPathTracer : public ClKernelRunner {
+ public:
+  ClPathTracer(const ClRuntime& rt, const RenderScene& rs) : rt_(rt), out_(rt) {
+    kernel_ = rt.build_kernel(kPathTracerSource, "render_rect", MR_ARG_COUNT, "", from_cache);
+    // Every argument is a buffer, set once here; the arguments are listed once, in
+    // kernels/launch_params.h.
+    std::array<cl::Buffer, MR_ARG_COUNT> args;
+    const ClScene s = build_cl_scene(rs);
+    args[MR_ARG_nodes] = upload(s.bvh.nodes);
+    args[MR_ARG_tris] = upload(s.bvh.triangles);
+    args[MR_ARG_shading] = upload(s.shading);
+    args[MR_ARG_materials] = upload(s.materials);
+    args[MR_ARG_lights] = upload(s.lights);
+    args[MR_ARG_light_cdf] = upload(s.light_cdf);
+    args[MR_ARG_light_pdf_by_prim] = upload(s.light_pdf_by_prim);
+    args[MR_ARG_texels] = upload(s.texels);
+    args[MR_ARG_textures] = upload(s.textures);
+    args[MR_ARG_srgb_lut] = upload(s.srgb_to_linear);
+    params_.light_count = cl_uint(s.lights.size());
+    params_.environment_eps = cl_f4(s.environment, s.ray_eps);
+    params_buffer_ = cl::Buffer(rt.context, CL_MEM_READ_ONLY, sizeof(LaunchParams));
+    args[MR_ARG_params] = params_buffer_;
+    args[MR_ARG_radiance] = out_.radiance;
+    args[MR_ARG_rays] = out_.counts;
+    args[MR_ARG_spp_map] = out_.spp_map;
+    for (cl_uint i = 0; i < MR_ARG_COUNT; ++i) {
+      if (!args[i]())
+        throw std::logic_error(std::string("OpenCL: no buffer for render_rect argument ") +
+                               kRenderRectArgNames[i]);
+      kernel_.setArg(i, args[i]);
+    }
+  }
+
+  KernelStats render_rect(const ViewSetup& view, const RenderSettings& st, Rect r,
+                          Framebuffer& out) override {
+    KernelStats stats;
+    const ClCamera cam = cl_camera(view);
+    params_.eye = cam.eye, params_.forward = cam.forward, params_.right = cam.right;
+    params_.up = cam.up, params_.scale = cam.scale;
+    params_.width = cl_uint(view.width);
+    params_.spp = cl_int(st.spp);
+    params_.max_bounces = cl_int(st.max_bounces);
+    params_.rr_start = cl_int(st.rr_start);
+    params_.frame = cl_uint(view.frame);
+    params_.view = cl_uint(view.view);
+    params_.seed = cl_ulong(st.seed);
+    params_.use_spp_map = view.spp_map ? 1 : 0;
+    for_each_launch(r, rt_.tile, [&](const ClLaunchRect& piece) {
+      // Always `launch_items` work-items (see ClRuntime::build_kernel); those beyond the
+      // piece's pixels return at once. Non-blocking writes: the host copies stay
+      // unchanged until read() waits for the queue.
+      params_.rect = cl_int4{{piece.x, piece.y, piece.w, piece.h}};
+      rt_.queue.enqueueWriteBuffer(params_buffer_, CL_FALSE, 0, sizeof(LaunchParams), &params_);
+      stats.samples += out_.write_spp(rt_, view, st, piece);
+      rt_.queue.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(rt_.launch_items),
+                                     cl::NDRange(rt_.local));
+      stats.rays += out_.read(rt_, piece, out);
+    });
+    return stats;
+  }
+
+ private:
+  template <class T>
+  cl::Buffer upload(const std::vector<T>& v) {
+    scene_.push_back(rt_.upload(v.data(), v.size() * sizeof(T), "the scene"));
+    return scene_.back();
+  }
+
+  const ClRuntime& rt_;
+  cl::Kernel kernel_;
+  std::vector<cl::Buffer> scene_;  // kept alive while the kernel refers to them
+  ClLaunchBuffers out_;
+  cl::Buffer params_buffer_;  // `params_`, rewritten before every launch
+  LaunchParams params_{};
+};
+
+}  // namespace
+
+std::unique_ptr<ClKernelRunner> make_cl_path_tracer(const ClRuntime& rt, const RenderScene& rs) {
+  return std::make_unique<ClPathTracer>(rt, rs);
+}
+
+}  // namespace multiray
