@@ -141,6 +141,7 @@ TEST(OpenClVolume, RefusesWhatItCannotRender) {
   SceneCache rs(box);
   OpenClDevice mesh(rs, {}, "opencl:0");
   EXPECT_EQ(mesh.info().caps.kernels, std::vector<std::string>{"path"});
+  EXPECT_EQ(mesh.info().caps.representation, "opencl-flat-bvh");
   FrameJob volume_job{{view_of(box, 8, 8)}, volume_settings(*c), &out};
   ListWorkSource other({WorkItem{{0, 0, 8, 8}, 0}});
   r = mesh.render(volume_job, other, 0);

@@ -60,7 +60,8 @@ DeviceCapabilities OpenClDevice::capabilities() {
   DeviceCapabilities caps;
   caps.kernels = {"path", "volume"};
   caps.sampling = {"uniform", "adaptive"};  // per-pixel sample maps; no foveated patterns
-  caps.representation = "opencl-flat-bvh";  // "opencl-volume" for a volume
+  // A device's own info() names the one it built.
+  caps.representation = "opencl-flat-bvh or opencl-volume";
   return caps;
 }
 
@@ -101,7 +102,7 @@ OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::st
   info_.caps = capabilities();
   info_.caps.kernels.clear();  // what this device built for its scene
   for (const auto& [kernel, runner] : impl_->kernels) info_.caps.kernels.push_back(kernel);
-  if (impl_->kernels.count("volume")) info_.caps.representation = "opencl-volume";
+  info_.caps.representation = impl_->kernels.count("volume") ? "opencl-volume" : "opencl-flat-bvh";
   info_.spec = std::move(spec);
   info_.emulated_speed = opts.speed;
   info_.name = "opencl " + std::to_string(opts.index) + " (" + name;
