@@ -10,6 +10,7 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "app/adapt_summary.h"
 #include "app/bench_summary.h"
 #include "app/commands.h"
 #include "app/interrupt.h"
@@ -44,7 +45,7 @@ Runner add_bench_command(CLI::App& app) {
   auto b = std::make_shared<BenchOptions>();
   o->frames = 100;
   o->camera_path = "orbit";
-  o->spp = 4;
+  o->mesh_spp = 4;
   add_common_options(*cmd, *o);
   cmd->add_option("--balancers", b->balancers, "Comma-separated balancer specs to compare")
       ->capture_default_str();
@@ -72,6 +73,7 @@ Runner add_bench_command(CLI::App& app) {
     std::vector<std::string> mapped;
     for (const auto& spec : specs) mapped.push_back(apply_mapping(spec, o->mapping));
     std::unique_ptr<Session> session = s.make_session(mapped, "--balancers");  // checks every spec
+    const std::vector<std::string> lanes = s.lane_labels(mapped);
     if (!b->report_dir.empty()) {
       std::error_code ec;
       std::filesystem::create_directories(b->report_dir, ec);
@@ -112,8 +114,8 @@ Runner add_bench_command(CLI::App& app) {
     BenchResult result;
     {
       InterruptWatch watch(*session);
-      result = run_bench(*session, s.device_ptrs(), initial, s.perturbations, s.settings, config,
-                         [&](int f) {
+      result = run_bench(*session, s.device_ptrs(), initial, s.perturbations, session->settings(),
+                         config, [&](int f) {
                            if (stderr_is_tty())
                              fmt::print(stderr, "\rframe {}/{} ", f + 1, o->frames);
                          });
@@ -146,31 +148,38 @@ Runner add_bench_command(CLI::App& app) {
     for (const BenchLane& lane : result.lanes)
       summaries.push_back(
           summarize(lane.records, b->warmup, result.sampled, ideal, perturb_frame));
-    add_speedups(mapped, summaries);
-    print_table(mapped, summaries);
+    add_speedups(lanes, summaries);
+    print_table(lanes, summaries);
     nlohmann::json runs_json = nlohmann::json::array();
     for (size_t k = 0; k < result.lanes.size(); ++k) {
       const BenchLane& lane = result.lanes[k];
       const std::vector<int>& mismatched = result.mismatched_frames[k];
       if (!mismatched.empty())
         fmt::print(stderr,
-                   "multiray: warning: {} produced different images than {} in {} frame(s), "
-                   "first frame {}\n",
-                   lane.spec, result.lanes[0].spec, mismatched.size(), mismatched.front());
+                   "multiray: warning: {} produced different images than another run at the "
+                   "same quality in {} frame(s), first frame {}\n",
+                   lanes[k], mismatched.size(), mismatched.front());
       nlohmann::json frames = nlohmann::json::array();
       for (size_t f = 0; f < lane.records.size(); ++f) {
         frames.push_back(frame_to_json(lane.records[f]));
         frames.back()["sampling_ms"] = result.sampling_ms[f];
         frames.back()["image_hash"] = fmt::format("{:016x}", lane.image_hashes[f]);
       }
-      const std::string name = session->engine(k).balancer().name();
+      std::string name = session->engine(k).balancer().name();
+      if (s.volume && s.volume->modes().size() > 1)
+        name += std::string("-") +
+                balance::adapt_mode_name(s.volume->modes()[k % s.volume->modes().size()]);
       runs_json.push_back(
           {{"balancer", lane.spec},
+           {"lane", lanes[k]},
            {"devices", devices_to_json(s.devices)},
            {"image_matches_first_run", mismatched.empty()},
            {"mismatched_frames", mismatched},
            {"frames", frames},
            {"summary", summary_to_json(summaries[k], b->warmup, ideal_mean, result.sampled)}});
+      if (s.volume && s.volume->options().target_ms > 0)
+        runs_json.back()["targeting"] = targeting_to_json(
+            targeting_summary(lane.records, b->warmup, s.volume->options().target_ms));
       if (!b->trace_prefix.empty()) {
         TraceFile trace(fmt::format("{}-{}.trace", b->trace_prefix, name), lane.spec, s.devices);
         for (const balance::FrameStats& f : lane.stats) trace.writer().frame(f);
@@ -183,6 +192,24 @@ Runner add_bench_command(CLI::App& app) {
                            fmt::format("{} — {} ({}x{}, {} spp)", lane.spec, s.scene->name,
                                        s.res.width, s.res.height, s.settings.spp),
                            lane.records, labels);
+      }
+    }
+    if (s.volume && s.volume->options().target_ms > 0) {
+      std::vector<TargetingSummary> t;
+      for (const BenchLane& lane : result.lanes)
+        t.push_back(targeting_summary(lane.records, b->warmup, s.volume->options().target_ms));
+      print_targeting(lanes, t, s.volume->options().target_ms);
+      if (!b->report_dir.empty()) {
+        std::vector<std::vector<FrameRecord>> records;
+        for (const BenchLane& lane : result.lanes) records.push_back(lane.records);
+        std::vector<int> switches;
+        if (const InteractionSequence* seq = s.volume->sequence())
+          for (const auto& [frame, tf] : seq->transfer_functions)
+            if (frame > 0) switches.push_back(frame);
+        write_targeting_svg(b->report_dir + "/targeting.svg",
+                            fmt::format("frame time vs target — {} ({}x{})", s.scene->name,
+                                        s.res.width, s.res.height),
+                            lanes, records, s.volume->options().target_ms, switches);
       }
     }
     bool emulated = false;

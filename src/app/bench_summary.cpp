@@ -1,5 +1,7 @@
 #include "app/bench_summary.h"
 
+#include <algorithm>
+
 #include <fmt/core.h>
 
 namespace multiray::app {
@@ -54,13 +56,14 @@ void add_speedups(const std::vector<std::string>& specs, std::vector<RunSummary>
 }
 
 void print_table(const std::vector<std::string>& specs, const std::vector<RunSummary>& summaries) {
-  fmt::print("\n{:<14} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9}\n", "balancer", "frame ms",
+  size_t width = 14;  // the longest label, so specs and lane names are never cut
+  for (const std::string& spec : specs) width = std::max(width, spec.size());
+  fmt::print("\n{:<{}} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9}\n", "balancer", width, "frame ms",
              "imbalance", "deviation", "efficiency", "speedup", "recovery");
   for (size_t k = 0; k < specs.size(); ++k) {
     const RunSummary& s = summaries[k];
-    fmt::print("{:<14} {:>10.1f} {:>9.1f}% {:>9.1f}% {:>10.3f} {:>9} {:>9}\n",
-               specs[k].substr(0, 14), s.mean_frame_ms, 100 * s.mean_imbalance,
-               100 * s.mean_deviation, s.efficiency,
+    fmt::print("{:<{}} {:>10.1f} {:>9.1f}% {:>9.1f}% {:>10.3f} {:>9} {:>9}\n", specs[k], width,
+               s.mean_frame_ms, 100 * s.mean_imbalance, 100 * s.mean_deviation, s.efficiency,
                s.speedup > 0 ? fmt::format("{:.2f}x", s.speedup) : "-",
                s.recovery_frames >= 0 ? std::to_string(s.recovery_frames) : "-");
   }

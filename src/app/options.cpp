@@ -302,7 +302,7 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
   if (!(o.foveation.periphery_spp >= 1.0f / 4096 &&
         o.foveation.periphery_spp <= o.foveation.fovea_spp))
     throw InputError("--periphery-spp must be in [1/4096, --fovea-spp] samples per pixel");
-  s.settings.spp = o.spp > 0 ? o.spp : volume_input ? 1 : 16;
+  s.settings.spp = o.spp > 0 ? o.spp : volume_input ? 1 : o.mesh_spp;
   s.settings.max_bounces = o.bounces;
   s.settings.seed = parse_seed(o.seed);
   std::optional<Camera> cli_camera;

@@ -23,7 +23,8 @@ namespace multiray::app {
 struct CommonOptions {
   std::string scene_path;  // empty: built-in Cornell box
   std::string resolution = "640x360";
-  int spp = 0;  // 0: 16 for meshes, 1 for volumes
+  int spp = 0;        // 0: mesh_spp for meshes, 1 for volumes
+  int mesh_spp = 16;  // what --spp 0 means for meshes (bench: 4)
   int bounces = 8;
   int frames = 1;
   std::string camera;                     // "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov" or empty

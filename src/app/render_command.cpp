@@ -26,7 +26,9 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                  "Scene file (.gltf, .glb, .obj, .ply) or volume (.nhdr, .nrrd, or raw with "
                  "--raw); omitted: the built-in Cornell box");
   cmd.add_option("--res", o.resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
-  cmd.add_option("--spp", o.spp, "Samples per pixel; 0: 16 for meshes, 1 for volumes")
+  cmd.add_option(
+         "--spp", o.spp,
+         "Samples per pixel; 0: " + std::to_string(o.mesh_spp) + " for meshes, 1 for volumes")
       ->capture_default_str();
   cmd.add_option("--bounces", o.bounces, "Maximum scattering events per path")
       ->capture_default_str();

@@ -80,8 +80,16 @@ class BenchObserver : public FrameObserver {
     uint64_t hash = 0xcbf29ce484222325ull;
     for (const Framebuffer& img : r->images) hash = image_hash(img, hash);
     lane.image_hashes.push_back(hash);
-    if (r->lane > 0 && hash != result_.lanes[0].image_hashes.back())
-      result_.mismatched_frames[r->lane].push_back(r->frame);
+    // Lanes at the same quality must agree bit for bit; frame-time targeting renders
+    // lanes at different qualities, which are not compared.
+    if (r->lane == 0) frame_quality_.clear();
+    for (const auto& [q, h] : frame_quality_)
+      if (q.image_scale == r->record.quality.image_scale &&
+          q.step_scale == r->record.quality.step_scale) {
+        if (h != hash) result_.mismatched_frames[r->lane].push_back(r->frame);
+        break;
+      }
+    frame_quality_.emplace_back(r->record.quality, hash);
     if (r->frame == config_.partition_frame) lane.partition = r->rendered;
     if (config_.keep_stats) lane.stats.push_back(r->stats);
   }
@@ -92,6 +100,8 @@ class BenchObserver : public FrameObserver {
   const std::vector<Perturbation>& perturbations_;
   const RenderSettings& settings_;
   const BenchConfig& config_;
+  // This frame's lanes so far: the quality each rendered at and its image hash.
+  std::vector<std::pair<balance::Quality, uint64_t>> frame_quality_;
   const std::function<void(int)>& on_frame_;
   BenchResult& result_;
 };

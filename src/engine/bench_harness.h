@@ -42,7 +42,8 @@ struct BenchResult {
   std::vector<IdealSample> ideal;
   std::vector<double> sampling_ms;  // per frame: host set-up of irregular sampling
   std::vector<BenchLane> lanes;
-  // Per lane, frames whose images differ from lane 0's (should be none).
+  // Per lane, frames whose images differ from those of an earlier lane rendered at the same
+  // quality (should be none).
   std::vector<std::vector<int>> mismatched_frames;
 };
 

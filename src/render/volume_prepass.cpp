@@ -39,13 +39,14 @@ CoarseRay estimate(const VolumeScene& vs, const VolumeStyle& style, const Ray& r
   CoarseRay out;
   if (!(t0 < t1)) return out;
   const float voxel = vs.volume.voxel_length();
-  float alpha = 0, ert = INFINITY;
+  float alpha = 0, ert = INFINITY, marched = 0;
   walk_blocks(vs.blocks, r, t0, t1, [&](size_t block, float ta, float tb) {
     if (ert == INFINITY) ++out.blocks;
     if (style.opacity.max_opacity[block] == 0) return true;
     if (out.front > out.back) out.front = ta;
     out.back = tb;
     if (ert < INFINITY) return true;  // the span continues; termination already found
+    marched += tb - ta;
     const float o = draw_opacity(style.opacity.histogram[block], rng.next());
     // Opacity accumulated over the block's segment, then where within it the threshold
     // is crossed (opacity grows exponentially along a homogeneous segment).
@@ -56,11 +57,12 @@ CoarseRay estimate(const VolumeScene& vs, const VolumeStyle& style, const Ray& r
       const float need = std::log((1 - style.ert_threshold) / (1 - alpha));
       const float per_unit = std::log(1 - std::min(o, 0.999999f));
       ert = ta + (tb - ta) * std::clamp(need / (per_unit * length), 0.0f, 1.0f);
+      marched -= tb - ert;
     }
     alpha = after;
     return true;
   });
-  if (out.front <= out.back) out.marched = std::min(out.back, ert) - out.front;
+  out.marched = marched;
   return out;
 }
 

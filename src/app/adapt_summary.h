@@ -1,0 +1,41 @@
+// How well a run met its frame-time target (Bruder et al. 2017, Fig. 5a and 7): the
+// error of frame times against the target, the worst overshoot, the quality spent, and
+// how good the prediction was.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/frame_record.h"
+
+namespace multiray::app {
+
+struct TargetingSummary {
+  int frames = 0;                // after warm-up
+  double rmse_ms = 0;            // sqrt(mean (frame_ms - target)^2)
+  double worst_ratio = 0;        // max frame_ms / target
+  double over_125 = 0;           // share of frames above 1.25 x target
+  double mean_step_scale = 0;    // mean of the step multiplier (1: the user's step)
+  double mean_image_scale = 0;   // mean of the image scale (1: full resolution)
+  double prediction_error = -1;  // mean |predicted - measured| / measured (-1: none)
+  double advise_ms = 0;          // mean time of the prediction (pre-pass etc.)
+};
+
+// Over records[warmup..]; frame times are FrameRecord::frame_ms (engine wall time).
+TargetingSummary targeting_summary(const std::vector<FrameRecord>& records, int warmup,
+                                   double target_ms);
+nlohmann::json targeting_to_json(const TargetingSummary& t);
+void print_targeting(const std::vector<std::string>& lanes,
+                     const std::vector<TargetingSummary>& summaries, double target_ms);
+
+// Frame time per frame of every lane against the target (a dashed line), frames at which
+// the transfer function switches marked, as the paper's Fig. 5a; below, the step
+// multiplier of each lane. `switches` are frame numbers.
+void write_targeting_svg(const std::string& path, const std::string& title,
+                         const std::vector<std::string>& lanes,
+                         const std::vector<std::vector<FrameRecord>>& records, double target_ms,
+                         const std::vector<int>& switches);
+
+}  // namespace multiray::app

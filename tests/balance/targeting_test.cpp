@@ -1,0 +1,98 @@
+// Frame-time targeting (balance/targeting.h): the paper's prediction-driven quality
+// choice against a synthetic cost, and the reactive baseline's overshoot at a sudden change.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "balance/targeting.h"
+
+namespace multiray::balance {
+namespace {
+
+TargetingConfig config(AdaptMode mode, double target = 50) {
+  TargetingConfig c;
+  c.target_ms = target;
+  c.mode = mode;
+  return c;
+}
+
+TEST(Targeting, QualityOfACostFactor) {
+  EXPECT_DOUBLE_EQ(quality_of(0.25, AdaptSpace::ray).step_scale, 4);
+  EXPECT_DOUBLE_EQ(quality_of(0.25, AdaptSpace::ray).image_scale, 1);
+  EXPECT_DOUBLE_EQ(quality_of(0.25, AdaptSpace::image).image_scale, 0.5);
+  const Quality h = quality_of(0.25, AdaptSpace::hybrid);
+  // Pixels times samples per pixel: image_scale^2 / step_scale is the cost factor.
+  EXPECT_NEAR(h.image_scale * h.image_scale / h.step_scale, 0.25, 1e-12);
+}
+
+TEST(Targeting, PredictMeetsTheTargetOfAnExactPredictor) {
+  FrameTimeTargeting t(config(AdaptMode::predict));
+  // Frame time: 10 ms fixed + 200 ms of full-quality work, scaled by the cost factor.
+  auto time = [](double c) { return 10 + 200 * c; };
+  double c = 1;
+  for (int f = 0; f < 20; ++f) {
+    c = t.next(time);
+    t.measured(time(c));
+  }
+  EXPECT_NEAR(time(c), 50, 0.5);
+  EXPECT_NEAR(c, 0.2, 0.01);
+}
+
+TEST(Targeting, PredictFollowsASuddenChangeWhereLastFrameOvershoots) {
+  // The cost jumps x4 at frame 10 (a transfer-function switch). The predictor knows the
+  // new frame's cost before it renders; last-frame adaptation learns it one frame late.
+  auto run = [](AdaptMode mode) {
+    FrameTimeTargeting t(config(mode));
+    double worst_after_switch = 0;
+    for (int f = 0; f < 20; ++f) {
+      const double work = f < 10 ? 100 : 400;
+      const double c = t.next([&](double x) { return work * x; });
+      const double ms = work * c;
+      t.measured(ms);
+      if (f >= 10) worst_after_switch = std::max(worst_after_switch, ms);
+    }
+    return worst_after_switch;
+  };
+  EXPECT_LE(run(AdaptMode::predict), 50 * 1.001);
+  EXPECT_GT(run(AdaptMode::last_frame), 50 * 3);  // the spike the paper shows
+}
+
+TEST(Targeting, QualityRisesAtMostByTheLimitPerFrame) {
+  FrameTimeTargeting t(config(AdaptMode::predict));
+  double c = t.next([](double x) { return 800 * x; });  // needs c = 1/16
+  EXPECT_NEAR(c, 1.0 / 16, 1e-3);
+  for (int f = 0; f < 5; ++f) {
+    const double before = c;
+    c = t.next([](double x) { return 10 * x; });  // suddenly cheap: full quality fits
+    EXPECT_LE(c, before / 0.8 + 1e-12);
+  }
+}
+
+TEST(Targeting, NoneKeepsFullQualityAndUnknownPredictionsKeepTheFactor) {
+  FrameTimeTargeting none(config(AdaptMode::none));
+  EXPECT_EQ(none.next([](double) { return 1e9; }), 1);
+  FrameTimeTargeting predict(config(AdaptMode::predict));
+  EXPECT_EQ(predict.next([](double) { return NAN; }), 1);
+  EXPECT_EQ(predict.next({}), 1);
+  FrameTimeTargeting last(config(AdaptMode::last_frame));
+  last.measured(NAN);
+  last.measured(-5);
+  EXPECT_EQ(last.next({}), 1);
+  last.measured(100);
+  EXPECT_NEAR(last.next({}), 0.5, 1e-12);
+}
+
+TEST(Targeting, BadConfigurationsAndNamesAreRefused) {
+  EXPECT_THROW(FrameTimeTargeting(config(AdaptMode::predict, 0)), std::invalid_argument);
+  EXPECT_THROW(FrameTimeTargeting(config(AdaptMode::predict, NAN)), std::invalid_argument);
+  TargetingConfig c = config(AdaptMode::predict);
+  c.min_cost = 0;
+  EXPECT_THROW(FrameTimeTargeting{c}, std::invalid_argument);
+  EXPECT_THROW(parse_adapt_mode("two-pass"), std::invalid_argument);
+  EXPECT_THROW(parse_adapt_space("object"), std::invalid_argument);
+  EXPECT_EQ(parse_adapt_mode("last-frame"), AdaptMode::last_frame);
+  EXPECT_EQ(parse_adapt_space("hybrid"), AdaptSpace::hybrid);
+}
+
+}  // namespace
+}  // namespace multiray::balance
