@@ -23,6 +23,7 @@ TargetingSummary targeting_summary(const std::vector<FrameRecord>& records, int 
     t.mean_step_scale += r.quality.step_scale;
     t.mean_image_scale += r.quality.image_scale;
     t.advise_ms += r.advise_ms;
+    t.learn_ms += r.learn_ms;
     if (r.predicted_ms > 0 && r.frame_ms > 0) {
       pred_err += std::abs(r.predicted_ms - r.frame_ms) / r.frame_ms;
       ++predicted;
@@ -32,6 +33,7 @@ TargetingSummary targeting_summary(const std::vector<FrameRecord>& records, int 
   const double n = t.frames;
   t.rmse_ms = std::sqrt(sq / n);
   t.over_125 /= n, t.mean_step_scale /= n, t.mean_image_scale /= n, t.advise_ms /= n;
+  t.learn_ms /= n;
   if (predicted > 0) t.prediction_error = pred_err / predicted;
   return t;
 }
@@ -44,21 +46,23 @@ nlohmann::json targeting_to_json(const TargetingSummary& t) {
           {"mean_step_scale", t.mean_step_scale},
           {"mean_image_scale", t.mean_image_scale},
           {"mean_prediction_error", t.prediction_error},
-          {"mean_advise_ms", t.advise_ms}};
+          {"mean_advise_ms", t.advise_ms},
+          {"mean_learn_ms", t.learn_ms}};
 }
 
 void print_targeting(const std::vector<std::string>& lanes,
                      const std::vector<TargetingSummary>& summaries, double target_ms) {
   fmt::print("\nframe-time target {:.1f} ms (frame times: engine wall time per frame)\n",
              target_ms);
-  fmt::print("{:<40} {:>9} {:>8} {:>8} {:>7} {:>7} {:>9}\n", "run", "RMSE ms", "worst", ">1.25x",
-             "step x", "image x", "pred err");
+  fmt::print("{:<40} {:>9} {:>8} {:>8} {:>7} {:>7} {:>9} {:>10}\n", "run", "RMSE ms", "worst",
+             ">1.25x", "step x", "image x", "pred err", "predict ms");
   for (size_t i = 0; i < lanes.size() && i < summaries.size(); ++i) {
     const TargetingSummary& t = summaries[i];
-    fmt::print("{:<40} {:9.1f} {:7.2f}x {:7.1f}% {:7.2f} {:7.2f} {:>9}\n", lanes[i], t.rmse_ms,
-               t.worst_ratio, 100 * t.over_125, t.mean_step_scale, t.mean_image_scale,
+    fmt::print("{:<40} {:9.1f} {:7.2f}x {:7.1f}% {:7.2f} {:7.2f} {:>9} {:10.2f}\n", lanes[i],
+               t.rmse_ms, t.worst_ratio, 100 * t.over_125, t.mean_step_scale, t.mean_image_scale,
                t.prediction_error < 0 ? std::string("-")
-                                      : fmt::format("{:.1f}%", 100 * t.prediction_error));
+                                      : fmt::format("{:.1f}%", 100 * t.prediction_error),
+               t.advise_ms + t.learn_ms);
   }
 }
 

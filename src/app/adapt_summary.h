@@ -21,6 +21,7 @@ struct TargetingSummary {
   double mean_image_scale = 0;   // mean of the image scale (1: full resolution)
   double prediction_error = -1;  // mean |predicted - measured| / measured (-1: none)
   double advise_ms = 0;          // mean time of the prediction (pre-pass etc.)
+  double learn_ms = 0;           // mean time of learning after a frame
 };
 
 // Over records[warmup..]; frame times are FrameRecord::frame_ms (engine wall time).

@@ -12,6 +12,9 @@ namespace multiray::app {
 
 VolumeRun::VolumeRun(SceneCache& scenes, const VolumeOptions& o, Vec3 background)
     : scenes_(scenes), o_(o), background_(background) {
+  Stopwatch clock;
+  volume_scene(scenes);  // the block histograms, built here so that their time is known
+  blocks_ms = clock.elapsed_ms();
   try {
     space_ = balance::parse_adapt_space(o.adapt_space);
     if (o.adapt == "auto") {
@@ -43,7 +46,7 @@ std::shared_ptr<const VolumeStyle> VolumeRun::style(const std::string& tf) {
   o.tf = tf;
   std::string note;
   auto made = make_style(scenes_, o, background_, &note);
-  last_style_ms = clock.elapsed_ms();
+  style_ms.push_back(clock.elapsed_ms());
   if (!note.empty()) notes.push_back(note);
   return styles_[tf] = made;
 }

@@ -37,8 +37,10 @@ class VolumeRun {
   const VolumeOptions& options() const { return o_; }
   // Lines for the user (the transfer function chosen automatically, ...).
   std::vector<std::string> notes;
-  // Time the last style took to build (opacity histograms, table), ms: Bruder's Table 3.
-  double last_style_ms = 0;
+  // Bruder's Table 3, ms: building the block histograms (once per volume) and each style
+  // (table and opacity histograms, once per transfer function).
+  double blocks_ms = 0;
+  std::vector<double> style_ms;
 
  private:
   SceneCache& scenes_;

@@ -62,6 +62,7 @@ std::unique_ptr<Balancer> build(Spec& spec, int n) {
     o.zeta = spec.get_double("zeta", o.zeta, 0.0, 1.0);
     o.tile = spec.get_int("tile", o.tile, 1, 4096);
     o.steal = spec.get_bool("steal", o.steal);
+    o.items = spec.get_string("items", o.items, {"rect", "rows", "tiles"});
     return std::make_unique<BruderBalancer>(n, o);
   }
   // The peers' balancers (peers_*.h), for comparison.

@@ -45,7 +45,7 @@ class Balancer {
 //   dlb[:interval=5][:band=0.1][:slow=0.75][:bits=auto][:layout=strips|views]
 //   hybrid[:bands=8][:taper=0.7][:tail=0.02][:alpha=0.5][:jump=0.2][:gamma=0.5]
 //         [:min_chunk=256][:steal=1][:overhead=0.1]
-//   bruder[:zeta=0.5][:tile=8][:steal=0]         (Bruder et al. 2017: predicted costs,
+//   bruder[:zeta=0.5][:tile=8][:steal=0][:items=rows]  (Bruder et al. 2017: predicted costs,
 //                                                 k-d tree of tiles)
 // and, to compare against the peers (peers_*.h):
 //   cycles[:interval_ms=1000]                    (Blender Cycles)

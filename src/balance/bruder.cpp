@@ -39,6 +39,32 @@ struct TileLayout {
   }
 };
 
+// The work items of a rectangle of tiles (tile units): per view it spans, one item
+// ("rect"), one per tile row ("rows") or one per tile ("tiles"), row-major.
+std::vector<WorkItem> items_of(const TileLayout& layout, const Rect& tiles,
+                               const std::string& mode) {
+  std::vector<WorkItem> out;
+  if (mode == "tiles") {
+    for (int ty = tiles.y0; ty < tiles.y1; ++ty)
+      for (int tx = tiles.x0; tx < tiles.x1; ++tx) out.push_back(layout.item(tx, ty));
+    return out;
+  }
+  // Pixel rect of tiles [x0, x1) x [y0, y1) within one view.
+  auto span = [&](int x0, int x1, int y0, int y1) {
+    const WorkItem a = layout.item(x0, y0), b = layout.item(x1 - 1, y1 - 1);
+    return WorkItem{Rect{a.rect.x0, a.rect.y0, b.rect.x1, b.rect.y1}, a.view};
+  };
+  const int step = mode == "rect" ? std::max(tiles.y1 - tiles.y0, 1) : 1;
+  for (int ty = tiles.y0; ty < tiles.y1; ty += step)
+    for (int x = tiles.x0; x < tiles.x1;) {
+      const int view_end = (x / layout.per_view + 1) * layout.per_view;
+      const int x1 = std::min(tiles.x1, view_end);
+      out.push_back(span(x, x1, ty, std::min(ty + step, tiles.y1)));
+      x = x1;
+    }
+  return out;
+}
+
 TileCosts tile_costs(const TileLayout& layout, const WeightMap& weights) {
   TileCosts grid{layout.columns, layout.rows, {}};
   grid.cost.reserve(size_t(layout.columns) * size_t(layout.rows));
@@ -89,7 +115,7 @@ BruderBalancer::BruderBalancer(int device_count, Options options)
 std::string BruderBalancer::spec() const {
   std::ostringstream s;
   s << "bruder:zeta=" << options_.zeta << ":tile=" << options_.tile
-    << ":steal=" << (options_.steal ? 1 : 0);
+    << ":steal=" << (options_.steal ? 1 : 0) << ":items=" << options_.items;
   return s.str();
 }
 
@@ -118,12 +144,12 @@ Plan BruderBalancer::plan(const FrameShape& shape, int /*frame*/) {
   plan.steal = options_.steal;
   plan.ratios = shares_;
   planned_work_.assign(size_t(device_count()), 0.0);
-  for (size_t i = 0; i < rects.size(); ++i)
+  for (size_t i = 0; i < rects.size(); ++i) {
     for (int ty = rects[i].y0; ty < rects[i].y1; ++ty)
-      for (int tx = rects[i].x0; tx < rects[i].x1; ++tx) {
-        plan.assigned[i].push_back(layout.item(tx, ty));
+      for (int tx = rects[i].x0; tx < rects[i].x1; ++tx)
         planned_work_[i] += grid.cost[size_t(ty) * size_t(grid.width) + size_t(tx)];
-      }
+    plan.assigned[i] = items_of(layout, rects[i], options_.items);
+  }
   last_size_ = FrameShape{shape.width, shape.height, shape.views, {}, {}};
   planned_ = true;
   return plan;

@@ -124,7 +124,11 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
   clock.restart();
   balancer_->update(stats_);
   rec.update_ms = clock.elapsed_ms();
-  if (advisor_) advisor_->measured(advice, rec, stats_);
+  if (advisor_) {
+    clock.restart();
+    advisor_->measured(advice, rec, stats_);
+    rec.learn_ms = clock.elapsed_ms();
+  }
   return rec;
 }
 

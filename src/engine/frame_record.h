@@ -20,6 +20,7 @@ struct FrameRecord {
   double update_ms = 0;               // balancer update()
   double advise_ms = 0;               // the frame advisor's prediction, if any (pre-pass etc.)
   double predicted_ms = 0;            // the advisor's predicted frame time (0: none)
+  double learn_ms = 0;                // the advisor learning from the frame (after it)
   int stolen = 0;                     // items taken by stealing
   std::vector<DeviceReport> devices;  // per device, with the engine's alive/share fields
   balance::Quality quality;           // the plan's quality, as rendered

@@ -145,9 +145,10 @@ TEST(BruderShares, UnknownCostsDeadDevicesAndExtremes) {
   EXPECT_THROW(prediction_shares({1, 1}, 0.5, {true}), std::invalid_argument);
 }
 
-BruderBalancer::Options options(double zeta, int tile = 8, bool steal = false) {
+BruderBalancer::Options options(double zeta, int tile = 8, bool steal = false,
+                                const std::string& items = "rows") {
   BruderBalancer::Options o;
-  o.zeta = zeta, o.tile = tile, o.steal = steal;
+  o.zeta = zeta, o.tile = tile, o.steal = steal, o.items = items;
   return o;
 }
 
@@ -170,26 +171,28 @@ TEST(Bruder, PlansAreValidForManyShapes) {
                                     weighted_shape(61, 45, 3, 1),  FrameShape{0, 0, 1, {}, {}}};
   for (int devices : {1, 2, 3, 5})
     for (int tile : {1, 8, 13})
-      for (bool steal : {false, true}) {
-        BruderBalancer b(devices, options(0.5, tile, steal));
-        std::vector<double> speeds;
-        for (int i = 0; i < devices; ++i) speeds.push_back(1.0 + i % 3);
-        // The size changes every frame, as under image-space resolution tuning.
-        for (int f = 0; f < int(shapes.size()) * 2; ++f) {
-          const FrameShape& shape = shapes[size_t(f) % shapes.size()];
-          const Plan p = b.plan(shape, f);
-          ASSERT_EQ(check_plan(p, shape, devices), "")
-              << shape.width << "x" << shape.height << "x" << shape.views << " tile " << tile
-              << " on " << devices;
-          EXPECT_EQ(p.steal, steal && shape.pixels() > 0);
-          b.update(simulate(p, shape, devices_with_speeds(speeds), testing::flat_cost(shape), f));
+      for (bool steal : {false, true})
+        for (const char* items : {"rect", "rows", "tiles"}) {
+          BruderBalancer b(devices, options(0.5, tile, steal, items));
+          std::vector<double> speeds;
+          for (int i = 0; i < devices; ++i) speeds.push_back(1.0 + i % 3);
+          // The size changes every frame, as under image-space resolution tuning.
+          for (int f = 0; f < int(shapes.size()) * 2; ++f) {
+            const FrameShape& shape = shapes[size_t(f) % shapes.size()];
+            const Plan p = b.plan(shape, f);
+            ASSERT_EQ(check_plan(p, shape, devices), "")
+                << shape.width << "x" << shape.height << "x" << shape.views << " tile " << tile
+                << " on " << devices;
+            EXPECT_EQ(p.steal, steal && shape.pixels() > 0);
+            b.update(
+                simulate(p, shape, devices_with_speeds(speeds), testing::flat_cost(shape), f));
+          }
         }
-      }
 }
 
 TEST(Bruder, ItemsAreTilesInRowMajorOrderOfTheDevicesRectangle) {
   const FrameShape shape{61, 45, 3, {}, {}};  // 8 tile columns per view, the last 5 wide
-  BruderBalancer b(3, options(0.5));
+  BruderBalancer b(3, options(0.5, 8, false, "tiles"));
   const Plan p = b.plan(shape, 0);
   for (const std::vector<WorkItem>& items : p.assigned) {
     ASSERT_FALSE(items.empty());
@@ -202,6 +205,28 @@ TEST(Bruder, ItemsAreTilesInRowMajorOrderOfTheDevicesRectangle) {
       EXPECT_TRUE(r.y0 > q.y0 || (r.y0 == q.y0 && tx == qx + 1)) << k;
     }
   }
+}
+
+// Rows and whole rectangles: the same pixels per device as tiles, in far fewer items, each
+// within one view.
+TEST(Bruder, RowsAndRectsMergeTheTilesOfADevice) {
+  const FrameShape shape{61, 45, 3, {}, {}};
+  BruderBalancer tiles(3, options(0.5, 8, false, "tiles")),
+      rows(3, options(0.5, 8, false, "rows")), rect(3, options(0.5, 8, false, "rect"));
+  const Plan pt = tiles.plan(shape, 0), pr = rows.plan(shape, 0), pc = rect.plan(shape, 0);
+  for (size_t d = 0; d < 3; ++d) {
+    int64_t a = 0, b = 0, c = 0;
+    for (const WorkItem& w : pt.assigned[d]) a += w.rect.area();
+    for (const WorkItem& w : pr.assigned[d]) b += w.rect.area();
+    for (const WorkItem& w : pc.assigned[d]) c += w.rect.area();
+    EXPECT_EQ(a, b);
+    EXPECT_EQ(a, c);
+    EXPECT_LT(pr.assigned[d].size(), pt.assigned[d].size());
+    EXPECT_LE(pc.assigned[d].size(), 3u);  // one per view the rectangle spans
+    for (const WorkItem& w : pr.assigned[d]) EXPECT_LE(w.rect.height(), 8);
+  }
+  EXPECT_TRUE(check_plan(pr, shape, 3).empty());
+  EXPECT_TRUE(check_plan(pc, shape, 3).empty());
 }
 
 TEST(Bruder, SplitsByPredictedDeviceCost) {
@@ -289,14 +314,14 @@ TEST(Bruder, GarbageUpdatesNeverGiveNaN) {
 
 TEST(Bruder, SpecRoundTripsAndBadOptionsThrow) {
   const auto b = make_balancer("bruder", 2);
-  EXPECT_EQ(b->spec(), "bruder:zeta=0.5:tile=8:steal=0");
+  EXPECT_EQ(b->spec(), "bruder:zeta=0.5:tile=8:steal=0:items=rows");
   EXPECT_EQ(make_balancer(b->spec(), 2)->spec(), b->spec());
-  const auto c = make_balancer("bruder:steal=1:tile=16:zeta=0", 3);
-  EXPECT_EQ(c->spec(), "bruder:zeta=0:tile=16:steal=1");
+  const auto c = make_balancer("bruder:steal=1:tile=16:zeta=0:items=tiles", 3);
+  EXPECT_EQ(c->spec(), "bruder:zeta=0:tile=16:steal=1:items=tiles");
   EXPECT_EQ(make_balancer(c->spec(), 3)->spec(), c->spec());
   EXPECT_TRUE(c->plan(FrameShape{40, 30, 1, {}, {}}, 0).steal);
   for (const char* bad : {"bruder:zeta=2", "bruder:zeta=-0.1", "bruder:tile=0", "bruder:tile=4097",
-                          "bruder:steal=5", "bruder:tiles=8"})
+                          "bruder:steal=5", "bruder:tiles=8", "bruder:items=pixels"})
     EXPECT_THROW(make_balancer(bad, 2), std::invalid_argument) << bad;
 }
 

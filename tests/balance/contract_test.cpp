@@ -34,7 +34,8 @@ const std::vector<std::string> kSpecs = {
     "hybrid:bands=3:taper=0.9:min_chunk=1",
     "bruder",
     "bruder:zeta=0:tile=5:steal=1",
-    "bruder:tile=1",
+    "bruder:tile=1:items=tiles",
+    "bruder:items=rect",
     // The peers' balancers (peers_*.h).
     "cycles",
     "cycles:interval_ms=0",
