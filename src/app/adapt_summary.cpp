@@ -10,7 +10,7 @@
 namespace multiray::app {
 
 TargetingSummary targeting_summary(const std::vector<FrameRecord>& records, int warmup,
-                                   double target_ms) {
+                                   double target_ms, const std::vector<ImageError>& errors) {
   TargetingSummary t;
   double sq = 0, pred_err = 0;
   int predicted = 0;
@@ -35,6 +35,14 @@ TargetingSummary targeting_summary(const std::vector<FrameRecord>& records, int 
   t.over_125 /= n, t.mean_step_scale /= n, t.mean_image_scale /= n, t.advise_ms /= n;
   t.learn_ms /= n;
   if (predicted > 0) t.prediction_error = pred_err / predicted;
+  double mse = 0, psnr = 0, ssim = 0;
+  int compared = 0, finite = 0;
+  for (size_t i = size_t(std::max(warmup, 0)); i < errors.size(); ++i) {
+    mse += errors[i].mse, ssim += errors[i].ssim, ++compared;
+    if (std::isfinite(errors[i].psnr_db)) psnr += errors[i].psnr_db, ++finite;
+  }
+  if (compared > 0) t.mse = mse / compared, t.ssim = ssim / compared;
+  if (finite > 0) t.psnr_db = psnr / finite;
   return t;
 }
 
@@ -47,22 +55,28 @@ nlohmann::json targeting_to_json(const TargetingSummary& t) {
           {"mean_image_scale", t.mean_image_scale},
           {"mean_prediction_error", t.prediction_error},
           {"mean_advise_ms", t.advise_ms},
-          {"mean_learn_ms", t.learn_ms}};
+          {"mean_learn_ms", t.learn_ms},
+          {"mse_vs_full_quality", t.mse},
+          {"psnr_db_vs_full_quality", t.psnr_db},
+          {"ssim_vs_full_quality", t.ssim}};
 }
 
 void print_targeting(const std::vector<std::string>& lanes,
                      const std::vector<TargetingSummary>& summaries, double target_ms) {
   fmt::print("\nframe-time target {:.1f} ms (frame times: engine wall time per frame)\n",
              target_ms);
-  fmt::print("{:<40} {:>9} {:>8} {:>8} {:>7} {:>7} {:>9} {:>10}\n", "run", "RMSE ms", "worst",
-             ">1.25x", "step x", "image x", "pred err", "predict ms");
+  fmt::print("{:<40} {:>9} {:>8} {:>8} {:>7} {:>7} {:>9} {:>10} {:>8} {:>6}\n", "run", "RMSE ms",
+             "worst", ">1.25x", "step x", "image x", "pred err", "predict ms", "PSNR dB", "SSIM");
   for (size_t i = 0; i < lanes.size() && i < summaries.size(); ++i) {
     const TargetingSummary& t = summaries[i];
-    fmt::print("{:<40} {:9.1f} {:7.2f}x {:7.1f}% {:7.2f} {:7.2f} {:>9} {:10.2f}\n", lanes[i],
-               t.rmse_ms, t.worst_ratio, 100 * t.over_125, t.mean_step_scale, t.mean_image_scale,
+    fmt::print("{:<40} {:9.1f} {:7.2f}x {:7.1f}% {:7.2f} {:7.2f} {:>9} {:10.2f} {:>8} {:>6}\n",
+               lanes[i], t.rmse_ms, t.worst_ratio, 100 * t.over_125, t.mean_step_scale,
+               t.mean_image_scale,
                t.prediction_error < 0 ? std::string("-")
                                       : fmt::format("{:.1f}%", 100 * t.prediction_error),
-               t.advise_ms + t.learn_ms);
+               t.advise_ms + t.learn_ms,
+               t.psnr_db < 0 ? std::string("-") : fmt::format("{:.1f}", t.psnr_db),
+               t.ssim < 0 ? std::string("-") : fmt::format("{:.3f}", t.ssim));
   }
 }
 

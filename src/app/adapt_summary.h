@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/image_metrics.h"
 #include "engine/frame_record.h"
 
 namespace multiray::app {
@@ -22,11 +23,15 @@ struct TargetingSummary {
   double prediction_error = -1;  // mean |predicted - measured| / measured (-1: none)
   double advise_ms = 0;          // mean time of the prediction (pre-pass etc.)
   double learn_ms = 0;           // mean time of learning after a frame
+  // Against the full-quality image of the first run (Bruder et al.'s Table 4); -1 when not
+  // compared. PSNR is averaged over frames with finite PSNR (identical frames are left out).
+  double mse = -1, psnr_db = -1, ssim = -1;
 };
 
 // Over records[warmup..]; frame times are FrameRecord::frame_ms (engine wall time).
+// `errors` (may be empty): each frame's image error against the reference, in frame order.
 TargetingSummary targeting_summary(const std::vector<FrameRecord>& records, int warmup,
-                                   double target_ms);
+                                   double target_ms, const std::vector<ImageError>& errors = {});
 nlohmann::json targeting_to_json(const TargetingSummary& t);
 void print_targeting(const std::vector<std::string>& lanes,
                      const std::vector<TargetingSummary>& summaries, double target_ms);

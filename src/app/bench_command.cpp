@@ -188,8 +188,8 @@ Runner add_bench_command(CLI::App& app) {
            {"frames", frames},
            {"summary", summary_to_json(summaries[k], b->warmup, ideal_mean, result.sampled)}});
       if (s.volume && s.volume->options().target_ms > 0)
-        runs_json.back()["targeting"] = targeting_to_json(
-            targeting_summary(lane.records, b->warmup, s.volume->options().target_ms));
+        runs_json.back()["targeting"] = targeting_to_json(targeting_summary(
+            lane.records, b->warmup, s.volume->options().target_ms, lane.error_vs_lane0));
       if (!b->trace_prefix.empty()) {
         TraceFile trace(fmt::format("{}-{}.trace", b->trace_prefix, name), lane.spec, s.devices);
         for (const balance::FrameStats& f : lane.stats) trace.writer().frame(f);
@@ -216,7 +216,8 @@ Runner add_bench_command(CLI::App& app) {
     if (s.volume && s.volume->options().target_ms > 0) {
       std::vector<TargetingSummary> t;
       for (const BenchLane& lane : result.lanes)
-        t.push_back(targeting_summary(lane.records, b->warmup, s.volume->options().target_ms));
+        t.push_back(targeting_summary(lane.records, b->warmup, s.volume->options().target_ms,
+                                      lane.error_vs_lane0));
       print_targeting(lanes, t, s.volume->options().target_ms);
       if (!b->report_dir.empty()) {
         std::vector<std::vector<FrameRecord>> records;

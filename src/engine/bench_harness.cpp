@@ -1,5 +1,7 @@
 #include "engine/bench_harness.h"
 
+#include <limits>
+
 #include <algorithm>
 #include <thread>
 
@@ -90,6 +92,16 @@ class BenchObserver : public FrameObserver {
         break;
       }
     frame_quality_.emplace_back(r->record.quality, hash);
+    const balance::Quality full;
+    if (r->lane == 0)
+      reference_ = r->record.quality.image_scale == full.image_scale &&
+                           r->record.quality.step_scale == full.step_scale
+                       ? r
+                       : nullptr;
+    else if (reference_ && reference_->frame == r->frame)
+      lane.error_vs_lane0.push_back(hash == result_.lanes[0].image_hashes.back()
+                                        ? ImageError{0, std::numeric_limits<double>::infinity(), 1}
+                                        : image_error(r->images.at(0), reference_->images.at(0)));
     if (r->frame == config_.partition_frame) lane.partition = r->rendered;
     if (config_.keep_stats) lane.stats.push_back(r->stats);
   }
@@ -102,6 +114,7 @@ class BenchObserver : public FrameObserver {
   const BenchConfig& config_;
   // This frame's lanes so far: the quality each rendered at and its image hash.
   std::vector<std::pair<balance::Quality, uint64_t>> frame_quality_;
+  std::shared_ptr<const FrameResult> reference_;  // lane 0's frame, if at full quality
   const std::function<void(int)>& on_frame_;
   BenchResult& result_;
 };

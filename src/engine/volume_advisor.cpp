@@ -64,8 +64,9 @@ FrameAdvice VolumeAdvisor::advise(int, const std::vector<ViewSetup>& views,
   if (!settings.volume_style || views.empty()) return advice;
   style_ = settings.volume_style;
   view_ = views.front();
-  // Pre-pass: the samples every output pixel takes at the full-quality step, and the work
-  // the step does not change.
+  // Pre-pass: the samples every output pixel takes at the full-quality step, each counted
+  // by its fetches (a shaded sample 1, a transparent one 1/7; volume_prepass.h), and the
+  // work the step does not change.
   Stopwatch clock;
   const double step = style_->step * vs_.volume.voxel_length() * settings.step_scale;
   std::vector<float> samples, fixed;
@@ -77,7 +78,7 @@ FrameAdvice VolumeAdvisor::advise(int, const std::vector<ViewSetup>& views,
     for (int y = 0; y < v.height; ++y)
       for (int x = 0; x < v.width; ++x) {
         const size_t c = size_t(y / p.stride) * size_t(p.width) + size_t(x / p.stride);
-        samples.push_back(float(double(p.marched[c]) / step));
+        samples.push_back(float(double(p.weighted[c]) / step));
         fixed.push_back(float(kRaySamples + kBlockSamples * double(p.blocks[c])));
         full_samples += samples.back(), fixed_samples += fixed.back();
       }

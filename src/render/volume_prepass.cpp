@@ -28,7 +28,7 @@ float draw_opacity(const std::array<float, 16>& histogram, float u) {
 }
 
 struct CoarseRay {
-  float marched = 0, front = 1, back = 0;
+  float marched = 0, weighted = 0, front = 1, back = 0;
   int blocks = 0;  // blocks the kernel's walk visits (up to the estimated termination)
 };
 
@@ -39,14 +39,17 @@ CoarseRay estimate(const VolumeScene& vs, const VolumeStyle& style, const Ray& r
   CoarseRay out;
   if (!(t0 < t1)) return out;
   const float voxel = vs.volume.voxel_length();
-  float alpha = 0, ert = INFINITY, marched = 0;
+  float alpha = 0, ert = INFINITY, marched = 0, weighted = 0;
   walk_blocks(vs.blocks, r, t0, t1, [&](size_t block, float ta, float tb) {
     if (ert == INFINITY) ++out.blocks;
     if (style.opacity.max_opacity[block] == 0) return true;
     if (out.front > out.back) out.front = ta;
     out.back = tb;
     if (ert < INFINITY) return true;  // the span continues; termination already found
+    const float shaded = style.shaded_fraction.empty() ? 1.0f : style.shaded_fraction[block];
+    const float cost = (1 + 6 * shaded) / 7;  // per unit length, relative to shaded samples
     marched += tb - ta;
+    weighted += (tb - ta) * cost;
     const float o = draw_opacity(style.opacity.histogram[block], rng.next());
     // Opacity accumulated over the block's segment, then where within it the threshold
     // is crossed (opacity grows exponentially along a homogeneous segment).
@@ -58,11 +61,12 @@ CoarseRay estimate(const VolumeScene& vs, const VolumeStyle& style, const Ray& r
       const float per_unit = std::log(1 - std::min(o, 0.999999f));
       ert = ta + (tb - ta) * std::clamp(need / (per_unit * length), 0.0f, 1.0f);
       marched -= tb - ert;
+      weighted -= (tb - ert) * cost;
     }
     alpha = after;
     return true;
   });
-  out.marched = marched;
+  out.marched = marched, out.weighted = weighted;
   return out;
 }
 
@@ -76,6 +80,7 @@ VolumePrepass run_prepass(const VolumeScene& vs, const VolumeStyle& style, const
   p.height = (view.height + p.stride - 1) / p.stride;
   const size_t n = size_t(p.width) * size_t(p.height);
   p.marched.assign(n, 0), p.front.assign(n, 1), p.back.assign(n, 0), p.blocks.assign(n, 0);
+  p.weighted.assign(n, 0);
   const PinholeCamera camera(view.camera, view.width, view.height);
   oneapi::tbb::parallel_for(0, p.height, [&](int cy) {
     for (int cx = 0; cx < p.width; ++cx) {
@@ -87,7 +92,7 @@ VolumePrepass run_prepass(const VolumeScene& vs, const VolumeStyle& style, const
       Rng rng = Rng::for_path(key, 0, view.frame, view.view, seed ^ 0x9e3779b97f4a7c15ull);
       const CoarseRay c = estimate(vs, style, ray, rng);
       p.marched[key] = c.marched, p.front[key] = c.front, p.back[key] = c.back;
-      p.blocks[key] = float(c.blocks);
+      p.blocks[key] = float(c.blocks), p.weighted[key] = c.weighted;
     }
   });
   for (size_t i = 0; i < n; ++i) {

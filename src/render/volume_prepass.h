@@ -28,6 +28,12 @@ struct VolumePrepass {
   // Per coarse pixel: blocks the raycaster's walk visits before the estimated termination
   // (a cost per ray that the step does not change).
   std::vector<float> blocks;
+  // Per coarse pixel: the marched length weighted by the cost of its samples, 1 for a
+  // shaded sample (7 fetches) and 1/7 for a transparent one (1 fetch), by each block's
+  // VolumeStyle::shaded_fraction. Our refinement of the paper's 7 fetches per sample: the
+  // raycaster shades only visible samples, so a transfer-function switch changes the cost
+  // per sample by up to 7x.
+  std::vector<float> weighted;
   // Features of the frame for the learned part of the model.
   double mean_marched = 0;  // world units, over all coarse pixels
   double max_depth = 0;     // longest span back - front, world units

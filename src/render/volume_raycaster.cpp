@@ -65,6 +65,25 @@ std::vector<float> table_max_opacity(const VolumeBlocks& b, const TransferTable&
   return out;
 }
 
+// Per block, the share of its voxels in density bins where `tf` is not zero.
+std::vector<float> shaded_fraction(const VolumeScene& vs, const TransferFunction& tf) {
+  std::array<bool, kDensityBins> visible{};
+  for (int b = 0; b < kDensityBins; ++b) {
+    const auto range = density_bin_range(vs.volume, b);
+    visible[size_t(b)] = max_opacity(tf, range[0], range[1]) > 0;
+  }
+  std::vector<float> out(vs.blocks.count(), 0.0f);
+  for (size_t i = 0; i < out.size(); ++i) {
+    uint64_t all = 0, shown = 0;
+    for (int b = 0; b < kDensityBins; ++b) {
+      all += vs.blocks.density[i][size_t(b)];
+      if (visible[size_t(b)]) shown += vs.blocks.density[i][size_t(b)];
+    }
+    out[i] = all > 0 ? float(double(shown) / double(all)) : 0.0f;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::shared_ptr<VolumeStyle> make_volume_style(const VolumeScene& vs, const TransferFunction& tf,
@@ -81,6 +100,7 @@ std::shared_ptr<VolumeStyle> make_volume_style(const VolumeScene& vs, const Tran
         {c[0], c[1], c[2], std::log1p(-std::min(alpha, 1.0f - 1e-6f))});
   }
   style->opacity = block_opacity(vs.blocks, tf, vs.volume);
+  style->shaded_fraction = shaded_fraction(vs, tf);
   style->opacity.max_opacity = table_max_opacity(vs.blocks, style->table);
   style->step = step;
   return style;

@@ -40,8 +40,12 @@ struct VolumeStyle {
   // 1 - exp(log(1 - alpha) * step / reference_step) (opacity correction, Engel et al.,
   // "Real-Time Volume Graphics" §1.4.3) without a pow per sample.
   std::vector<std::array<float, 4>> colour_log_transparency;
-  float reference_step = 1;     // voxel lengths
-  BlockOpacity opacity;         // per block of VolumeScene::blocks
+  float reference_step = 1;  // voxel lengths
+  BlockOpacity opacity;      // per block of VolumeScene::blocks
+  // Per block: the share of its voxels the transfer function gives a non-zero opacity
+  // (from the density histograms; conservative). The raycaster shades (6 more fetches)
+  // only such samples, so this is what makes a sample cost 1 or 7 fetches.
+  std::vector<float> shaded_fraction;
   float step = 0.5f;            // ray step in voxel lengths, before RenderSettings::step_scale
   float ert_threshold = 0.99f;  // early ray termination; > 1 turns it off
   bool skip_empty = true;       // empty-space skipping (never changes the image)
