@@ -16,7 +16,7 @@ MAX_BYTES=131072   # whole files up to this size
 HEAD_BYTES=32768   # the head of larger ones
 PART_BYTES=65536   # companion files (MTL, buffers, images) up to this size
 
-targets="ply obj gltf glb camera_json camera_render trace cli"
+targets="ply obj gltf glb camera_json camera_render trace cli volume transfer"
 for t in $targets; do
   mkdir -p "$out/$t"
   cp "$here/corpus/$t/"* "$out/$t/" 2>/dev/null || true
@@ -78,6 +78,7 @@ from() {
   find "$2" -type f -iname '*.gltf' | while IFS= read -r f; do add_gltf "$1" "$2" "$f"; done
   find "$2" -type f -iname '*.glb' | while IFS= read -r f; do add_plain glb "$1" "$2" "$f"; done
   find "$2" -type f -iname '*.trace' | while IFS= read -r f; do add_plain trace "$1" "$2" "$f"; done
+  find "$2" -type f -iname '*.nhdr' | while IFS= read -r f; do add_plain volume "$1" "$2" "$f"; done
 }
 
 from assimp "$ASSIMP"

@@ -130,7 +130,7 @@ void write_targeting_svg(const std::string& path, const std::string& title,
                        y0 + h / 2, label);
   };
   axis(top, h1, t_max, "frame time (ms)", "{:.0f}");
-  axis(top + h1 + gap, h2, s_max, "step x", "{:.0f}");
+  axis(top + h1 + gap, h2, s_max, "step x", "{:g}");
   for (int f : switches)
     svg += fmt::format(
         "<line x1='{0}' y1='{1}' x2='{0}' y2='{2}' stroke='#999' stroke-dasharray='2,3'/>"
