@@ -73,7 +73,9 @@ TEST(KdTiles, CoversEveryTileOnceAndMatchesShares) {
       for (int x = 0; x < w; ++x) slab = std::max(slab, cost_of(g, Rect{x, 0, x + 1, h}));
       for (int y = 0; y < h; ++y) slab = std::max(slab, cost_of(g, Rect{0, y, w, y + 1}));
       const double tolerance = std::ceil(std::log2(n)) * slab / 2 / total + 1e-12;
-      if (w * h > 30000) EXPECT_LT(tolerance, 0.025);  // a 1920×1080 frame in 8×8 tiles
+      if (w * h > 30000) {
+        EXPECT_LT(tolerance, 0.025);  // a 1920×1080 frame in 8×8 tiles
+      }
       for (int i = 0; i < n; ++i)
         EXPECT_NEAR(cost_of(g, rects[size_t(i)]) / total, shares[size_t(i)], tolerance)
             << w << "x" << h << " device " << i << " of " << n;
@@ -280,7 +282,9 @@ TEST(Bruder, KeepsLearningWhileTheImageSizeChanges) {
     const FrameShape shape = weighted_shape(80 + 17 * f, 48 + 9 * (f % 3), 1, f);
     const Plan p = b.plan(shape, f);
     ASSERT_EQ(check_plan(p, shape, 2), "");
-    if (f > 0) EXPECT_NEAR(p.ratios[0], 1 / 1.4, 1e-6) << f;
+    if (f > 0) {
+      EXPECT_NEAR(p.ratios[0], 1 / 1.4, 1e-6) << f;
+    }
     b.update(simulate(p, shape, devices_with_speeds({1, 0.4}), uniform_cost(shape, 1e-3), f));
   }
 }

@@ -146,7 +146,9 @@ TEST(VolumeAdvisor, PredictionsReachTheBalancerAndQualityIsRendered) {
     ASSERT_EQ(r->stats.shape.pixel_weight.size(), size_t(r->stats.shape.pixels()));
     if (r->lane < 2) {  // no adaptation: full quality, and the two balancers agree
       EXPECT_EQ(r->record.quality.step_scale, 1);
-      if (r->frame > 0) EXPECT_EQ(r->stats.shape.device_cost.size(), 2u);
+      if (r->frame > 0) {
+        EXPECT_EQ(r->stats.shape.device_cost.size(), 2u);
+      }
     }
   }
   // Lane 0 and 1 render identical images whatever the split.

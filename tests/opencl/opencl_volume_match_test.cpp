@@ -82,7 +82,9 @@ TEST(OpenClVolumeMatch, SampleMapMatchesTheCpu) {
   const Framebuffer cl_image = render_whole(cl, view, volume_settings(*c));
   expect_close("ball, sample map", render_whole(cpu, view, volume_settings(*c)), cl_image);
   for (size_t i = 0; i < map.size(); ++i)
-    if (map[i] == 0) EXPECT_EQ(max_component(cl_image.pixels[i]), 0.0f);
+    if (map[i] == 0) {
+      EXPECT_EQ(max_component(cl_image.pixels[i]), 0.0f);
+    }
 }
 
 // CPU + OpenCL under the engine (hybrid balancer), frame after frame: every frame's image
