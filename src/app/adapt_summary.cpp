@@ -35,6 +35,19 @@ TargetingSummary targeting_summary(const std::vector<FrameRecord>& records, int 
   t.over_125 /= n, t.mean_step_scale /= n, t.mean_image_scale /= n, t.advise_ms /= n;
   t.learn_ms /= n;
   if (predicted > 0) t.prediction_error = pred_err / predicted;
+  std::vector<int> known;
+  for (size_t i = size_t(std::max(warmup, 0)); i < records.size(); ++i) {
+    const FrameRecord& r = records[i];
+    for (size_t d = 0; d < r.predicted_cost.size() && d < r.measured_cost.size(); ++d) {
+      if (t.cost_error.size() <= d) t.cost_error.resize(d + 1, 0), known.resize(d + 1, 0);
+      if (r.predicted_cost[d] > 0 && r.measured_cost[d] > 0) {
+        t.cost_error[d] += std::abs(r.predicted_cost[d] - r.measured_cost[d]) / r.measured_cost[d];
+        ++known[d];
+      }
+    }
+  }
+  for (size_t d = 0; d < t.cost_error.size(); ++d)
+    t.cost_error[d] = known[d] > 0 ? t.cost_error[d] / known[d] : -1;
   double mse = 0, psnr = 0, ssim = 0;
   int compared = 0, finite = 0;
   for (size_t i = size_t(std::max(warmup, 0)); i < errors.size(); ++i) {
@@ -54,6 +67,7 @@ nlohmann::json targeting_to_json(const TargetingSummary& t) {
           {"mean_step_scale", t.mean_step_scale},
           {"mean_image_scale", t.mean_image_scale},
           {"mean_prediction_error", t.prediction_error},
+          {"mean_cost_prediction_error_per_device", t.cost_error},
           {"mean_advise_ms", t.advise_ms},
           {"mean_learn_ms", t.learn_ms},
           {"mse_vs_full_quality", t.mse},

@@ -23,6 +23,9 @@ struct TargetingSummary {
   double prediction_error = -1;  // mean |predicted - measured| / measured (-1: none)
   double advise_ms = 0;          // mean time of the prediction (pre-pass etc.)
   double learn_ms = 0;           // mean time of learning after a frame
+  // Per device: mean |predicted - measured| / measured cost per sample (Bruder et al.'s
+  // Fig. 6a), over frames where both are known; -1 where never.
+  std::vector<double> cost_error;
   // Against the full-quality image of the first run (Bruder et al.'s Table 4); -1 when not
   // compared. PSNR is averaged over frames with finite PSNR (identical frames are left out).
   double mse = -1, psnr_db = -1, ssim = -1;

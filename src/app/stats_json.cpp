@@ -34,7 +34,10 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
           {"quality",
            {{"image_scale", rec.quality.image_scale}, {"step_scale", rec.quality.step_scale}}},
           {"advise_ms", rec.advise_ms},
-          {"predicted_ms", rec.predicted_ms}};
+          {"learn_ms", rec.learn_ms},
+          {"predicted_ms", rec.predicted_ms},
+          {"predicted_cost", rec.predicted_cost},
+          {"measured_cost", rec.measured_cost}};
 }
 
 nlohmann::json devices_to_json(const std::vector<std::unique_ptr<Device>>& devices) {

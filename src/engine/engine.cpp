@@ -128,6 +128,7 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
     clock.restart();
     advisor_->measured(advice, rec, stats_);
     rec.learn_ms = clock.elapsed_ms();
+    advisor_->annotate(rec);
   }
   return rec;
 }

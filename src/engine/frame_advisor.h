@@ -34,6 +34,9 @@ class FrameAdvisor {
   // returned for it.
   virtual void measured(const FrameAdvice& advice, const FrameRecord& record,
                         const balance::FrameStats& stats) = 0;
+  // After measured(): adds what the advisor knows about the frame to its record (e.g. each
+  // device's predicted and measured cost). Default: nothing.
+  virtual void annotate(FrameRecord& /*record*/) const {}
 };
 
 }  // namespace multiray

@@ -14,13 +14,16 @@ namespace multiray {
 
 struct FrameRecord {
   int frame = 0;
-  double frame_ms = 0;                // engine wall time: devices started -> all finished
-  double plan_ms = 0;                 // balancer plan()
-  double gather_ms = 0;               // recovery of failed work + composition after the devices
-  double update_ms = 0;               // balancer update()
-  double advise_ms = 0;               // the frame advisor's prediction, if any (pre-pass etc.)
-  double predicted_ms = 0;            // the advisor's predicted frame time (0: none)
-  double learn_ms = 0;                // the advisor learning from the frame (after it)
+  double frame_ms = 0;      // engine wall time: devices started -> all finished
+  double plan_ms = 0;       // balancer plan()
+  double gather_ms = 0;     // recovery of failed work + composition after the devices
+  double update_ms = 0;     // balancer update()
+  double advise_ms = 0;     // the frame advisor's prediction, if any (pre-pass etc.)
+  double predicted_ms = 0;  // the advisor's predicted frame time (0: none)
+  double learn_ms = 0;      // the advisor learning from the frame (after it)
+  // Per device, the advisor's cost per unit of work predicted before the frame and measured
+  // after it (volumes: ms per sample; 0 where unknown). Empty without an advisor.
+  std::vector<double> predicted_cost, measured_cost;
   int stolen = 0;                     // items taken by stealing
   std::vector<DeviceReport> devices;  // per device, with the engine's alive/share fields
   balance::Quality quality;           // the plan's quality, as rendered

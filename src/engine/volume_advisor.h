@@ -41,6 +41,12 @@ class VolumeAdvisor : public FrameAdvisor {
   void measured(const FrameAdvice& advice, const FrameRecord& record,
                 const balance::FrameStats& stats) override;
 
+  // Records predicted_sigma() and measured_sigma() in the frame's record.
+  void annotate(FrameRecord& record) const override {
+    record.predicted_cost = predicted_sigma_;
+    record.measured_cost = measured_sigma_;
+  }
+
   const AdvisorTimings& timings() const { return timings_; }
   // Each device's sigma predicted for the last frame and the one measured after it (ms
   // per sample; 0 where unknown), for the prediction-error plots (paper Fig. 6a).

@@ -148,6 +148,11 @@ TEST(VolumeAdvisor, PredictionsReachTheBalancerAndQualityIsRendered) {
       EXPECT_EQ(r->record.quality.step_scale, 1);
       if (r->frame > 0) {
         EXPECT_EQ(r->stats.shape.device_cost.size(), 2u);
+        // Each device's predicted and measured cost per sample is in the record.
+        ASSERT_EQ(r->record.predicted_cost.size(), 2u);
+        ASSERT_EQ(r->record.measured_cost.size(), 2u);
+        EXPECT_GT(r->record.predicted_cost[1], 0);
+        EXPECT_GT(r->record.measured_cost[1], 0);
       }
     }
   }
