@@ -11,19 +11,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "support/run_cli.h"
+#include "support/cli_expect.h"
 
 namespace {
 
 using Result = multiray::testing::CliResult;
+using multiray::testing::temp_file;
 
 Result run(const std::string& args) { return multiray::testing::run_cli(MULTIRAY_BIN, args); }
-
-std::string temp_file(const std::string& name, const std::string& content) {
-  const std::string path = ::testing::TempDir() + "/" + name;
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
 
 // A 24^3 uint8 raw volume: a ball of 200 in zeros.
 std::string ball_raw() {
@@ -38,11 +33,7 @@ std::string ball_raw() {
 }
 
 void expect_input_error(const std::string& args, const std::string& word) {
-  const Result r = run(args);
-  EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
-  EXPECT_THAT(r.out, ::testing::HasSubstr(word)) << args;
-  EXPECT_THAT(r.out, ::testing::StartsWith("multiray: error: ")) << args;
-  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << args << "\n" << r.out;
+  multiray::testing::expect_input_error(run(args), args, word);
 }
 
 nlohmann::json read_json(const std::string& path) {
