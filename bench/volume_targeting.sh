@@ -22,7 +22,7 @@ for vol in aneurism cranium; do
   case $parts in *targeting*)
   "$build/src/app/multiray" bench "$file" --res 256x192 --frames "$frames" --warmup 10 \
     --ideal-frames 10 --sequence "$seqs/$vol.json" --target-ms 100 \
-    --adapt none,last-frame,predict --balancers bruder:zeta=0:steal=1 \
+    --adapt none,last-frame,two-pass,predict --balancers bruder:zeta=0:steal=1 \
     --devices cpu:threads=1,cpu:threads=1:speed=0.4 \
     --json "$out/$vol-targeting.json" --report "$out/$vol-targeting" > "$out/$vol-targeting.txt"
   ;; esac

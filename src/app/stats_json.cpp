@@ -18,6 +18,7 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
   }
   return {{"frame", rec.frame},
           {"frame_ms", rec.frame_ms},
+          {"first_pass_ms", rec.first_pass_ms},
           {"device_ms", device_ms},
           {"busy_ms", busy_ms},
           {"work_share", share},

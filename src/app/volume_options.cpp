@@ -47,7 +47,9 @@ void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
   cmd.add_option("--adapt", o.adapt,
                  "Volumes: frame-time targeting: none, last-frame (scale quality by the last "
                  "frame's time), predict (Bruder et al.: choose quality from the predicted "
-                 "time); auto: predict with --target-ms, else none. bench takes a list and runs "
+                 "time), two-pass (a quarter-quality pass, then a second pass filling the "
+                 "budget if the first took under half of it); auto: predict with --target-ms, "
+                 "else none. bench takes a list and runs "
                  "every balancer once per mode")
       ->capture_default_str();
   cmd.add_option("--adapt-space", o.adapt_space,

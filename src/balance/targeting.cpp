@@ -10,8 +10,9 @@ AdaptMode parse_adapt_mode(const std::string& text) {
   if (text == "none") return AdaptMode::none;
   if (text == "last-frame") return AdaptMode::last_frame;
   if (text == "predict") return AdaptMode::predict;
+  if (text == "two-pass") return AdaptMode::two_pass;
   throw std::invalid_argument("adaptation mode '" + text +
-                              "' must be none, last-frame or predict");
+                              "' must be none, last-frame, predict or two-pass");
 }
 
 AdaptSpace parse_adapt_space(const std::string& text) {
@@ -22,7 +23,17 @@ AdaptSpace parse_adapt_space(const std::string& text) {
 }
 
 const char* adapt_mode_name(AdaptMode m) {
-  return m == AdaptMode::none ? "none" : m == AdaptMode::last_frame ? "last-frame" : "predict";
+  switch (m) {
+    case AdaptMode::none:
+      return "none";
+    case AdaptMode::last_frame:
+      return "last-frame";
+    case AdaptMode::predict:
+      return "predict";
+    case AdaptMode::two_pass:
+      return "two-pass";
+  }
+  return "?";
 }
 
 const char* adapt_space_name(AdaptSpace s) {
@@ -45,6 +56,8 @@ FrameTimeTargeting::FrameTimeTargeting(const TargetingConfig& config) : config_(
     throw std::invalid_argument("the lowest cost factor must be in (0, 1]");
   if (!(config.max_raise > 0 && config.max_raise <= 1))
     throw std::invalid_argument("the quality raise limit must be in (0, 1]");
+  if (!(config.probe_cost >= config.min_cost && config.probe_cost <= 1))
+    throw std::invalid_argument("the first pass's cost factor must be in [lowest, 1]");
 }
 
 double FrameTimeTargeting::clamp_next(double wanted) const {
@@ -58,6 +71,9 @@ double FrameTimeTargeting::next(const std::function<double(double)>& predict_ms)
   switch (config_.mode) {
     case AdaptMode::none:
       cost_ = 1;
+      break;
+    case AdaptMode::two_pass:
+      cost_ = config_.probe_cost;
       break;
     case AdaptMode::last_frame:
       if (last_ms_ > 0) cost_ = clamp_next(cost_ * target / last_ms_);
@@ -85,6 +101,15 @@ double FrameTimeTargeting::next(const std::function<double(double)>& predict_ms)
       break;
     }
   }
+  return cost_;
+}
+
+std::optional<double> FrameTimeTargeting::second_pass(double first_ms) {
+  const double target = config_.target_ms;
+  if (config_.mode != AdaptMode::two_pass || !(std::isfinite(first_ms) && first_ms > 0) ||
+      first_ms >= 0.5 * target)
+    return std::nullopt;
+  cost_ = std::clamp(config_.probe_cost * (target - first_ms) / first_ms, config_.min_cost, 1.0);
   return cost_;
 }
 

@@ -12,19 +12,25 @@
 //    switch, a camera cut);
 //  - predict: the paper's Eq. 2 — with a predictor of the frame time at any c (the
 //    renderer's cost model, evaluated before rendering), extrapolate from the last c,
-//    then refine by bisection on predictions to the largest c predicted to meet the target.
-// In every mode quality rises by at most 1/`max_raise` per frame (the paper: the step
-// shrinks by at most x0.8 a frame), so a transient lull does not cause a spike.
+//    then refine by bisection on predictions to the largest c predicted to meet the target;
+//  - two-pass: the paper's other baseline — every frame first renders at `probe_cost`
+//    (a quarter of the work); if that pass took under half the target, a second pass at
+//    the cost factor extrapolated to fill the rest of the budget replaces its image
+//    (second_pass()). It measures instead of predicting, and pays for the probe every frame.
+// In the last-frame and predict modes quality rises by at most 1/`max_raise` per frame
+// (the paper: the step shrinks by at most x0.8 a frame), so a transient lull does not
+// cause a spike; two-pass measures the frame itself and needs no such limit.
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "balance/plan.h"
 
 namespace multiray::balance {
 
-enum class AdaptMode { none, last_frame, predict };
+enum class AdaptMode { none, last_frame, predict, two_pass };
 enum class AdaptSpace { ray, image, hybrid };
 
 struct TargetingConfig {
@@ -34,10 +40,11 @@ struct TargetingConfig {
   double min_cost = 1.0 / 64;  // lowest cost factor (coarsest quality), in (0, 1]
   double max_raise = 0.8;      // c_next <= c / max_raise, in (0, 1]
   int bisection_steps = 12;
+  double probe_cost = 0.25;  // two-pass: the cost factor of the first pass, in [min_cost, 1]
 };
 
-// "none" | "last-frame" | "predict", "ray" | "image" | "hybrid"; std::invalid_argument
-// (one line) otherwise.
+// "none" | "last-frame" | "predict" | "two-pass", "ray" | "image" | "hybrid";
+// std::invalid_argument (one line) otherwise.
 AdaptMode parse_adapt_mode(const std::string& text);
 AdaptSpace parse_adapt_space(const std::string& text);
 const char* adapt_mode_name(AdaptMode m);
@@ -56,6 +63,11 @@ class FrameTimeTargeting {
   // the predicted frame time at cost factor c (it may return a non-finite or
   // non-positive number when it cannot predict yet: the factor is then kept).
   double next(const std::function<double(double)>& predict_ms);
+  // Two-pass mode, after the first pass of a frame took `first_ms`: the cost factor of a
+  // second pass that fits the rest of the target (time taken as proportional to the cost
+  // factor), or none when the first pass used half the target or more (it is then the
+  // frame), when the time is garbage or in any other mode.
+  std::optional<double> second_pass(double first_ms);
   // Tells the measured time of the frame last planned (ms; garbage is ignored).
   void measured(double frame_ms);
 

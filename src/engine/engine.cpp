@@ -85,9 +85,46 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
   FrameRecord rec;
   rec.frame = frame;
   apply_perturbations(frame);
-  balance::FrameShape shape;
   FrameAdvice advice;
-  plan_frame(frame, views, settings, shape, advice, rec);
+  if (advisor_) {
+    Stopwatch clock;
+    advice = advisor_->advise(frame, views, settings);
+    advice.advise_ms = rec.advise_ms = clock.elapsed_ms();
+    rec.predicted_ms = advice.predicted_ms;
+  }
+  render_pass(frame, views, settings, advice, images, rec);
+  if (advisor_)
+    if (std::optional<FrameAdvice> second = advisor_->second_pass(advice, rec)) {
+      const FrameRecord first = std::move(rec);
+      advice = std::move(*second);
+      rec = FrameRecord{};
+      rec.frame = frame;
+      render_pass(frame, views, settings, advice, images, rec);
+      rec.first_pass_ms = first.frame_ms;
+      rec.frame_ms += first.frame_ms, rec.plan_ms += first.plan_ms;
+      rec.gather_ms += first.gather_ms, rec.stolen += first.stolen;
+      rec.advise_ms = first.advise_ms;
+      rec.predicted_ms = advice.predicted_ms > 0 ? first.frame_ms + advice.predicted_ms : 0;
+      rec.messages.insert(rec.messages.begin(), first.messages.begin(), first.messages.end());
+    }
+
+  // The balancer and the advisor learn from the pass that became the frame.
+  Stopwatch clock;
+  balancer_->update(stats_);
+  rec.update_ms = clock.elapsed_ms();
+  if (advisor_) {
+    clock.restart();
+    advisor_->measured(advice, rec, stats_);
+    rec.learn_ms = clock.elapsed_ms();
+    advisor_->annotate(rec);
+  }
+  return rec;
+}
+
+void Engine::render_pass(int frame, const std::vector<ViewSetup>& views,
+                         const RenderSettings& settings, const FrameAdvice& advice,
+                         std::vector<Framebuffer>& images, FrameRecord& rec) {
+  const balance::FrameShape shape = plan_pass(frame, views, settings, advice, rec);
   size_images(images, views.size(), shape.width, shape.height);
 
   // The plan's quality: smaller views (rendered into scaled_images_, upsampled after) and
@@ -121,36 +158,21 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
   stats_.frame = frame;
   stats_.shape = rendered;
   record(reports, rec);
-  clock.restart();
-  balancer_->update(stats_);
-  rec.update_ms = clock.elapsed_ms();
-  if (advisor_) {
-    clock.restart();
-    advisor_->measured(advice, rec, stats_);
-    rec.learn_ms = clock.elapsed_ms();
-    advisor_->annotate(rec);
-  }
-  return rec;
 }
 
-void Engine::plan_frame(int frame, const std::vector<ViewSetup>& views,
-                        const RenderSettings& settings, balance::FrameShape& shape,
-                        FrameAdvice& advice, FrameRecord& rec) {
+balance::FrameShape Engine::plan_pass(int frame, const std::vector<ViewSetup>& views,
+                                      const RenderSettings& settings, const FrameAdvice& advice,
+                                      FrameRecord& rec) {
+  balance::FrameShape shape;
   shape.width = views.at(0).width;
   shape.height = views.at(0).height;
   shape.views = int(views.size());
   shape.pixel_weight = pixel_weights(views, settings);
+  // Sample maps say where samples are; predictions only add where there are none.
+  if (shape.pixel_weight.empty() && int64_t(advice.pixel_work.size()) == shape.pixels())
+    shape.pixel_weight = advice.pixel_work;
+  shape.device_cost = advice.device_cost;
   Stopwatch clock;
-  if (advisor_) {
-    advice = advisor_->advise(frame, views, settings);
-    advice.advise_ms = rec.advise_ms = clock.elapsed_ms();
-    rec.predicted_ms = advice.predicted_ms;
-    // Sample maps say where samples are; predictions only add where there are none.
-    if (shape.pixel_weight.empty() && int64_t(advice.pixel_work.size()) == shape.pixels())
-      shape.pixel_weight = advice.pixel_work;
-    shape.device_cost = advice.device_cost;
-  }
-  clock.restart();
   last_plan_ = balancer_->plan(balance::scaled_shape(shape, advice.quality.image_scale), frame);
   rec.plan_ms = clock.elapsed_ms();
   if (advisor_) {
@@ -160,6 +182,7 @@ void Engine::plan_frame(int frame, const std::vector<ViewSetup>& views,
     last_plan_.quality = advice.quality;
   }
   rec.quality = last_plan_.quality;
+  return shape;
 }
 
 std::vector<DeviceReport> Engine::run_devices(const FrameJob& job, WorkSource& source) {

@@ -34,7 +34,9 @@ class Engine {
   // output-size image per view) and returns the measurements. Applies the plan's quality:
   // at image_scale < 1 the views are rendered smaller and upsampled (nearest pixel); the
   // settings' step_scale is multiplied by the plan's. Throws DeviceError when every device
-  // has failed, InputError for a reduced image scale with irregular sampling.
+  // has failed, InputError for a reduced image scale with irregular sampling. With an
+  // advisor that asks for a second pass (two-pass targeting) the frame is rendered twice
+  // and the record covers both (FrameRecord::first_pass_ms).
   FrameRecord render_frame(int frame, const std::vector<ViewSetup>& views,
                            const RenderSettings& settings, std::vector<Framebuffer>& images);
   // The same into images() (tests, simple callers).
@@ -67,9 +69,15 @@ class Engine {
 
  private:
   void apply_perturbations(int frame);
-  // The plan of `frame`: the balancer's, over the advisor's predictions and at its quality.
-  void plan_frame(int frame, const std::vector<ViewSetup>& views, const RenderSettings& settings,
-                  balance::FrameShape& shape, FrameAdvice& advice, FrameRecord& rec);
+  // One pass over `views`: plan (plan_pass), render, recover failures, upsample into
+  // `images`; fills rec's times and devices and stats_. The caller updates the balancer.
+  void render_pass(int frame, const std::vector<ViewSetup>& views, const RenderSettings& settings,
+                   const FrameAdvice& advice, std::vector<Framebuffer>& images, FrameRecord& rec);
+  // The plan of a pass (into last_plan_): the balancer's, over the advisor's predictions
+  // and at its quality. Returns the output-size shape the plan was made for (unscaled).
+  balance::FrameShape plan_pass(int frame, const std::vector<ViewSetup>& views,
+                                const RenderSettings& settings, const FrameAdvice& advice,
+                                FrameRecord& rec);
   std::vector<DeviceReport> run_devices(const FrameJob& job, WorkSource& source);
   // Re-renders what failed devices left, on the first live device; drops the failed ones.
   void recover_failures(const FrameJob& job, DispatchSource& source,

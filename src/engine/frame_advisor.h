@@ -7,6 +7,7 @@
 // stay pure policy over the numbers.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,14 @@ class FrameAdvisor {
   // returned for it.
   virtual void measured(const FrameAdvice& advice, const FrameRecord& record,
                         const balance::FrameStats& stats) = 0;
+  // Two-pass frame-time targeting: after the first pass of a frame (`first` as advised,
+  // `first_pass` as measured), the advice for a second pass over the same views that
+  // replaces the first pass's image, or none when the first pass is the frame. Called
+  // before measured(), which then sees the pass that became the frame. Default: none.
+  virtual std::optional<FrameAdvice> second_pass(const FrameAdvice& /*first*/,
+                                                 const FrameRecord& /*first_pass*/) {
+    return std::nullopt;
+  }
   // After measured(): adds what the advisor knows about the frame to its record (e.g. each
   // device's predicted and measured cost). Default: nothing.
   virtual void annotate(FrameRecord& /*record*/) const {}

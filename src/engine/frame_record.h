@@ -14,7 +14,11 @@ namespace multiray {
 
 struct FrameRecord {
   int frame = 0;
-  double frame_ms = 0;      // engine wall time: devices started -> all finished
+  double frame_ms = 0;  // engine wall time: devices started -> all finished
+  // Two-pass targeting (FrameAdvisor::second_pass): the first pass's wall time, included in
+  // frame_ms (as are its plan and gather times in theirs); 0 for one pass. The
+  // device reports are the second pass's.
+  double first_pass_ms = 0;
   double plan_ms = 0;       // balancer plan()
   double gather_ms = 0;     // recovery of failed work + composition after the devices
   double update_ms = 0;     // balancer update()

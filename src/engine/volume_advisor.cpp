@@ -43,7 +43,7 @@ CostFeatures VolumeAdvisor::features(const ViewSetup& view, const VolumeStyle& s
           log2_clamped(1 + prepass_ms),         max_depth / voxel / 256};
 }
 
-double VolumeAdvisor::predict_ms(double c, double full_samples, double fixed_samples) const {
+double VolumeAdvisor::predict_ms(double c) const {
   const balance::Quality q = balance::quality_of(c, config_.targeting.space);
   const CostFeatures x = features(view_, *style_, q.step_scale, prepass_ms_, max_depth_);
   double rate = 0;  // samples per ms of all live devices together
@@ -54,7 +54,7 @@ double VolumeAdvisor::predict_ms(double c, double full_samples, double fixed_sam
     rate += 1 / sigma;
   }
   const double samples =
-      q.image_scale * q.image_scale * (full_samples / q.step_scale + fixed_samples);
+      q.image_scale * q.image_scale * (full_samples_ / q.step_scale + fixed_samples_);
   return rate > 0 ? samples / rate : NAN;
 }
 
@@ -69,8 +69,8 @@ FrameAdvice VolumeAdvisor::advise(int, const std::vector<ViewSetup>& views,
   // work the step does not change.
   Stopwatch clock;
   const double step = style_->step * vs_.volume.voxel_length() * settings.step_scale;
-  std::vector<float> samples, fixed;
-  double full_samples = 0, fixed_samples = 0;
+  samples_.clear(), fixed_.clear();
+  full_samples_ = fixed_samples_ = 0;
   max_depth_ = 0;
   for (const ViewSetup& v : views) {
     const VolumePrepass p = run_prepass(vs_, *style_, v, config_.prepass_stride, settings.seed);
@@ -78,32 +78,45 @@ FrameAdvice VolumeAdvisor::advise(int, const std::vector<ViewSetup>& views,
     for (int y = 0; y < v.height; ++y)
       for (int x = 0; x < v.width; ++x) {
         const size_t c = size_t(y / p.stride) * size_t(p.width) + size_t(x / p.stride);
-        samples.push_back(float(double(p.weighted[c]) / step));
-        fixed.push_back(float(kRaySamples + kBlockSamples * double(p.blocks[c])));
-        full_samples += samples.back(), fixed_samples += fixed.back();
+        samples_.push_back(float(double(p.weighted[c]) / step));
+        fixed_.push_back(float(kRaySamples + kBlockSamples * double(p.blocks[c])));
+        full_samples_ += samples_.back(), fixed_samples_ += fixed_.back();
       }
   }
   timings_.prepass_ms = prepass_ms_ = clock.elapsed_ms();
 
   clock.restart();
-  const double c =
-      targeting_.next([&](double cost) { return predict_ms(cost, full_samples, fixed_samples); });
+  const double c = targeting_.next([&](double cost) { return predict_ms(cost); });
+  advice_at(c, advice);
+  timings_.predict_ms = clock.elapsed_ms();
+  return advice;
+}
+
+void VolumeAdvisor::advice_at(double c, FrameAdvice& advice) {
   advice.quality = balance::quality_of(c, config_.targeting.space);
-  advice.predicted_ms = predict_ms(c, full_samples, fixed_samples);
+  advice.predicted_ms = predict_ms(c);
   if (!std::isfinite(advice.predicted_ms)) advice.predicted_ms = 0;
   // The work of each pixel at the chosen step, in samples; sigma is per such sample.
-  advice.pixel_work.resize(samples.size());
+  advice.pixel_work.resize(samples_.size());
   const float inv_step = float(1 / advice.quality.step_scale);
-  for (size_t i = 0; i < samples.size(); ++i)
-    advice.pixel_work[i] = samples[i] * inv_step + fixed[i];
+  for (size_t i = 0; i < samples_.size(); ++i)
+    advice.pixel_work[i] = samples_[i] * inv_step + fixed_[i];
   const CostFeatures x =
       features(view_, *style_, advice.quality.step_scale, prepass_ms_, max_depth_);
+  advice.device_cost.clear();
   for (size_t i = 0; i < models_.size(); ++i) {
     predicted_sigma_[i] = models_[i].predict(x);
     advice.device_cost.push_back(predicted_sigma_[i]);
   }
-  timings_.predict_ms = clock.elapsed_ms();
-  return advice;
+}
+
+std::optional<FrameAdvice> VolumeAdvisor::second_pass(const FrameAdvice& first,
+                                                      const FrameRecord& first_pass) {
+  const std::optional<double> c = targeting_.second_pass(first_pass.frame_ms);
+  if (!c || !style_) return std::nullopt;
+  FrameAdvice second = first;
+  advice_at(*c, second);
+  return second;
 }
 
 void VolumeAdvisor::measured(const FrameAdvice& advice, const FrameRecord& record,

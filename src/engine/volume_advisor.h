@@ -40,6 +40,9 @@ class VolumeAdvisor : public FrameAdvisor {
                      const RenderSettings& settings) override;
   void measured(const FrameAdvice& advice, const FrameRecord& record,
                 const balance::FrameStats& stats) override;
+  // Two-pass targeting (balance/targeting.h): a second pass when the first left time.
+  std::optional<FrameAdvice> second_pass(const FrameAdvice& first,
+                                         const FrameRecord& first_pass) override;
 
   // Records predicted_sigma() and measured_sigma() in the frame's record.
   void annotate(FrameRecord& record) const override {
@@ -57,9 +60,11 @@ class VolumeAdvisor : public FrameAdvisor {
  private:
   CostFeatures features(const ViewSetup& view, const VolumeStyle& style, double step_scale,
                         double prepass_ms, double max_depth) const;
-  // Predicted frame time at cost factor c, given the frame's samples at the full-quality
-  // step and the work the step does not change (NaN while a live device has no model).
-  double predict_ms(double c, double full_samples, double fixed_samples) const;
+  // Predicted frame time at cost factor c from the last pre-pass (NaN while a live device
+  // has no model).
+  double predict_ms(double c) const;
+  // Fills the quality, predictions and per-pixel work of `advice` at cost factor c.
+  void advice_at(double c, FrameAdvice& advice);
 
   const VolumeScene& vs_;
   VolumeAdvisorConfig config_;
@@ -70,6 +75,10 @@ class VolumeAdvisor : public FrameAdvisor {
   ViewSetup view_;
   std::shared_ptr<const VolumeStyle> style_;
   double prepass_ms_ = 0, max_depth_ = 0;
+  // The pre-pass's samples of each output pixel at the full-quality step and the work the
+  // step does not change (samples' worth), and their sums.
+  std::vector<float> samples_, fixed_;
+  double full_samples_ = 0, fixed_samples_ = 0;
   AdvisorTimings timings_;
   std::vector<double> predicted_sigma_, measured_sigma_;
 };

@@ -82,13 +82,40 @@ TEST(Targeting, NoneKeepsFullQualityAndUnknownPredictionsKeepTheFactor) {
   EXPECT_NEAR(last.next({}), 0.5, 1e-12);
 }
 
+TEST(Targeting, TwoPassProbesAQuarterAndFillsTheRestOfTheBudget) {
+  FrameTimeTargeting t(config(AdaptMode::two_pass));  // 50 ms
+  // Frame time proportional to the cost factor, 80 ms at full quality: the probe takes
+  // 20 ms, under half the target, so a second pass gets the remaining 30 ms.
+  EXPECT_EQ(t.next({}), 0.25);
+  const std::optional<double> c2 = t.second_pass(20);
+  ASSERT_TRUE(c2.has_value());
+  EXPECT_NEAR(*c2, 0.25 * 30 / 20, 1e-12);
+  EXPECT_NEAR(80 * *c2, 30, 1e-9);
+  EXPECT_EQ(t.cost(), *c2);
+  // The next frame probes again; a probe that took half the target or more is the frame.
+  EXPECT_EQ(t.next({}), 0.25);
+  EXPECT_FALSE(t.second_pass(25).has_value());
+  EXPECT_FALSE(t.second_pass(NAN).has_value());
+  EXPECT_FALSE(t.second_pass(-1).has_value());
+  EXPECT_EQ(t.cost(), 0.25);
+  // A cheap frame: the second pass is capped at full quality.
+  EXPECT_EQ(t.second_pass(1), 1.0);
+  // Only the two-pass mode has a second pass.
+  FrameTimeTargeting predict(config(AdaptMode::predict));
+  EXPECT_FALSE(predict.second_pass(1).has_value());
+}
+
 TEST(Targeting, BadConfigurationsAndNamesAreRefused) {
   EXPECT_THROW(FrameTimeTargeting(config(AdaptMode::predict, 0)), std::invalid_argument);
   EXPECT_THROW(FrameTimeTargeting(config(AdaptMode::predict, NAN)), std::invalid_argument);
   TargetingConfig c = config(AdaptMode::predict);
   c.min_cost = 0;
   EXPECT_THROW(FrameTimeTargeting{c}, std::invalid_argument);
-  EXPECT_THROW(parse_adapt_mode("two-pass"), std::invalid_argument);
+  c = config(AdaptMode::two_pass);
+  c.probe_cost = 2;
+  EXPECT_THROW(FrameTimeTargeting{c}, std::invalid_argument);
+  EXPECT_THROW(parse_adapt_mode("twopass"), std::invalid_argument);
+  EXPECT_EQ(parse_adapt_mode("two-pass"), AdaptMode::two_pass);
   EXPECT_THROW(parse_adapt_space("object"), std::invalid_argument);
   EXPECT_EQ(parse_adapt_mode("last-frame"), AdaptMode::last_frame);
   EXPECT_EQ(parse_adapt_space("hybrid"), AdaptSpace::hybrid);

@@ -43,7 +43,7 @@ nlohmann::json read_json(const std::string& path) {
 
 TEST(VolumeCli, RendersARawVolumeInEveryAdaptationMode) {
   const std::string raw = ball_raw();
-  for (const char* mode : {"none", "last-frame", "predict"}) {
+  for (const char* mode : {"none", "last-frame", "predict", "two-pass"}) {
     const std::string dir = ::testing::TempDir() + "/vol_" + mode;
     std::filesystem::remove_all(dir);
     const Result r =

@@ -164,5 +164,43 @@ TEST(VolumeAdvisor, PredictionsReachTheBalancerAndQualityIsRendered) {
   EXPECT_GT(keep.results.back()->record.predicted_ms, 0);
 }
 
+TEST(VolumeAdvisor, TwoPassRendersASecondPassOnlyWhenTheFirstLeftTime) {
+  Ball b;
+  CpuDevice d0(*b.cache, {}, "cpu"), d1(*b.cache, CpuDeviceOptions{.speed = 0.5}, "cpu:speed=0.5");
+  RenderSettings settings;
+  settings.kernel = "volume";
+  settings.spp = 1;
+  settings.volume_style = b.style;
+  std::vector<std::unique_ptr<balance::Balancer>> lanes;
+  for (const char* spec : {"bruder", "static", "bruder"})
+    lanes.push_back(balance::make_balancer(spec, 2));
+  Session session({&d0, &d1}, std::move(lanes), FrameViews(CameraRig::single(), 48, 36, {}),
+                  CameraPath::fixed(b.camera), settings);
+  // Lane 0: a target no pass can miss (the second pass is full quality); lane 1: no
+  // adaptation; lane 2: a target the first pass already misses (it is the frame).
+  session.set_advisors([&](size_t lane) -> std::unique_ptr<FrameAdvisor> {
+    VolumeAdvisorConfig c;
+    c.targeting.target_ms = lane == 0 ? 1e6 : 1e-3;
+    c.targeting.mode = lane == 1 ? balance::AdaptMode::none : balance::AdaptMode::two_pass;
+    return std::make_unique<VolumeAdvisor>(volume_scene(*b.cache), 2, c);
+  });
+  Keep keep;
+  ASSERT_EQ(session.run(0, 3, keep), 3);
+  ASSERT_EQ(keep.results.size(), 9u);
+  for (size_t i = 0; i < keep.results.size(); i += 3) {
+    const FrameRecord& two = keep.results[i]->record;
+    EXPECT_EQ(two.quality.step_scale, 1);
+    EXPECT_GT(two.first_pass_ms, 0);
+    EXPECT_GT(two.frame_ms, two.first_pass_ms);
+    // The second pass replaced the quarter-quality image: the frame is the full-quality one.
+    EXPECT_EQ(image_hash(keep.results[i]->images[0]), image_hash(keep.results[i + 1]->images[0]));
+    const FrameRecord& one = keep.results[i + 2]->record;
+    EXPECT_EQ(one.quality.step_scale, 4);
+    EXPECT_EQ(one.first_pass_ms, 0);
+    EXPECT_NE(image_hash(keep.results[i + 2]->images[0]),
+              image_hash(keep.results[i + 1]->images[0]));
+  }
+}
+
 }  // namespace
 }  // namespace multiray
