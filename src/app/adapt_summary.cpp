@@ -5,7 +5,7 @@
 
 #include <fmt/core.h>
 
-#include "core/file_io.h"
+#include "app/svg_chart.h"
 
 namespace multiray::app {
 
@@ -94,22 +94,6 @@ void print_targeting(const std::vector<std::string>& lanes,
   }
 }
 
-namespace {
-const char* lane_colour(size_t i) {
-  static const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
-                                   "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
-  return kColours[i % 10];
-}
-
-// A "nice" axis maximum at or above x: 1, 2 or 5 times a power of ten.
-double nice_ceiling(double x) {
-  const double p = std::pow(10.0, std::floor(std::log10(std::max(x, 1e-9))));
-  for (double m : {1.0, 2.0, 5.0, 10.0})
-    if (m * p >= x) return m * p;
-  return 10 * p;
-}
-}  // namespace
-
 void write_targeting_svg(const std::string& path, const std::string& title,
                          const std::vector<std::string>& lanes,
                          const std::vector<std::vector<FrameRecord>>& records, double target_ms,
@@ -122,59 +106,62 @@ void write_targeting_svg(const std::string& path, const std::string& title,
       t_max = std::max(t_max, r.frame_ms), s_max = std::max(s_max, r.quality.step_scale);
   }
   if (n == 0) return;
-  t_max = nice_ceiling(t_max), s_max = nice_ceiling(s_max);
-  const double W = 900, left = 60, plot_w = W - left - 20, top = 40, h1 = 260, h2 = 120, gap = 50,
-               H = top + h1 + gap + h2 + 50;
-  auto x_of = [&](double f) { return left + (n > 1 ? f / double(n - 1) : 0.5) * plot_w; };
-  std::string svg = fmt::format(
-      "<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' font-family='sans-serif' "
-      "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n"
-      "<text x='{}' y='20' font-size='15'>{}</text>\n",
-      W, H, left, title);
-  auto axis = [&](double y0, double h, double max, const char* label, const char* fmt_str) {
-    for (int k = 0; k <= 4; ++k) {
-      const double y = y0 + h * (1 - k / 4.0);
-      svg += fmt::format(
-          "<line x1='{}' y1='{}' x2='{}' y2='{}' stroke='#ddd'/><text x='{}' y='{}' "
-          "text-anchor='end'>{}</text>\n",
-          left, y, left + plot_w, y, left - 5, y + 4,
-          fmt::format(fmt::runtime(fmt_str), max * k / 4));
-    }
-    svg += fmt::format("<text x='15' y='{}' transform='rotate(-90 15 {})'>{}</text>\n", y0 + h / 2,
-                       y0 + h / 2, label);
-  };
-  axis(top, h1, t_max, "frame time (ms)", "{:.0f}");
-  axis(top + h1 + gap, h2, s_max, "step x", "{:g}");
-  for (int f : switches)
-    svg += fmt::format(
-        "<line x1='{0}' y1='{1}' x2='{0}' y2='{2}' stroke='#999' stroke-dasharray='2,3'/>"
-        "<text x='{0}' y='{3}' text-anchor='middle' fill='#666'>TF</text>\n",
-        x_of(f), top, top + h1 + gap + h2, top - 4);
-  const double ty = top + h1 * (1 - target_ms / t_max);
-  svg += fmt::format(
-      "<line x1='{}' y1='{}' x2='{}' y2='{}' stroke='black' stroke-dasharray='6,4'/>"
-      "<text x='{}' y='{}' text-anchor='end'>target {:.0f} ms</text>\n",
-      left, ty, left + plot_w, ty, left + plot_w, ty - 4, target_ms);
+  SvgChart chart(title, n);
+  const int times = chart.add_panel("frame time (ms)", t_max, 260, "{:.0f}");
+  const int steps = chart.add_panel("step x", s_max, 120);
+  for (int f : switches) chart.mark(f, "TF");
+  chart.reference(times, target_ms, fmt::format("target {:g} ms", target_ms));
+  std::vector<std::pair<std::string, const char*>> legend;
   for (size_t l = 0; l < records.size(); ++l) {
-    std::string time_pts, step_pts;
-    for (size_t i = 0; i < records[l].size(); ++i) {
-      const FrameRecord& r = records[l][i];
-      time_pts +=
-          fmt::format("{:.1f},{:.1f} ", x_of(double(i)), top + h1 * (1 - r.frame_ms / t_max));
-      step_pts += fmt::format("{:.1f},{:.1f} ", x_of(double(i)),
-                              top + h1 + gap + h2 * (1 - r.quality.step_scale / s_max));
-    }
-    for (const std::string* pts : {&time_pts, &step_pts})
-      svg += fmt::format("<polyline fill='none' stroke='{}' stroke-width='1.3' points='{}'/>\n",
-                         lane_colour(l), *pts);
-    svg += fmt::format(
-        "<rect x='{}' y='{}' width='10' height='10' fill='{}'/><text x='{}' y='{}'>{}</text>\n",
-        left + 10, top + 8 + 16 * double(l), lane_colour(l), left + 25, top + 17 + 16 * double(l),
-        l < lanes.size() ? lanes[l] : "");
+    std::vector<double> ms, step;
+    for (const FrameRecord& r : records[l])
+      ms.push_back(r.frame_ms), step.push_back(r.quality.step_scale);
+    chart.line(times, ms, series_colour(l));
+    chart.line(steps, step, series_colour(l));
+    legend.emplace_back(l < lanes.size() ? lanes[l] : "", series_colour(l));
   }
-  svg += fmt::format("<text x='{}' y='{}' text-anchor='middle'>frame</text>\n</svg>\n",
-                     left + plot_w / 2, H - 10);
-  write_file_atomically(path, svg);
+  chart.legend(times, legend);
+  chart.write(path);
+}
+
+void write_prediction_svg(const std::string& path, const std::string& title,
+                          const std::vector<std::string>& lanes,
+                          const std::vector<std::vector<FrameRecord>>& records, size_t cost_lane,
+                          const std::vector<std::string>& devices,
+                          const std::vector<int>& switches) {
+  auto error_pct = [](double predicted, double measured) {
+    return predicted > 0 && measured > 0 ? 100 * std::abs(predicted - measured) / measured : NAN;
+  };
+  size_t n = 0;
+  for (const auto& lane : records) n = std::max(n, lane.size());
+  if (n == 0) return;
+  SvgChart chart(title, n);
+  // Errors above 100% are drawn at the top: the interesting range is 0-100%.
+  const int frame = chart.add_panel("frame time error (%)", 100, 200, "{:.0f}");
+  const int cost = chart.add_panel("cost per sample error (%)", 100, 200, "{:.0f}");
+  for (int f : switches) chart.mark(f, "TF");
+  std::vector<std::pair<std::string, const char*>> lane_legend, device_legend;
+  for (size_t l = 0; l < records.size(); ++l) {
+    std::vector<double> e;
+    for (const FrameRecord& r : records[l]) e.push_back(error_pct(r.predicted_ms, r.frame_ms));
+    chart.line(frame, e, series_colour(l));
+    lane_legend.emplace_back(l < lanes.size() ? lanes[l] : "", series_colour(l));
+  }
+  if (cost_lane < records.size())
+    for (size_t d = 0; d < devices.size(); ++d) {
+      std::vector<double> e;
+      for (const FrameRecord& r : records[cost_lane])
+        e.push_back(d < r.predicted_cost.size() && d < r.measured_cost.size()
+                        ? error_pct(r.predicted_cost[d], r.measured_cost[d])
+                        : NAN);
+      // Devices in the colours after the lanes', so the two panels are not confused.
+      chart.line(cost, e, series_colour(records.size() + d));
+      device_legend.emplace_back(devices[d] + " (" + lanes.at(cost_lane) + ")",
+                                 series_colour(records.size() + d));
+    }
+  chart.legend(frame, lane_legend);
+  chart.legend(cost, device_legend);
+  chart.write(path);
 }
 
 }  // namespace multiray::app

@@ -47,4 +47,13 @@ void write_targeting_svg(const std::string& path, const std::string& title,
                          const std::vector<std::vector<FrameRecord>>& records, double target_ms,
                          const std::vector<int>& switches);
 
+// The prediction error of every frame (Bruder et al.'s Fig. 6a): |predicted - measured| /
+// measured of each lane's frame time (top) and of each device's cost per sample in lane
+// `cost_lane` (bottom; `devices` name them), transfer-function switches marked.
+void write_prediction_svg(const std::string& path, const std::string& title,
+                          const std::vector<std::string>& lanes,
+                          const std::vector<std::vector<FrameRecord>>& records, size_t cost_lane,
+                          const std::vector<std::string>& devices,
+                          const std::vector<int>& switches);
+
 }  // namespace multiray::app

@@ -230,6 +230,14 @@ Runner add_bench_command(CLI::App& app) {
                             fmt::format("frame time vs target — {} ({}x{})", s.scene->name,
                                         s.res.width, s.res.height),
                             lanes, records, s.volume->options().target_ms, switches);
+        // The sigma panel follows the predicting lane (the last one if none predicts).
+        size_t cost_lane = lanes.size() - 1;
+        for (size_t l = 0; l < lanes.size(); ++l)
+          if (lanes[l].find("adapt=predict") != std::string::npos) cost_lane = l;
+        write_prediction_svg(
+            b->report_dir + "/prediction.svg",
+            fmt::format("prediction error — {} ({}x{})", s.scene->name, s.res.width, s.res.height),
+            lanes, records, cost_lane, labels, switches);
       }
     }
     bool emulated = false;

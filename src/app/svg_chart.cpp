@@ -1,0 +1,148 @@
+#include "app/svg_chart.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/core.h>
+
+#include "core/file_io.h"
+
+namespace multiray::app {
+
+double nice_ceiling(double x) {
+  if (!(x > 0) || !std::isfinite(x)) return 1;
+  const double p = std::pow(10.0, std::floor(std::log10(x)));
+  for (double m : {1.0, 2.0, 5.0})
+    if (m * p >= x * (1 - 1e-12)) return m * p;
+  return 10 * p;
+}
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+const char* series_colour(size_t i) {
+  static const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
+                                   "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+  return kColours[i % 10];
+}
+
+SvgChart::SvgChart(std::string title, size_t frames, double width)
+    : title_(std::move(title)), frames_(frames), width_(width) {}
+
+double SvgChart::x_of(double frame) const {
+  const double plot_w = width_ - left_ - right_;
+  return left_ + (frames_ > 1 ? frame / double(frames_ - 1) : 0.5) * plot_w;
+}
+
+double SvgChart::y_of(const Panel& p, double y) const {
+  return p.top + p.height * (1 - std::clamp(y / p.y_max, 0.0, 1.0));
+}
+
+int SvgChart::add_panel(const std::string& y_label, double y_max, double height,
+                        const std::string& tick_format) {
+  const double gap = 45;
+  const double top = panels_.empty() ? 40 : panels_.back().top + panels_.back().height + gap;
+  panels_.push_back({top, height, nice_ceiling(y_max)});
+  const Panel& p = panels_.back();
+  for (int k = 0; k <= 4; ++k) {
+    const double y = p.top + p.height * (1 - k / 4.0);
+    body_ += fmt::format(
+        "<line x1='{}' y1='{:.1f}' x2='{}' y2='{:.1f}' stroke='#ddd'/><text x='{}' y='{:.1f}' "
+        "text-anchor='end'>{}</text>\n",
+        left_, y, width_ - right_, y, left_ - 5, y + 4,
+        fmt::format(fmt::runtime(tick_format), p.y_max * k / 4));
+  }
+  body_ += fmt::format(
+      "<text x='15' y='{0:.1f}' transform='rotate(-90 15 {0:.1f})' "
+      "text-anchor='middle'>{1}</text>\n",
+      p.top + p.height / 2, xml_escape(y_label));
+  return int(panels_.size()) - 1;
+}
+
+void SvgChart::line(int panel, const std::vector<double>& ys, const char* colour, size_t first,
+                    bool dashed) {
+  const Panel& p = panels_.at(size_t(panel));
+  std::string pts;
+  auto flush = [&] {
+    if (!pts.empty())
+      body_ +=
+          fmt::format("<polyline fill='none' stroke='{}' stroke-width='1.3'{} points='{}'/>\n",
+                      colour, dashed ? " stroke-dasharray='4,3'" : "", pts);
+    pts.clear();
+  };
+  for (size_t i = 0; i < ys.size(); ++i) {
+    if (!std::isfinite(ys[i])) {
+      flush();
+      continue;
+    }
+    pts += fmt::format("{:.1f},{:.1f} ", x_of(double(first + i)), y_of(p, ys[i]));
+  }
+  flush();
+}
+
+void SvgChart::reference(int panel, double y, const std::string& label) {
+  const Panel& p = panels_.at(size_t(panel));
+  const double yy = y_of(p, y);
+  body_ += fmt::format(
+      "<line x1='{}' y1='{:.1f}' x2='{}' y2='{:.1f}' stroke='black' stroke-dasharray='6,4'/>"
+      "<text x='{}' y='{:.1f}' text-anchor='end'>{}</text>\n",
+      left_, yy, width_ - right_, yy, width_ - right_, yy - 4, xml_escape(label));
+}
+
+void SvgChart::mark(double frame, const std::string& label) {
+  if (panels_.empty()) return;
+  const double x = x_of(frame);
+  const Panel& last = panels_.back();
+  body_ += fmt::format(
+      "<line x1='{0:.1f}' y1='{1}' x2='{0:.1f}' y2='{2}' stroke='#999' stroke-dasharray='2,3'/>"
+      "<text x='{0:.1f}' y='{3}' text-anchor='middle' fill='#666'>{4}</text>\n",
+      x, panels_.front().top, last.top + last.height, panels_.front().top - 4, xml_escape(label));
+}
+
+void SvgChart::legend(int panel, const std::vector<std::pair<std::string, const char*>>& entries) {
+  const Panel& p = panels_.at(size_t(panel));
+  for (size_t i = 0; i < entries.size(); ++i)
+    body_ += fmt::format(
+        "<rect x='{}' y='{}' width='10' height='10' fill='{}'/><text x='{}' y='{}'>{}</text>\n",
+        left_ + 10, p.top + 8 + 16 * double(i), entries[i].second, left_ + 25,
+        p.top + 17 + 16 * double(i), xml_escape(entries[i].first));
+}
+
+std::string SvgChart::svg() const {
+  const double height =
+      panels_.empty() ? 80 : panels_.back().top + panels_.back().height + bottom_;
+  return fmt::format(
+      "<svg xmlns='http://www.w3.org/2000/svg' width='{0}' height='{1}' font-family='sans-serif' "
+      "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n"
+      "<text x='{2}' y='20' font-size='15'>{3}</text>\n{4}"
+      "<text x='{5}' y='{6}' text-anchor='middle'>frame (0..{7})</text>\n</svg>\n",
+      width_, height, left_, xml_escape(title_), body_, left_ + (width_ - left_ - right_) / 2,
+      height - 10, frames_ > 0 ? frames_ - 1 : 0);
+}
+
+void SvgChart::write(const std::string& path) const { write_file_atomically(path, svg()); }
+
+}  // namespace multiray::app
