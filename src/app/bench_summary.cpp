@@ -30,10 +30,13 @@ RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
     sum.mean_frame_ms /= counted, sum.mean_imbalance /= counted, sum.mean_deviation /= counted;
   // Efficiency over all frames >= warm-up: the ideal of a frame between two sampled ones
   // is interpolated linearly (frame cost changes smoothly along a camera path; timing the
-  // devices alone on every frame would cost more than the run itself).
+  // devices alone on every frame would cost more than the run itself). The ideal is timed
+  // at full quality, so frames rendered at another (frame-time targeting) are left out.
   double ideal_sum = 0, actual_sum = 0;
   for (const auto& r : recs) {
-    if (r.frame < warmup || sampled.empty()) continue;
+    const bool full_quality =
+        r.quality.image_scale == 1 && r.quality.step_scale == 1 && r.first_pass_ms == 0;
+    if (r.frame < warmup || sampled.empty() || !full_quality) continue;
     actual_sum += r.frame_ms;
     ideal_sum += interpolate_ideal(sampled, ideal_ms, r.frame);
   }
@@ -62,8 +65,9 @@ void print_table(const std::vector<std::string>& specs, const std::vector<RunSum
              "imbalance", "deviation", "efficiency", "speedup", "recovery");
   for (size_t k = 0; k < specs.size(); ++k) {
     const RunSummary& s = summaries[k];
-    fmt::print("{:<{}} {:>10.1f} {:>9.1f}% {:>9.1f}% {:>10.3f} {:>9} {:>9}\n", specs[k], width,
-               s.mean_frame_ms, 100 * s.mean_imbalance, 100 * s.mean_deviation, s.efficiency,
+    fmt::print("{:<{}} {:>10.1f} {:>9.1f}% {:>9.1f}% {:>10} {:>9} {:>9}\n", specs[k], width,
+               s.mean_frame_ms, 100 * s.mean_imbalance, 100 * s.mean_deviation,
+               s.efficiency > 0 ? fmt::format("{:.3f}", s.efficiency) : "-",
                s.speedup > 0 ? fmt::format("{:.2f}x", s.speedup) : "-",
                s.recovery_frames >= 0 ? std::to_string(s.recovery_frames) : "-");
   }
@@ -77,7 +81,7 @@ nlohmann::json summary_to_json(const RunSummary& s, int warmup, double ideal_mea
           {"mean_deviation", s.mean_deviation},
           {"ideal_ms", ideal_mean_ms},
           {"ideal_frames", sampled},
-          {"efficiency", s.efficiency},
+          {"efficiency", s.efficiency > 0 ? nlohmann::json(s.efficiency) : nlohmann::json()},
           {"speedup_vs_uniform", s.speedup > 0 ? nlohmann::json(s.speedup) : nlohmann::json()},
           {"recovery_frames", s.recovery_frames}};
 }

@@ -13,7 +13,9 @@ namespace multiray::app {
 
 struct RunSummary {
   double mean_frame_ms = 0, mean_imbalance = 0, mean_deviation = 0;  // frames >= warm-up
-  double efficiency = 0;     // sum of ideal / sum of actual frame times, sampled frames
+  // Sum of ideal / sum of actual frame times over full-quality frames; 0 when there are none
+  // (printed "-", null in JSON).
+  double efficiency = 0;
   double speedup = 0;        // uniform's mean frame time / this one's (0: no uniform run)
   int recovery_frames = -1;  // frames after the perturbation until imbalance < 5% (-1: none)
 };

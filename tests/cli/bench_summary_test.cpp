@@ -40,5 +40,16 @@ TEST(BenchSummary, EfficiencyRecoveryAndSpeedup) {
   EXPECT_DOUBLE_EQ(all[0].speedup, 1.0);
 }
 
+TEST(BenchSummary, EfficiencyLeavesOutFramesBelowFullQuality) {
+  // The ideal is timed at full quality: a frame rendered coarser (frame-time targeting)
+  // or in two passes would make the efficiency look better than 1.
+  auto recs = frames({20, 20, 5, 5}, {0, 0, 0, 0});
+  recs[2].quality.step_scale = 4;
+  recs[3].first_pass_ms = 1;
+  EXPECT_DOUBLE_EQ(summarize(recs, 0, {0, 3}, {10, 10}, -1).efficiency, 0.5);
+  recs[0].quality.image_scale = recs[1].quality.image_scale = 0.5;
+  EXPECT_EQ(summarize(recs, 0, {0, 3}, {10, 10}, -1).efficiency, 0);  // none at full quality
+}
+
 }  // namespace
 }  // namespace multiray::app
