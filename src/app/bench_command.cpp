@@ -176,7 +176,7 @@ Runner add_bench_command(CLI::App& app) {
       std::string name = session->engine(k).balancer().name();
       if (s.volume && s.volume->modes().size() > 1)
         name += std::string("-") +
-                balance::adapt_mode_name(s.volume->modes()[k % s.volume->modes().size()]);
+                balance::adapt_name(s.volume->modes()[k % s.volume->modes().size()]);
       runs_json.push_back(
           {{"balancer", lane.spec},
            {"lane", lanes[k]},

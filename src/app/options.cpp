@@ -170,7 +170,7 @@ std::vector<std::string> Setup::lane_labels(const std::vector<std::string>& spec
   const size_t modes = volume ? volume->modes().size() : 1;
   for (const std::string& spec : specs)
     for (size_t m = 0; m < modes; ++m)
-      labels.push_back(modes > 1 ? spec + " adapt=" + balance::adapt_mode_name(volume->modes()[m])
+      labels.push_back(modes > 1 ? spec + " adapt=" + balance::adapt_name(volume->modes()[m])
                                  : spec);
   return labels;
 }

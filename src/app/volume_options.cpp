@@ -44,13 +44,15 @@ void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
   cmd.add_option("--target-ms", o.target_ms,
                  "Volumes: frame-time target in ms for --adapt (0: none)")
       ->capture_default_str();
-  cmd.add_option("--adapt", o.adapt,
-                 "Volumes: frame-time targeting: none, last-frame (scale quality by the last "
-                 "frame's time), predict (Bruder et al.: choose quality from the predicted "
-                 "time), two-pass (a quarter-quality pass, then a second pass filling the "
-                 "budget if the first took under half of it); auto: predict with --target-ms, "
-                 "else none. bench takes a list and runs "
-                 "every balancer once per mode")
+  cmd.add_option(
+         "--adapt", o.adapt,
+         "Volumes: frame-time targeting: none, last-frame (scale quality by the last "
+         "frame's time), predict (Bruder et al.: choose quality from the predicted "
+         "time; predict:q=Q scales predictions by the Q-quantile of recent measured/predicted "
+         "ratios, e.g. q=0.9), two-pass (a quarter-quality pass, then a second pass "
+         "filling the budget if the first took under half of it); auto: predict with --target-ms, "
+         "else none. bench takes a list and runs "
+         "every balancer once per mode")
       ->capture_default_str();
   cmd.add_option("--adapt-space", o.adapt_space,
                  "Volumes: what --adapt changes: ray (the step), image (the resolution, "

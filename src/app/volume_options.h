@@ -20,11 +20,11 @@ struct VolumeStyle;
 namespace multiray::app {
 
 struct VolumeOptions {
-  std::string tf = "auto";          // a preset name or a JSON file; auto: by voxel type
-  float step = 0.5f;                // ray step, in voxel lengths
-  std::string raw;                  // "NXxNYxNZ:TYPE[...]" for a headerless .raw file
-  double target_ms = 0;             // frame-time target; 0: none
-  std::string adapt = "auto";       // none | last-frame | predict, a list for bench
+  std::string tf = "auto";     // a preset name or a JSON file; auto: by voxel type
+  float step = 0.5f;           // ray step, in voxel lengths
+  std::string raw;             // "NXxNYxNZ:TYPE[...]" for a headerless .raw file
+  double target_ms = 0;        // frame-time target; 0: none
+  std::string adapt = "auto";  // none | last-frame | predict[:q=Q] | two-pass, a list for bench
   std::string adapt_space = "ray";  // ray | image | hybrid
   int prepass_stride = 4;           // pixels per pre-pass ray each way; 0: no prediction
   std::string sequence;             // interaction sequence file (sequence.h)

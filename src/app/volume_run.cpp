@@ -18,18 +18,19 @@ VolumeRun::VolumeRun(SceneCache& scenes, const VolumeOptions& o, Vec3 background
   try {
     space_ = balance::parse_adapt_space(o.adapt_space);
     if (o.adapt == "auto") {
-      modes_ = {o.target_ms > 0 ? balance::AdaptMode::predict : balance::AdaptMode::none};
+      modes_.emplace_back().mode =
+          o.target_ms > 0 ? balance::AdaptMode::predict : balance::AdaptMode::none;
     } else {
       for (const std::string& m : balance::split_spec_list(o.adapt))
-        modes_.push_back(balance::parse_adapt_mode(m));
+        balance::parse_adapt(m, modes_.emplace_back());
     }
   } catch (const std::invalid_argument& e) {
     throw InputError(std::string("--adapt: ") + e.what());
   }
   if (modes_.empty()) throw InputError("--adapt is empty");
-  for (balance::AdaptMode m : modes_)
-    if (m != balance::AdaptMode::none && !(o.target_ms > 0))
-      throw InputError(std::string("--adapt ") + balance::adapt_mode_name(m) +
+  for (const balance::TargetingConfig& m : modes_)
+    if (m.mode != balance::AdaptMode::none && !(o.target_ms > 0))
+      throw InputError("--adapt " + balance::adapt_name(m) +
                        " needs a frame-time target (--target-ms)");
   if (!o.sequence.empty()) {
     sequence_ = load_sequence(o.sequence);
@@ -59,8 +60,8 @@ void VolumeRun::apply(int frame, RenderSettings& settings) {
 std::unique_ptr<FrameAdvisor> VolumeRun::advisor(size_t mode, int devices) const {
   if (o_.prepass_stride == 0) return nullptr;
   VolumeAdvisorConfig c;
+  c.targeting = modes_.at(mode);
   c.targeting.target_ms = o_.target_ms > 0 ? o_.target_ms : 1;  // mode none ignores it
-  c.targeting.mode = modes_.at(mode);
   c.targeting.space = space_;
   c.prepass_stride = o_.prepass_stride;
   return std::make_unique<VolumeAdvisor>(volume_scene(scenes_), devices, c);

@@ -29,8 +29,9 @@ class VolumeRun {
   // at `frame`, or --tf.
   void apply(int frame, RenderSettings& settings);
 
-  // One entry per --adapt mode: each balancer runs once per mode.
-  const std::vector<balance::AdaptMode>& modes() const { return modes_; }
+  // One entry per --adapt mode (mode and its options; the target is --target-ms): each
+  // balancer runs once per mode.
+  const std::vector<balance::TargetingConfig>& modes() const { return modes_; }
   // The advisor of a lane adapting with modes()[mode], for `devices` devices.
   std::unique_ptr<FrameAdvisor> advisor(size_t mode, int devices) const;
   const InteractionSequence* sequence() const { return has_sequence_ ? &sequence_ : nullptr; }
@@ -46,7 +47,7 @@ class VolumeRun {
   SceneCache& scenes_;
   VolumeOptions o_;
   Vec3 background_;
-  std::vector<balance::AdaptMode> modes_;
+  std::vector<balance::TargetingConfig> modes_;
   balance::AdaptSpace space_ = balance::AdaptSpace::ray;
   InteractionSequence sequence_;
   bool has_sequence_ = false;

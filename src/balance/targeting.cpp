@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
+#include <vector>
 
 namespace multiray::balance {
 
@@ -13,6 +15,37 @@ AdaptMode parse_adapt_mode(const std::string& text) {
   if (text == "two-pass") return AdaptMode::two_pass;
   throw std::invalid_argument("adaptation mode '" + text +
                               "' must be none, last-frame, predict or two-pass");
+}
+
+void parse_adapt(const std::string& text, TargetingConfig& config) {
+  const size_t colon = text.find(':');
+  config.mode = parse_adapt_mode(text.substr(0, colon));
+  config.margin_quantile = 0;
+  if (colon == std::string::npos) return;
+  const std::string option = text.substr(colon + 1);
+  if (config.mode != AdaptMode::predict || option.rfind("q=", 0) != 0)
+    throw std::invalid_argument("adaptation mode '" + text +
+                                "': only predict takes an option, q=Q (e.g. predict:q=0.9)");
+  size_t used = 0;
+  double q = NAN;
+  try {
+    q = std::stod(option.substr(2), &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != option.size() - 2 || !(q > 0 && q < 1))
+    throw std::invalid_argument("adaptation mode '" + text + "': q must be a number in (0, 1)");
+  config.margin_quantile = q;
+}
+
+std::string adapt_name(const TargetingConfig& config) {
+  std::string name = adapt_mode_name(config.mode);
+  if (config.mode == AdaptMode::predict && config.margin_quantile > 0) {
+    char q[32];
+    std::snprintf(q, sizeof q, ":q=%g", config.margin_quantile);
+    name += q;
+  }
+  return name;
 }
 
 AdaptSpace parse_adapt_space(const std::string& text) {
@@ -58,6 +91,8 @@ FrameTimeTargeting::FrameTimeTargeting(const TargetingConfig& config) : config_(
     throw std::invalid_argument("the quality raise limit must be in (0, 1]");
   if (!(config.probe_cost >= config.min_cost && config.probe_cost <= 1))
     throw std::invalid_argument("the first pass's cost factor must be in [lowest, 1]");
+  if (!(config.margin_quantile >= 0 && config.margin_quantile < 1))
+    throw std::invalid_argument("the prediction margin quantile must be in [0, 1)");
 }
 
 double FrameTimeTargeting::clamp_next(double wanted) const {
@@ -79,29 +114,45 @@ double FrameTimeTargeting::next(const std::function<double(double)>& predict_ms)
       if (last_ms_ > 0) cost_ = clamp_next(cost_ * target / last_ms_);
       break;
     case AdaptMode::predict: {
-      const double now = predict_ms ? predict_ms(cost_) : NAN;
-      if (!(std::isfinite(now) && now > 0)) break;
-      // Extrapolation: time proportional to the cost factor.
-      double guess = clamp_next(cost_ * target / now);
-      // Bisection on predictions: the largest c in [lo, hi] predicted within the target.
-      const double ceiling = clamp_next(1.0);
-      double lo = config_.min_cost, hi = ceiling;
-      const double at_guess = predict_ms(guess);
-      if (std::isfinite(at_guess) && at_guess <= target)
-        lo = guess;
-      else
-        hi = guess;
-      for (int i = 0; i < config_.bisection_steps && hi - lo > 1e-4 * hi; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        const double t = predict_ms(mid);
-        (std::isfinite(t) && t <= target ? lo : hi) = mid;
-      }
-      const double at_hi = predict_ms(hi);
-      cost_ = std::isfinite(at_hi) && at_hi <= target ? hi : lo;
+      predicted_ms_ = 0;
+      if (!predict_ms) break;
+      const double k = calibration();
+      const std::function<double(double)> predict = [&](double c) { return k * predict_ms(c); };
+      choose_predicted(predict);
+      const double at = predict_ms(cost_);
+      if (std::isfinite(at) && at > 0) predicted_ms_ = at;
       break;
     }
   }
   return cost_;
+}
+
+void FrameTimeTargeting::choose_predicted(const std::function<double(double)>& predict_ms) {
+  const double target = config_.target_ms;
+  const double now = predict_ms(cost_);
+  if (!(std::isfinite(now) && now > 0)) return;
+  // Extrapolation: time proportional to the cost factor.
+  const double guess = clamp_next(cost_ * target / now);
+  // Bisection on predictions: the largest c in [lo, hi] predicted within the target.
+  double lo = config_.min_cost, hi = clamp_next(1.0);
+  const double at_guess = predict_ms(guess);
+  (std::isfinite(at_guess) && at_guess <= target ? lo : hi) = guess;
+  for (int i = 0; i < config_.bisection_steps && hi - lo > 1e-4 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    const double t = predict_ms(mid);
+    (std::isfinite(t) && t <= target ? lo : hi) = mid;
+  }
+  const double at_hi = predict_ms(hi);
+  cost_ = std::isfinite(at_hi) && at_hi <= target ? hi : lo;
+}
+
+double FrameTimeTargeting::calibration() const {
+  if (!(config_.margin_quantile > 0) || ratios_.size() < kMinRatios) return 1;
+  std::vector<double> sorted(ratios_.begin(), ratios_.end());
+  const size_t at = std::min(
+      sorted.size() - 1, size_t(std::ceil(config_.margin_quantile * double(sorted.size())) - 1));
+  std::nth_element(sorted.begin(), sorted.begin() + long(at), sorted.end());
+  return sorted[at];
 }
 
 std::optional<double> FrameTimeTargeting::second_pass(double first_ms) {
@@ -114,7 +165,12 @@ std::optional<double> FrameTimeTargeting::second_pass(double first_ms) {
 }
 
 void FrameTimeTargeting::measured(double frame_ms) {
-  if (std::isfinite(frame_ms) && frame_ms > 0) last_ms_ = frame_ms;
+  if (!(std::isfinite(frame_ms) && frame_ms > 0)) return;
+  last_ms_ = frame_ms;
+  if (predicted_ms_ > 0) {
+    ratios_.push_back(frame_ms / predicted_ms_);
+    if (ratios_.size() > kMaxRatios) ratios_.pop_front();
+  }
 }
 
 }  // namespace multiray::balance

@@ -12,7 +12,10 @@
 //    switch, a camera cut);
 //  - predict: the paper's Eq. 2 — with a predictor of the frame time at any c (the
 //    renderer's cost model, evaluated before rendering), extrapolate from the last c,
-//    then refine by bisection on predictions to the largest c predicted to meet the target;
+//    then refine by bisection on predictions to the largest c predicted to meet the target.
+//    Ours, `predict:q=Q`: the predictions are first scaled by the Q-quantile of the last
+//    frames' measured / predicted times, so a biased or noisy predictor still lands at or
+//    under the target in a share Q of the frames (the paper aims at the prediction itself);
 //  - two-pass: the paper's other baseline — every frame first renders at `probe_cost`
 //    (a quarter of the work); if that pass took under half the target, a second pass at
 //    the cost factor extrapolated to fill the rest of the budget replaces its image
@@ -22,6 +25,7 @@
 // cause a spike; two-pass measures the frame itself and needs no such limit.
 #pragma once
 
+#include <deque>
 #include <functional>
 #include <optional>
 #include <string>
@@ -41,11 +45,19 @@ struct TargetingConfig {
   double max_raise = 0.8;      // c_next <= c / max_raise, in (0, 1]
   int bisection_steps = 12;
   double probe_cost = 0.25;  // two-pass: the cost factor of the first pass, in [min_cost, 1]
+  // predict: 0 for the paper's form, else the quantile Q in (0, 1) of the recent measured /
+  // predicted ratios that scales the predictions (calibrated once kMinRatios are known).
+  double margin_quantile = 0;
 };
 
 // "none" | "last-frame" | "predict" | "two-pass", "ray" | "image" | "hybrid";
 // std::invalid_argument (one line) otherwise.
 AdaptMode parse_adapt_mode(const std::string& text);
+// A mode with its options into `config` (mode and margin_quantile): a mode name, or
+// "predict:q=Q" with Q in (0, 1). std::invalid_argument (one line) otherwise.
+void parse_adapt(const std::string& text, TargetingConfig& config);
+// The spec of config's mode as parse_adapt reads it ("predict:q=0.9", "last-frame").
+std::string adapt_name(const TargetingConfig& config);
 AdaptSpace parse_adapt_space(const std::string& text);
 const char* adapt_mode_name(AdaptMode m);
 const char* adapt_space_name(AdaptSpace s);
@@ -72,14 +84,22 @@ class FrameTimeTargeting {
   void measured(double frame_ms);
 
   double cost() const { return cost_; }
+  // The factor predictions are scaled by in predict:q=Q (1 until calibrated).
+  double calibration() const;
+
+  static constexpr size_t kMinRatios = 5, kMaxRatios = 30;
   const TargetingConfig& config() const { return config_; }
 
  private:
   double clamp_next(double wanted) const;
+  // Predict mode: Eq. 2 over `predict_ms` into cost_ (kept when it cannot predict).
+  void choose_predicted(const std::function<double(double)>& predict_ms);
 
   TargetingConfig config_;
-  double cost_ = 1.0;     // of the frame last planned
-  double last_ms_ = 0.0;  // its measured time, 0 until known
+  double cost_ = 1.0;          // of the frame last planned
+  double last_ms_ = 0.0;       // its measured time, 0 until known
+  double predicted_ms_ = 0.0;  // its predicted time (predict mode), 0 when unknown
+  std::deque<double> ratios_;  // measured / predicted of the last frames, oldest first
 };
 
 }  // namespace multiray::balance

@@ -105,6 +105,53 @@ TEST(Targeting, TwoPassProbesAQuarterAndFillsTheRestOfTheBudget) {
   EXPECT_FALSE(predict.second_pass(1).has_value());
 }
 
+TEST(Targeting, CalibratedPredictLandsUnderTheTargetDespiteABiasedPredictor) {
+  // The predictor says 100 ms at full quality; the frames really take 1.4x that.
+  auto run = [](double q) {
+    TargetingConfig c = config(AdaptMode::predict);
+    c.margin_quantile = q;
+    FrameTimeTargeting t(c);
+    double last = 0;
+    for (int f = 0; f < 40; ++f) {
+      const double cost = t.next([](double x) { return 100 * x; });
+      last = 140 * cost;
+      t.measured(last);
+    }
+    return std::make_pair(last, t.calibration());
+  };
+  EXPECT_NEAR(run(0).first, 70, 0.5);  // the paper's form aims at the biased prediction
+  const auto [ms, k] = run(0.9);
+  EXPECT_NEAR(k, 1.4, 1e-9);
+  EXPECT_NEAR(ms, 50, 0.5);
+}
+
+TEST(Targeting, CalibrationIsTheQuantileOfRecentRatios) {
+  TargetingConfig c = config(AdaptMode::predict, 1000);
+  c.margin_quantile = 0.8;
+  FrameTimeTargeting t(c);
+  // Ratios 1.0 ... 1.9 (predicted 10 ms at full quality, measured 10..19 ms).
+  for (int f = 0; f < 10; ++f) {
+    EXPECT_EQ(t.next([](double x) { return 10 * x; }), 1.0);
+    if (f < int(FrameTimeTargeting::kMinRatios)) EXPECT_EQ(t.calibration(), 1.0);
+    t.measured(10 + f);
+  }
+  EXPECT_NEAR(t.calibration(), 1.7, 1e-12);  // the 8th of 10 sorted ratios
+}
+
+TEST(Targeting, AdaptSpecsWithOptions) {
+  TargetingConfig c;
+  parse_adapt("predict:q=0.9", c);
+  EXPECT_EQ(c.mode, AdaptMode::predict);
+  EXPECT_DOUBLE_EQ(c.margin_quantile, 0.9);
+  EXPECT_EQ(adapt_name(c), "predict:q=0.9");
+  parse_adapt("last-frame", c);
+  EXPECT_EQ(c.margin_quantile, 0);
+  EXPECT_EQ(adapt_name(c), "last-frame");
+  for (const char* bad : {"predict:q=1", "predict:q=0", "predict:q=", "predict:q=0.5x",
+                          "predict:z=0.5", "last-frame:q=0.5", "predict:q=nan"})
+    EXPECT_THROW(parse_adapt(bad, c), std::invalid_argument) << bad;
+}
+
 TEST(Targeting, BadConfigurationsAndNamesAreRefused) {
   EXPECT_THROW(FrameTimeTargeting(config(AdaptMode::predict, 0)), std::invalid_argument);
   EXPECT_THROW(FrameTimeTargeting(config(AdaptMode::predict, NAN)), std::invalid_argument);

@@ -43,7 +43,7 @@ nlohmann::json read_json(const std::string& path) {
 
 TEST(VolumeCli, RendersARawVolumeInEveryAdaptationMode) {
   const std::string raw = ball_raw();
-  for (const char* mode : {"none", "last-frame", "predict", "two-pass"}) {
+  for (const char* mode : {"none", "last-frame", "predict", "predict:q=0.9", "two-pass"}) {
     const std::string dir = ::testing::TempDir() + "/vol_" + mode;
     std::filesystem::remove_all(dir);
     const Result r =
@@ -68,6 +68,7 @@ TEST(VolumeCli, BadVolumesAndOptionsAreOneLine) {
   expect_input_error(base + "--tf nosuchpreset", "nosuchpreset");
   expect_input_error(base + "--step 0", "--step");
   expect_input_error(base + "--adapt predict", "--target-ms");
+  expect_input_error(base + "--target-ms 5 --adapt predict:q=1.5", "q must be");
   expect_input_error(base + "--adapt sometimes --target-ms 5", "--adapt");
   expect_input_error(base + "--adapt-space object --target-ms 5", "--adapt");
   expect_input_error(base + "--adapt none,predict --target-ms 5", "one mode");
