@@ -5,6 +5,7 @@
 #include <ImfArray.h>
 #include <ImfRgbaFile.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -30,13 +31,29 @@ uint64_t image_hash(const Framebuffer& fb, uint64_t seed) {
   return h;
 }
 
-std::vector<uint8_t> to_srgb8(const Framebuffer& fb, float exposure) {
+float exposure_scale(float ev) { return std::exp2(ev); }
+
+float tone_filmic(float x) {
+  if (!(x > 0.0f)) return 0.0f;  // negative or NaN
+  // Narkowicz's fit of the ACES reference rendering transform (2015), per channel.
+  constexpr float a = 2.51f, b = 0.03f, c = 2.43f, d = 0.59f, e = 0.14f;
+  if (x > 1e6f) return 1.0f;  // x * x would overflow long before this matters
+  return std::min((x * (a * x + b)) / (x * (c * x + d) + e), 1.0f);
+}
+
+float display_value(float radiance, const Display& d) {
+  const float v = radiance * exposure_scale(d.exposure_ev);
+  return d.tone == ToneCurve::Filmic ? tone_filmic(v) : std::clamp(v, 0.0f, 1.0f);
+}
+
+std::vector<uint8_t> to_srgb8(const Framebuffer& fb, const Display& d) {
   std::vector<uint8_t> out(fb.pixels.size() * 3);
+  const float scale = exposure_scale(d.exposure_ev);
+  const bool filmic = d.tone == ToneCurve::Filmic;
   for (size_t i = 0; i < fb.pixels.size(); ++i) {
-    const Vec3 c = fb.pixels[i] * exposure;
-    out[3 * i + 0] = encode_srgb(c.x);
-    out[3 * i + 1] = encode_srgb(c.y);
-    out[3 * i + 2] = encode_srgb(c.z);
+    const Vec3 c = fb.pixels[i] * scale;
+    for (int k = 0; k < 3; ++k)
+      out[3 * i + size_t(k)] = encode_srgb(filmic ? tone_filmic(c[k]) : c[k]);
   }
   return out;
 }
@@ -67,8 +84,8 @@ void write_png_rgb8(const std::string& path, int width, int height,
   write_file_atomically(path, png);
 }
 
-void write_png(const std::string& path, const Framebuffer& fb, float exposure) {
-  write_png_rgb8(path, fb.width, fb.height, to_srgb8(fb, exposure));
+void write_png(const std::string& path, const Framebuffer& fb, const Display& d) {
+  write_png_rgb8(path, fb.width, fb.height, to_srgb8(fb, d));
 }
 
 void write_exr(const std::string& path, const Framebuffer& fb) {

@@ -24,15 +24,35 @@ struct Framebuffer {
 // checking that two renders are bit-identical (chain views by passing the previous hash).
 uint64_t image_hash(const Framebuffer& fb, uint64_t seed = 0xcbf29ce484222325ull);
 
-// sRGB-encoded 8-bit RGB after clamping; `exposure` multiplies radiance first.
-std::vector<uint8_t> to_srgb8(const Framebuffer& fb, float exposure = 1.0f);
+// How linear radiance becomes an 8-bit display value (PNG; EXR files stay linear).
+enum class ToneCurve {
+  Clamp,   // radiance clipped to [0, 1]: the default's images before tone mapping existed
+  Filmic,  // tone_filmic(): highlights roll off instead of clipping
+};
+struct Display {
+  float exposure_ev = 0.0f;  // stops: radiance is multiplied by 2^exposure_ev first
+  ToneCurve tone = ToneCurve::Clamp;
+};
+
+// Exposure in stops as a factor on radiance: 2^ev.
+float exposure_scale(float ev);
+// The ACES filmic curve as fitted by Narkowicz ("ACES Filmic Tone Mapping Curve", 2015):
+// x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), clamped to [0, 1]. Applied per channel
+// to linear radiance; monotone on [0, inf), 0 -> 0, reaches 1 at x ~ 7.24 (so about three
+// stops above 1 stay distinguishable where clamping loses them). Negative and NaN give 0.
+float tone_filmic(float x);
+// Linear radiance -> linear display value in [0, 1] under `d` (exposure, then the curve).
+float display_value(float radiance, const Display& d);
+
+// sRGB-encoded 8-bit RGB of display_value() of every channel.
+std::vector<uint8_t> to_srgb8(const Framebuffer& fb, const Display& d = {});
 
 // All `views` (same size) tiled in one image, `columns` per row, row-major from the top
 // left: the "quilt" light-field displays take.
 Framebuffer make_quilt(const std::vector<Framebuffer>& views, int columns);
 
 // Writers throw InputError naming the path when the file cannot be written.
-void write_png(const std::string& path, const Framebuffer& fb, float exposure = 1.0f);
+void write_png(const std::string& path, const Framebuffer& fb, const Display& d = {});
 void write_png_rgb8(const std::string& path, int width, int height,
                     const std::vector<uint8_t>& rgb);
 void write_exr(const std::string& path, const Framebuffer& fb);
