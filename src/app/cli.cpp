@@ -7,6 +7,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/stats_json.h"
 #include "core/error.h"
 
 namespace multiray::app {
@@ -25,8 +26,8 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
       "  multiray devices\n",
       "multiray"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "multiray 0.1.0");
-  Runner render = add_render_command(app);
+  app.set_version_flag("--version", std::string("multiray ") + kVersion);
+  Runner render = add_render_command(app, std::vector<std::string>(argv, argv + argc));
   Runner bench = add_bench_command(app);
   Runner devices = add_devices_command(app);
   Runner simulate = add_simulate_command(app);

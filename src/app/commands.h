@@ -3,6 +3,8 @@
 #pragma once
 
 #include <functional>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -15,7 +17,8 @@ using Runner = std::function<int()>;
 // Adds the options shared by render and bench to `cmd`, storing into `o`.
 void add_common_options(CLI::App& cmd, CommonOptions& o);
 
-Runner add_render_command(CLI::App& app);
+// `command_line` (argv) is recorded in the run's stats.json.
+Runner add_render_command(CLI::App& app, const std::vector<std::string>& command_line);
 Runner add_bench_command(CLI::App& app);
 Runner add_devices_command(CLI::App& app);
 Runner add_simulate_command(CLI::App& app);

@@ -18,6 +18,7 @@
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/device_factory.h"
+#include "render/default_view.h"
 #include "render/kernel.h"
 #include "render/volume_raycaster.h"
 #include "scene/builders.h"
@@ -94,6 +95,25 @@ Camera parse_camera(const std::string& text) {
   const std::string problem = camera_problem(c);  // checked as floats, as rendered
   if (!problem.empty()) throw InputError("--camera: " + problem);
   return c;
+}
+
+Vec3 parse_up(const std::string& text, bool volume) {
+  Vec3 up = volume ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
+  if (text != "auto" && !up_axis_vector(text, up))
+    throw InputError("--up '" + text + "' must be auto, x, y or z, optionally signed (+z, -y)");
+  return up;
+}
+
+float parse_exposure(double ev) {
+  if (!(ev >= -20 && ev <= 20)) throw InputError("--exposure must be in [-20, 20] stops");
+  return float(ev);
+}
+
+ToneCurve parse_tone(const std::string& text, bool volume) {
+  if (text == "filmic") return ToneCurve::Filmic;
+  if (text == "clamp") return ToneCurve::Clamp;
+  if (text == "auto") return volume ? ToneCurve::Clamp : ToneCurve::Filmic;
+  throw InputError("--tone '" + text + "' must be filmic, clamp or auto");
 }
 
 GazePath parse_gaze(const std::string& gaze, const std::string& path) {
@@ -307,6 +327,7 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
   s.settings.seed = parse_seed(o.seed);
   std::optional<Camera> cli_camera;
   if (!o.camera.empty()) cli_camera = parse_camera(o.camera);
+  s.up = parse_up(o.up, volume_input);
   // "threads=0" means every hardware thread; resolved here so the spec stays readable.
   std::string devices = o.devices;
   const std::string all =
@@ -340,22 +361,6 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
       : volume_input       ? load_volume_scene(o.scene_path, o.volume, o.allow_outside_paths,
                                                uint64_t(std::max(limit - need.frame_bytes, 0.0)))
                            : load_scene(o.scene_path, load));
-  const float aspect = float(s.res.width) / float(s.res.height);
-  const Camera base = cli_camera                  ? *cli_camera
-                      : !s.scene->cameras.empty() ? s.scene->cameras.front()
-                                                  : s.scene->default_camera(aspect);
-  const std::string& cp = o.camera_path;
-  if (cp == "fixed") {
-    s.path = CameraPath::fixed(base);
-  } else if (cp == "orbit" || cp.rfind("orbit:", 0) == 0) {
-    const double period =
-        cp == "orbit" ? 100.0 : to_number(cp.substr(6), "--camera-path orbit period");
-    if (!(period >= 1e-3 && period <= 1e9))
-      throw InputError("--camera-path: the orbit period must be in [0.001, 1e9] frames");
-    s.path = CameraPath::orbit(base, float(period));
-  } else {
-    s.path = CameraPath::from_json_file(cp);
-  }
   if (o.env != "auto") {
     const auto parts = split(o.env, ',');
     if (parts.size() != 1 && parts.size() != 3)
@@ -373,6 +378,27 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
     sampling.pattern = std::make_shared<const FoveationPattern>(
         make_foveation_pattern(s.res.width, s.res.height, o.foveation));
   s.scenes = std::make_unique<SceneCache>(*s.scene);
+  // The camera: --camera, the scene's own, or a default that frames it (for a mesh, the
+  // view that sees the most front faces; render/default_view.h).
+  const float aspect = float(s.res.width) / float(s.res.height);
+  s.camera_source = cli_camera ? "--camera" : !s.scene->cameras.empty() ? "scene" : "default";
+  const Camera base = cli_camera                  ? *cli_camera
+                      : !s.scene->cameras.empty() ? s.scene->cameras.front()
+                      : volume_input              ? s.scene->default_camera(aspect, s.up)
+                                     : choose_default_camera(s.scenes->embree(), aspect, s.up);
+  s.camera = base;
+  const std::string& cp = o.camera_path;
+  if (cp == "fixed") {
+    s.path = CameraPath::fixed(base);
+  } else if (cp == "orbit" || cp.rfind("orbit:", 0) == 0) {
+    const double period =
+        cp == "orbit" ? 100.0 : to_number(cp.substr(6), "--camera-path orbit period");
+    if (!(period >= 1e-3 && period <= 1e9))
+      throw InputError("--camera-path: the orbit period must be in [0.001, 1e9] frames");
+    s.path = CameraPath::orbit(base, float(period));
+  } else {
+    s.path = CameraPath::from_json_file(cp);
+  }
   if (volume_input) {
     s.volume = std::make_shared<VolumeRun>(*s.scenes, o.volume, s.scene->environment);
     s.volume->apply(0, s.settings);

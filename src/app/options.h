@@ -28,6 +28,7 @@ struct CommonOptions {
   int bounces = 8;
   int frames = 1;
   std::string camera;                     // "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov" or empty
+  std::string up = "auto";                // [+-]x|y|z; auto: y for meshes, z for volumes
   std::string camera_path = "fixed";      // fixed | orbit | orbit:PERIOD | FILE.json
   std::string devices = "cpu:threads=0";  // threads=0: all hardware threads
   std::string seed = "0";  // a whole number in [0, 2^64); parsed strictly in make_setup
@@ -61,6 +62,14 @@ struct Resolution {
 Resolution parse_resolution(const std::string& text);
 uint64_t parse_seed(const std::string& text);
 Camera parse_camera(const std::string& text);
+// --up: "auto" (+y for meshes, +z for volumes, whose slices stack along z) or an axis
+// x, y, z with an optional sign.
+Vec3 parse_up(const std::string& text, bool volume);
+// --exposure in stops, [-20, 20].
+float parse_exposure(double ev);
+// --tone: filmic, clamp, or auto (filmic for meshes; clamp for volumes, whose raycaster
+// already writes display colours in [0, 1]).
+ToneCurve parse_tone(const std::string& text, bool volume);
 // Adds the layout `mapping` asks for to a balancer spec: strips (every device renders its
 // share of every view's shuffled strips) or views (whole views per device). Empty: spec
 // unchanged. Throws InputError when the balancer has no such layout.
@@ -80,6 +89,9 @@ struct Setup {
   RenderSettings settings;
   std::vector<Perturbation> perturbations;
   std::vector<std::string> notes;     // things the user should know (e.g. a sky was added)
+  Camera camera;                      // the base camera of the path (before any animation)
+  std::string camera_source;          // "--camera", "scene" (its first camera) or "default"
+  Vec3 up{0, 1, 0};                   // the up axis --up resolved to
   std::shared_ptr<VolumeRun> volume;  // volumes only: styles, adaptation, sequence
 
   std::vector<Device*> device_ptrs() const;

@@ -35,7 +35,12 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
   cmd.add_option("--frames", o.frames, "Number of frames to render")->capture_default_str();
   cmd.add_option("--camera", o.camera,
                  "Camera as ex,ey,ez,tx,ty,tz,ux,uy,uz,fov (eye, target, up, vertical fov in "
-                 "degrees); default: the scene's first camera, else one framing the scene");
+                 "degrees); default: the scene's first camera, else a three-quarter view from "
+                 "outside that frames the scene's bounding box (see --up)");
+  cmd.add_option("--up", o.up,
+                 "The scene's up axis for the default camera and orbits: x, y or z, optionally "
+                 "signed (+z, -y); auto: y for meshes (glTF's convention), z for volumes")
+      ->capture_default_str();
   cmd.add_option("--camera-path", o.camera_path,
                  "Animation: fixed, orbit (100 frames per turn), orbit:PERIOD, or a keyframe "
                  "JSON file {\"keyframes\":[{\"frame\":0,\"eye\":[..],\"target\":[..],\"up\":[..],"
@@ -122,18 +127,24 @@ namespace {
 class RenderOutput : public FrameObserver {
  public:
   RenderOutput(const std::string& dir, bool exr, bool quiet, int columns, int frames,
-               balance::TraceWriter* trace)
-      : dir_(dir), exr_(exr), quiet_(quiet), columns_(columns), frames_(frames), trace_(trace) {}
+               const Display& display, balance::TraceWriter* trace)
+      : dir_(dir),
+        exr_(exr),
+        quiet_(quiet),
+        columns_(columns),
+        frames_(frames),
+        display_(display),
+        trace_(trace) {}
 
   void on_frame(const std::shared_ptr<const FrameResult>& r) override {
     const std::string base = fmt::format("{}/frame_{:04d}", dir_, r->frame);
     const auto& images = r->images;
     for (size_t v = 0; v < images.size(); ++v) {
       const std::string name = images.size() == 1 ? base : fmt::format("{}_view{:02d}", base, v);
-      write_png(name + ".png", images[v]);
+      write_png(name + ".png", images[v], display_);
       if (exr_) write_exr(name + ".exr", images[v]);
     }
-    if (images.size() > 1) write_png(base + "_quilt.png", make_quilt(images, columns_));
+    if (images.size() > 1) write_png(base + "_quilt.png", make_quilt(images, columns_), display_);
     if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
     const FrameRecord& rec = r->record;
     for (const auto& m : rec.messages) fmt::print(stderr, "multiray: warning: {}\n", m);
@@ -165,6 +176,7 @@ class RenderOutput : public FrameObserver {
   std::string dir_;
   bool exr_, quiet_;
   int columns_, frames_;
+  Display display_;
   balance::TraceWriter* trace_;
   nlohmann::json json_ = nlohmann::json::array();
 };
@@ -218,7 +230,7 @@ class ProgressLine {
 
 }  // namespace
 
-Runner add_render_command(CLI::App& app) {
+Runner add_render_command(CLI::App& app, const std::vector<std::string>& command_line) {
   auto* cmd = app.add_subcommand("render", "Render frames to PNG (and EXR) files");
   auto o = std::make_shared<CommonOptions>();
   auto out_dir = std::make_shared<std::string>("out");
@@ -235,7 +247,19 @@ Runner add_render_command(CLI::App& app) {
   cmd->add_flag("--overwrite", *overwrite,
                 "Replace an earlier run's outputs in --out (its stats.json and frame_* files "
                 "are deleted first; other files are kept)");
-  cmd->add_flag("--exr", *exr, "Also write linear-light OpenEXR files");
+  cmd->add_flag("--exr", *exr,
+                "Also write linear-light OpenEXR files (raw radiance: no --exposure, no --tone)");
+  auto exposure = std::make_shared<double>(0.0);
+  auto tone = std::make_shared<std::string>("auto");
+  cmd->add_option("--exposure", *exposure,
+                  "Exposure of the PNG files in stops, [-20, 20]: radiance is multiplied by "
+                  "2^EV before the tone curve")
+      ->capture_default_str();
+  cmd->add_option("--tone", *tone,
+                  "Tone curve of the PNG files: filmic (ACES fit by Narkowicz 2015; highlights "
+                  "roll off), clamp (values above 1 clip), or auto: filmic for meshes, clamp for "
+                  "volumes (the raycaster already writes display colours)")
+      ->capture_default_str();
   cmd->add_option("--balancer", *balancer,
                   "How work is split between devices: uniform, static[:ratios=A/B/..], "
                   "queue[:tile=N:batch=N], semi-static[:alpha=A], dlb, hybrid")
@@ -246,6 +270,10 @@ Runner add_render_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", *quiet, "No per-frame lines");
   return [=]() -> int {
     const std::string spec = apply_mapping(*balancer, o->mapping);
+    Display display;
+    display.exposure_ev = parse_exposure(*exposure);
+    const bool volume_input = is_volume_input(o->scene_path, o->volume);
+    display.tone = parse_tone(*tone, volume_input);
     Setup s = make_setup(*o, 1, [&] { prepare_output_folder(*out_dir, *overwrite); });
     if (s.volume && s.volume->modes().size() > 1)
       throw InputError("--adapt: render takes one mode (bench compares several)");
@@ -255,7 +283,7 @@ Runner add_render_command(CLI::App& app) {
     if (!trace_path->empty())
       trace = std::make_unique<TraceFile>(*trace_path, session->engine(0).balancer().spec(),
                                           s.devices);
-    RenderOutput output(*out_dir, *exr, *quiet, s.views->rig().columns, o->frames,
+    RenderOutput output(*out_dir, *exr, *quiet, s.views->rig().columns, o->frames, display,
                         trace ? &trace->writer() : nullptr);
     int done = 0;
     int interrupted = 0;
@@ -268,7 +296,13 @@ Runner add_render_command(CLI::App& app) {
       signal_name = watch.signal_name();
     }
     if (trace) trace->close();
+    nlohmann::json settings = settings_to_json(*o, s, command_line);
+    settings["balancer"] = spec;  // as asked; "balancer" below has every parameter
+    settings["exposure_ev"] = display.exposure_ev;
+    settings["tone"] = display.tone == ToneCurve::Filmic ? "filmic" : "clamp";
+    settings["exr"] = *exr;
     nlohmann::json doc{{"scene", s.scene->name},
+                       {"settings", settings},
                        {"devices", devices_to_json(s.devices)},
                        {"balancer", session->engine(0).balancer().spec()},
                        {"views", s.views->rig().view_count()},

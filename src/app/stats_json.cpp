@@ -1,8 +1,38 @@
 #include "app/stats_json.h"
 
+#include "app/options.h"
 #include "core/error.h"
 
 namespace multiray::app {
+
+namespace {
+nlohmann::json vec3_json(Vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+}  // namespace
+
+nlohmann::json settings_to_json(const CommonOptions& o, const Setup& s,
+                                const std::vector<std::string>& command_line) {
+  return {{"command_line", command_line},
+          {"version", kVersion},
+          {"scene", o.scene_path.empty() ? "(built-in Cornell box)" : o.scene_path},
+          {"resolution", {s.res.width, s.res.height}},
+          {"spp", s.settings.spp},
+          {"bounces", s.settings.max_bounces},
+          {"frames", o.frames},
+          {"integrator", s.settings.kernel},
+          {"sampling", o.sampling},
+          {"seed", s.settings.seed},
+          {"camera",
+           {{"source", s.camera_source},
+            {"eye", vec3_json(s.camera.eye)},
+            {"target", vec3_json(s.camera.target)},
+            {"up", vec3_json(s.camera.up)},
+            {"fov_y_deg", s.camera.fov_y_deg}}},
+          {"up", vec3_json(s.up)},
+          {"camera_path", o.camera_path},
+          {"environment", vec3_json(s.scene->environment)},
+          {"views", o.stereo > 0 ? "stereo" : o.views},
+          {"devices", o.devices}};
+}
 
 nlohmann::json frame_to_json(const FrameRecord& rec) {
   nlohmann::json device_ms = nlohmann::json::array(), busy_ms = nlohmann::json::array(),

@@ -13,7 +13,19 @@
 
 namespace multiray::app {
 
+// The project version (CMake's PROJECT_VERSION), for --version and stats.json.
+inline constexpr const char* kVersion = MULTIRAY_VERSION;
+
+struct CommonOptions;
+struct Setup;
+
 nlohmann::json frame_to_json(const FrameRecord& rec);
+// The settings a run was made with, so that stats.json alone says how to repeat it: the
+// command line, version, scene, resolution, spp, bounces, frames, kernel, sampling, seed,
+// camera (where it came from and the one used), up axis, camera path, environment, views
+// and the devices asked for. Output options (balancer, exposure, tone) are the caller's.
+nlohmann::json settings_to_json(const CommonOptions& o, const Setup& s,
+                                const std::vector<std::string>& command_line);
 nlohmann::json devices_to_json(const std::vector<std::unique_ptr<Device>>& devices);
 // make_balancer, with std::invalid_argument turned into InputError naming `option` (the
 // command-line option the spec came from).

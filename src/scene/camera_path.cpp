@@ -126,7 +126,14 @@ Camera CameraPath::at(int frame) const {
       const double turns = std::fmod(double(frame), double(period_)) / double(period_);
       const double angle = 2.0 * double(kPi) * turns;
       const float cs = float(std::cos(angle)), sn = float(std::sin(angle));
-      auto turn = [&](Vec3 d) { return Vec3(cs * d.x + sn * d.z, d.y, -sn * d.x + cs * d.z); };
+      // About the world axis nearest the camera's up (y unless --up said otherwise).
+      const Vec3 a(std::abs(base_.up.x), std::abs(base_.up.y), std::abs(base_.up.z));
+      const int axis = a.y >= a.x && a.y >= a.z ? 1 : a.z >= a.x ? 2 : 0;
+      auto turn = [&](Vec3 d) {
+        if (axis == 2) return Vec3(cs * d.x - sn * d.y, sn * d.x + cs * d.y, d.z);
+        if (axis == 0) return Vec3(d.x, cs * d.y - sn * d.z, sn * d.y + cs * d.z);
+        return Vec3(cs * d.x + sn * d.z, d.y, -sn * d.x + cs * d.z);
+      };
       Camera c = base_;
       c.eye = base_.target + turn(base_.eye - base_.target);
       c.up = turn(base_.up);

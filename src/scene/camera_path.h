@@ -22,7 +22,8 @@ class CameraPath {
 
   // A still camera.
   static CameraPath fixed(const Camera& cam);
-  // Orbit around `base.target` in the horizontal plane through base.eye, one revolution
+  // Orbit around `base.target` about the world axis nearest `base.up` (the horizontal
+  // plane of a y-up scene, of a z-up one with --up z) through base.eye, one revolution
   // every `period_frames` frames, starting at base.eye; the up vector turns with the
   // eye, so every frame's camera is a rotated copy of `base`. Throws InputError when
   // the period is not finite or below kMinOrbitPeriod, or camera_problem() rejects base.

@@ -93,17 +93,56 @@ Bounds3 Scene::bounds() const {
   return b;
 }
 
-Camera Scene::default_camera(float aspect) const {
+bool up_axis_vector(const std::string& name, Vec3& up) {
+  std::string axis = name;
+  float sign = 1.0f;
+  if (!axis.empty() && (axis[0] == '+' || axis[0] == '-')) {
+    sign = axis[0] == '-' ? -1.0f : 1.0f;
+    axis.erase(0, 1);
+  }
+  if (axis != "x" && axis != "y" && axis != "z") return false;
+  up = Vec3(0.0f);
+  up[axis[0] - 'x'] = sign;
+  return true;
+}
+
+Camera Scene::default_camera(float aspect, Vec3 up, float azimuth_deg, float elevation_deg) const {
   const Bounds3 b = bounds();
+  // Right is +x (+y when up is along x), flipped with up's sign; front = right x up is then
+  // +z for +y up (glTF's convention) and -y for +z up (Blender's).
+  const int axis = std::abs(up.x) > 0.5f ? 0 : std::abs(up.y) > 0.5f ? 1 : 2;
+  const float sign = up[axis] < 0 ? -1.0f : 1.0f;
+  Vec3 right(0.0f);
+  right[axis == 0 ? 1 : 0] = sign;
+  const Vec3 front = cross(right, up);
+  const float az = azimuth_deg * kPi / 180.0f, el = elevation_deg * kPi / 180.0f;
+  // From the target towards the eye.
+  const Vec3 d = normalize(front * (std::cos(el) * std::cos(az)) +
+                           right * (std::cos(el) * std::sin(az)) + up * std::sin(el));
   Camera cam;
-  cam.fov_y_deg = 45.0f;
-  const Vec3 c = b.center();
-  const Vec3 e = b.extent();
-  const float half_h = 0.5f * std::max(e.y, e.x / std::max(aspect, 1e-3f));
-  const float dist = half_h / std::tan(0.5f * cam.fov_y_deg * kPi / 180.0f) + 0.5f * e.z;
-  cam.target = c;
-  cam.eye = c + Vec3(0, 0, dist * 1.1f);
-  cam.up = Vec3(0, 1, 0);
+  cam.fov_y_deg = kDefaultFovDeg;
+  cam.target = b.center();
+  cam.up = up;
+  // The image basis PinholeCamera builds from this camera.
+  const Vec3 f = -d, r = normalize(cross(f, up)), u = cross(r, f);
+  const float tan_y = std::tan(0.5f * cam.fov_y_deg * kPi / 180.0f) * kDefaultMargin;
+  const float tan_x = tan_y * std::max(aspect, 1e-6f);
+  // A corner q (relative to the target) lies at depth dist - dot(q, d) in front of the eye
+  // and inside the image when its offsets across are within tan * depth: the smallest
+  // distance that holds for all eight corners.
+  float dist = 0.0f, nearest = 0.0f;
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y,
+                      (i & 4) ? b.hi.z : b.lo.z);
+    const Vec3 q = corner - cam.target;
+    const float along = dot(q, d);
+    dist =
+        std::max(dist, along + std::max(std::abs(dot(q, r)) / tan_x, std::abs(dot(q, u)) / tan_y));
+    nearest = std::max(nearest, along);
+  }
+  // Every corner strictly in front of the eye (so the eye is outside the bounds).
+  dist = std::max(dist, nearest * 1.01f + 1e-6f * (1.0f + max_component(b.extent())));
+  cam.eye = cam.target + d * dist;
   return cam;
 }
 

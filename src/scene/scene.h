@@ -60,6 +60,14 @@ struct Camera {
   float fov_y_deg = 45.0f;
 };
 
+// The default camera's view direction, degrees: round the up axis from the front towards
+// the right, and above the horizon.
+constexpr float kDefaultAzimuthDeg = 35.0f;
+constexpr float kDefaultElevationDeg = 25.0f;
+constexpr float kDefaultFovDeg = 45.0f;
+// Fraction of each half of the image the projected bounds may fill.
+constexpr float kDefaultMargin = 0.92f;
+
 struct Scene {
   std::string name;  // file name or "cornell-box"
   std::vector<Vec3> positions;
@@ -80,9 +88,21 @@ struct Scene {
   bool has_triangles() const { return !indices.empty(); }
   // The triangles' bounds, or the volume's box for a volume scene.
   Bounds3 bounds() const;
-  // A camera that frames the whole scene from the front (+z side, looking at -z).
-  Camera default_camera(float aspect) const;
+  // A camera outside the scene's bounds that frames all of them, looking at their centre
+  // from `azimuth_deg` round the up axis from the front towards the right and
+  // `elevation_deg` above (default: a three-quarter view), at the distance where every
+  // corner of bounds() projects inside an image of width/height `aspect` with
+  // kDefaultMargin of it to spare. `up` is the world axis the scene calls up
+  // (up_axis_vector); the front is the axis glTF's convention makes it for +y (+z),
+  // Blender's for +z (-y). render/default_view.h picks among such views for meshes.
+  Camera default_camera(float aspect, Vec3 up = Vec3(0, 1, 0),
+                        float azimuth_deg = kDefaultAzimuthDeg,
+                        float elevation_deg = kDefaultElevationDeg) const;
 };
+
+// The unit world axis named by `name`: x, y, z with an optional sign (+x, -z, ...).
+// Returns false for anything else.
+bool up_axis_vector(const std::string& name, Vec3& up);
 
 // Largest coordinate magnitude of a scene vertex, scene units. Keeps the scene's bounds,
 // their extent and the products Embree forms from them finite in float (max ~3.4e38);

@@ -9,6 +9,9 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "support/cli_expect.h"
 
@@ -99,6 +102,66 @@ TEST(Cli, FoveatedSamplingRendersAndChecksItsOptions) {
   expect_input_error("render --sampling foveated --fovea-radius -1", "--fovea-radius");
   expect_input_error("render --sampling foveated --devices opencl", "opencl");
   expect_input_error("render --sampling sparse", "--sampling");
+}
+
+TEST(Cli, UpExposureAndToneAreChecked) {
+  expect_input_error("render --res 8x8 --up w", "--up");
+  expect_input_error("render --res 8x8 --up yz", "--up");
+  expect_input_error("render --res 8x8 --up ++y", "--up");
+  expect_input_error("render --res 8x8 --up Z", "--up");
+  expect_input_error("render --res 8x8 --exposure 20.5", "--exposure");
+  expect_input_error("render --res 8x8 --exposure -21", "--exposure");
+  expect_input_error("render --res 8x8 --exposure nan", "--exposure");
+  expect_input_error("render --res 8x8 --exposure two", "--exposure");
+  expect_input_error("render --res 8x8 --tone aces", "--tone");
+  const Result help = run("render --help");
+  for (const char* opt : {"--up", "--exposure", "--tone", "filmic"})
+    EXPECT_THAT(help.out, ::testing::HasSubstr(opt));
+}
+
+// stats.json alone says how the run was made.
+TEST(Cli, StatsJsonRecordsTheRunSettings) {
+  const std::string dir = ::testing::TempDir() + "/cli_settings";
+  std::filesystem::remove_all(dir);
+  const Result r =
+      run("render --res 40x24 --spp 3 --bounces 5 --seed 42 --devices cpu:threads=1 "
+          "--balancer uniform --exposure 1.5 --tone clamp -q --out " +
+          dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto doc = nlohmann::json::parse(std::ifstream(dir + "/stats.json"));
+  const auto& s = doc.at("settings");
+  const auto cmd = s.at("command_line").get<std::vector<std::string>>();
+  ASSERT_GE(cmd.size(), 3u);
+  EXPECT_EQ(cmd[1], "render");
+  EXPECT_EQ(cmd.back(), dir);
+  const std::string version = run("--version").out;
+  EXPECT_EQ("multiray " + s.at("version").get<std::string>() + "\n", version);
+  EXPECT_EQ(s.at("resolution"), nlohmann::json({40, 24}));
+  EXPECT_EQ(s.at("spp"), 3);
+  EXPECT_EQ(s.at("bounces"), 5);
+  EXPECT_EQ(s.at("seed"), 42);
+  EXPECT_EQ(s.at("frames"), 1);
+  EXPECT_EQ(s.at("devices"), "cpu:threads=1");
+  EXPECT_EQ(s.at("balancer"), "uniform");
+  EXPECT_EQ(s.at("integrator"), "path");
+  EXPECT_EQ(s.at("exposure_ev"), 1.5);
+  EXPECT_EQ(s.at("tone"), "clamp");
+  EXPECT_EQ(s.at("camera").at("source"), "scene");  // the Cornell box's own
+  EXPECT_EQ(s.at("camera").at("eye"), nlohmann::json({0.0, 1.0, 3.9f}));
+  EXPECT_EQ(s.at("camera").at("fov_y_deg"), 39.3f);
+
+  // A file without a camera: the default one, about --up.
+  const std::string obj = temp_file("settings.obj", "v 0 0 0\nv 1 0 0\nv 0 1 2\nf 1 2 3\n");
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(run("render " + obj + " --res 16x8 --spp 1 --up z -q --out " + dir).code, 0);
+  const auto doc2 = nlohmann::json::parse(std::ifstream(dir + "/stats.json"));
+  const auto& s2 = doc2.at("settings");
+  EXPECT_EQ(s2.at("camera").at("source"), "default");
+  EXPECT_EQ(s2.at("up"), nlohmann::json({0.0, 0.0, 1.0}));
+  EXPECT_EQ(s2.at("camera").at("up"), nlohmann::json({0.0, 0.0, 1.0}));
+  EXPECT_EQ(s2.at("tone"), "filmic");  // meshes' default
+  EXPECT_EQ(s2.at("exposure_ev"), 0.0);
+  EXPECT_EQ(s2.at("scene"), obj);
 }
 
 TEST(Cli, BadSceneFiles) {
