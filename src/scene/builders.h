@@ -6,7 +6,9 @@
 namespace multiray {
 
 // Appends geometry to a scene; every call returns the index of the first new triangle.
-// Quads are given counter-clockwise as seen from the side their normal points to.
+// Every builder adds vertex normals (face normals for quads and boxes, the sphere's own
+// for spheres), so shapes can be mixed in one scene. Quads are given counter-clockwise as
+// seen from the side their normal points to.
 uint32_t add_quad(Scene& s, Vec3 a, Vec3 b, Vec3 c, Vec3 d, uint32_t material);
 // Axis-aligned box rotated by `yaw_deg` about +y through its centre, outward faces.
 uint32_t add_box(Scene& s, Vec3 center, Vec3 half_size, float yaw_deg, uint32_t material);
@@ -28,5 +30,17 @@ Scene make_furnace_sphere(float albedo, float le);
 // radiance `env`, seen from above. With bounces >= 1, the plane's outgoing radiance is
 // albedo * env (the sky hemisphere is unoccluded), the sky shows env.
 Scene make_lit_plane(float albedo, float env);
+
+// A diffuse sphere (radius 1 at the origin, albedo `albedo`, a UV sphere of `rings` x
+// `segments` quads) lit only by a small square light (side kLitSphereLightSide) facing it
+// from kLitSphereLightDistance away along kLitSphereLightDir, in a black environment; the
+// camera looks at it from +z. `smooth`: with the sphere's vertex normals, else without
+// (flat facets). The light's radiance makes the irradiance of a surface facing it 1 at the
+// centre, so with one bounce a point with normal n has radiance albedo / pi * cos(n, light)
+// (up to the light's finite size and distance, ~1e-3 relative).
+Scene make_lit_sphere(float albedo, int rings, int segments, bool smooth);
+constexpr float kLitSphereLightDistance = 20.0f;
+constexpr float kLitSphereLightSide = 0.5f;
+inline Vec3 lit_sphere_light_dir() { return normalize(Vec3(1.0f, 1.5f, 2.0f)); }
 
 }  // namespace multiray

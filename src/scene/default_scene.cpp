@@ -1,3 +1,4 @@
+#include <array>
 #include <cmath>
 
 #include "scene/builders.h"
@@ -10,12 +11,20 @@ uint32_t add_material(Scene& s, Material m) {
 }
 
 uint32_t add_quad(Scene& s, Vec3 a, Vec3 b, Vec3 c, Vec3 d, uint32_t material) {
-  const uint32_t base = uint32_t(s.positions.size());
   const uint32_t first = uint32_t(s.triangle_count());
-  for (Vec3 p : {a, b, c, d}) s.positions.push_back(p);
-  for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) s.indices.push_back(base + i);
-  s.material_ids.push_back(material);
-  s.material_ids.push_back(material);
+  // Three corners of its own per triangle, each with the triangle's face normal computed as
+  // build_shading_data() computes it for a mesh without normals: flat shading exactly as
+  // before, while curved parts of the same scene (add_sphere) keep their smooth normals.
+  for (const auto& tri : {std::array<Vec3, 3>{a, b, c}, std::array<Vec3, 3>{a, c, d}}) {
+    const Vec3 e = cross(tri[1] - tri[0], tri[2] - tri[0]);
+    const Vec3 face = dot(e, e) > 0 ? normalize(e) : Vec3(0, 0, 1);  // never hit if degenerate
+    for (Vec3 p : tri) {
+      s.indices.push_back(uint32_t(s.positions.size()));
+      s.positions.push_back(p);
+      s.normals.push_back(face);
+    }
+    s.material_ids.push_back(material);
+  }
   return first;
 }
 
@@ -82,8 +91,7 @@ Scene make_cornell_box() {
   add_box(s, {-0.33f, 0.6f, -0.29f}, {0.3f, 0.6f, 0.3f}, 17.0f, w);  // tall block
   add_box(s, {0.34f, 0.3f, 0.38f}, {0.3f, 0.3f, 0.3f}, -17.0f, w);   // short block
   add_sphere(s, {0.34f, 0.85f, 0.38f}, 0.25f, 16, 32, false, m);     // metal ball on it
-  // The quads carry no normals, so drop the sphere's: the scene is flat-shaded throughout.
-  s.normals.clear();
+  // The ball is smooth-shaded from its vertex normals; the quads carry their face normals.
   s.cameras.push_back(Camera{{0, 1, 3.9f}, {0, 1, 0}, {0, 1, 0}, 39.3f});
   return s;
 }
@@ -106,6 +114,27 @@ Scene make_lit_plane(float albedo, float env) {
   add_quad(s, {-e, 0, -e}, {-e, 0, e}, {e, 0, e}, {e, 0, -e}, m);
   s.environment = Vec3(env);
   s.cameras.push_back(Camera{{0, 1, 0}, {0, 0, 0}, {0, 0, -1}, 60.0f});
+  return s;
+}
+
+Scene make_lit_sphere(float albedo, int rings, int segments, bool smooth) {
+  Scene s;
+  s.name = smooth ? "lit-sphere-smooth" : "lit-sphere-flat";
+  const uint32_t m = add_material(s, Material{.name = "sphere", .base_color = Vec3(albedo)});
+  add_sphere(s, {0, 0, 0}, 1.0f, rings, segments, false, m);
+  // The light: a square around l * distance whose normal, cross(t1, t2) = -l, faces the
+  // sphere (add_quad's winding); its radiance gives irradiance 1 at distance `dist`.
+  const Vec3 l = lit_sphere_light_dir();
+  const Vec3 t1 = normalize(cross(l, Vec3(0, 1, 0))), t2 = cross(t1, l);
+  const float h = 0.5f * kLitSphereLightSide, dist = kLitSphereLightDistance;
+  const float le = dist * dist / (kLitSphereLightSide * kLitSphereLightSide);
+  const uint32_t light =
+      add_material(s, Material{.name = "light", .base_color = Vec3(0), .emission = Vec3(le)});
+  const Vec3 c = l * dist;
+  add_quad(s, c - t1 * h - t2 * h, c + t1 * h - t2 * h, c + t1 * h + t2 * h, c - t1 * h + t2 * h,
+           light);
+  if (!smooth) s.normals.clear();  // flat: every triangle shaded with its face normal
+  s.cameras.push_back(Camera{{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40.0f});
   return s;
 }
 

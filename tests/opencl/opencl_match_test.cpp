@@ -76,6 +76,22 @@ TEST(OpenClMatch, CornellBoxMatchesCpuStatistically) {
   expect_matches_cpu(make_cornell_box(), 8);
 }
 
+// Smooth shading from vertex normals: a coarse sphere (8 x 16 quads) under a small light
+// and a dim sky, whose facets would show if either backend ignored the normals. The test
+// has the power to see that: the CPU's own flat-shaded image fails it.
+TEST(OpenClMatch, SmoothNormalsMatchCpuStatistically) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  Scene smooth = make_lit_sphere(0.8f, 8, 16, true), flat = make_lit_sphere(0.8f, 8, 16, false);
+  smooth.environment = flat.environment = Vec3(0.1f);
+  expect_matches_cpu(smooth, 8);
+  SceneCache rs_smooth(smooth), rs_flat(flat);
+  CpuDevice cpu_smooth(rs_smooth, {}, "cpu"), cpu_flat(rs_flat, {}, "cpu");
+  const ZSummary z = summarize(
+      testing::z_scores(batches(cpu_flat, flat, 8, 2000), batches(cpu_smooth, smooth, 8, 1000)));
+  std::printf("flat vs smooth on the CPU: %.3f%% of channels beyond |z| = 4\n", 100 * z.beyond4);
+  EXPECT_GT(z.beyond4, 0.05);
+}
+
 // The same box with the rest of the material model: a textured floor and walls (8-bit sRGB,
 // bilinear, wrapped), a rough glass ball, a half-metallic red wall.
 TEST(OpenClMatch, TexturesAndGlassMatchCpuStatistically) {
