@@ -162,6 +162,20 @@ TEST(Cli, StatsJsonRecordsTheRunSettings) {
   EXPECT_EQ(s2.at("tone"), "filmic");  // meshes' default
   EXPECT_EQ(s2.at("exposure_ev"), 0.0);
   EXPECT_EQ(s2.at("scene"), obj);
+
+  // A volume: viewed about z, PNGs clamped (the raycaster writes display colours).
+  std::string voxels(16 * 16 * 16, '\0');
+  for (size_t i = 0; i < voxels.size(); ++i) voxels[i] = char(i % 16 < 8 ? 200 : 0);
+  const std::string raw = temp_file("settings.raw", voxels);
+  std::filesystem::remove_all(dir);
+  const Result rv = run("render " + raw + " --raw 16x16x16:uint8 --res 16x8 -q --out " + dir);
+  ASSERT_EQ(rv.code, 0) << rv.out;
+  const auto doc3 = nlohmann::json::parse(std::ifstream(dir + "/stats.json"));
+  const auto& s3 = doc3.at("settings");
+  EXPECT_EQ(s3.at("tone"), "clamp");
+  EXPECT_EQ(s3.at("integrator"), "volume");
+  EXPECT_EQ(s3.at("up"), nlohmann::json({0.0, 0.0, 1.0}));
+  EXPECT_EQ(s3.at("camera").at("source"), "default");
 }
 
 TEST(Cli, BadSceneFiles) {
