@@ -36,7 +36,8 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
   cmd.add_option("--camera", o.camera,
                  "Camera as ex,ey,ez,tx,ty,tz,ux,uy,uz,fov (eye, target, up, vertical fov in "
                  "degrees); default: the scene's first camera, else a three-quarter view from "
-                 "outside that frames the scene's bounding box (see --up)");
+                 "outside that frames the scene's bounding box (see --up), or a straight view "
+                 "into a box that is open on one side");
   cmd.add_option("--up", o.up,
                  "The scene's up axis for the default camera and orbits: x, y or z, optionally "
                  "signed (+z, -y); auto: y for meshes (glTF's convention), z for volumes")
