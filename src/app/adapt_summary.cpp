@@ -132,19 +132,31 @@ void write_prediction_svg(const std::string& path, const std::string& title,
   auto error_pct = [](double predicted, double measured) {
     return predicted > 0 && measured > 0 ? 100 * std::abs(predicted - measured) / measured : NAN;
   };
+  // Single frames vary by 10-20% on a shared machine: a centred 9-frame mean shows the trend.
+  auto smooth = [](const std::vector<double>& x) {
+    std::vector<double> out(x.size(), NAN);
+    for (size_t i = 0; i < x.size(); ++i) {
+      double sum = 0;
+      int n = 0;
+      for (size_t j = i >= 4 ? i - 4 : 0; j <= i + 4 && j < x.size(); ++j)
+        if (std::isfinite(x[j])) sum += x[j], ++n;
+      if (n > 0) out[i] = sum / n;
+    }
+    return out;
+  };
   size_t n = 0;
   for (const auto& lane : records) n = std::max(n, lane.size());
   if (n == 0) return;
   SvgChart chart(title, n);
   // Errors above 100% are drawn at the top: the interesting range is 0-100%.
-  const int frame = chart.add_panel("frame time error (%)", 100, 200, "{:.0f}");
-  const int cost = chart.add_panel("cost per sample error (%)", 100, 200, "{:.0f}");
+  const int frame = chart.add_panel("frame time error (%, 9-frame mean)", 100, 200, "{:.0f}");
+  const int cost = chart.add_panel("cost/sample error (%, 9-frame mean)", 100, 200, "{:.0f}");
   for (int f : switches) chart.mark(f, "TF");
   std::vector<std::pair<std::string, const char*>> lane_legend, device_legend;
   for (size_t l = 0; l < records.size(); ++l) {
     std::vector<double> e;
     for (const FrameRecord& r : records[l]) e.push_back(error_pct(r.predicted_ms, r.frame_ms));
-    chart.line(frame, e, series_colour(l));
+    chart.line(frame, smooth(e), series_colour(l));
     lane_legend.emplace_back(l < lanes.size() ? lanes[l] : "", series_colour(l));
   }
   if (cost_lane < records.size())
@@ -155,7 +167,7 @@ void write_prediction_svg(const std::string& path, const std::string& title,
                         ? error_pct(r.predicted_cost[d], r.measured_cost[d])
                         : NAN);
       // Devices in the colours after the lanes', so the two panels are not confused.
-      chart.line(cost, e, series_colour(records.size() + d));
+      chart.line(cost, smooth(e), series_colour(records.size() + d));
       device_legend.emplace_back(devices[d] + " (" + lanes.at(cost_lane) + ")",
                                  series_colour(records.size() + d));
     }

@@ -49,7 +49,8 @@ void write_targeting_svg(const std::string& path, const std::string& title,
 
 // The prediction error of every frame (Bruder et al.'s Fig. 6a): |predicted - measured| /
 // measured of each lane's frame time (top) and of each device's cost per sample in lane
-// `cost_lane` (bottom; `devices` name them), transfer-function switches marked.
+// `cost_lane` (bottom; `devices` name them), each as a centred 9-frame mean,
+// transfer-function switches marked.
 void write_prediction_svg(const std::string& path, const std::string& title,
                           const std::vector<std::string>& lanes,
                           const std::vector<std::vector<FrameRecord>>& records, size_t cost_lane,
