@@ -121,18 +121,30 @@ struct Keep : FrameObserver {
   void on_frame(const std::shared_ptr<const FrameResult>& r) override { results.push_back(r); }
 };
 
+// The ball at 48x36 on two CPU devices (the second at half speed) in three lanes: bruder,
+// static, bruder.
+struct ThreeLanes {
+  explicit ThreeLanes(const Ball& b)
+      : d0(*b.cache, {}, "cpu"), d1(*b.cache, CpuDeviceOptions{.speed = 0.5}, "cpu:speed=0.5") {
+    RenderSettings settings;
+    settings.kernel = "volume";
+    settings.spp = 1;
+    settings.volume_style = b.style;
+    std::vector<std::unique_ptr<balance::Balancer>> lanes;
+    for (const char* spec : {"bruder", "static", "bruder"})
+      lanes.push_back(balance::make_balancer(spec, 2));
+    session = std::make_unique<Session>(std::vector<Device*>{&d0, &d1}, std::move(lanes),
+                                        FrameViews(CameraRig::single(), 48, 36, {}),
+                                        CameraPath::fixed(b.camera), settings);
+  }
+  CpuDevice d0, d1;
+  std::unique_ptr<Session> session;
+};
+
 TEST(VolumeAdvisor, PredictionsReachTheBalancerAndQualityIsRendered) {
   Ball b;
-  CpuDevice d0(*b.cache, {}, "cpu"), d1(*b.cache, CpuDeviceOptions{.speed = 0.5}, "cpu:speed=0.5");
-  RenderSettings settings;
-  settings.kernel = "volume";
-  settings.spp = 1;
-  settings.volume_style = b.style;
-  std::vector<std::unique_ptr<balance::Balancer>> lanes;
-  for (const char* spec : {"bruder", "static", "bruder"})
-    lanes.push_back(balance::make_balancer(spec, 2));
-  Session session({&d0, &d1}, std::move(lanes), FrameViews(CameraRig::single(), 48, 36, {}),
-                  CameraPath::fixed(b.camera), settings);
+  ThreeLanes lanes(b);
+  Session& session = *lanes.session;
   session.set_advisors([&](size_t lane) -> std::unique_ptr<FrameAdvisor> {
     VolumeAdvisorConfig c;
     c.targeting.target_ms = 1e-3;  // unreachable: predict coarsens as far as it may
@@ -166,16 +178,8 @@ TEST(VolumeAdvisor, PredictionsReachTheBalancerAndQualityIsRendered) {
 
 TEST(VolumeAdvisor, TwoPassRendersASecondPassOnlyWhenTheFirstLeftTime) {
   Ball b;
-  CpuDevice d0(*b.cache, {}, "cpu"), d1(*b.cache, CpuDeviceOptions{.speed = 0.5}, "cpu:speed=0.5");
-  RenderSettings settings;
-  settings.kernel = "volume";
-  settings.spp = 1;
-  settings.volume_style = b.style;
-  std::vector<std::unique_ptr<balance::Balancer>> lanes;
-  for (const char* spec : {"bruder", "static", "bruder"})
-    lanes.push_back(balance::make_balancer(spec, 2));
-  Session session({&d0, &d1}, std::move(lanes), FrameViews(CameraRig::single(), 48, 36, {}),
-                  CameraPath::fixed(b.camera), settings);
+  ThreeLanes lanes(b);
+  Session& session = *lanes.session;
   // Lane 0: a target no pass can miss (the second pass is full quality); lane 1: no
   // adaptation; lane 2: a target the first pass already misses (it is the frame).
   session.set_advisors([&](size_t lane) -> std::unique_ptr<FrameAdvisor> {
