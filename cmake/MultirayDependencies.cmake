@@ -54,3 +54,26 @@ if(_multiray_ocl_mode STREQUAL "AUTO" OR _multiray_ocl_mode STREQUAL "ON")
 elseif(NOT _multiray_ocl_mode STREQUAL "OFF")
   message(FATAL_ERROR "MULTIRAY_WITH_OPENCL must be AUTO, ON or OFF, not '${MULTIRAY_WITH_OPENCL}'")
 endif()
+
+# assimp (Debian's libassimp-dev) reads the mesh formats without a dedicated loader
+# (src/scene/load_assimp.cpp: FBX, COLLADA, 3DS, ...). MULTIRAY_WITH_ASSIMP:
+#   AUTO (default) use it when found, else warn: those formats then give a one-line error;
+#   ON   strict: fail the configure without it;  OFF  never use it.
+# Sets MULTIRAY_ASSIMP_ENABLED for src/scene.
+set(MULTIRAY_WITH_ASSIMP AUTO CACHE STRING "Read FBX, DAE, 3DS, ... through assimp: AUTO, ON or OFF")
+set_property(CACHE MULTIRAY_WITH_ASSIMP PROPERTY STRINGS AUTO ON OFF)
+string(TOUPPER "${MULTIRAY_WITH_ASSIMP}" _multiray_assimp_mode)
+set(MULTIRAY_ASSIMP_ENABLED OFF)
+if(_multiray_assimp_mode STREQUAL "AUTO" OR _multiray_assimp_mode STREQUAL "ON")
+  find_package(assimp 5 QUIET)
+  if(assimp_FOUND AND TARGET assimp::assimp)
+    set(MULTIRAY_ASSIMP_ENABLED ON)
+    message(STATUS "multiray: assimp ${assimp_VERSION} enabled")
+  elseif(_multiray_assimp_mode STREQUAL "ON")
+    message(FATAL_ERROR "MULTIRAY_WITH_ASSIMP=ON but assimp 5 was not found (libassimp-dev)")
+  else()
+    message(WARNING "multiray: assimp not found (libassimp-dev): FBX, DAE, 3DS, ... disabled")
+  endif()
+elseif(NOT _multiray_assimp_mode STREQUAL "OFF")
+  message(FATAL_ERROR "MULTIRAY_WITH_ASSIMP must be AUTO, ON or OFF, not '${MULTIRAY_WITH_ASSIMP}'")
+endif()

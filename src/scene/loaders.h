@@ -28,8 +28,24 @@ struct LoadOptions {
   std::function<void(const std::string& line)> warn;
 };
 
-// Dispatches on the extension, case-insensitively: .gltf/.glb, .obj, .ply.
+// Dispatches on the extension, case-insensitively: .gltf/.glb, .obj, .ply to their own
+// readers, kAssimpExtensions to load_assimp().
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
+
+// Extensions (lower case) of the formats read through assimp: each one's sample files in
+// Debian's assimp-testmodels load with assimp 5.2.5 (tests/scene/assimp_models_test.cpp).
+inline constexpr const char* kAssimpExtensions[] = {
+    ".3ds", ".3mf", ".ac", ".ase", ".b3d", ".blend", ".cob", ".dae", ".dxf", ".fbx", ".ifc",
+    ".lwo", ".lxo", ".md2", ".ms3d", ".off", ".q3o", ".q3s", ".smd", ".stl", ".x", ".x3d"};
+
+// Any format assimp 5.2 reads (kAssimpExtensions are the ones load_scene() sends here):
+// triangles of every mesh the node hierarchy uses, in world space; per-vertex normals
+// and the first uv set where the file has them; materials (see AssimpMaterials) with
+// diffuse / base-colour textures from files beside the model or embedded; perspective
+// cameras. Every file assimp opens goes through the LoadOptions checks. A missing,
+// refused or undecodable texture gives one warning and the material keeps its colour.
+// In a build without assimp (MULTIRAY_WITH_ASSIMP) it throws InputError saying so.
+Scene load_assimp(const std::string& path, const LoadOptions& options = {});
 
 // glTF 2.0, text (.gltf) or binary (.glb). Triangles of the default scene; materials
 // from metallic-roughness plus emissive strength, transmission and IOR extensions;
