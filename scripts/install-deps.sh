@@ -5,7 +5,7 @@
 # (fuzz/README.md); PoCL pulls clang-15 in too, but fuzzing should not rely on that.
 set -eu
 PACKAGES="build-essential cmake pkg-config clang-format libembree-dev libtbb-dev \
-  libtinyobjloader-dev libtinygltf-dev libstb-dev libopenexr-dev libcli11-dev \
+  libtinyobjloader-dev libtinygltf-dev libtinyxml2-dev libstb-dev libopenexr-dev libcli11-dev \
   nlohmann-json3-dev libfmt-dev libspdlog-dev libgtest-dev libgmock-dev libbenchmark-dev \
   assimp-testmodels libnanoflann-dev pocl-opencl-icd ocl-icd-opencl-dev opencl-headers \
   opencl-clhpp-headers clang-15 libclang-common-15-dev \

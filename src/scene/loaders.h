@@ -28,7 +28,7 @@ struct LoadOptions {
   std::function<void(const std::string& line)> warn;
 };
 
-// Dispatches on the extension, case-insensitively: .gltf/.glb, .obj, .ply to their own
+// Dispatches on the extension, case-insensitively: .gltf/.glb, .obj, .ply, .xml to their own
 // readers, kAssimpExtensions to load_assimp().
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
 
@@ -63,6 +63,14 @@ Scene load_obj(const std::string& path, const LoadOptions& options = {});
 // Stanford PLY, ascii or binary (either byte order): vertex positions, optional normals
 // and texture coordinates, polygon faces.
 Scene load_ply(const std::string& path, const LoadOptions& options = {});
+
+// Mitsuba 3 scene XML (.xml), the subset simple scenes such as Mitsuba's Cornell box use:
+// perspective sensor (with its film size in Camera::film_width/height), diffuse BSDFs
+// (rgb or spectral reflectance), area and constant emitters, obj/ply/rectangle/cube
+// shapes with to_world. Each other plugin type gives one warning and is skipped or
+// replaced by Mitsuba's default. Meshes are found through the file's <path> folders; those
+// outside the XML's folder need allow_outside like any other named file.
+Scene load_mitsuba(const std::string& path, const LoadOptions& options = {});
 
 // Helpers shared by the loaders (texture_load.cpp). Not part of the public interface.
 namespace detail {

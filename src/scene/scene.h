@@ -58,6 +58,9 @@ struct Camera {
   Vec3 target{0, 0, 0};
   Vec3 up{0, 1, 0};
   float fov_y_deg = 45.0f;
+  // The image size the scene file asks for (a Mitsuba film), or 0 x 0 when it names none.
+  // fov_y_deg was derived with this aspect ratio.
+  int film_width = 0, film_height = 0;
 };
 
 // The default camera's view direction, degrees: round the up axis from the front towards

@@ -28,13 +28,14 @@ Scene load_scene(const std::string& path, const LoadOptions& options) {
   if (ext == ".gltf" || ext == ".glb") return load_gltf(path, options);
   if (ext == ".obj") return load_obj(path, options);
   if (ext == ".ply") return load_ply(path, options);
+  if (ext == ".xml") return load_mitsuba(path, options);
   std::string assimp_list;
   for (const char* e : kAssimpExtensions) {
     if (ext == e) return load_assimp(path, options);
     assimp_list += std::string(", ") + e;
   }
   detail::fail(path, "unknown scene file extension '" + ext +
-                         "' (supported: .gltf, .glb, .obj, .ply; through assimp:" +
+                         "' (supported: .gltf, .glb, .obj, .ply, .xml; through assimp:" +
                          assimp_list.substr(1) + ")");
 }
 
