@@ -23,8 +23,9 @@ bool stderr_is_tty() { return isatty(STDERR_FILENO) == 1; }
 
 void add_common_options(CLI::App& cmd, CommonOptions& o) {
   cmd.add_option("scene", o.scene_path,
-                 "Scene file (.gltf, .glb, .obj, .ply) or volume (.nhdr, .nrrd, or raw with "
-                 "--raw); omitted: the built-in Cornell box");
+                 "Scene file (.gltf, .glb, .obj, .ply; .fbx, .dae, .3ds, .stl, .off, .blend and "
+                 "more through assimp, see docs/scene-formats.md) or volume (.nhdr, .nrrd, or "
+                 "raw with --raw); omitted: the built-in Cornell box");
   cmd.add_option("--res", o.resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
   cmd.add_option(
          "--spp", o.spp,
