@@ -52,9 +52,17 @@ std::vector<std::string> split(const std::string& s, char sep) {
   return out;
 }
 
-bool has_emitter(const Scene& scene) {
+// Whether some material emits by its factor alone. Emission through a texture does not
+// count: such files (DamagedHelmet) mean glowing details, not a light for the scene.
+bool has_light(const Scene& scene) {
   for (const Material& m : scene.materials)
-    if (max_component(m.emission) > 0) return true;
+    if (max_component(m.emission) > 0 && m.emission_texture < 0) return true;
+  return false;
+}
+
+bool has_textured_emission(const Scene& scene) {
+  for (const Material& m : scene.materials)
+    if (max_component(m.emission) > 0 && m.emission_texture >= 0) return true;
   return false;
 }
 
@@ -370,9 +378,13 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
       if (v < 0 || v > 1e9) throw InputError("--env must be in [0, 1e9]");
       s.scene->environment[c] = float(v);
     }
-  } else if (!volume_input && max_component(s.scene->environment) <= 0 && !has_emitter(*s.scene)) {
+  } else if (!volume_input && max_component(s.scene->environment) <= 0 && !has_light(*s.scene) &&
+             !s.scene->environment_map && !s.scene->sun.on()) {
     s.scene->environment = Vec3(1.0f);
-    s.notes.push_back("the scene has no lights; using a white sky (radiance 1), see --env");
+    s.notes.push_back(has_textured_emission(*s.scene)
+                          ? "the scene's only lights are emissive textures; adding a white sky "
+                            "(radiance 1), see --env"
+                          : "the scene has no lights; using a white sky (radiance 1), see --env");
   }
   if (sampling.mode == Sampling::Foveated)
     sampling.pattern = std::make_shared<const FoveationPattern>(

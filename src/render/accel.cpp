@@ -1,5 +1,6 @@
 #include "render/accel.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <pmmintrin.h>
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "render/surface.h"
 
 namespace multiray {
 
@@ -16,6 +18,49 @@ void set_fast_float_mode() {
   _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
   _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
 }
+
+namespace {
+
+// A number in [0, 1) fixed by the ray and the triangle (a 32-bit mix of their bits).
+float ray_hash(const float* values, int n, uint32_t prim) {
+  uint32_t h = 0x9e3779b9u ^ prim;
+  for (int i = 0; i < n; ++i) {
+    uint32_t b;
+    std::memcpy(&b, &values[i], sizeof b);
+    h ^= b + 0x7f4a7c15u + (h << 6) + (h >> 2);
+    h *= 0x85ebca6bu;
+    h ^= h >> 13;
+  }
+  h *= 0xc2b2ae35u;
+  h ^= h >> 16;
+  return float(h >> 8) * (1.0f / 16777216.0f);
+}
+
+// Embree filter for cut-out materials; geometryUserPtr is the Scene.
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* scene = static_cast<const Scene*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+    const Material& m = scene->materials[scene->material_ids[prim]];
+    if (!m.may_be_transparent()) continue;
+    const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    Vec2 uv{};
+    if (!scene->uvs.empty()) {
+      const uint32_t* idx = &scene->indices[3 * size_t(prim)];
+      const Vec2 a = scene->uvs[idx[0]], b = scene->uvs[idx[1]], c = scene->uvs[idx[2]];
+      const float w = 1.0f - u - v;
+      uv = Vec2{a.x * w + b.x * u + c.x * v, a.y * w + b.y * u + c.y * v};
+    }
+    const float key[6] = {
+        RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+        RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
+        RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
+    if (passes_through(*scene, m, uv, ray_hash(key, 6, prim))) args->valid[i] = 0;
+  }
+}
+
+}  // namespace
 
 Accel::Accel(const Scene& scene) {
   device_ = rtcNewDevice(nullptr);
@@ -34,6 +79,13 @@ Accel::Accel(const Scene& scene) {
   if (!vertices || !indices) throw DeviceError("Embree: out of memory for the scene buffers");
   std::memcpy(vertices, scene.positions.data(), scene.positions.size() * sizeof(Vec3));
   std::memcpy(indices, scene.indices.data(), scene.indices.size() * sizeof(uint32_t));
+  if (std::any_of(scene.materials.begin(), scene.materials.end(),
+                  [](const Material& m) { return m.may_be_transparent(); })) {
+    cutouts_ = &scene;
+    rtcSetGeometryUserData(geom, const_cast<Scene*>(&scene));
+    rtcSetGeometryIntersectFilterFunction(geom, alpha_filter);
+    rtcSetGeometryOccludedFilterFunction(geom, alpha_filter);
+  }
   rtcCommitGeometry(geom);
   rtcAttachGeometry(scene_, geom);
   rtcReleaseGeometry(geom);

@@ -21,6 +21,11 @@ struct Hit {
   Vec3 ng;             // unnormalised geometric normal, along cross(v1 - v0, v2 - v0)
 };
 
+// Materials with an alpha mode (scene.h AlphaMode) are cut out during traversal, for
+// closest hits and shadow rays alike, by an Embree filter function: a point whose
+// material passes_through() (render/surface.h) is not a hit. The random number of
+// `blend` is a hash of the ray and the triangle, so a ray makes the same decision on
+// every device, whatever the split.
 class Accel {
  public:
   // Builds a high-quality BVH over `scene` (which must outlive the Accel).
@@ -37,6 +42,7 @@ class Accel {
  private:
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
+  const Scene* cutouts_ = nullptr;  // the scene, when some material has an alpha mode
 };
 
 // Sets flush-to-zero and denormals-are-zero on the calling thread, as Embree recommends

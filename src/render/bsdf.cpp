@@ -58,10 +58,10 @@ Vec3 reflect(Vec3 w, Vec3 m) { return m * (2.0f * dot(w, m)) - w; }
 
 }  // namespace
 
-Bsdf::Bsdf(const Material& m, Vec3 base_color)
+Bsdf::Bsdf(const Material& m, Vec3 base_color, float metallic, float roughness)
     : color_(base_color),
-      metallic_(std::clamp(m.metallic, 0.0f, 1.0f)),
-      alpha_(std::max(m.roughness * m.roughness, 1e-3f)),
+      metallic_(std::clamp(metallic, 0.0f, 1.0f)),
+      alpha_(std::max(roughness * roughness, 1e-3f)),
       ior_(m.ior > 1.0f ? m.ior : 1.5f),
       dielectric_(m.transmission > 0.5f) {}
 

@@ -23,8 +23,9 @@ struct BsdfSample {
 
 class Bsdf {
  public:
-  // `base_color` already includes the texture lookup.
-  Bsdf(const Material& m, Vec3 base_color);
+  // `base_color`, `metallic` and `roughness` already include the texture lookups
+  // (render/surface.h); `m` gives the rest (transmission, ior).
+  Bsdf(const Material& m, Vec3 base_color, float metallic, float roughness);
 
   // True if eval()/pdf() are meaningful, i.e. next-event estimation may be used.
   bool has_diffuse_or_glossy() const { return !dielectric_; }

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "render/sampling.h"
+#include "render/surface.h"
 
 namespace multiray {
 
@@ -18,11 +19,20 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
                c = scene.positions[scene.indices[3 * t + 2]];
     const float ar = 0.5f * length(cross(b - a, c - a));
     if (!(ar > 0)) continue;
+    float lum = luminance(m.emission);
+    if (m.emission_texture >= 0) {
+      // Estimated from the texture at the corners and the centre. A triangle estimated
+      // dark is never chosen; its light still arrives by BSDF sampling, which MIS then
+      // weights fully (the light density there is 0), so nothing is lost or counted twice.
+      lum = luminance(mean_emission(t));
+      if (!(lum > 0)) continue;
+    }
     tris_.push_back(uint32_t(t));
     area.push_back(ar);
-    power.push_back(double(ar) * std::max(luminance(m.emission), 1e-6f));
+    power.push_back(double(ar) * std::max(lum, 1e-6f));
     total += power.back();
   }
+  total_power_ = total;
   pdf_by_prim_.assign(scene.triangle_count(), 0.0f);
   double acc = 0;
   for (size_t i = 0; i < tris_.size(); ++i) {
@@ -44,9 +54,26 @@ LightSample LightSampler::sample(float u, float u1, float u2) const {
   LightSample s;
   s.point = a * (1.0f - bc.x - bc.y) + b * bc.x + c * bc.y;
   s.normal = normalize(cross(b - a, c - a));
-  s.radiance = scene_.materials[scene_.material_ids[t]].emission;
+  s.radiance = emission_at(scene_, scene_.materials[scene_.material_ids[t]], uv_at(t, bc.x, bc.y));
   s.pdf_area = pdf_by_prim_[t];
   return s;
+}
+
+Vec2 LightSampler::uv_at(uint32_t t, float b1, float b2) const {
+  if (scene_.uvs.empty()) return Vec2{};
+  const Vec2 a = scene_.uvs[scene_.indices[3 * t]], b = scene_.uvs[scene_.indices[3 * t + 1]],
+             c = scene_.uvs[scene_.indices[3 * t + 2]];
+  const float b0 = 1.0f - b1 - b2;
+  return {a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2};
+}
+
+Vec3 LightSampler::mean_emission(uint32_t t) const {
+  const Material& m = scene_.materials[scene_.material_ids[t]];
+  const float third = 1.0f / 3.0f;
+  const Vec3 sum =
+      emission_at(scene_, m, uv_at(t, 0, 0)) + emission_at(scene_, m, uv_at(t, 1, 0)) +
+      emission_at(scene_, m, uv_at(t, 0, 1)) + emission_at(scene_, m, uv_at(t, third, third));
+  return sum * 0.25f;
 }
 
 float LightSampler::pdf_area(uint32_t prim) const {

@@ -1,5 +1,6 @@
 // Emissive triangles as area lights, chosen in proportion to their power
-// (area x luminance of emission), for next-event estimation.
+// (area x luminance of emission; for an emission texture, its mean over four points of
+// the triangle), for next-event estimation. A sample's radiance is the texel's.
 #pragma once
 
 #include <vector>
@@ -21,6 +22,9 @@ class LightSampler {
   explicit LightSampler(const Scene& scene);
 
   bool empty() const { return tris_.empty(); }
+  // Sum over the lights of area x luminance of emission (the power / pi of Lambertian
+  // emitters), with the same texture estimate as the selection.
+  double total_power() const { return total_power_; }
   // Picks a light triangle with `u` and a point on it with (u1, u2).
   LightSample sample(float u, float u1, float u2) const;
   // Area density with which sample() would have produced a point on triangle `prim`
@@ -35,10 +39,14 @@ class LightSampler {
   const std::vector<float>& pdf_by_prim() const { return pdf_by_prim_; }
 
  private:
+  Vec2 uv_at(uint32_t t, float b1, float b2) const;  // uv at barycentrics (b1, b2)
+  Vec3 mean_emission(uint32_t t) const;
+
   const Scene& scene_;
   std::vector<uint32_t> tris_;      // emissive triangle indices
   std::vector<float> cdf_;          // cumulative power, last element = 1
   std::vector<float> pdf_by_prim_;  // per scene triangle, selection prob / area
+  double total_power_ = 0;
 };
 
 }  // namespace multiray

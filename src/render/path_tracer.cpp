@@ -5,6 +5,7 @@
 #include "core/rng.h"
 #include "render/bsdf.h"
 #include "render/sampling.h"
+#include "render/surface.h"
 
 namespace multiray {
 
@@ -70,6 +71,7 @@ struct PathState {
   Vec3 L{0.0f}, beta{1.0f};
   Rng rng;
   float prev_pdf = 0;
+  Vec3 prev_normal{0.0f};     // geometric normal at the last vertex (environment sampling)
   bool prev_specular = true;  // the camera ray counts as specular: emission seen directly
   bool alive = true;
   int depth = 0;
@@ -78,25 +80,74 @@ struct PathState {
   Vec3 shadow_contribution;
 };
 
-void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settings) const {
-  const Scene& scene = rs_.scene;
-  if (!hit) {
-    p.L += p.beta * scene.environment;  // the environment is never light-sampled: weight 1
-    p.alive = false;
+// Adds light arriving at the path's vertex from outside the scene along the ray that
+// just escaped, weighted against next-event estimation from the previous vertex.
+void PathTracer::escape(PathState& p) const {
+  const Vec3 Le = rs_.environment.radiance(p.ray.dir);
+  float w = 1.0f;
+  if (!p.prev_specular) {
+    const float pdf_env = rs_.environment_choice() * rs_.environment.pdf(p.ray.dir, p.prev_normal);
+    w = power_heuristic(p.prev_pdf, pdf_env);
+  }
+  p.L += p.beta * Le * w;
+  p.alive = false;
+}
+
+// Next-event estimation from a vertex with BSDF `bsdf` in `frame`: one sample of either
+// the environment or an emissive triangle (three random numbers either way); the shadow
+// ray is traced by the caller and adds `shadow_contribution` if unoccluded.
+void PathTracer::sample_light(PathState& p, const Bsdf& bsdf, const Frame& frame, Vec3 wo,
+                              Vec3 pos, Vec3 ng) const {
+  const float p_env = rs_.environment_choice();
+  float ul = p.rng.next();
+  const float u1 = p.rng.next(), u2 = p.rng.next();
+  if (ul < p_env) {
+    const EnvSample es = rs_.environment.sample(ng, ul / p_env, u1, u2);
+    if (!(es.pdf > 0) || dot(es.dir, ng) <= 0) return;
+    const Vec3 wi = frame.to_local(es.dir);
+    const Vec3 f = bsdf.eval(wo, wi);
+    if (!(max_component(f) > 0)) return;
+    const float pdf_light = p_env * es.pdf;
+    p.shadow = Ray{pos + ng * eps_, es.dir, 0.0f, INFINITY};
+    p.shadow_contribution =
+        p.beta * f * es.radiance * (power_heuristic(pdf_light, bsdf.pdf(wo, wi)) / pdf_light);
+    p.has_shadow = true;
     return;
   }
+  ul = (ul - p_env) / (1.0f - p_env);  // exactly ul when there is no environment
+  const LightSample ls = rs_.lights.sample(ul, u1, u2);
+  const Vec3 d = ls.point - pos;
+  const float dist2 = dot(d, d), dist = std::sqrt(dist2);
+  const Vec3 wi_world = d / dist;
+  const float cos_l = -dot(ls.normal, wi_world);
+  if (!(cos_l > 0) || dot(wi_world, ng) <= 0) return;
+  const Vec3 wi = frame.to_local(wi_world);
+  const Vec3 f = bsdf.eval(wo, wi);
+  if (!(max_component(f) > 0)) return;
+  const float pdf_light = (1.0f - p_env) * ls.pdf_area * dist2 / cos_l;
+  p.shadow = Ray{pos + ng * eps_, wi_world, 0.0f, dist * (1.0f - 1e-4f) - eps_};
+  p.shadow_contribution =
+      p.beta * f * ls.radiance * (power_heuristic(pdf_light, bsdf.pdf(wo, wi)) / pdf_light);
+  p.has_shadow = true;
+}
+
+void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settings) const {
+  const Scene& scene = rs_.scene;
+  if (!hit) return escape(p);
   Shading sh = shade_point(rs_.shading, p.ray, *hit);
   const Material& mat = scene.materials[sh.material];
   const Vec3 wo_world = -p.ray.dir;
   const bool front = dot(sh.ng, wo_world) > 0;
 
   if (front && max_component(mat.emission) > 0) {
+    const Vec3 Le = emission_at(scene, mat, sh.uv);
     if (p.prev_specular) {
-      p.L += p.beta * mat.emission;
+      p.L += p.beta * Le;
     } else {
       const float cos_l = dot(sh.ng, wo_world);
-      const float pdf_light = rs_.lights.pdf_area(hit->prim) * hit->t * hit->t / cos_l;
-      p.L += p.beta * mat.emission * power_heuristic(p.prev_pdf, pdf_light);
+      const float pdf_light = (1.0f - rs_.environment_choice()) * rs_.lights.pdf_area(hit->prim) *
+                              hit->t * hit->t / cos_l;
+      p.L += p.beta * Le * power_heuristic(p.prev_pdf, pdf_light);
     }
   }
   if (p.depth >= settings.max_bounces) {
@@ -104,9 +155,10 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
     return;
   }
 
-  Vec3 color = mat.base_color;
-  if (mat.base_color_texture >= 0) color *= scene.textures[mat.base_color_texture].sample(sh.uv);
-  const Bsdf bsdf(mat, color);
+  const SurfacePoint sp = surface_at(scene, mat, sh.uv, sh.ns, sh.ng,
+                                     rs_.tangents.empty() ? nullptr : &rs_.tangents[hit->prim]);
+  sh.ns = sp.ns;
+  const Bsdf bsdf(mat, sp.base_color, sp.metallic, sp.roughness);
   // Opaque surfaces are two-sided: face the normals towards the viewer. Dielectrics keep
   // their outward normal so the BSDF knows whether the path is inside.
   if (bsdf.has_diffuse_or_glossy() && !front) sh.ng = -sh.ng, sh.ns = -sh.ns;
@@ -116,28 +168,8 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
     frame = Frame::from_normal(sh.ng);  // shading normal faces away: fall back
     wo = frame.to_local(wo_world);
   }
-
-  // Next-event estimation towards one point on one emissive triangle; the shadow ray is
-  // traced by the caller and adds `shadow_contribution` if unoccluded.
-  if (bsdf.has_diffuse_or_glossy() && !rs_.lights.empty()) {
-    const float ul = p.rng.next(), u1 = p.rng.next(), u2 = p.rng.next();
-    const LightSample ls = rs_.lights.sample(ul, u1, u2);
-    const Vec3 d = ls.point - sh.p;
-    const float dist2 = dot(d, d), dist = std::sqrt(dist2);
-    const Vec3 wi_world = d / dist;
-    const float cos_l = -dot(ls.normal, wi_world);
-    if (cos_l > 0 && dot(wi_world, sh.ng) > 0) {
-      const Vec3 wi = frame.to_local(wi_world);
-      const Vec3 f = bsdf.eval(wo, wi);
-      if (max_component(f) > 0) {
-        const float pdf_light = ls.pdf_area * dist2 / cos_l;
-        p.shadow = Ray{sh.p + sh.ng * eps_, wi_world, 0.0f, dist * (1.0f - 1e-4f) - eps_};
-        p.shadow_contribution =
-            p.beta * f * ls.radiance * (power_heuristic(pdf_light, bsdf.pdf(wo, wi)) / pdf_light);
-        p.has_shadow = true;
-      }
-    }
-  }
+  if (bsdf.has_diffuse_or_glossy() && (rs_.environment.on() || !rs_.lights.empty()))
+    sample_light(p, bsdf, frame, wo, sh.p, sh.ng);
 
   // Continue the path by sampling the BSDF.
   p.alive = false;
@@ -150,6 +182,7 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
   p.beta *= bs.weight;
   p.prev_pdf = bs.pdf;
   p.prev_specular = bs.specular;
+  p.prev_normal = sh.ng;
   p.ray = Ray{sh.p + sh.ng * (side > 0 ? eps_ : -eps_), wi_world};
   ++p.depth;
   if (p.depth >= settings.rr_start) {
@@ -177,7 +210,7 @@ void PathTracer::trace_batch(std::vector<PathState>& paths, const RenderSettings
     for (size_t i = 0; i < n; ++i)
       if (paths[i].alive && found[i]) {
         const TriangleShading& d = rs_.shading[hits[i].prim];
-        const int tex = rs_.scene.materials[d.material].base_color_texture;
+        const int tex = rs_.scene.materials[d.material].base_color_texture;  // the hot one
         if (tex >= 0) rs_.scene.textures[size_t(tex)].prefetch(interpolate_uv(d, hits[i]));
       }
     for (size_t i = 0; i < n; ++i)

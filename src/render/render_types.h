@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "render/accel.h"
+#include "render/environment.h"
 #include "render/lights.h"
 #include "render/shading_data.h"
 #include "scene/scene.h"
@@ -76,11 +77,30 @@ struct RayLog {
 // The scene as the CPU kernels need it: geometry, BVH and light sampler, built once.
 struct RenderScene {
   explicit RenderScene(const Scene& s)
-      : scene(s), accel(s), lights(s), shading(build_shading_data(s)) {}
+      : scene(s),
+        accel(s),
+        lights(s),
+        environment(s),
+        shading(build_shading_data(s)),
+        tangents(build_tangents(s)),
+        environment_choice_(choose_environment(s, lights, environment)) {}
   const Scene& scene;
   Accel accel;
   LightSampler lights;
+  EnvironmentLight environment;
   std::vector<TriangleShading> shading;
+  std::vector<TriangleTangent> tangents;  // empty without normal maps
+
+  // Probability that next-event estimation samples the environment rather than an
+  // emissive triangle: 0 or 1 when only one kind exists; with both, in proportion to an
+  // estimate of the power each brings into the scene's bounding sphere, kept in
+  // [0.1, 0.9] so that neither is starved when the estimate is poor.
+  float environment_choice() const { return environment_choice_; }
+
+ private:
+  static float choose_environment(const Scene& s, const LightSampler& lights,
+                                  const EnvironmentLight& env);
+  float environment_choice_;
 };
 
 inline int ViewSetup::samples_at(uint32_t pixel, const RenderSettings& s) const {

@@ -22,4 +22,17 @@ static_assert(sizeof(TriangleShading) == 64, "one cache line per triangle");
 
 std::vector<TriangleShading> build_shading_data(const Scene& scene);
 
+// Per-triangle tangent frame for normal mapping: `u` is dp/du (unit), `sign` is +1 or -1
+// so that cross(n, u) * sign points along -dp/dv, glTF's "+y of the normal map" (its v
+// axis points down the image). u = 0 where the triangle's uvs have no area (the map is
+// then not applied). One per triangle rather than MikkTSpace's per-vertex tangents: exact
+// for planar uv charts, an approximation across curved ones (see docs/scenes.md).
+struct TriangleTangent {
+  Vec3 u{0.0f};
+  float sign = 1.0f;
+};
+
+// Empty when no material has a normal texture (the common case costs nothing).
+std::vector<TriangleTangent> build_tangents(const Scene& scene);
+
 }  // namespace multiray

@@ -92,6 +92,10 @@ Material AssimpMaterials::convert(const aiMaterial& m) {
     out.roughness = std::clamp(x, 0.0f, 1.0f);
   else if (get_number(m, AI_MATKEY_SHININESS, &x))
     out.roughness = roughness_of_shininess(x);
+  if (get_number(m, AI_MATKEY_OPACITY, &x) && x < 1.0f) {
+    out.opacity = std::clamp(x, 0.0f, 1.0f);
+    out.alpha_mode = AlphaMode::blend;
+  }
   if (get_number(m, AI_MATKEY_TRANSMISSION_FACTOR, &x) && x > 0.0f) {
     out.transmission = std::min(x, 1.0f);
     if (get_number(m, AI_MATKEY_REFRACTI, &x) && x >= 1.0f) out.ior = x;
@@ -141,7 +145,8 @@ int AssimpMaterials::texture(const std::string& name, const std::string& materia
   std::string bytes, why;
   if (!files_->read(file, &bytes, &why)) return drop("refused: " + why);
   if (!decode_texture(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), &tex))
-    return drop("is not a decodable image");
+    return drop("is not a decodable image (or over " + std::to_string(kMaxTexturePixels) +
+                " pixels)");
   return index = add(std::move(tex));
 }
 

@@ -23,10 +23,10 @@ class AssimpMaterials {
 
   // Contract: base colour from $clr.base (PBR files) or the diffuse colour, clamped to
   // [0, 1]; emission = emissive colour x emissive intensity; metallic and roughness from
-  // the PBR factors, else roughness from the Phong shininess (metallic 0); transmission and
-  // refraction index where the file has a transmission factor. The first base-colour or diffuse
-  // texture multiplies the base colour. A non-finite colour is an error (InputError naming the
-  // material).
+  // the PBR factors, else roughness from the Phong shininess (metallic 0); opacity < 1
+  // gives alpha blending; transmission and refraction index where the file has a
+  // transmission factor. The first base-colour or diffuse texture multiplies the base
+  // colour. A non-finite colour is an error (InputError naming the material).
   Material convert(const aiMaterial& m);
 
  private:

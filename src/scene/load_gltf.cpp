@@ -16,6 +16,7 @@
 #include <initializer_list>
 #include <map>
 #include <optional>
+#include <set>
 
 #include "scene/camera_check.h"
 #include "scene/gltf_parts.h"
@@ -42,6 +43,11 @@ constexpr size_t kMaxVertices = 3 * kMaxTriangles;
 // nodes nested 10 deep with 10 children each would otherwise take 10^10 steps.
 constexpr size_t kMaxNodeInstances = size_t(1) << 24;
 
+// A file SceneFiles refused to read for tinygltf, and why.
+struct RefusedFile {
+  std::string path, why;
+};
+
 // One primitive's triangles in mesh space, read once however often it is instanced.
 struct Primitive {
   std::vector<Vec3> positions, normals;  // normals always present (flat if absent)
@@ -53,8 +59,15 @@ struct Primitive {
 // Reads one parsed model into a Scene. Use once: read() keeps its walk state in members.
 class GltfReader {
  public:
-  GltfReader(const std::string& path, const tg::Model& model, const LoadOptions& options)
-      : path_(path), m_(model), options_(options), on_path_(model.nodes.size(), 0) {}
+  // `refused`: the files SceneFiles refused while tinygltf loaded the model (only images
+  // can be, in a model that loaded); each is reported once, with its reason.
+  GltfReader(const std::string& path, const tg::Model& model, const LoadOptions& options,
+             const std::vector<RefusedFile>& refused)
+      : path_(path),
+        m_(model),
+        options_(options),
+        refused_(refused),
+        on_path_(model.nodes.size(), 0) {}
   // The scene of the model: every mesh instance of the hierarchy baked into world space,
   // materials (plus a "default" one if some primitive has none), textures and cameras.
   // Fails before building anything when check_instancing() does.
@@ -66,9 +79,14 @@ class GltfReader {
             std::initializer_list<int> component_types) const;
   const std::vector<Primitive>& mesh(int index);
   Material material(const tg::Material& gm, Scene* scene);
+  struct TextureRef {
+    int index = -1, tex_coord = 0;
+  };
   const std::vector<unsigned char>* image_bytes(int texture_index, int* image) const;
-  int texture(int texture_index, Scene* scene);
-  Vec3 mean_color(int texture_index) const;
+  int texture(const TextureRef& info, TexelCoding coding, const std::string& material,
+              Scene* scene);
+  void warn_unsupported_extensions() const;
+  std::string why_unread(const std::string& uri);
 
   // The node walk behind read().
   std::vector<int> roots() const;
@@ -82,8 +100,11 @@ class GltfReader {
   const std::string& path_;
   const tg::Model& m_;
   const LoadOptions& options_;
+  const std::vector<RefusedFile>& refused_;
+  std::vector<char> refusal_told_;  // per refused_ entry
   std::map<int, std::vector<Primitive>> meshes_;
-  std::map<int, int> texture_of_image_;
+  std::map<std::pair<int, int>, int> texture_of_image_;  // (image, coding) -> texture
+  std::set<int> warned_images_;
   // Walk state.
   std::vector<char> on_path_;   // per node: 1 while it is on the current path
   size_t triangles_ = 0;        // triangles added so far, instances counted
@@ -180,36 +201,60 @@ const std::vector<unsigned char>* GltfReader::image_bytes(int texture_index, int
   return &m_.images[size_t(*image)].image;
 }
 
-// Index into scene->textures of the decoded texture, or -1 if it cannot be decoded.
-int GltfReader::texture(int texture_index, Scene* scene) {
+// Index into scene->textures of texture `info` decoded as `coding`, or -1 when it
+// cannot be used; then one warning per image (missing file, not an image, a texture
+// coordinate set other than 0) says what the material does instead.
+int GltfReader::texture(const TextureRef& info, TexelCoding coding, const std::string& material,
+                        Scene* scene) {
+  if (info.index < 0) return -1;
   int image = -1;
-  const std::vector<unsigned char>* bytes = image_bytes(texture_index, &image);
-  if (bytes == nullptr) return -1;
-  if (auto it = texture_of_image_.find(image); it != texture_of_image_.end()) return it->second;
+  const std::vector<unsigned char>* bytes = image_bytes(info.index, &image);
+  auto warn_once = [&](const std::string& why) {
+    if (warned_images_.insert(image).second)
+      detail::warn(options_, path_,
+                   why + "; material '" + material + "' (and any other using it) renders with " +
+                       "its factor alone");
+  };
+  if (bytes == nullptr) {
+    warn_once("texture " + std::to_string(info.index) + " refers to a missing image");
+    return -1;
+  }
+  const std::string name = m_.images[size_t(image)].uri.empty()
+                               ? "image " + std::to_string(image)
+                               : "image '" + m_.images[size_t(image)].uri + "'";
+  if (info.tex_coord != 0) {
+    warn_once(name + " is mapped by TEXCOORD_" + std::to_string(info.tex_coord) +
+              " (only TEXCOORD_0 is supported)");
+    return -1;
+  }
+  const auto key = std::make_pair(image, int(coding));
+  if (auto it = texture_of_image_.find(key); it != texture_of_image_.end()) return it->second;
   Texture tex;
   int result = -1;
-  if (detail::decode_texture(bytes->data(), bytes->size(), &tex)) {
+  if (bytes->empty()) {
+    warn_once(name + " " + why_unread(m_.images[size_t(image)].uri));
+  } else if (detail::decode_texture(bytes->data(), bytes->size(), &tex, coding)) {
     result = int(scene->textures.size());
     scene->textures.push_back(std::move(tex));
+  } else {
+    warn_once(name + " is not a decodable image (or over " +
+              std::to_string(detail::kMaxTexturePixels) + " pixels)");
   }
-  return texture_of_image_[image] = result;
+  return texture_of_image_[key] = result;
 }
 
-// Mean linear colour of a texture; zero if it cannot be decoded.
-Vec3 GltfReader::mean_color(int texture_index) const {
-  int image = -1;
-  const std::vector<unsigned char>* bytes = image_bytes(texture_index, &image);
-  Texture tex;
-  if (bytes == nullptr || !detail::decode_texture(bytes->data(), bytes->size(), &tex))
-    return Vec3(0.0f);
-  double sum[3] = {0, 0, 0};
-  for (int y = 0; y < tex.height; ++y)
-    for (int x = 0; x < tex.width; ++x) {
-      const Vec3 c = tex.texel(x, y);
-      for (int k = 0; k < 3; ++k) sum[k] += c[k];
-    }
-  const double n = double(tex.srgb8.size());
-  return Vec3(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
+// Why the image file `uri` has no bytes: SceneFiles' reason if it refused the file, else
+// that it was not found.
+std::string GltfReader::why_unread(const std::string& uri) {
+  refusal_told_.resize(refused_.size(), 0);
+  for (size_t i = 0; i < refused_.size(); ++i) {
+    const std::string& p = refused_[i].path;
+    if (uri.empty() || p.size() < uri.size() || p.compare(p.size() - uri.size(), uri.size(), uri))
+      continue;
+    refusal_told_[i] = 1;
+    return "was refused: " + refused_[i].why;
+  }
+  return "was not found or could not be read";
 }
 
 // Number `key` of extension `ext` in `exts`, or `fallback`.
@@ -221,11 +266,11 @@ double ext_number(const tg::ExtensionMap& exts, const char* ext, const char* key
   return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
 }
 
-// Contract: base colour factor (and texture, if set and on TEXCOORD_0), emissive factor
-// x KHR_materials_emissive_strength, metallic, roughness, KHR_materials_transmission,
-// KHR_materials_ior. The material model has no emission texture, so an emissive
-// texture is folded in as its mean colour (zero if it cannot be decoded), which keeps
-// the emitted power instead of lighting the whole surface at full factor.
+// Contract: base colour factor and texture (with its alpha: alphaMode, alphaCutoff),
+// emissive factor x KHR_materials_emissive_strength and emissive texture, metallic and
+// roughness factors and their texture, normal texture and scale, KHR_materials_transmission,
+// KHR_materials_ior. Occlusion textures are not read (see Material). Out-of-range factors
+// are clamped to glTF's ranges.
 Material GltfReader::material(const tg::Material& gm, Scene* scene) {
   Material out;
   out.name = gm.name;
@@ -233,10 +278,18 @@ Material GltfReader::material(const tg::Material& gm, Scene* scene) {
   if (pbr.baseColorFactor.size() >= 3)
     out.base_color = Vec3(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
                           float(pbr.baseColorFactor[2]));
-  if (pbr.baseColorTexture.index >= 0 && pbr.baseColorTexture.texCoord == 0)
-    out.base_color_texture = texture(pbr.baseColorTexture.index, scene);
+  if (pbr.baseColorFactor.size() >= 4)
+    out.opacity = std::clamp(float(pbr.baseColorFactor[3]), 0.0f, 1.0f);  // NaN stays NaN
+  out.base_color_texture = texture({pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord},
+                                   TexelCoding::srgb, gm.name, scene);
   out.metallic = std::clamp(float(pbr.metallicFactor), 0.0f, 1.0f);
   out.roughness = std::clamp(float(pbr.roughnessFactor), 0.0f, 1.0f);
+  out.metallic_roughness_texture =
+      texture({pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord},
+              TexelCoding::linear, gm.name, scene);
+  out.normal_texture = texture({gm.normalTexture.index, gm.normalTexture.texCoord},
+                               TexelCoding::signed_unit, gm.name, scene);
+  out.normal_scale = float(gm.normalTexture.scale);
   if (gm.emissiveFactor.size() >= 3) {
     const float s = float(
         ext_number(gm.extensions, "KHR_materials_emissive_strength", "emissiveStrength", 1.0));
@@ -244,8 +297,12 @@ Material GltfReader::material(const tg::Material& gm, Scene* scene) {
                         float(gm.emissiveFactor[2])) *
                    s;
   }
-  if (gm.emissiveTexture.index >= 0 && max_component(out.emission) > 0)
-    out.emission *= mean_color(gm.emissiveTexture.index);
+  if (max_component(out.emission) > 0)
+    out.emission_texture = texture({gm.emissiveTexture.index, gm.emissiveTexture.texCoord},
+                                   TexelCoding::srgb, gm.name, scene);
+  if (gm.alphaMode == "MASK") out.alpha_mode = AlphaMode::mask;
+  if (gm.alphaMode == "BLEND") out.alpha_mode = AlphaMode::blend;
+  out.alpha_cutoff = float(gm.alphaCutoff);
   out.transmission = std::clamp(
       float(ext_number(gm.extensions, "KHR_materials_transmission", "transmissionFactor", 0)),
       0.0f, 1.0f);
@@ -253,7 +310,25 @@ Material GltfReader::material(const tg::Material& gm, Scene* scene) {
   if (!(out.ior >= 1.0f)) out.ior = 1.5f;  // also catches NaN
   if (!is_finite(out.base_color) || !is_finite(out.emission))
     fail("material '" + gm.name + "' has a non-finite colour");
+  if (!std::isfinite(out.normal_scale) || !(out.opacity >= 0) || !std::isfinite(out.alpha_cutoff))
+    fail("material '" + gm.name + "' has a non-finite normal scale, alpha or alpha cutoff");
   return out;
+}
+
+// One warning per extension the file uses that the reader ignores, so that a scene that
+// looks wrong says why (e.g. KHR_materials_clearcoat, KHR_texture_transform). Required
+// ones are named as such: the file's author said it cannot be shown correctly without.
+void GltfReader::warn_unsupported_extensions() const {
+  static const std::set<std::string> kSupported = {
+      "KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior"};
+  for (const std::string& ext : m_.extensionsUsed) {
+    if (kSupported.count(ext)) continue;
+    const bool required = std::find(m_.extensionsRequired.begin(), m_.extensionsRequired.end(),
+                                    ext) != m_.extensionsRequired.end();
+    detail::warn(options_, path_,
+                 "uses " + std::string(required ? "required " : "") + "extension " + ext +
+                     ", which multiray does not support; rendered without it");
+  }
 }
 
 // Roots of the node walk: the default scene's nodes, else scene 0's, else (a file
@@ -459,6 +534,7 @@ uint32_t GltfReader::material_id(const Primitive& p, Scene* scene) {
 Scene GltfReader::read() {
   Scene scene;
   scene.name = detail::file_name(path_);
+  warn_unsupported_extensions();
   for (const tg::Material& gm : m_.materials) scene.materials.push_back(material(gm, &scene));
   const std::vector<int> starts = roots();
   check_instancing(starts);
@@ -466,6 +542,10 @@ Scene GltfReader::read() {
   if (dropped_cameras_ > 0)
     detail::warn(options_, path_,
                  std::to_string(dropped_cameras_) + " camera(s) not used: " + camera_problem_);
+  // Refused images no material uses (every refusal of a loaded model was an image).
+  refusal_told_.resize(refused_.size(), 0);
+  for (size_t i = 0; i < refused_.size(); ++i)
+    if (!refusal_told_[i]) detail::warn(options_, path_, "image refused: " + refused_[i].why);
   // Every vertex got a uv (zero where its primitive has none); keep them only if any is real.
   if (!any_uvs_) scene.uvs.clear();
   return scene;
@@ -480,7 +560,7 @@ namespace {
 // a refused read leaves its reason in `refused` and in tinygltf's message.
 struct FileAccess {
   detail::SceneFiles* files;
-  std::vector<std::string> refused;  // one line per refused file, in order
+  std::vector<RefusedFile> refused;  // in order
 };
 
 bool file_exists(const std::string& path, void*) {
@@ -495,7 +575,7 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
   auto* access = static_cast<FileAccess*>(user);
   std::string why;
   if (access->files->read(path, out, &why)) return true;
-  access->refused.push_back(why);
+  access->refused.push_back({path, why});
   if (err != nullptr) *err += why;
   return false;
 }
@@ -531,16 +611,12 @@ Scene load_gltf(const std::string& path, const LoadOptions& options) {
   }
   if (!ok) {
     // Only buffers are required; a refused one is named in tinygltf's error.
-    for (const std::string& why : access.refused)
-      if (err.find(why) != std::string::npos) detail::fail(path, "buffer refused: " + why);
+    for (const RefusedFile& r : access.refused)
+      if (err.find(r.why) != std::string::npos) detail::fail(path, "buffer refused: " + r.why);
     detail::fail(path, "malformed glTF: " + (err.empty() ? std::string("parse error") : err));
   }
-  Scene scene = GltfReader(path, model, options).read();
+  Scene scene = GltfReader(path, model, options, access.refused).read();
   detail::validate_loaded(&scene, path, options);
-  // Every refusal of a successful load was an image (tinygltf only warns about those).
-  for (const std::string& why : access.refused)
-    detail::warn(options, path,
-                 "image refused: " + why + "; materials using it keep their colour factor");
   return scene;
 }
 

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
 #include <system_error>
 
@@ -147,6 +148,7 @@ Scene load_obj(const std::string& path, const LoadOptions& options) {
   // the material model has no diffuse+specular layer, and legacy MTL specular values
   // are mostly exporter defaults, so every OBJ material is diffuse.
   std::map<std::string, int> texture_of_file;
+  std::set<std::string> missing;  // texture names already warned about
   for (const tinyobj::material_t& m : mtls) {
     Material& out = scene.materials.emplace_back();
     out.name = m.name;
@@ -156,7 +158,13 @@ Scene load_obj(const std::string& path, const LoadOptions& options) {
       detail::fail(path, "material '" + m.name + "' has a non-finite colour");
     if (m.diffuse_texname.empty()) continue;
     const std::string file = resolve_file(dir, m.diffuse_texname);
-    if (file.empty()) continue;  // missing texture: keep the plain colour
+    if (file.empty()) {  // missing texture: keep the plain colour, and say so once
+      if (missing.insert(m.diffuse_texname).second)
+        detail::warn(options, path,
+                     "texture '" + m.diffuse_texname + "' not found; material '" + m.name +
+                         "' (and any other using it) keeps its plain colour");
+      continue;
+    }
     auto [it, inserted] = texture_of_file.try_emplace(file, -1);
     if (inserted) {
       std::string bytes, why;
@@ -169,6 +177,11 @@ Scene load_obj(const std::string& path, const LoadOptions& options) {
                                       bytes.size(), &tex)) {
         it->second = int(scene.textures.size());
         scene.textures.push_back(std::move(tex));
+      } else {
+        detail::warn(options, path,
+                     "texture '" + m.diffuse_texname + "' is not a decodable image (or over " +
+                         std::to_string(detail::kMaxTexturePixels) + " pixels); material '" +
+                         m.name + "' keeps its plain colour");
       }
     }
     out.base_color_texture = it->second;

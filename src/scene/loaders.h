@@ -35,8 +35,8 @@ Scene load_scene(const std::string& path, const LoadOptions& options = {});
 // Extensions (lower case) of the formats read through assimp: each one's sample files in
 // Debian's assimp-testmodels load with assimp 5.2.5 (tests/scene/assimp_models_test.cpp).
 inline constexpr const char* kAssimpExtensions[] = {
-    ".3ds", ".3mf", ".ac", ".ase", ".b3d", ".blend", ".cob", ".dae", ".dxf", ".fbx", ".ifc",
-    ".lwo", ".lxo", ".md2", ".ms3d", ".off", ".q3o", ".q3s", ".smd", ".stl", ".x", ".x3d"};
+    ".3ds", ".3mf", ".ac",  ".ase",  ".b3d", ".blend", ".cob", ".dae", ".dxf", ".fbx", ".ifc",
+    ".lwo", ".lxo", ".md2", ".ms3d", ".off", ".q3o",   ".q3s", ".smd", ".stl", ".x",   ".x3d"};
 
 // Any format assimp 5.2 reads (kAssimpExtensions are the ones load_scene() sends here):
 // triangles of every mesh the node hierarchy uses, in world space; per-vertex normals
@@ -48,9 +48,10 @@ inline constexpr const char* kAssimpExtensions[] = {
 Scene load_assimp(const std::string& path, const LoadOptions& options = {});
 
 // glTF 2.0, text (.gltf) or binary (.glb). Triangles of the default scene; materials
-// from metallic-roughness plus emissive strength, transmission and IOR extensions;
-// base-colour textures; perspective cameras. Missing or undecodable images only drop
-// that texture; refused ones (see LoadOptions) also give a warning. A refused buffer
+// from metallic-roughness plus emissive strength, transmission and IOR extensions, with
+// base-colour (and alpha), emissive, metallic-roughness and normal textures; perspective
+// cameras. A missing, refused or undecodable image drops that texture with one warning
+// per image; each extension the file uses and we ignore gives one warning. A refused buffer
 // is an error. Node graphs that would instance more than 2^28 triangles are refused
 // before any instance is built.
 Scene load_gltf(const std::string& path, const LoadOptions& options = {});
@@ -104,9 +105,14 @@ Vec3 flat_normal(Vec3 a, Vec3 b, Vec3 c);
 // behaviour), NaN stays NaN.
 float to_float(double x);
 
-// Decodes an encoded image (JPEG, PNG, ...) with stb_image. Returns false, leaving `out`
-// untouched, when the data is not a decodable image.
-bool decode_texture(const unsigned char* bytes, size_t size, Texture* out);
+// Largest texture decode_texture accepts: 2^28 texels (1 GiB at 4 bytes each, 16k x 16k).
+constexpr uint64_t kMaxTexturePixels = uint64_t(1) << 28;
+
+// Decodes an encoded image (JPEG, PNG, ...) with stb_image into a texture whose bytes
+// mean `coding`. Returns false, leaving `out` untouched, when the data is not a
+// decodable image.
+bool decode_texture(const unsigned char* bytes, size_t size, Texture* out,
+                    TexelCoding coding = TexelCoding::srgb);
 
 }  // namespace detail
 }  // namespace multiray

@@ -12,39 +12,80 @@
 namespace multiray {
 
 namespace {
+
+using Table = std::array<float, 256>;
+
 // Exact sRGB decoding curve (IEC 61966-2-1) for the 256 byte values.
-const std::array<float, 256>& srgb_to_linear() {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) {
-      const double c = i / 255.0;
-      t[size_t(i)] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
-    }
-    return t;
-  }();
-  return table;
+Table make_srgb_table() {
+  Table t{};
+  for (int i = 0; i < 256; ++i) {
+    const double c = i / 255.0;
+    t[size_t(i)] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+  }
+  return t;
 }
 
-Vec3 decode(uint32_t p, const std::array<float, 256>& lut) {
+Table make_linear_table() {
+  Table t{};
+  for (int i = 0; i < 256; ++i) t[size_t(i)] = float(i / 255.0);
+  return t;
+}
+
+// See TexelCoding::signed_unit: 128 -> 0, 255 -> 1, 0 -> -1.
+Table make_signed_table() {
+  Table t{};
+  for (int i = 0; i < 256; ++i)
+    t[size_t(i)] = float(i >= 128 ? (i - 128) / 127.0 : (i - 128) / 128.0);
+  return t;
+}
+
+Vec3 decode(uint32_t p, const float* lut) {
   return {lut[p & 0xff], lut[(p >> 8) & 0xff], lut[(p >> 16) & 0xff]};
 }
+
+float decode_alpha(uint32_t p) { return texel_decoding_table(TexelCoding::linear)[p >> 24]; }
+
 }  // namespace
 
-Texture Texture::from_srgb8(const unsigned char* pixels, int width, int height, int channels) {
+const float* texel_decoding_table(TexelCoding coding) {
+  static const Table srgb = make_srgb_table(), linear = make_linear_table(),
+                     signed_unit = make_signed_table();
+  switch (coding) {
+    case TexelCoding::linear:
+      return linear.data();
+    case TexelCoding::signed_unit:
+      return signed_unit.data();
+    default:
+      return srgb.data();
+  }
+}
+
+Texture Texture::from_pixels(const unsigned char* pixels, int width, int height, int channels,
+                             TexelCoding coding) {
   Texture t;
   t.width = width;
   t.height = height;
-  t.srgb8.resize(size_t(width) * size_t(height));
-  for (size_t i = 0; i < t.srgb8.size(); ++i) {
+  t.coding = coding;
+  t.texels.resize(size_t(width) * size_t(height));
+  const bool colour = channels >= 3;
+  const bool alpha = channels == 2 || channels >= 4;
+  for (size_t i = 0; i < t.texels.size(); ++i) {
     const unsigned char* p = pixels + i * size_t(channels);
-    const uint32_t r = p[0], g = channels >= 3 ? p[1] : p[0], b = channels >= 3 ? p[2] : p[0];
-    t.srgb8[i] = r | g << 8 | b << 16;
+    const uint32_t r = p[0], g = colour ? p[1] : p[0], b = colour ? p[2] : p[0];
+    const uint32_t a = alpha ? p[colour ? 3 : 1] : 255u;
+    t.texels[i] = r | g << 8 | b << 16 | a << 24;
   }
   return t;
 }
 
 Vec3 Texture::texel(int x, int y) const {
-  return decode(srgb8[size_t(y) * size_t(width) + size_t(x)], srgb_to_linear());
+  return decode(texels[size_t(y) * size_t(width) + size_t(x)], texel_decoding_table(coding));
+}
+
+bool Texture::has_alpha() const {
+  for (uint32_t p : texels)
+    if ((p >> 24) != 255u) return true;
+  return false;
 }
 
 void Texture::footprint(Vec2 uv, int& x0, int& y0, float& tx, float& ty) const {
@@ -65,8 +106,8 @@ void Texture::prefetch(Vec2 uv) const {
   float tx, ty;
   footprint(uv, x0, y0, tx, ty);
   const int y1 = y0 + 1 < height ? y0 + 1 : 0;
-  __builtin_prefetch(&srgb8[size_t(y0) * size_t(width) + size_t(x0)]);
-  __builtin_prefetch(&srgb8[size_t(y1) * size_t(width) + size_t(x0)]);
+  __builtin_prefetch(&texels[size_t(y0) * size_t(width) + size_t(x0)]);
+  __builtin_prefetch(&texels[size_t(y1) * size_t(width) + size_t(x0)]);
 }
 
 Vec3 Texture::sample(Vec2 uv) const {
@@ -75,11 +116,24 @@ Vec3 Texture::sample(Vec2 uv) const {
   float tx, ty;
   footprint(uv, x0, y0, tx, ty);
   const int x1 = x0 + 1 < width ? x0 + 1 : 0, y1 = y0 + 1 < height ? y0 + 1 : 0;
-  const uint32_t* row0 = &srgb8[size_t(y0) * size_t(width)];
-  const uint32_t* row1 = &srgb8[size_t(y1) * size_t(width)];
-  const auto& lut = srgb_to_linear();
+  const uint32_t* row0 = &texels[size_t(y0) * size_t(width)];
+  const uint32_t* row1 = &texels[size_t(y1) * size_t(width)];
+  const float* lut = texel_decoding_table(coding);
   return lerp(lerp(decode(row0[x0], lut), decode(row0[x1], lut), tx),
               lerp(decode(row1[x0], lut), decode(row1[x1], lut), tx), ty);
+}
+
+float Texture::sample_alpha(Vec2 uv) const {
+  if (width <= 0 || height <= 0) return 1.0f;
+  int x0, y0;
+  float tx, ty;
+  footprint(uv, x0, y0, tx, ty);
+  const int x1 = x0 + 1 < width ? x0 + 1 : 0, y1 = y0 + 1 < height ? y0 + 1 : 0;
+  const uint32_t* row0 = &texels[size_t(y0) * size_t(width)];
+  const uint32_t* row1 = &texels[size_t(y1) * size_t(width)];
+  const float top = decode_alpha(row0[x0]) * (1.0f - tx) + decode_alpha(row0[x1]) * tx;
+  const float bottom = decode_alpha(row1[x0]) * (1.0f - tx) + decode_alpha(row1[x1]) * tx;
+  return top * (1.0f - ty) + bottom * ty;
 }
 
 Bounds3 Scene::bounds() const {
@@ -187,9 +241,16 @@ void validate(const Scene& s) {
     if (s.material_ids[t] >= s.materials.size())
       throw InputError(where + "triangle " + std::to_string(t) + " uses material " +
                        std::to_string(s.material_ids[t]) + " that does not exist");
-  for (const Material& m : s.materials)
-    if (m.base_color_texture >= int(s.textures.size()))
-      throw InputError(where + "material '" + m.name + "' refers to a missing texture");
+  for (const Material& m : s.materials) {
+    for (int tex : {m.base_color_texture, m.emission_texture, m.metallic_roughness_texture,
+                    m.normal_texture})
+      if (tex >= int(s.textures.size()))
+        throw InputError(where + "material '" + m.name + "' refers to a missing texture");
+    if (!std::isfinite(m.normal_scale) || !(m.opacity >= 0 && m.opacity <= 1) ||
+        !std::isfinite(m.alpha_cutoff))
+      throw InputError(where + "material '" + m.name +
+                       "' has a normal scale, opacity or alpha cutoff out of range");
+  }
   bool any_area = false;
   for (size_t t = 0; t < s.triangle_count() && !any_area; ++t) {
     const Vec3 a = s.positions[s.indices[3 * t]], b = s.positions[s.indices[3 * t + 1]],

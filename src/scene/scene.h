@@ -15,41 +15,77 @@ namespace multiray {
 
 struct Volume;  // volume/volume.h
 
-// Colour texture, wrapped (repeat) and bilinearly filtered; lookups return linear RGB.
-// Texels stay 8-bit sRGB (decoded through a table when sampled): a third of the memory
-// of float texels, which matters because texture cache misses dominated shading time.
+// How a texture's bytes turn into numbers when sampled.
+// - srgb: colour (base colour, emission), decoded by the sRGB curve to linear RGB.
+// - linear: data in [0, 1] (metallic-roughness), byte / 255.
+// - signed_unit: tangent-space normals in [-1, 1]. Byte 128 is exactly 0 (bytes above map
+//   onto (0, 1] by / 127, below onto [-1, 0) by / 128), so a flat map (128, 128, 255)
+//   leaves the shading normal exactly as it was; byte * 2 / 255 - 1 would tilt it by 0.2°.
+enum class TexelCoding : uint8_t { srgb, linear, signed_unit };
+
+// A texture, wrapped (repeat) and bilinearly filtered. Texels stay 8-bit (decoded through
+// a table when sampled): a third of the memory of float texels, which matters because
+// texture cache misses dominated shading time. Alpha is always linear (byte / 255).
 struct Texture {
   int width = 0, height = 0;
-  std::vector<uint32_t> srgb8;  // row-major, v = 0 at the top row; R | G << 8 | B << 16
+  TexelCoding coding = TexelCoding::srgb;
+  std::vector<uint32_t> texels;  // row-major, v = 0 at the top row; R | G<<8 | B<<16 | A<<24
 
-  // From 8-bit sRGB pixels with 1 (grey) or >= 3 channels (extra channels ignored).
-  static Texture from_srgb8(const unsigned char* pixels, int width, int height, int channels);
-  Vec3 texel(int x, int y) const;  // linear RGB
-  Vec3 sample(Vec2 uv) const;
+  // From 8-bit pixels with 1 (grey), 2 (grey, alpha), 3 (RGB) or 4 (RGBA) channels;
+  // alpha is 255 where the pixels have none.
+  static Texture from_pixels(const unsigned char* pixels, int width, int height, int channels,
+                             TexelCoding coding = TexelCoding::srgb);
+  Vec3 texel(int x, int y) const;  // decoded RGB
+  Vec3 sample(Vec2 uv) const;      // decoded RGB; 1 for an empty texture
+  float sample_alpha(Vec2 uv) const;
   // Asks the CPU to start loading the texels sample(uv) will read (a hint; no effect on
   // results).
   void prefetch(Vec2 uv) const;
+  // Whether some texel's alpha is below 255.
+  bool has_alpha() const;
 
  private:
   // The top-left texel of the bilinear footprint of `uv`, wrapped into the texture.
   void footprint(Vec2 uv, int& x0, int& y0, float& tx, float& ty) const;
 };
 
-// One material model for every loader (a subset of glTF's metallic-roughness):
+// The decoding table of `coding`: linear value of each byte (core of Texture::sample;
+// the OpenCL backend uploads the same tables so both decode bytes identically).
+const float* texel_decoding_table(TexelCoding coding);
+
+// glTF's alpha modes: opaque ignores alpha; mask keeps a surface point when its alpha is
+// at least `alpha_cutoff`; blend keeps it with probability alpha (stochastic
+// transparency, the same decision for the same ray on every device).
+enum class AlphaMode : uint8_t { opaque, mask, blend };
+
+// One material model for every loader (glTF 2.0 metallic-roughness and its common
+// extensions):
 // - transmission > 0: rough dielectric (GGX) with index `ior`;
 // - otherwise a stochastic mix: conductor (GGX, F0 = base colour) with probability
 //   `metallic`, Lambertian diffuse with `base_color` otherwise.
 // `emission` (radiance, W/(sr m^2) in scene units) makes every triangle using it an
-// area light.
+// area light. Each factor is multiplied by its texture, when there is one, per texel.
+// glTF's occlusion texture is deliberately not read: it approximates the indirect
+// shadowing a path tracer computes (Blender Cycles ignores it the same way).
 struct Material {
   std::string name;
   Vec3 base_color{0.8f, 0.8f, 0.8f};
-  int base_color_texture = -1;  // index into Scene::textures or -1
+  int base_color_texture = -1;  // index into Scene::textures or -1; sRGB, alpha = coverage
   Vec3 emission{0, 0, 0};
+  int emission_texture = -1;  // sRGB, multiplies `emission`
   float metallic = 0.0f;
-  float roughness = 1.0f;  // perceptual roughness; GGX alpha = roughness^2
+  float roughness = 1.0f;               // perceptual roughness; GGX alpha = roughness^2
+  int metallic_roughness_texture = -1;  // linear: G multiplies roughness, B metallic
+  int normal_texture = -1;              // signed_unit, tangent space (+x = +u, +y = -v)
+  float normal_scale = 1.0f;            // scales the map's x and y
+  float opacity = 1.0f;                 // base colour alpha factor, [0, 1]
+  AlphaMode alpha_mode = AlphaMode::opaque;
+  float alpha_cutoff = 0.5f;  // mask mode only
   float transmission = 0.0f;
   float ior = 1.5f;
+
+  // Whether some point of a triangle with this material may be skipped by rays.
+  bool may_be_transparent() const { return alpha_mode != AlphaMode::opaque; }
 };
 
 // Pinhole camera. `fov_y_deg` is the full vertical field of view.
@@ -71,6 +107,25 @@ constexpr float kDefaultFovDeg = 45.0f;
 // Fraction of each half of the image the projected bounds may fill.
 constexpr float kDefaultMargin = 0.92f;
 
+// An equirectangular (latitude-longitude) radiance map around the scene. Row 0 looks
+// along the scene's up axis, the last row down; the middle column looks along the front
+// (environment_frame() in render/environment.h fixes the axes).
+struct EnvironmentMap {
+  std::string name;  // file name, for messages and stats
+  int width = 0, height = 0;
+  std::vector<Vec3> radiance;  // row-major, linear RGB, finite and >= 0
+};
+
+// A distant disc light: `direction` points from the scene towards the sun (unit),
+// `radiance` is constant over the disc of angular radius `half_angle_rad`. Off while
+// radiance is zero.
+struct Sun {
+  Vec3 direction{0, 1, 0};
+  Vec3 radiance{0, 0, 0};
+  float half_angle_rad = 0.00465f;  // the real sun: 0.53 degrees across
+  bool on() const { return max_component(radiance) > 0; }
+};
+
 struct Scene {
   std::string name;  // file name or "cornell-box"
   std::vector<Vec3> positions;
@@ -80,7 +135,12 @@ struct Scene {
   std::vector<uint32_t> material_ids;  // one per triangle, into materials
   std::vector<Material> materials;
   std::vector<Texture> textures;
-  Vec3 environment{0, 0, 0};    // constant radiance of rays that leave the scene
+  Vec3 environment{0, 0, 0};  // constant radiance of rays that leave the scene
+  // Added to `environment` when set (--env FILE), scaled by environment_map_scale.
+  std::shared_ptr<const EnvironmentMap> environment_map;
+  float environment_map_scale = 1.0f;
+  Vec3 up{0, 1, 0};  // the world axis the environment map and the sun take as up
+  Sun sun;
   std::vector<Camera> cameras;  // cameras found in the file (may be empty)
   // A volume for the raycaster (kernel "volume"), or null. A scene read from a volume file
   // has a volume and no triangles; mesh kernels refuse it and the volume kernel refuses a

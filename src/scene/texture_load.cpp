@@ -144,13 +144,17 @@ void validate_loaded(Scene* scene, const std::string& path, const LoadOptions& o
              " shading normal(s) were zero, NaN or infinite; replaced by face normals");
 }
 
-bool decode_texture(const unsigned char* bytes, size_t size, Texture* out) {
+bool decode_texture(const unsigned char* bytes, size_t size, Texture* out, TexelCoding coding) {
   if (bytes == nullptr || size == 0 || size > size_t(INT_MAX)) return false;
   int w = 0, h = 0, n = 0;
-  unsigned char* px = stbi_load_from_memory(bytes, int(size), &w, &h, &n, 3);
+  // Measure before decoding: a 100-byte PNG may claim 2^31 x 2^31 pixels.
+  if (!stbi_info_from_memory(bytes, int(size), &w, &h, &n) || w <= 0 || h <= 0 ||
+      uint64_t(w) * uint64_t(h) > kMaxTexturePixels)
+    return false;
+  unsigned char* px = stbi_load_from_memory(bytes, int(size), &w, &h, &n, 4);
   if (px == nullptr) return false;
   const bool ok = w > 0 && h > 0;
-  if (ok) *out = Texture::from_srgb8(px, w, h, 3);
+  if (ok) *out = Texture::from_pixels(px, w, h, 4, coding);
   stbi_image_free(px);
   return ok;
 }

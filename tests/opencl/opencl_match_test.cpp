@@ -103,7 +103,7 @@ TEST(OpenClMatch, TexturesAndGlassMatchCpuStatistically) {
   for (int i = 0; i < 16; ++i)
     for (int c = 0; c < 3; ++c)
       checker[3 * i + c] = ((i + i / 4) % 2) ? 230 : uint8_t(40 + 60 * c);
-  scene.textures.push_back(Texture::from_srgb8(checker, 4, 4, 3));
+  scene.textures.push_back(Texture::from_pixels(checker, 4, 4, 3));
   for (Material& m : scene.materials) {
     if (m.name == "white") m.base_color_texture = 0;
     if (m.name == "metal") m.transmission = 1.0f, m.roughness = 0.2f, m.ior = 1.5f;

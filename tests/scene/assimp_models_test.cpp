@@ -178,5 +178,26 @@ TEST(AssimpModels, TextureNameCaseIsResolved) {
   EXPECT_TRUE(warnings.empty()) << warnings.front();
 }
 
+// Materials without PBR keys: roughness from the Phong exponent, (2 / (n + 2))^(1/4), and
+// opacity below 1 as alpha blending. `assimp export FILE out.obj` writes the exponent and
+// the opacity into out.mtl as Ns and d: fels.3ds "Ns 40", "d 1"; phong_cube.fbx "Ns 10",
+// "d 0.5" (its roughness is not checked: assimp's FBX reader also gives it a roughness
+// factor, which takes precedence).
+TEST(AssimpModels, PhongMaterials) {
+  const std::string fels = model("3DS/fels.3ds"), cube = model("FBX/phong_cube.fbx");
+  SKIP_UNLESS_READABLE(fels);
+  SKIP_UNLESS_READABLE(cube);
+  const Scene a = load_scene(fels);
+  ASSERT_EQ(a.materials.size(), 1u);
+  EXPECT_NEAR(a.materials[0].roughness, std::pow(2.0f / 42.0f, 0.25f), 1e-5f);
+  EXPECT_EQ(a.materials[0].metallic, 0.0f);
+  EXPECT_EQ(a.materials[0].alpha_mode, AlphaMode::opaque);
+  const Scene b = load_scene(cube);
+  ASSERT_EQ(b.materials.size(), 1u);
+  EXPECT_EQ(b.materials[0].name, "phong1");
+  EXPECT_EQ(b.materials[0].alpha_mode, AlphaMode::blend);
+  EXPECT_NEAR(b.materials[0].opacity, 0.5f, 1e-6f);
+}
+
 }  // namespace
 }  // namespace multiray

@@ -112,7 +112,7 @@ TEST_F(FileAccess, GltfImageFifoIsAWarningAndTheFactorStays) {
   fifo("model/tex.ppm");
   const Outcome o = load(write("model/a.gltf", gltf("geo.bin", "tex.ppm")));
   ASSERT_TRUE(o.returned) << o.message;
-  expect_warning({"a.gltf: image refused", "tex.ppm", "not a regular file", "colour factor"});
+  expect_warning({"a.gltf: image 'tex.ppm' was refused", "not a regular file", "its factor"});
   ASSERT_EQ(scene_.materials.size(), 1u);
   EXPECT_EQ(scene_.materials[0].base_color_texture, -1);
   EXPECT_FLOAT_EQ(scene_.materials[0].base_color.y, 0.25f);
@@ -132,7 +132,7 @@ TEST_F(FileAccess, GltfFilesOutsideTheFolderNeedAllowOutside) {
   write("model/geo.bin", triangle_bytes());
   ASSERT_TRUE(
       load(write("model/c.gltf", gltf("geo.bin", "../../../../../../../../etc/passwd"))).returned);
-  expect_warning({"image refused", "etc/passwd", "outside the scene's folder"});
+  expect_warning({"was refused", "etc/passwd", "outside the scene's folder"});
 
   warnings_.clear();
   options_.allow_outside = true;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "scene/loaders.h"
 
@@ -37,11 +38,28 @@ TEST(RealModels, CylinderEngineGlbCountsEveryInstance) {
   EXPECT_EQ(s.normals.size(), s.positions.size());
 }
 
-TEST(RealModels, ClearCoatTestIgnoresUnknownExtension) {
+// Loads `path`, collecting its warnings.
+Scene load_warned(const std::string& path, std::vector<std::string>* warnings) {
+  LoadOptions o;
+  o.warn = [warnings](const std::string& line) { warnings->push_back(line); };
+  return load_scene(path, o);
+}
+
+size_t count_containing(const std::vector<std::string>& lines, const std::string& word) {
+  return size_t(std::count_if(lines.begin(), lines.end(), [&](const std::string& l) {
+    return l.find(word) != std::string::npos;
+  }));
+}
+
+TEST(RealModels, ClearCoatTestWarnsAboutItsExtension) {
   const std::string p = assimp_model("glTF2/ClearCoat-glTF/ClearCoatTest.gltf");
   SKIP_IF_MISSING(p);
-  const Scene s = load_scene(p);
+  std::vector<std::string> warnings;
+  const Scene s = load_warned(p, &warnings);
   EXPECT_EQ(s.triangle_count(), 37116u);
+  EXPECT_EQ(count_containing(warnings, "extension KHR_materials_clearcoat"), 1u);
+  // Its labels and base plates are textured: those textures are read per texel now.
+  EXPECT_GE(textured_materials(s), 1u);
 }
 
 TEST(RealModels, WusonObjAndPlyAgree) {
@@ -97,22 +115,36 @@ TEST(RealModels, DamagedHelmetWithBaseColorTexture) {
   SKIP_IF_MISSING(p);
   const Scene s = load_scene(p);
   EXPECT_EQ(s.triangle_count(), 15452u);
-  ASSERT_EQ(s.textures.size(), 1u);  // only the albedo is a base-colour texture
+  // Albedo, emissive, metallic-roughness and normal maps; the occlusion map is not read.
+  ASSERT_EQ(s.textures.size(), 4u);
   EXPECT_EQ(s.textures[0].width, 2048);
   EXPECT_EQ(textured_materials(s), 1u);
   EXPECT_EQ(s.uvs.size(), s.positions.size());
-  // Mostly-black emissive map: emission is its mean, not the full (1,1,1) factor.
-  EXPECT_GT(max_component(s.materials[0].emission), 0.0f);
-  EXPECT_LT(max_component(s.materials[0].emission), 0.5f);
+  const Material& m = s.materials[0];
+  auto coding = [&](int t) { return s.textures[size_t(t)].coding; };
+  ASSERT_GE(m.emission_texture, 0);
+  ASSERT_GE(m.metallic_roughness_texture, 0);
+  ASSERT_GE(m.normal_texture, 0);
+  EXPECT_EQ(coding(m.base_color_texture), TexelCoding::srgb);
+  EXPECT_EQ(coding(m.emission_texture), TexelCoding::srgb);
+  EXPECT_EQ(coding(m.metallic_roughness_texture), TexelCoding::linear);
+  EXPECT_EQ(coding(m.normal_texture), TexelCoding::signed_unit);
+  // The factor stays (1, 1, 1); the mostly-black map says where the helmet glows.
+  EXPECT_EQ(m.emission.x, 1.0f);
 }
 
-TEST(RealModels, FlightHelmetLoadsWithoutItsTextures) {
+// The data folder has the geometry but none of the 15 PNGs the original file names: one
+// warning per missing image, none for the copy without texture references.
+TEST(RealModels, FlightHelmetLoadsWithoutItsTexturesAndSaysSo) {
   for (const char* name : {"FlightHelmet.gltf", "FlightHelmet_notextures.gltf"}) {
     const std::string p = shared_file(std::string("meshes/flight_helmet/") + name);
     SKIP_IF_MISSING(p);
-    const Scene s = load_scene(p);
+    std::vector<std::string> warnings;
+    const Scene s = load_warned(p, &warnings);
     EXPECT_EQ(s.triangle_count(), 94722u) << name;
-    EXPECT_TRUE(s.textures.empty()) << name;  // the PNGs are not in the data folder
+    EXPECT_TRUE(s.textures.empty()) << name;
+    const bool original = std::string(name) == "FlightHelmet.gltf";
+    EXPECT_EQ(count_containing(warnings, "was not found"), original ? 15u : 0u) << name;
   }
 }
 

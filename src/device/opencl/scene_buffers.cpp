@@ -26,8 +26,27 @@ void put(float out[3], Vec3 v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
 
 }  // namespace
 
+std::string cl_unsupported_feature(const Scene& s) {
+  for (const Material& m : s.materials) {
+    const std::string what = "material '" + m.name + "' has ";
+    if (m.emission_texture >= 0) return what + "an emission texture";
+    if (m.metallic_roughness_texture >= 0) return what + "a metallic-roughness texture";
+    if (m.normal_texture >= 0) return what + "a normal map";
+    if (m.may_be_transparent()) return what + "an alpha mode (mask or blend)";
+    if (m.base_color_texture >= 0 &&
+        s.textures[size_t(m.base_color_texture)].coding != TexelCoding::srgb)
+      return what + "a base colour texture that is not sRGB";
+  }
+  if (s.environment_map) return "the scene has an environment map";
+  if (s.sun.on()) return "the scene has a sun";
+  return {};
+}
+
 ClScene build_cl_scene(const RenderScene& rs) {
   const Scene& s = rs.scene;
+  if (const std::string why = cl_unsupported_feature(s); !why.empty())
+    throw DeviceError("OpenCL: " + why +
+                      ", which the OpenCL kernel does not render yet; use CPU devices for it");
   ClScene c;
   c.bvh = build_flat_bvh(s);
   c.shading = rs.shading;
@@ -48,17 +67,15 @@ ClScene build_cl_scene(const RenderScene& rs) {
   c.light_pdf_by_prim = rs.lights.pdf_by_prim();
 
   for (const Texture& t : s.textures) {
-    if (c.texels.size() + t.srgb8.size() > UINT32_MAX)
+    if (c.texels.size() + t.texels.size() > UINT32_MAX)
       throw DeviceError("OpenCL: the scene's textures exceed 4 G texels");
     c.textures.push_back(ClTexture{uint32_t(c.texels.size()), t.width, t.height, 0});
-    c.texels.insert(c.texels.end(), t.srgb8.begin(), t.srgb8.end());
+    c.texels.insert(c.texels.end(), t.texels.begin(), t.texels.end());
   }
-  // Read the CPU's decoding table through Texture::texel on a 256 x 1 grey ramp, so both
-  // backends turn a byte into exactly the same linear value.
-  unsigned char ramp[256];
-  for (int i = 0; i < 256; ++i) ramp[i] = static_cast<unsigned char>(i);
-  const Texture lut = Texture::from_srgb8(ramp, 256, 1, 1);
-  for (int i = 0; i < 256; ++i) c.srgb_to_linear.push_back(lut.texel(i, 0).x);
+  // The CPU's own sRGB decoding table, so both backends turn a byte into exactly the same
+  // linear value.
+  const float* lut = texel_decoding_table(TexelCoding::srgb);
+  c.srgb_to_linear.assign(lut, lut + 256);
 
   c.environment = s.environment;
   // The same offset as PathTracer's constructor.

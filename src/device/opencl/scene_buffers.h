@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "device/opencl/bvh_flatten.h"
@@ -58,7 +59,11 @@ struct ClScene {
   float ray_eps = 0;  // ray-origin offset, as PathTracer's
 };
 
-// Throws DeviceError when the BVH cannot be built (see build_flat_bvh).
+// What `scene` uses that the OpenCL kernel does not render (one phrase), or "".
+std::string cl_unsupported_feature(const Scene& scene);
+
+// Throws DeviceError when the BVH cannot be built (see build_flat_bvh) or the scene
+// uses a feature of cl_unsupported_feature().
 ClScene build_cl_scene(const RenderScene& rs);
 
 }  // namespace multiray

@@ -1,0 +1,184 @@
+#include "render/environment.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/render_types.h"
+#include "render/sampling.h"
+
+namespace multiray {
+
+EnvFrame environment_frame(Vec3 up) {
+  // A world axis across `up`, then the third by the right-hand rule.
+  const Vec3 across = std::abs(up.x) < 0.5f ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  const Vec3 x = normalize(across - up * dot(across, up));
+  return EnvFrame{x, up, cross(x, up)};
+}
+
+Vec2 direction_to_equirect(const EnvFrame& f, Vec3 d) {
+  const float lx = dot(d, f.x), ly = dot(d, f.up), lz = dot(d, f.z);
+  const float phi = std::atan2(lx, -lz);  // 0 along -z, pi/2 along +x
+  const float theta = std::acos(std::clamp(ly, -1.0f, 1.0f));
+  return {0.5f + phi * (0.5f * kInvPi), theta * kInvPi};
+}
+
+Vec3 equirect_to_direction(const EnvFrame& f, Vec2 uv) {
+  const float phi = (uv.x - 0.5f) * 2.0f * kPi, theta = uv.y * kPi;
+  const float st = std::sin(theta);
+  return f.x * (st * std::sin(phi)) + f.up * std::cos(theta) - f.z * (st * std::cos(phi));
+}
+
+namespace {
+
+// Index of the first entry of cdf[0, n) greater than u (the last if none).
+size_t pick(const float* cdf, size_t n, float u) {
+  return std::min(size_t(std::upper_bound(cdf, cdf + n, u) - cdf), n - 1);
+}
+
+}  // namespace
+
+EnvironmentLight::EnvironmentLight(const Scene& scene)
+    : constant_(scene.environment),
+      map_(scene.environment_map.get()),
+      map_scale_(scene.environment_map_scale),
+      frame_(environment_frame(scene.up)),
+      sun_(scene.sun) {
+  if (map_ != nullptr && (map_->width <= 0 || map_->height <= 0)) map_ = nullptr;
+  sky_ = max_component(constant_) > 0 || map_ != nullptr;
+  if (sun_.on()) {
+    sun_cos_ = std::cos(sun_.half_angle_rad);
+    sun_pdf_ = 1.0f / (2.0f * kPi * (1.0f - sun_cos_));
+    p_sun_ = sky_ ? 0.5f : 1.0f;
+  }
+  on_ = sky_ || sun_.on();
+  if (map_ == nullptr) return;
+  // Weights: luminance (map plus the constant sky) x sin(theta) of each pixel's centre.
+  const int w = map_->width, h = map_->height;
+  const float lum_constant = luminance(constant_);
+  std::vector<double> row_sum(size_t(h), 0.0);
+  col_cdf_.resize(size_t(w) * size_t(h));
+  pix_pdf_.resize(col_cdf_.size());
+  double total = 0;
+  for (int y = 0; y < h; ++y) {
+    const double st = std::sin(kPi * (y + 0.5) / h);
+    double acc = 0;
+    std::vector<double> weight(static_cast<size_t>(w));
+    for (int x = 0; x < w; ++x) {
+      const Vec3 c = map_->radiance[size_t(y) * size_t(w) + size_t(x)];
+      weight[size_t(x)] = (double(luminance(c)) * map_scale_ + lum_constant) * st + 1e-12;
+      acc += weight[size_t(x)];
+    }
+    double run = 0;
+    for (int x = 0; x < w; ++x) {
+      run += weight[size_t(x)];
+      col_cdf_[size_t(y) * size_t(w) + size_t(x)] = float(run / acc);
+      pix_pdf_[size_t(y) * size_t(w) + size_t(x)] = float(weight[size_t(x)] / acc);
+    }
+    col_cdf_[size_t(y) * size_t(w) + size_t(w - 1)] = 1.0f;
+    row_sum[size_t(y)] = acc;
+    total += acc;
+  }
+  double run = 0;
+  for (int y = 0; y < h; ++y) {
+    run += row_sum[size_t(y)];
+    row_cdf_.push_back(float(run / total));
+    row_pdf_.push_back(float(row_sum[size_t(y)] / total));
+  }
+  row_cdf_.back() = 1.0f;
+}
+
+float EnvironmentLight::mean_luminance() const {
+  double lum = luminance(constant_);
+  if (map_ != nullptr) {
+    // Pixels weighted by the solid angle of their row.
+    double sum = 0, weight = 0;
+    for (int y = 0; y < map_->height; ++y) {
+      const double st = std::sin(kPi * (y + 0.5) / map_->height);
+      for (int x = 0; x < map_->width; ++x)
+        sum += st * luminance(map_->radiance[size_t(y) * size_t(map_->width) + size_t(x)]);
+      weight += st * map_->width;
+    }
+    lum += map_scale_ * sum / weight;
+  }
+  if (sun_.on()) lum += luminance(sun_.radiance) * (1.0 - sun_cos_) / 2.0;  // cone / sphere
+  return float(lum);
+}
+
+Vec3 EnvironmentLight::map_radiance(Vec2 uv) const {
+  const int x = std::clamp(int(uv.x * float(map_->width)), 0, map_->width - 1);
+  const int y = std::clamp(int(uv.y * float(map_->height)), 0, map_->height - 1);
+  return map_->radiance[size_t(y) * size_t(map_->width) + size_t(x)] * map_scale_;
+}
+
+Vec3 EnvironmentLight::radiance(Vec3 dir) const {
+  Vec3 L = constant_;
+  if (map_ != nullptr) L += map_radiance(direction_to_equirect(frame_, dir));
+  if (sun_.on() && dot(dir, sun_.direction) >= sun_cos_) L += sun_.radiance;
+  return L;
+}
+
+// Solid-angle density of the map distribution at `uv`: pixel probability x pixel count
+// over the Jacobian of the equirectangular map (2 pi^2 sin theta).
+float EnvironmentLight::map_pdf(Vec2 uv) const {
+  const int x = std::clamp(int(uv.x * float(map_->width)), 0, map_->width - 1);
+  const int y = std::clamp(int(uv.y * float(map_->height)), 0, map_->height - 1);
+  const float st = std::sin(uv.y * kPi);
+  if (!(st > 0)) return 0;
+  const float p = row_pdf_[size_t(y)] * pix_pdf_[size_t(y) * size_t(map_->width) + size_t(x)] *
+                  float(map_->width) * float(map_->height);
+  return p / (2.0f * kPi * kPi * st);
+}
+
+float EnvironmentLight::sky_pdf(Vec3 dir, Vec3 n) const {
+  if (!sky_) return 0;
+  if (map_ != nullptr) return map_pdf(direction_to_equirect(frame_, dir));
+  return std::max(dot(dir, n), 0.0f) * kInvPi;
+}
+
+float EnvironmentLight::pdf(Vec3 dir, Vec3 n) const {
+  float p = (1.0f - p_sun_) * sky_pdf(dir, n);
+  if (sun_.on() && dot(dir, sun_.direction) >= sun_cos_) p += p_sun_ * sun_pdf_;
+  return p;
+}
+
+EnvSample EnvironmentLight::sample(Vec3 n, float u_choice, float u1, float u2) const {
+  EnvSample s;
+  if (u_choice < p_sun_) {
+    // Uniform in the cone around the sun's direction.
+    const float cos_t = 1.0f - u1 * (1.0f - sun_cos_);
+    const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
+    const float phi = 2.0f * kPi * u2;
+    const Frame f = Frame::from_normal(sun_.direction);
+    s.dir = normalize(f.to_world(Vec3(sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t)));
+  } else if (map_ != nullptr) {
+    const size_t y = pick(row_cdf_.data(), row_cdf_.size(), u1);
+    const float* row = &col_cdf_[y * size_t(map_->width)];
+    const size_t x = pick(row, size_t(map_->width), u2);
+    // Where inside the pixel: the part of u2 (and u1) past the chosen bin's start.
+    const float r0 = y == 0 ? 0.0f : row_cdf_[y - 1], c0 = x == 0 ? 0.0f : row[x - 1];
+    const float fy = std::clamp((u1 - r0) / std::max(row_cdf_[y] - r0, 1e-20f), 0.0f, 1.0f);
+    const float fx = std::clamp((u2 - c0) / std::max(row[x] - c0, 1e-20f), 0.0f, 1.0f);
+    s.dir = equirect_to_direction(
+        frame_, Vec2{(float(x) + fx) / float(map_->width), (float(y) + fy) / float(map_->height)});
+  } else {
+    const Frame f = Frame::from_normal(n);
+    s.dir = f.to_world(sample_cosine_hemisphere(u1, u2));
+  }
+  s.pdf = pdf(s.dir, n);
+  s.radiance = radiance(s.dir);
+  return s;
+}
+
+float RenderScene::choose_environment(const Scene& s, const LightSampler& lights,
+                                      const EnvironmentLight& env) {
+  if (!env.on()) return 0.0f;
+  if (lights.empty()) return 1.0f;
+  // Power / pi through the bounding sphere: mean radiance x its cross-section x 4 (the
+  // sphere's area over pi r^2) for the environment, area x radiance for the lights.
+  const float r = 0.5f * length(s.bounds().extent());
+  const double env_power = double(env.mean_luminance()) * 4.0 * kPi * double(r) * double(r);
+  const double share = env_power / (env_power + lights.total_power());
+  return float(std::clamp(share, 0.1, 0.9));
+}
+
+}  // namespace multiray
