@@ -13,6 +13,7 @@
 
 #include <fmt/core.h>
 
+#include "app/lighting_options.h"
 #include "app/stats_json.h"
 #include "balance/spec.h"
 #include "core/clock.h"
@@ -26,8 +27,6 @@
 #include "scene/loaders.h"
 
 namespace multiray::app {
-
-namespace {
 
 // Strict numeric parsing: the whole token must be a finite number.
 double to_number(const std::string& tok, const std::string& what) {
@@ -51,22 +50,6 @@ std::vector<std::string> split(const std::string& s, char sep) {
   if (!s.empty() && s.back() == sep) out.push_back("");
   return out;
 }
-
-// Whether some material emits by its factor alone. Emission through a texture does not
-// count: such files (DamagedHelmet) mean glowing details, not a light for the scene.
-bool has_light(const Scene& scene) {
-  for (const Material& m : scene.materials)
-    if (max_component(m.emission) > 0 && m.emission_texture < 0) return true;
-  return false;
-}
-
-bool has_textured_emission(const Scene& scene) {
-  for (const Material& m : scene.materials)
-    if (max_component(m.emission) > 0 && m.emission_texture >= 0) return true;
-  return false;
-}
-
-}  // namespace
 
 uint64_t parse_seed(const std::string& text) {
   // Digits only: "-1" must not wrap around to 2^64 - 1, nor "1e3" become 1.
@@ -369,23 +352,8 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
       : volume_input       ? load_volume_scene(o.scene_path, o.volume, o.allow_outside_paths,
                                                uint64_t(std::max(limit - need.frame_bytes, 0.0)))
                            : load_scene(o.scene_path, load));
-  if (o.env != "auto") {
-    const auto parts = split(o.env, ',');
-    if (parts.size() != 1 && parts.size() != 3)
-      throw InputError("--env '" + o.env + "' must be one number or R,G,B");
-    for (int c = 0; c < 3; ++c) {
-      const double v = to_number(parts[parts.size() == 1 ? 0 : size_t(c)], "--env");
-      if (v < 0 || v > 1e9) throw InputError("--env must be in [0, 1e9]");
-      s.scene->environment[c] = float(v);
-    }
-  } else if (!volume_input && max_component(s.scene->environment) <= 0 && !has_light(*s.scene) &&
-             !s.scene->environment_map && !s.scene->sun.on()) {
-    s.scene->environment = Vec3(1.0f);
-    s.notes.push_back(has_textured_emission(*s.scene)
-                          ? "the scene's only lights are emissive textures; adding a white sky "
-                            "(radiance 1), see --env"
-                          : "the scene has no lights; using a white sky (radiance 1), see --env");
-  }
+  s.scene->up = s.up;
+  apply_lighting({o.env, o.env_scale, o.sun}, volume_input, load, *s.scene, s.notes);
   if (sampling.mode == Sampling::Foveated)
     sampling.pattern = std::make_shared<const FoveationPattern>(
         make_foveation_pattern(s.res.width, s.res.height, o.foveation));

@@ -31,9 +31,10 @@ struct CommonOptions {
   std::string up = "auto";                // [+-]x|y|z; auto: y for meshes, z for volumes
   std::string camera_path = "fixed";      // fixed | orbit | orbit:PERIOD | FILE.json
   std::string devices = "cpu:threads=0";  // threads=0: all hardware threads
-  std::string seed = "0";  // a whole number in [0, 2^64); parsed strictly in make_setup
-  std::string env =
-      "auto";  // constant sky radiance "R,G,B" or "V"; auto: the scene's, or 1 if it has no light
+  std::string seed = "0";            // a whole number in [0, 2^64); parsed strictly in make_setup
+  std::string env = "auto";          // auto | V | R,G,B | FILE.hdr|.exr (app/lighting_options.h)
+  double env_scale = 1.0;            // multiplies an environment map
+  std::string sun = "off";           // off | AZ,EL[,IRRADIANCE[,DIAMETER]]
   std::vector<std::string> perturb;  // FRAME:DEVICE:SPEED
   std::string views = "1x1";         // KxL light-field grid
   float view_spacing = 0.2f;         // between grid views, scene units
@@ -118,6 +119,12 @@ MemoryEstimate estimate_memory(const CommonOptions& o, int views, int width, int
                                int lanes);
 // --max-memory: "auto" (half of physical memory) or a size like 8G, 512M, 100000 (bytes).
 double parse_memory_limit(const std::string& text);
+
+// Strict numeric parsing: the whole token must be a finite number, else InputError
+// "<what>: '<tok>' is not a number".
+double to_number(const std::string& tok, const std::string& what);
+// `s` cut at every `sep` (a trailing separator gives a final empty part).
+std::vector<std::string> split(const std::string& s, char sep);
 
 // Validates every option before loading anything expensive (the memory estimate
 // included, for `lanes` balancers), then loads the scene and creates the devices.

@@ -56,6 +56,16 @@ class EnvironmentLight {
   // themselves: per row the marginal CDF, per pixel the conditional CDF within its row.
   const std::vector<float>& row_cdf() const { return row_cdf_; }
   const std::vector<float>& column_cdf() const { return col_cdf_; }
+  // The probabilities behind those CDFs: of each row, and of each pixel within its row.
+  const std::vector<float>& row_pdf() const { return row_pdf_; }
+  const std::vector<float>& pixel_pdf() const { return pix_pdf_; }
+  // The rest of the sampling state, for the same backends: whether there is a sky
+  // (constant or map), cosine of the sun's half angle, the sun cone's uniform solid-angle
+  // density, and the probability with which sample() picks the sun.
+  bool has_sky() const { return sky_; }
+  float sun_cos() const { return sun_cos_; }
+  float sun_pdf() const { return sun_pdf_; }
+  float sun_probability() const { return p_sun_; }
 
  private:
   float sky_pdf(Vec3 dir, Vec3 n) const;

@@ -82,11 +82,11 @@ struct PathState {
 
 // Adds light arriving at the path's vertex from outside the scene along the ray that
 // just escaped, weighted against next-event estimation from the previous vertex.
-void PathTracer::escape(PathState& p) const {
+void PathTracer::escape(PathState& p, float p_env) const {
   const Vec3 Le = rs_.environment.radiance(p.ray.dir);
   float w = 1.0f;
-  if (!p.prev_specular) {
-    const float pdf_env = rs_.environment_choice() * rs_.environment.pdf(p.ray.dir, p.prev_normal);
+  if (!p.prev_specular && p_env > 0) {
+    const float pdf_env = p_env * rs_.environment.pdf(p.ray.dir, p.prev_normal);
     w = power_heuristic(p.prev_pdf, pdf_env);
   }
   p.L += p.beta * Le * w;
@@ -96,9 +96,8 @@ void PathTracer::escape(PathState& p) const {
 // Next-event estimation from a vertex with BSDF `bsdf` in `frame`: one sample of either
 // the environment or an emissive triangle (three random numbers either way); the shadow
 // ray is traced by the caller and adds `shadow_contribution` if unoccluded.
-void PathTracer::sample_light(PathState& p, const Bsdf& bsdf, const Frame& frame, Vec3 wo,
-                              Vec3 pos, Vec3 ng) const {
-  const float p_env = rs_.environment_choice();
+void PathTracer::sample_light(PathState& p, float p_env, const Bsdf& bsdf, const Frame& frame,
+                              Vec3 wo, Vec3 pos, Vec3 ng) const {
   float ul = p.rng.next();
   const float u1 = p.rng.next(), u2 = p.rng.next();
   if (ul < p_env) {
@@ -133,7 +132,8 @@ void PathTracer::sample_light(PathState& p, const Bsdf& bsdf, const Frame& frame
 
 void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settings) const {
   const Scene& scene = rs_.scene;
-  if (!hit) return escape(p);
+  const float p_env = settings.sample_environment ? rs_.environment_choice() : 0.0f;
+  if (!hit) return escape(p, p_env);
   Shading sh = shade_point(rs_.shading, p.ray, *hit);
   const Material& mat = scene.materials[sh.material];
   const Vec3 wo_world = -p.ray.dir;
@@ -145,8 +145,8 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
       p.L += p.beta * Le;
     } else {
       const float cos_l = dot(sh.ng, wo_world);
-      const float pdf_light = (1.0f - rs_.environment_choice()) * rs_.lights.pdf_area(hit->prim) *
-                              hit->t * hit->t / cos_l;
+      const float pdf_light =
+          (1.0f - p_env) * rs_.lights.pdf_area(hit->prim) * hit->t * hit->t / cos_l;
       p.L += p.beta * Le * power_heuristic(p.prev_pdf, pdf_light);
     }
   }
@@ -168,8 +168,8 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
     frame = Frame::from_normal(sh.ng);  // shading normal faces away: fall back
     wo = frame.to_local(wo_world);
   }
-  if (bsdf.has_diffuse_or_glossy() && (rs_.environment.on() || !rs_.lights.empty()))
-    sample_light(p, bsdf, frame, wo, sh.p, sh.ng);
+  if (bsdf.has_diffuse_or_glossy() && (p_env > 0 || !rs_.lights.empty()))
+    sample_light(p, p_env, bsdf, frame, wo, sh.p, sh.ng);
 
   // Continue the path by sampling the BSDF.
   p.alive = false;

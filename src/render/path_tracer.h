@@ -37,9 +37,10 @@ class PathTracer : public Kernel {
  private:
   // Advances path `p` by one bounce given its closest hit (nullptr: it left the scene).
   void step(struct PathState& p, const Hit* hit, const RenderSettings& settings) const;
-  void escape(struct PathState& p) const;
-  void sample_light(struct PathState& p, const Bsdf& bsdf, const Frame& frame, Vec3 wo, Vec3 pos,
-                    Vec3 ng) const;
+  // `p_env`: the probability that next-event estimation picks the environment (0: never).
+  void escape(struct PathState& p, float p_env) const;
+  void sample_light(struct PathState& p, float p_env, const Bsdf& bsdf, const Frame& frame,
+                    Vec3 wo, Vec3 pos, Vec3 ng) const;
   // Runs every path of `paths` to completion, a bounce at a time for all of them.
   void trace_batch(std::vector<struct PathState>& paths, const RenderSettings& settings,
                    KernelStats& stats, RayLog* log) const;

@@ -29,6 +29,9 @@ struct RenderSettings {
   // Ray step relative to the user's, for kernels that march along rays (volumes); set by
   // the engine from Plan::quality for frame-time targeting. Surface kernels ignore it.
   float step_scale = 1.0f;
+  // Next-event estimation of the environment (render/environment.h). Off, the sky is
+  // reached by BSDF sampling alone, as before it was sampled: for variance comparisons.
+  bool sample_environment = true;
   // The volume kernel's transfer function, block opacities and step (null for meshes);
   // shared, immutable, replaced when the transfer function changes.
   std::shared_ptr<const VolumeStyle> volume_style = {};

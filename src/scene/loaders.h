@@ -73,6 +73,12 @@ Scene load_ply(const std::string& path, const LoadOptions& options = {});
 // outside the XML's folder need allow_outside like any other named file.
 Scene load_mitsuba(const std::string& path, const LoadOptions& options = {});
 
+// An equirectangular environment map: Radiance .hdr or OpenEXR .exr, as linear RGB.
+// The file gets the scene file's checks (regular, non-empty, LoadOptions' byte limit);
+// over detail::kMaxTexturePixels pixels is refused. Negative or non-finite values become
+// 0 with one warning.
+EnvironmentMap load_environment_map(const std::string& path, const LoadOptions& options = {});
+
 // Helpers shared by the loaders (texture_load.cpp). Not part of the public interface.
 namespace detail {
 

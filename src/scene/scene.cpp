@@ -160,8 +160,7 @@ bool up_axis_vector(const std::string& name, Vec3& up) {
   return true;
 }
 
-Camera Scene::default_camera(float aspect, Vec3 up, float azimuth_deg, float elevation_deg) const {
-  const Bounds3 b = bounds();
+Vec3 view_direction(Vec3 up, float azimuth_deg, float elevation_deg) {
   // Right is +x (+y when up is along x), flipped with up's sign; front = right x up is then
   // +z for +y up (glTF's convention) and -y for +z up (Blender's).
   const int axis = std::abs(up.x) > 0.5f ? 0 : std::abs(up.y) > 0.5f ? 1 : 2;
@@ -170,9 +169,13 @@ Camera Scene::default_camera(float aspect, Vec3 up, float azimuth_deg, float ele
   right[axis == 0 ? 1 : 0] = sign;
   const Vec3 front = cross(right, up);
   const float az = azimuth_deg * kPi / 180.0f, el = elevation_deg * kPi / 180.0f;
-  // From the target towards the eye.
-  const Vec3 d = normalize(front * (std::cos(el) * std::cos(az)) +
-                           right * (std::cos(el) * std::sin(az)) + up * std::sin(el));
+  return normalize(front * (std::cos(el) * std::cos(az)) + right * (std::cos(el) * std::sin(az)) +
+                   up * std::sin(el));
+}
+
+Camera Scene::default_camera(float aspect, Vec3 up, float azimuth_deg, float elevation_deg) const {
+  const Bounds3 b = bounds();
+  const Vec3 d = view_direction(up, azimuth_deg, elevation_deg);  // target towards the eye
   Camera cam;
   cam.fov_y_deg = kDefaultFovDeg;
   cam.target = b.center();

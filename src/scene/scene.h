@@ -163,6 +163,12 @@ struct Scene {
                         float elevation_deg = kDefaultElevationDeg) const;
 };
 
+// Unit direction `azimuth_deg` round the up axis `up` (a signed world axis) from the front
+// towards the right and `elevation_deg` above the horizon; the front is the axis glTF's
+// convention makes it for +y (+z), Blender's for +z (-y). The default camera looks from
+// here at the scene, and --sun places the sun here.
+Vec3 view_direction(Vec3 up, float azimuth_deg, float elevation_deg);
+
 // The unit world axis named by `name`: x, y, z with an optional sign (+x, -z, ...).
 // Returns false for anything else.
 bool up_axis_vector(const std::string& name, Vec3& up);

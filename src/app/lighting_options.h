@@ -1,0 +1,27 @@
+// --env, --env-scale and --sun: the light from outside the scene.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scene/loaders.h"
+#include "scene/scene.h"
+
+namespace multiray::app {
+
+struct LightingOptions {
+  std::string env = "auto";  // auto | V | R,G,B | FILE.hdr | FILE.exr
+  double env_scale = 1.0;    // multiplies an environment map
+  std::string sun = "off";   // off | AZ,EL[,IRRADIANCE[,DIAMETER]]
+};
+
+// Sets the scene's environment and sun from `o` (scene.up must already be the run's up
+// axis). With env = auto and no light at all, a white sky is added and `notes` says so.
+// Throws InputError with a one-line message for a bad value or an unreadable map.
+void apply_lighting(const LightingOptions& o, bool volume, const LoadOptions& load, Scene& scene,
+                    std::vector<std::string>& notes);
+
+// The sun of --sun's text for up axis `up` (off: radiance 0).
+Sun parse_sun(const std::string& text, Vec3 up);
+
+}  // namespace multiray::app
