@@ -20,55 +20,20 @@
 #include <algorithm>
 #include <cmath>
 
-#include "opencl_helpers.h"
+#include "opencl_ztest.h"
 #include "scene/builders.h"
 
 namespace multiray {
 namespace {
 
-using testing::PixelStats;
+using testing::batches;
+using testing::expect_matches_cpu;
 using testing::render_whole;
+using testing::summarize;
 using testing::view_of;
+using testing::ZSummary;
 
-constexpr int kW = 32, kH = 32, kBatches = 32;
-
-struct ZSummary {
-  double beyond4 = 0;  // fraction of channels with |z| > 4
-  double mean_z = 0;
-};
-
-ZSummary summarize(const std::vector<double>& z) {
-  ZSummary s;
-  size_t finite = 0;
-  for (double v : z) {
-    s.beyond4 += std::abs(v) > 4;
-    if (std::isfinite(v)) s.mean_z += v, ++finite;
-  }
-  s.beyond4 /= double(z.size());
-  s.mean_z /= double(std::max<size_t>(1, finite));
-  return s;
-}
-
-PixelStats batches(Device& device, const Scene& scene, int spp, uint64_t first_seed) {
-  PixelStats st;
-  for (int b = 0; b < kBatches; ++b) {
-    const RenderSettings s{.spp = spp, .max_bounces = 6, .seed = first_seed + uint64_t(b)};
-    st.add(render_whole(device, view_of(scene, kW, kH), s));
-  }
-  return st;
-}
-
-void expect_matches_cpu(const Scene& scene, int spp) {
-  SceneCache rs(scene);
-  CpuDevice cpu(rs, {}, "cpu");
-  OpenClDevice cl(rs, {}, "opencl:0");
-  const PixelStats ref = batches(cpu, scene, spp, 1000), got = batches(cl, scene, spp, 2000);
-  const ZSummary z = summarize(testing::z_scores(got, ref));
-  EXPECT_LE(z.beyond4, 0.01) << scene.name;
-  EXPECT_NEAR(z.mean_z, 0.0, 0.1) << scene.name;
-  std::printf("%s: %.3f%% of channels beyond |z| = 4, mean z %.4f\n", scene.name.c_str(),
-              100 * z.beyond4, z.mean_z);
-}
+constexpr int kW = testing::kMatchW, kH = testing::kMatchH;
 
 // The Cornell box: Lambert, a rough GGX conductor, one area light.
 TEST(OpenClMatch, CornellBoxMatchesCpuStatistically) {

@@ -28,9 +28,15 @@ class ClPathTracer : public ClKernelRunner {
     args[MR_ARG_light_pdf_by_prim] = upload(s.light_pdf_by_prim);
     args[MR_ARG_texels] = upload(s.texels);
     args[MR_ARG_textures] = upload(s.textures);
-    args[MR_ARG_srgb_lut] = upload(s.srgb_to_linear);
+    args[MR_ARG_texel_luts] = upload(s.texel_luts);
+    args[MR_ARG_tangents] = upload(s.tangents);
+    args[MR_ARG_sky] = upload(std::vector<ClSky>{s.sky});
+    args[MR_ARG_sky_data] = upload(s.sky_data);
     params_.light_count = cl_uint(s.lights.size());
-    params_.environment_eps = cl_f4(s.environment, s.ray_eps);
+    sky_choice_ = s.sky.choice;
+    ray_eps_ = s.ray_eps;
+    params_.has_tangents = s.tangents.empty() ? 0u : 1u;
+    params_.cutouts = s.cutouts ? 1u : 0u;
     params_buffer_ = cl::Buffer(rt.context, CL_MEM_READ_ONLY, sizeof(LaunchParams));
     args[MR_ARG_params] = params_buffer_;
     args[MR_ARG_radiance] = out_.radiance;
@@ -58,6 +64,9 @@ class ClPathTracer : public ClKernelRunner {
     params_.view = cl_uint(view.view);
     params_.seed = cl_ulong(st.seed);
     params_.use_spp_map = view.spp_map ? 1 : 0;
+    // As PathTracer::step's p_env.
+    const float p_env = st.sample_environment ? sky_choice_ : 0.0f;
+    params_.env_choice_eps = cl_f4(Vec3(p_env, 0.0f, 0.0f), ray_eps_);
     for_each_launch(r, rt_.tile, [&](const ClLaunchRect& piece) {
       // Always `launch_items` work-items (see ClRuntime::build_kernel); those beyond the
       // piece's pixels return at once. Non-blocking writes: the host copies stay
@@ -85,6 +94,8 @@ class ClPathTracer : public ClKernelRunner {
   ClLaunchBuffers out_;
   cl::Buffer params_buffer_;  // `params_`, rewritten before every launch
   LaunchParams params_{};
+  float sky_choice_ = 0;  // RenderScene::environment_choice()
+  float ray_eps_ = 0;     // ray-origin offset
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "device/opencl/scene_buffers.h"
 
 #include <algorithm>
+#include <type_traits>
 
 #include "core/error.h"
 
@@ -13,16 +14,67 @@ ClMaterial to_cl(const Material& m) {
   c.color[0] = m.base_color.x, c.color[1] = m.base_color.y, c.color[2] = m.base_color.z;
   c.texture = m.base_color_texture;
   c.emission[0] = m.emission.x, c.emission[1] = m.emission.y, c.emission[2] = m.emission.z;
-  // The same clamping as the Bsdf constructor, done once here instead of per hit.
-  c.metallic = std::clamp(m.metallic, 0.0f, 1.0f);
-  c.alpha = std::max(m.roughness * m.roughness, 1e-3f);
+  c.emission_texture = m.emission_texture;
+  c.metallic = m.metallic;
+  c.roughness = m.roughness;
+  // The Bsdf constructor's choices that no texture changes, done once here.
   c.ior = m.ior > 1.0f ? m.ior : 1.5f;
   c.dielectric = m.transmission > 0.5f ? 1u : 0u;
   c.emissive = max_component(m.emission) > 0 ? 1u : 0u;
+  c.metallic_roughness_texture = m.metallic_roughness_texture;
+  c.normal_texture = m.normal_texture;
+  c.normal_scale = m.normal_scale;
+  c.opacity = m.opacity;
+  c.alpha_mode = uint32_t(m.alpha_mode);
+  c.alpha_cutoff = m.alpha_cutoff;
   return c;
 }
 
 void put(float out[3], Vec3 v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
+
+template <class T>
+uint32_t append(std::vector<float>& out, const std::vector<T>& v) {
+  const size_t at = out.size();
+  if (at + v.size() * (sizeof(T) / sizeof(float)) > UINT32_MAX)
+    throw DeviceError("OpenCL: the environment map exceeds 4 G floats");
+  for (const T& x : v) {
+    if constexpr (std::is_same_v<T, float>) {
+      out.push_back(x);
+    } else {
+      out.insert(out.end(), {x.x, x.y, x.z});
+    }
+  }
+  return uint32_t(at);
+}
+
+// The environment light as the kernel samples it: every number from the CPU's own
+// EnvironmentLight, so both sample the same distribution.
+void build_sky(const RenderScene& rs, ClScene& c) {
+  const Scene& s = rs.scene;
+  const EnvironmentLight& env = rs.environment;
+  ClSky& k = c.sky;
+  put(k.constant_sky, s.environment);
+  k.choice = rs.environment_choice();
+  const EnvFrame f = environment_frame(s.up);
+  put(k.frame_x, f.x), put(k.frame_up, f.up), put(k.frame_z, f.z);
+  k.sun_on = s.sun.on() ? 1u : 0u;
+  put(k.sun_dir, s.sun.direction), put(k.sun_radiance, s.sun.radiance);
+  k.sun_cos = env.sun_cos(), k.sun_pdf = env.sun_pdf(), k.p_sun = env.sun_probability();
+  k.sky_on = env.has_sky() ? 1u : 0u;
+  k.on = env.on() ? 1u : 0u;
+  // The tables are empty exactly when the EnvironmentLight uses no map.
+  if (env.row_cdf().empty()) return;
+  const EnvironmentMap& map = *s.environment_map;
+  k.map_width = map.width, k.map_height = map.height;
+  k.row_cdf = append(c.sky_data, env.row_cdf());
+  k.row_pdf = append(c.sky_data, env.row_pdf());
+  k.col_cdf = append(c.sky_data, env.column_cdf());
+  k.pix_pdf = append(c.sky_data, env.pixel_pdf());
+  // EnvironmentLight::map_radiance's product, done once here (the same float product).
+  std::vector<Vec3> scaled(map.radiance.size());
+  for (size_t i = 0; i < scaled.size(); ++i) scaled[i] = map.radiance[i] * s.environment_map_scale;
+  k.map = append(c.sky_data, scaled);
+}
 
 }  // namespace
 
@@ -37,8 +89,6 @@ std::string cl_unsupported_feature(const Scene& s) {
         s.textures[size_t(m.base_color_texture)].coding != TexelCoding::srgb)
       return what + "a base colour texture that is not sRGB";
   }
-  if (s.environment_map) return "the scene has an environment map";
-  if (s.sun.on()) return "the scene has a sun";
   return {};
 }
 
@@ -69,15 +119,22 @@ ClScene build_cl_scene(const RenderScene& rs) {
   for (const Texture& t : s.textures) {
     if (c.texels.size() + t.texels.size() > UINT32_MAX)
       throw DeviceError("OpenCL: the scene's textures exceed 4 G texels");
-    c.textures.push_back(ClTexture{uint32_t(c.texels.size()), t.width, t.height, 0});
+    c.textures.push_back(
+        ClTexture{uint32_t(c.texels.size()), t.width, t.height, uint32_t(t.coding)});
     c.texels.insert(c.texels.end(), t.texels.begin(), t.texels.end());
   }
-  // The CPU's own sRGB decoding table, so both backends turn a byte into exactly the same
-  // linear value.
-  const float* lut = texel_decoding_table(TexelCoding::srgb);
-  c.srgb_to_linear.assign(lut, lut + 256);
+  // The CPU's own decoding tables, so both backends turn a byte into exactly the same
+  // value.
+  for (TexelCoding coding : {TexelCoding::srgb, TexelCoding::linear, TexelCoding::signed_unit}) {
+    const float* lut = texel_decoding_table(coding);
+    c.texel_luts.insert(c.texel_luts.end(), lut, lut + 256);
+  }
+  for (const TriangleTangent& t : rs.tangents)
+    c.tangents.insert(c.tangents.end(), {t.u.x, t.u.y, t.u.z, t.sign});
+  c.cutouts = std::any_of(s.materials.begin(), s.materials.end(),
+                          [](const Material& m) { return m.may_be_transparent(); });
+  build_sky(rs, c);
 
-  c.environment = s.environment;
   // The same offset as PathTracer's constructor.
   c.ray_eps = 2e-5f * std::max(1.0f, max_component(s.bounds().extent()));
   return c;

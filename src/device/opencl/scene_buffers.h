@@ -13,18 +13,27 @@
 
 namespace multiray {
 
-// Material with the Bsdf constructor's clamping already applied (see render/bsdf.cpp).
+// Material with its raw factors: the kernel multiplies them by their textures and then
+// clamps them as the Bsdf constructor does (kernels/surface.cl, kernels/path_tracer.cl).
 struct ClMaterial {
   float color[3];
-  int32_t texture;  // index into ClScene::textures or -1
+  int32_t texture;  // base colour texture (index into ClScene::textures) or -1
   float emission[3];
-  float metallic;  // clamped to [0, 1]
-  float alpha;     // GGX alpha = max(roughness^2, 1e-3)
-  float ior;       // > 1
+  int32_t emission_texture;  // or -1
+  float metallic;
+  float roughness;  // perceptual
+  float ior;        // > 1
   uint32_t dielectric;
   uint32_t emissive;  // max component of emission > 0
+  int32_t metallic_roughness_texture;
+  int32_t normal_texture;
+  float normal_scale;
+  float opacity;
+  uint32_t alpha_mode;  // AlphaMode: 0 opaque, 1 mask, 2 blend
+  float alpha_cutoff;
+  float pad;
 };
-static_assert(sizeof(ClMaterial) == 48);
+static_assert(sizeof(ClMaterial) == 80);
 
 // One emissive triangle of the LightSampler, in the sampler's order.
 struct ClLight {
@@ -34,7 +43,7 @@ struct ClLight {
   uint32_t prim;
   float c[3];
   float pad0;
-  float radiance[3];
+  float radiance[3];  // the emission factor; the kernel applies the emission texture
   float pad1;
 };
 static_assert(sizeof(ClLight) == 64);
@@ -42,8 +51,29 @@ static_assert(sizeof(ClLight) == 64);
 struct ClTexture {
   uint32_t offset;  // first texel in ClScene::texels
   int32_t width, height;
-  int32_t pad;
+  uint32_t coding;  // TexelCoding, the table of ClScene::texel_luts to decode with
 };
+
+// The EnvironmentLight (render/environment.h) and RenderScene::environment_choice(); the
+// map's tables and radiance live in ClScene::sky_data at the offsets given here.
+struct ClSky {
+  float constant_sky[3];
+  float choice;
+  float frame_x[3];
+  float sun_cos;
+  float frame_up[3];
+  float sun_pdf;
+  float frame_z[3];
+  float p_sun;
+  float sun_dir[3];
+  uint32_t sun_on;
+  float sun_radiance[3];
+  uint32_t sky_on;
+  int32_t map_width, map_height;  // 0 x 0 without a map
+  uint32_t on;
+  uint32_t row_cdf, row_pdf, col_cdf, pix_pdf, map;  // offsets into sky_data
+};
+static_assert(sizeof(ClSky) == 128);
 
 struct ClScene {
   FlatBvh bvh;
@@ -52,11 +82,15 @@ struct ClScene {
   std::vector<ClLight> lights;
   std::vector<float> light_cdf;          // LightSampler::cdf()
   std::vector<float> light_pdf_by_prim;  // LightSampler::pdf_by_prim()
-  std::vector<uint32_t> texels;          // every texture's 8-bit sRGB texels, concatenated
+  std::vector<uint32_t> texels;          // every texture's 8-bit texels, concatenated
   std::vector<ClTexture> textures;
-  std::vector<float> srgb_to_linear;  // 256 entries, the CPU's own decoding table
-  Vec3 environment;
-  float ray_eps = 0;  // ray-origin offset, as PathTracer's
+  std::vector<float> texel_luts;  // 3 x 256: the CPU's decoding tables in TexelCoding order
+  std::vector<float> tangents;    // 4 per triangle (u, sign), empty without normal maps
+  ClSky sky{};
+  // Map tables, then its radiance (3 floats per pixel, times the map's scale).
+  std::vector<float> sky_data;
+  bool cutouts = false;  // some material has an alpha mode
+  float ray_eps = 0;     // ray-origin offset, as PathTracer's
 };
 
 // What `scene` uses that the OpenCL kernel does not render (one phrase), or "".

@@ -32,15 +32,25 @@ typedef struct {
   uint material;
 } Shading;
 
+// Raw factors: the kernel multiplies them by their textures, then clamps as the Bsdf
+// constructor does (render/surface.cpp, render/bsdf.cpp).
 typedef struct {
   float color[3];
-  int texture;
+  int texture;  // base colour (sRGB, alpha = coverage) or -1
   float emission[3];
+  int emission_texture;  // or -1
   float metallic;
-  float alpha;
-  float ior;
+  float roughness;  // perceptual; GGX alpha = roughness^2
+  float ior;        // > 1
   uint dielectric;
-  uint emissive;
+  uint emissive;              // max component of emission > 0
+  int metallic_roughness_texture;  // G: roughness, B: metallic; or -1
+  int normal_texture;         // or -1
+  float normal_scale;
+  float opacity;
+  uint alpha_mode;  // 0 opaque, 1 mask, 2 blend (AlphaMode)
+  float alpha_cutoff;
+  float pad;
 } Material;
 
 typedef struct {
@@ -50,7 +60,7 @@ typedef struct {
   uint prim;
   float c[3];
   float pad0;
-  float radiance[3];
+  float radiance[3];  // the material's emission factor (times its texture per point)
   float pad1;
 } Light;
 
@@ -58,8 +68,32 @@ typedef struct {
   uint offset;
   int width;
   int height;
-  int pad;
+  uint coding;  // TexelCoding: 0 srgb, 1 linear, 2 signed_unit (its 256-entry table)
 } TexInfo;
+
+// The environment light of render/environment.h: constant sky, equirectangular map (its
+// tables in SceneData::sky_data at the offsets below) and sun.
+typedef struct {
+  float constant_sky[3];
+  float choice;  // RenderScene::environment_choice() (the host passes it as p_env)
+  float frame_x[3];
+  float sun_cos;
+  float frame_up[3];
+  float sun_pdf;
+  float frame_z[3];
+  float p_sun;
+  float sun_dir[3];
+  uint sun_on;
+  float sun_radiance[3];
+  uint sky_on;  // constant or map
+  int map_width, map_height;  // 0 x 0 without a map
+  uint on;                    // EnvironmentLight::on()
+  uint row_cdf;               // offsets into sky_data: height floats,
+  uint row_pdf;               // height floats,
+  uint col_cdf;               // width x height floats,
+  uint pix_pdf;               // width x height floats,
+  uint map;                   // width x height RGB radiance (scale applied)
+} Sky;
 
 typedef struct {
   float3 org, dir;
@@ -107,3 +141,25 @@ float3 to_local(const Frame* f, float3 v) {
   return (float3)(dot3(v, f->t), dot3(v, f->b), dot3(v, f->n));
 }
 float3 to_world(const Frame* f, float3 v) { return f->t * v.x + f->b * v.y + f->n * v.z; }
+
+// The render_rect kernel's scene buffers and scalars, passed down as one pointer.
+typedef struct {
+  const __global Node* nodes;
+  const __global Tri* tris;
+  const __global Shading* shading;
+  const __global Material* materials;
+  const __global Light* lights;
+  const __global float* light_cdf;
+  const __global float* light_pdf_by_prim;
+  const __global uint* texels;
+  const __global TexInfo* textures;
+  const __global float* texel_luts;  // 3 x 256: a table per TexelCoding, in its order
+  const __global float4* tangents;   // per triangle (TriangleTangent u, sign) if has_tangents
+  const __global Sky* sky;
+  const __global float* sky_data;
+  uint light_count;
+  bool has_tangents;  // some material has a normal map (and the scene has uvs)
+  bool cutouts;       // some material has an alpha mode: traversal tests coverage
+  float p_env;        // probability of sampling the environment (PathTracer::step's p_env)
+  float eps;          // ray-origin offset
+} SceneData;

@@ -53,21 +53,24 @@ typedef struct {
   mr_float4 right;    //  32
   mr_float4 up;       //  48
   mr_float4 scale;    //  64
-  // Scene: constant sky radiance (xyz) and ray-origin offset (w).
-  mr_float4 environment_eps;  //  80
+  // x: the probability that next-event estimation samples the environment (the sky's
+  // choice, or 0 when RenderSettings::sample_environment is off); w: the ray-origin
+  // offset; y, z unused.
+  mr_float4 env_choice_eps;  //  80
   // Pixels [x, x + z) x [y, y + w) of the view.
-  mr_int4 rect;         //  96
-  mr_ulong seed;        // 112
-  mr_uint width;        // 120: of the view, in pixels
-  mr_int spp;           // 124: samples per pixel when use_spp_map is 0
-  mr_int max_bounces;   // 128
-  mr_int rr_start;      // 132: Russian roulette from this depth on
-  mr_uint frame;        // 136
-  mr_uint view;         // 140
-  mr_uint light_count;  // 144: entries of `lights`
-  mr_int use_spp_map;   // 148: 1: spp_map[i] samples for work-item i
-  mr_uint pad[2];       // 152
-} LaunchParams;         // 160
+  mr_int4 rect;          //  96
+  mr_ulong seed;         // 112
+  mr_uint width;         // 120: of the view, in pixels
+  mr_int spp;            // 124: samples per pixel when use_spp_map is 0
+  mr_int max_bounces;    // 128
+  mr_int rr_start;       // 132: Russian roulette from this depth on
+  mr_uint frame;         // 136
+  mr_uint view;          // 140
+  mr_uint light_count;   // 144: entries of `lights`
+  mr_int use_spp_map;    // 148: 1: spp_map[i] samples for work-item i
+  mr_uint has_tangents;  // 152: 1: `tangents` holds one entry per triangle (normal maps)
+  mr_uint cutouts;       // 156: 1: some material has an alpha mode (mask or blend)
+} LaunchParams;          // 160
 
 #ifdef MR_OPENCL_C
 typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 160 ? 1 : -1];
@@ -84,7 +87,10 @@ typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 160 ? 1 : -1];
   X(light_pdf_by_prim, const __global float*) SEP()     \
   X(texels, const __global uint*) SEP()                 \
   X(textures, const __global TexInfo*) SEP()            \
-  X(srgb_lut, const __global float*) SEP()              \
+  X(texel_luts, const __global float*) SEP()            \
+  X(tangents, const __global float4*) SEP()             \
+  X(sky, const __global Sky*) SEP()                     \
+  X(sky_data, const __global float*) SEP()              \
   X(params, __constant LaunchParams*) SEP()             \
   X(spp_map, const __global uchar*) SEP()               \
   X(radiance, __global float4*) SEP()                   \
@@ -110,7 +116,7 @@ static_assert(offsetof(LaunchParams, forward) == 16);
 static_assert(offsetof(LaunchParams, right) == 32);
 static_assert(offsetof(LaunchParams, up) == 48);
 static_assert(offsetof(LaunchParams, scale) == 64);
-static_assert(offsetof(LaunchParams, environment_eps) == 80);
+static_assert(offsetof(LaunchParams, env_choice_eps) == 80);
 static_assert(offsetof(LaunchParams, rect) == 96);
 static_assert(offsetof(LaunchParams, seed) == 112);
 static_assert(offsetof(LaunchParams, width) == 120);
@@ -121,7 +127,8 @@ static_assert(offsetof(LaunchParams, frame) == 136);
 static_assert(offsetof(LaunchParams, view) == 140);
 static_assert(offsetof(LaunchParams, light_count) == 144);
 static_assert(offsetof(LaunchParams, use_spp_map) == 148);
-static_assert(offsetof(LaunchParams, pad) == 152);
+static_assert(offsetof(LaunchParams, has_tangents) == 152);
+static_assert(offsetof(LaunchParams, cutouts) == 156);
 #endif
 
 #ifdef __cplusplus

@@ -1,6 +1,7 @@
 // Next-event estimation's light sampling, as render/lights.cpp: a triangle is chosen by
 // binary search in the power CDF (the LightSampler's own table), a point on it by Heitz's
-// low-distortion map (render/sampling.h).
+// low-distortion map (render/sampling.h), its radiance the material's emission at the
+// point's uv (emission_at, with the uvs of the triangle's shading record).
 
 typedef struct {
   float3 point;
@@ -28,25 +29,34 @@ float power_heuristic(float pdf_a, float pdf_b) {
   return a + b > 0.0f ? a / (a + b) : 0.0f;
 }
 
-// `count` > 0 lights. The first CDF entry greater than `u` (std::upper_bound) picks one.
-LightSample sample_light(const __global Light* lights, const __global float* cdf, uint count,
-                         float u, float u1, float u2) {
+// sc->light_count > 0. The first CDF entry greater than `u` (std::upper_bound) picks one.
+LightSample sample_light(const SceneData* sc, float u, float u1, float u2) {
+  const uint count = sc->light_count;
   uint lo = 0, hi = count;
   while (lo < hi) {
     const uint mid = lo + (hi - lo) / 2;
-    if (u < cdf[mid]) {
+    if (u < sc->light_cdf[mid]) {
       hi = mid;
     } else {
       lo = mid + 1;
     }
   }
-  const __global Light* l = &lights[min(lo, count - 1)];
+  const __global Light* l = &sc->lights[min(lo, count - 1)];
   const float3 a = load3(l->a), b = load3(l->b), c = load3(l->c);
   const float2 bc = sample_triangle(u1, u2);
   LightSample s;
   s.point = a * (1.0f - bc.x - bc.y) + b * bc.x + c * bc.y;
   s.normal = normalize3(cross3(b - a, c - a));
+  const __global Shading* d = &sc->shading[l->prim];
+  const __global Material* m = &sc->materials[d->material];
   s.radiance = load3(l->radiance);
+  if (m->emission_texture >= 0) {
+    // LightSampler::uv_at, then emission_at.
+    const float b0 = 1.0f - bc.x - bc.y;
+    const float2 uv = (float2)(d->uv[0] * b0 + d->uv[2] * bc.x + d->uv[4] * bc.y,
+                               d->uv[1] * b0 + d->uv[3] * bc.x + d->uv[5] * bc.y);
+    s.radiance = s.radiance * scene_texture(sc, m->emission_texture, uv);
+  }
   s.pdf_area = l->pdf_area;
   return s;
 }

@@ -1,39 +1,76 @@
 // The path tracer of render/path_tracer.cpp as one OpenCL kernel: one work-item per pixel
 // of a rectangle, all of the pixel's samples, paths traced depth-first. Each bounce makes
 // the same decisions and draws the same random numbers in the same order as
-// PathTracer::step (2 for the pixel jitter; per bounce 3 for next-event estimation when
-// the surface is not a dielectric and the scene has lights, 3 for the BSDF sample, 1 for
-// Russian roulette from `rr_start` on), so the image matches the CPU's statistically and
-// is exactly the same on every device of one type, whatever the split.
+// PathTracer::step: 2 for the pixel jitter; per bounce 3 for next-event estimation when
+// the surface is not a dielectric and there is a light to sample (the environment, unless
+// RenderSettings::sample_environment is off, or an emissive triangle: one number chooses
+// between them with probability p_env, two place the sample), 3 for the BSDF sample, 1
+// for Russian roulette from `rr_start` on. So the image matches the CPU's statistically
+// and is exactly the same on every device of one type, whatever the split.
 
-typedef struct {
-  const __global Node* nodes;
-  const __global Tri* tris;
-  const __global Shading* shading;
-  const __global Material* materials;
-  const __global Light* lights;
-  const __global float* light_cdf;
-  const __global float* light_pdf_by_prim;
-  const __global uint* texels;
-  const __global TexInfo* textures;
-  const __global float* srgb_lut;
-  uint light_count;
-  float3 environment;
-  float eps;  // ray-origin offset
-} SceneData;
+// Next-event estimation from a vertex (PathTracer::sample_light): one sample of either the
+// environment or an emissive triangle; returns the unoccluded contribution (0 if none).
+float3 sample_direct(const SceneData* sc, const Bsdf* bsdf, const Frame* frame, float3 wo,
+                     float3 p, float3 ng, float3 beta, Rng* rng, uint* rays) {
+  const float p_env = sc->p_env;
+  float ul = rng_next(rng);
+  const float u1 = rng_next(rng), u2 = rng_next(rng);
+  Ray shadow;
+  shadow.org = p + ng * sc->eps;
+  shadow.tmin = 0.0f;
+  float3 contribution;
+  if (ul < p_env) {
+    const EnvSample es = sky_sample(sc, ng, ul / p_env, u1, u2);
+    if (!(es.pdf > 0.0f) || dot3(es.dir, ng) <= 0.0f) return (float3)(0.0f);
+    const float3 wi = to_local(frame, es.dir);
+    const float3 f = bsdf_eval(bsdf, wo, wi);
+    if (!(max3(f) > 0.0f)) return (float3)(0.0f);
+    const float pdf_light = p_env * es.pdf;
+    shadow.dir = es.dir;
+    shadow.tmax = INFINITY;
+    contribution =
+        beta * f * es.radiance * (power_heuristic(pdf_light, bsdf_pdf(bsdf, wo, wi)) / pdf_light);
+  } else {
+    ul = (ul - p_env) / (1.0f - p_env);  // exactly ul when there is no environment
+    const LightSample ls = sample_light(sc, ul, u1, u2);
+    const float3 to_light = ls.point - p;
+    const float dist2 = dot3(to_light, to_light), dist = sqrt(dist2);
+    const float3 wi_world = to_light * (1.0f / dist);
+    const float cos_l = -dot3(ls.normal, wi_world);
+    if (!(cos_l > 0.0f) || dot3(wi_world, ng) <= 0.0f) return (float3)(0.0f);
+    const float3 wi = to_local(frame, wi_world);
+    const float3 f = bsdf_eval(bsdf, wo, wi);
+    if (!(max3(f) > 0.0f)) return (float3)(0.0f);
+    const float pdf_light = (1.0f - p_env) * ls.pdf_area * dist2 / cos_l;
+    shadow.dir = wi_world;
+    shadow.tmax = dist * (1.0f - 1e-4f) - sc->eps;
+    contribution =
+        beta * f * ls.radiance * (power_heuristic(pdf_light, bsdf_pdf(bsdf, wo, wi)) / pdf_light);
+  }
+  ++*rays;
+  return occluded(sc, &shadow) ? (float3)(0.0f) : contribution;
+}
 
 // One camera path; returns its radiance and adds the rays it traced to *rays.
 float3 trace_path(const SceneData* sc, Ray ray, Rng* rng, int max_bounces, int rr_start,
                   uint* rays) {
   float3 L = (float3)(0.0f), beta = (float3)(1.0f);
   float prev_pdf = 0.0f;
-  bool prev_specular = true;  // the camera ray sees emission directly
+  float3 prev_normal = (float3)(0.0f);  // geometric normal at the last vertex
+  bool prev_specular = true;            // the camera ray sees emission directly
+  const bool lights_on = sc->p_env > 0.0f || sc->light_count > 0;
   for (int depth = 0;;) {
     Hit hit;
     ++*rays;
-    if (!intersect_closest(sc->nodes, sc->tris, &ray, &hit)) {
-      L += beta * sc->environment;  // never light-sampled: weight 1
-      return L;
+    if (!intersect_closest(sc, &ray, &hit)) {
+      // PathTracer::escape: weighted against environment sampling at the last vertex.
+      const float3 le = sky_radiance(sc, ray.dir);
+      float w = 1.0f;
+      if (!prev_specular && sc->p_env > 0.0f) {
+        const float pdf_env = sc->p_env * sky_pdf(sc, ray.dir, prev_normal);
+        w = power_heuristic(prev_pdf, pdf_env);
+      }
+      return L + beta * le * w;
     }
     // Shading point, as shade_point() on the CPU.
     const __global Shading* d = &sc->shading[hit.prim];
@@ -51,23 +88,25 @@ float3 trace_path(const SceneData* sc, Ray ray, Rng* rng, int max_bounces, int r
     const bool front = dot3(ng, wo_world) > 0.0f;
 
     if (front && mat->emissive) {
-      const float3 le = load3(mat->emission);
+      const float3 le = emission_at(sc, mat, uv);
       if (prev_specular) {
         L += beta * le;
       } else {
         const float cos_l = dot3(ng, wo_world);
-        const float pdf_light = sc->light_pdf_by_prim[hit.prim] * hit.t * hit.t / cos_l;
+        const float pdf_light = (1.0f - sc->p_env) * sc->light_pdf_by_prim[hit.prim] *
+                                hit.t * hit.t / cos_l;
         L += beta * le * power_heuristic(prev_pdf, pdf_light);
       }
     }
     if (depth >= max_bounces) return L;
 
+    const SurfacePoint sp = surface_at(sc, mat, uv, ns, ng, hit.prim);
+    ns = sp.ns;
+    // The Bsdf constructor's clamping.
     Bsdf bsdf;
-    bsdf.color = load3(mat->color);
-    if (mat->texture >= 0)
-      bsdf.color *= sample_texture(&sc->textures[mat->texture], sc->texels, sc->srgb_lut, uv);
-    bsdf.metallic = mat->metallic;
-    bsdf.alpha = mat->alpha;
+    bsdf.color = sp.base_color;
+    bsdf.metallic = clamp(sp.metallic, 0.0f, 1.0f);
+    bsdf.alpha = fmax(sp.roughness * sp.roughness, 1e-3f);
     bsdf.ior = mat->ior;
     bsdf.dielectric = mat->dielectric != 0;
     const bool opaque = !bsdf.dielectric;
@@ -79,32 +118,7 @@ float3 trace_path(const SceneData* sc, Ray ray, Rng* rng, int max_bounces, int r
       frame = frame_from_normal(ng);
       wo = to_local(&frame, wo_world);
     }
-
-    // Next-event estimation towards one point on one emissive triangle.
-    if (opaque && sc->light_count > 0) {
-      const float ul = rng_next(rng), u1 = rng_next(rng), u2 = rng_next(rng);
-      const LightSample ls = sample_light(sc->lights, sc->light_cdf, sc->light_count, ul, u1, u2);
-      const float3 to_light = ls.point - p;
-      const float dist2 = dot3(to_light, to_light), dist = sqrt(dist2);
-      const float3 wi_world = to_light * (1.0f / dist);
-      const float cos_l = -dot3(ls.normal, wi_world);
-      if (cos_l > 0.0f && dot3(wi_world, ng) > 0.0f) {
-        const float3 wi = to_local(&frame, wi_world);
-        const float3 f = bsdf_eval(&bsdf, wo, wi);
-        if (max3(f) > 0.0f) {
-          const float pdf_light = ls.pdf_area * dist2 / cos_l;
-          Ray shadow;
-          shadow.org = p + ng * sc->eps;
-          shadow.dir = wi_world;
-          shadow.tmin = 0.0f;
-          shadow.tmax = dist * (1.0f - 1e-4f) - sc->eps;
-          ++*rays;
-          if (!occluded(sc->nodes, sc->tris, &shadow))
-            L += beta * f * ls.radiance *
-                 (power_heuristic(pdf_light, bsdf_pdf(&bsdf, wo, wi)) / pdf_light);
-        }
-      }
-    }
+    if (opaque && lights_on) L += sample_direct(sc, &bsdf, &frame, wo, p, ng, beta, rng, rays);
 
     // Continue by sampling the BSDF.
     BsdfSample bs;
@@ -116,6 +130,7 @@ float3 trace_path(const SceneData* sc, Ray ray, Rng* rng, int max_bounces, int r
     beta *= bs.weight;
     prev_pdf = bs.pdf;
     prev_specular = bs.specular;
+    prev_normal = ng;
     ray.org = p + ng * (side > 0.0f ? sc->eps : -sc->eps);
     ray.dir = wi_world;
     ray.tmin = 0.0f;
@@ -142,11 +157,10 @@ __kernel REQD_GROUP_SIZE void render_rect(MR_RENDER_RECT_ARGS(MR_ARG_PARAM, MR_A
   const LaunchParams p = *params;
   const size_t i = get_global_id(0);
   if (i >= (size_t)p.rect.z * (size_t)p.rect.w) return;
-  // clang-format off
   const SceneData sc = {nodes, tris, shading, materials, lights, light_cdf, light_pdf_by_prim,
-                        texels, textures, srgb_lut, p.light_count, p.environment_eps.xyz,
-                        p.environment_eps.w};
-  // clang-format on
+                        texels, textures, texel_luts, tangents, sky, sky_data, p.light_count,
+                        p.has_tangents != 0, p.cutouts != 0, p.env_choice_eps.x,
+                        p.env_choice_eps.w};
   const int x = p.rect.x + (int)(i % (size_t)p.rect.z);
   const int y = p.rect.y + (int)(i / (size_t)p.rect.z);
   const uint pixel = (uint)y * p.width + (uint)x;

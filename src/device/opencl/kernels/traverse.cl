@@ -1,5 +1,7 @@
 // Ray queries against the flat BVH (device/opencl/bvh_flatten.h): a stack-based
 // traversal that visits the nearer child first and skips subtrees beyond the closest hit.
+// Cut-out materials (alpha mask/blend) reject hits as render/accel.cpp's Embree filter
+// does, for closest and shadow rays alike, with the same hash of the ray.
 
 #define STACK_SIZE 64         // kMaxBvhDepth on the host
 #define LEAF_BIT 0x80000000u  // kLeafBit
@@ -27,8 +29,37 @@ float3 safe_inverse(float3 d) {
   return 1.0f / select(d, tiny, isless(fabs(d), (float3)(1e-30f)));
 }
 
-// Moller-Trumbore. Updates `hit` and returns true for a hit in (tmin, *tmax).
-bool tri_hit(const __global Tri* tri, const Ray* ray, float* tmax, Hit* hit) {
+// accel.cpp's ray_hash: a number in [0, 1) fixed by the ray's origin and direction bits
+// and the triangle, the same on every device for the same floats.
+float ray_hash(const Ray* ray, uint prim) {
+  const float key[6] = {ray->org.x, ray->org.y, ray->org.z, ray->dir.x, ray->dir.y, ray->dir.z};
+  uint h = 0x9e3779b9u ^ prim;
+  for (int i = 0; i < 6; ++i) {
+    const uint b = as_uint(key[i]);
+    h ^= b + 0x7f4a7c15u + (h << 6) + (h >> 2);
+    h *= 0x85ebca6bu;
+    h ^= h >> 13;
+  }
+  h *= 0xc2b2ae35u;
+  h ^= h >> 16;
+  return (float)(h >> 8) * (1.0f / 16777216.0f);
+}
+
+// accel.cpp's alpha_filter: whether `ray` passes through scene triangle `prim` at
+// barycentrics (u, v).
+bool cut_out(const SceneData* sc, const Ray* ray, uint prim, float u, float v) {
+  const __global Shading* d = &sc->shading[prim];
+  const __global Material* m = &sc->materials[d->material];
+  if (m->alpha_mode == 0u) return false;
+  const float w = 1.0f - u - v;
+  const float2 uv = (float2)(d->uv[0] * w + d->uv[2] * u + d->uv[4] * v,
+                             d->uv[1] * w + d->uv[3] * u + d->uv[5] * v);
+  return passes_through(sc, m, uv, ray_hash(ray, prim));
+}
+
+// Moller-Trumbore. Updates `hit` and returns true for a hit in (tmin, *tmax) that is not
+// cut out.
+bool tri_hit(const SceneData* sc, const __global Tri* tri, const Ray* ray, float* tmax, Hit* hit) {
   const float3 e1 = load3(tri->e1), e2 = load3(tri->e2);
   const float3 p = cross3(ray->dir, e2);
   const float det = dot3(e1, p);
@@ -42,6 +73,7 @@ bool tri_hit(const __global Tri* tri, const Ray* ray, float* tmax, Hit* hit) {
   if (v < 0.0f || u + v > 1.0f) return false;
   const float t = dot3(e2, q) * inv;
   if (!(t > ray->tmin && t < *tmax)) return false;
+  if (sc->cutouts && cut_out(sc, ray, tri->prim, u, v)) return false;
   *tmax = t;
   hit->t = t;
   hit->prim = tri->prim;
@@ -53,8 +85,9 @@ bool tri_hit(const __global Tri* tri, const Ray* ray, float* tmax, Hit* hit) {
 
 // Closest hit (any_hit = false) or any hit (any_hit = true, for shadow rays). `ref` is the
 // child reference being visited (a node index or a leaf, see bvh_flatten.h).
-bool traverse(const __global Node* nodes, const __global Tri* tris, const Ray* ray, bool any_hit,
-              Hit* hit) {
+bool traverse(const SceneData* sc, const Ray* ray, bool any_hit, Hit* hit) {
+  const __global Node* nodes = sc->nodes;
+  const __global Tri* tris = sc->tris;
   const float3 inv_dir = safe_inverse(ray->dir);
   float tmax = ray->tmax;
   uint stack[STACK_SIZE];
@@ -68,7 +101,7 @@ bool traverse(const __global Node* nodes, const __global Tri* tris, const Ray* r
       const uint first = (ref & ~LEAF_BIT) >> LEAF_COUNT_BITS;
       const uint count = (ref & ((1u << LEAF_COUNT_BITS) - 1u)) + 1u;
       for (uint i = first; i < first + count; ++i)
-        if (tri_hit(&tris[i], ray, &tmax, hit)) {
+        if (tri_hit(sc, &tris[i], ray, &tmax, hit)) {
           found = true;
           if (any_hit) return true;
         }
@@ -100,12 +133,11 @@ bool traverse(const __global Node* nodes, const __global Tri* tris, const Ray* r
   }
 }
 
-bool intersect_closest(const __global Node* nodes, const __global Tri* tris, const Ray* ray,
-                       Hit* hit) {
-  return traverse(nodes, tris, ray, false, hit);
+bool intersect_closest(const SceneData* sc, const Ray* ray, Hit* hit) {
+  return traverse(sc, ray, false, hit);
 }
 
-bool occluded(const __global Node* nodes, const __global Tri* tris, const Ray* ray) {
+bool occluded(const SceneData* sc, const Ray* ray) {
   Hit unused;
-  return traverse(nodes, tris, ray, true, &unused);
+  return traverse(sc, ray, true, &unused);
 }
