@@ -57,9 +57,9 @@ struct Flattener {
     const uint32_t first = uint32_t(out.triangles.size());
     for (uint32_t i = 0; i < node->count; ++i) {
       const uint32_t prim = node->prims[i];
-      const Vec3 v0 = vertex(prim, 0), e1 = vertex(prim, 1) - v0, e2 = vertex(prim, 2) - v0;
+      const Vec3 v0 = vertex(prim, 0), e1n = v0 - vertex(prim, 1), e2 = vertex(prim, 2) - v0;
       out.triangles.push_back(
-          FlatTriangle{{v0.x, v0.y, v0.z}, prim, {e1.x, e1.y, e1.z}, 0, {e2.x, e2.y, e2.z}, 0});
+          FlatTriangle{{v0.x, v0.y, v0.z}, prim, {e1n.x, e1n.y, e1n.z}, 0, {e2.x, e2.y, e2.z}, 0});
     }
     return kLeafBit | first << kLeafCountBits | (node->count - 1);
   }

@@ -28,13 +28,15 @@ inline constexpr uint32_t kMaxLeafTriangles = 1u << kLeafCountBits;
 inline constexpr uint32_t kMaxFlatTriangles = 1u << (31 - kLeafCountBits);
 
 // 48 bytes: what a Moller-Trumbore test needs, in leaf order. `prim` is the triangle's
-// index in the Scene, so hits name the same triangle as on the CPU, and the edges are
-// v1 - v0 and v2 - v0, so barycentrics (u, v) and the geometric normal cross(e1, e2)
-// follow the CPU's (Embree's) convention.
+// index in the Scene, so hits name the same triangle as on the CPU. The edges are Embree's
+// own, v0 - v1 (`e1n`) and v2 - v0, so the kernel's geometric normal cross(e2, e1n) is
+// computed as Embree computes Ng, down to the sign of zero components (which decides the
+// tangent frame of an axis-aligned normal, and so the environment's cosine samples);
+// the Moller-Trumbore test uses -e1n = v1 - v0, barycentrics (u, v) of v1 and v2.
 struct FlatTriangle {
   float v0[3];
   uint32_t prim;
-  float e1[3];
+  float e1n[3];
   float pad0;
   float e2[3];
   float pad1;

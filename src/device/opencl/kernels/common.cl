@@ -20,7 +20,7 @@ typedef struct {
 typedef struct {
   float v0[3];
   uint prim;  // index of the triangle in the scene
-  float e1[3];
+  float e1n[3];  // v0 - v1 (Embree's e1)
   float pad0;
   float e2[3];
   float pad1;
@@ -104,7 +104,7 @@ typedef struct {
   float t;
   uint prim;
   float u, v;  // barycentrics of vertices 1 and 2
-  float3 ng;   // unnormalised, cross(e1, e2)
+  float3 ng;   // unnormalised, Embree's Ng = cross(v2 - v0, v0 - v1)
 } Hit;
 
 float3 load3(const __global float* p) { return (float3)(p[0], p[1], p[2]); }

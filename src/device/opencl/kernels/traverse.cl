@@ -60,7 +60,7 @@ bool cut_out(const SceneData* sc, const Ray* ray, uint prim, float u, float v) {
 // Moller-Trumbore. Updates `hit` and returns true for a hit in (tmin, *tmax) that is not
 // cut out.
 bool tri_hit(const SceneData* sc, const __global Tri* tri, const Ray* ray, float* tmax, Hit* hit) {
-  const float3 e1 = load3(tri->e1), e2 = load3(tri->e2);
+  const float3 e1n = load3(tri->e1n), e1 = -e1n, e2 = load3(tri->e2);
   const float3 p = cross3(ray->dir, e2);
   const float det = dot3(e1, p);
   if (det == 0.0f) return false;
@@ -79,7 +79,7 @@ bool tri_hit(const SceneData* sc, const __global Tri* tri, const Ray* ray, float
   hit->prim = tri->prim;
   hit->u = u;
   hit->v = v;
-  hit->ng = cross3(e1, e2);
+  hit->ng = cross3(e2, e1n);  // as Embree's, zero signs included
   return true;
 }
 
