@@ -71,4 +71,26 @@ inline void expect_test_sees_feature(const Scene& with, const Scene& without, in
   EXPECT_GT(z.beyond4, 0.05) << with.name;
 }
 
+// The fraction of channels of the OpenCL image within 1e-3 (relative above 1) of the
+// CPU's, both rendered with the same seed: near 1 only when the kernel draws the CPU's
+// random numbers in the CPU's order (a few paths diverge where an ulp flips a decision).
+inline double same_seed_agreement(const Scene& scene, bool sample_environment = true) {
+  SceneCache rs(scene);
+  CpuDevice cpu(rs, {}, "cpu");
+  OpenClDevice cl(rs, {}, "opencl:0");
+  RenderSettings s{.spp = 4, .max_bounces = 6, .seed = 5};
+  s.sample_environment = sample_environment;
+  const ViewSetup view = view_of(scene, kMatchW, kMatchH);
+  const Framebuffer a = render_whole(cpu, view, s);
+  const Framebuffer b = render_whole(cl, view, s);
+  size_t close = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      close += std::abs(a.pixels[i][c] - b.pixels[i][c]) <= 1e-3f * std::max(1.0f, a.pixels[i][c]);
+  const double fraction = double(close) / double(3 * a.pixels.size());
+  std::printf("%s, same seed: %.2f%% of channels within 1e-3\n", scene.name.c_str(),
+              100 * fraction);
+  return fraction;
+}
+
 }  // namespace multiray::testing

@@ -78,19 +78,9 @@ void build_sky(const RenderScene& rs, ClScene& c) {
 
 }  // namespace
 
-std::string cl_unsupported_feature(const Scene& s) {
-  for (const Material& m : s.materials) {
-    const std::string what = "material '" + m.name + "' has ";
-    if (m.emission_texture >= 0) return what + "an emission texture";
-    if (m.metallic_roughness_texture >= 0) return what + "a metallic-roughness texture";
-    if (m.normal_texture >= 0) return what + "a normal map";
-    if (m.may_be_transparent()) return what + "an alpha mode (mask or blend)";
-    if (m.base_color_texture >= 0 &&
-        s.textures[size_t(m.base_color_texture)].coding != TexelCoding::srgb)
-      return what + "a base colour texture that is not sRGB";
-  }
-  return {};
-}
+// Everything the CPU path tracer renders is rendered by the kernel too (environment map,
+// sun, per-texel materials, cut-outs); new features are refused here until ported.
+std::string cl_unsupported_feature(const Scene&) { return {}; }
 
 ClScene build_cl_scene(const RenderScene& rs) {
   const Scene& s = rs.scene;
