@@ -6,6 +6,8 @@
 #include "app/options.h"
 #include "core/error.h"
 
+#include <fmt/format.h>
+
 namespace multiray::app {
 
 namespace {
@@ -53,11 +55,11 @@ Vec3 parse_colour(const std::string& text) {
 
 Sun parse_sun(const std::string& text, Vec3 up) {
   Sun sun;
-  if (text == "off") return sun;
+  if (text == "off" || text == "auto") return sun;
   const auto parts = split(text, ',');
   if (parts.size() < 2 || parts.size() > 4)
     throw InputError("--sun '" + text +
-                     "' must be off or AZIMUTH,ELEVATION[,IRRADIANCE[,DIAMETER]] (degrees, "
+                     "' must be auto, off or AZIMUTH,ELEVATION[,IRRADIANCE[,DIAMETER]] (degrees, "
                      "W/m^2 in scene units, degrees)");
   const double az = to_number(parts[0], "--sun azimuth");
   const double el = to_number(parts[1], "--sun elevation");
@@ -87,13 +89,23 @@ void apply_lighting(const LightingOptions& o, bool volume, const LoadOptions& lo
     scene.environment = Vec3(0.0f);
   } else if (o.env != "auto") {
     scene.environment = parse_colour(o.env);
-  } else if (!volume && max_component(scene.environment) <= 0 && !has_light(scene) &&
-             !scene.sun.on()) {
-    scene.environment = Vec3(1.0f);
-    notes.push_back(has_textured_emission(scene)
-                        ? "the scene's only lights are emissive textures; adding a white sky "
-                          "(radiance 1), see --env"
-                        : "the scene has no lights; using a white sky (radiance 1), see --env");
+  } else if (!volume && max_component(scene.environment) <= 0 && !has_light(scene)) {
+    // Daylight: a uniform sky alone shows a light model as a flat silhouette against an
+    // equally bright background; the sun gives it shading and shadows.
+    // With the sun, the sky is dimmer (about a third of the sun's irradiance, as on a
+    // clear day), so the lit side of a light model stands out from the background.
+    const bool sun = o.sun == "auto";
+    const float sky = sun ? kDaylightSky : 1.0f;
+    scene.environment = Vec3(sky);
+    std::string what = "a white sky (radiance " + fmt::format("{:g}", sky) + ")";
+    if (sun) {
+      scene.sun = parse_sun(kDaylightSun, scene.up);
+      what += std::string(" and a sun (--sun ") + kDaylightSun + ")";
+    }
+    notes.push_back(std::string(has_textured_emission(scene)
+                                    ? "the scene's only lights are emissive textures"
+                                    : "the scene has no lights") +
+                    "; adding " + what + ", see --env and --sun");
   }
 }
 

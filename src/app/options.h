@@ -34,7 +34,7 @@ struct CommonOptions {
   std::string seed = "0";            // a whole number in [0, 2^64); parsed strictly in make_setup
   std::string env = "auto";          // auto | V | R,G,B | FILE.hdr|.exr (app/lighting_options.h)
   double env_scale = 1.0;            // multiplies an environment map
-  std::string sun = "off";           // off | AZ,EL[,IRRADIANCE[,DIAMETER]]
+  std::string sun = "auto";          // auto | off | AZ,EL[,IRRADIANCE[,DIAMETER]]
   std::vector<std::string> perturb;  // FRAME:DEVICE:SPEED
   std::string views = "1x1";         // KxL light-field grid
   float view_spacing = 0.2f;         // between grid views, scene units

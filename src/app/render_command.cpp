@@ -58,19 +58,24 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                  "one-core devices opencl:0 and opencl:1; POCL_MAX_PTHREAD_COUNT=N limits its "
                  "default pthread device to N threads")
       ->capture_default_str();
-  cmd.add_option("--env", o.env,
-                 "Light from outside the scene: a constant sky radiance V or R,G,B, or an "
-                 "equirectangular map FILE.hdr / FILE.exr (top row = up, see --up); auto = the "
-                 "scene's own, or a white sky (1) when the scene has no light but emissive "
-                 "textures. The sky is sampled by next-event estimation with MIS")
+  cmd.add_option(
+         "--env", o.env,
+         "Light from outside the scene: a constant sky radiance V or R,G,B, or an "
+         "equirectangular map FILE.hdr / FILE.exr (top row = up, see --up); auto = the "
+         "scene's own, or daylight (a white sky of 0.3 and, with --sun auto, a sun; a sky of 1 "
+         "without) when the "
+         "scene has no light but emissive textures. The sky is sampled by next-event "
+         "estimation with MIS")
       ->capture_default_str();
   cmd.add_option("--env-scale", o.env_scale, "Multiplies an --env map's radiance")
       ->capture_default_str();
-  cmd.add_option("--sun", o.sun,
-                 "A sun: off or AZIMUTH,ELEVATION[,IRRADIANCE[,DIAMETER]], degrees round the up "
-                 "axis from the front towards the right and above the horizon (as the default "
-                 "camera's view), irradiance at normal incidence in W/m^2 in scene units "
-                 "(default 3; a white sky of 1 gives pi), angular diameter in degrees (0.53)")
+  cmd.add_option(
+         "--sun", o.sun,
+         "A sun: auto (with the default daylight of a scene without lights: "
+         "-40,55,3), off, or AZIMUTH,ELEVATION[,IRRADIANCE[,DIAMETER]], degrees round the up "
+         "axis from the front towards the right and above the horizon (as the default "
+         "camera's view), irradiance at normal incidence in W/m^2 in scene units "
+         "(default 3; a white sky of 1 gives pi), angular diameter in degrees (0.53)")
       ->capture_default_str();
   cmd.add_option("--seed", o.seed, "Seed for all random numbers")->capture_default_str();
   cmd.add_flag("--allow-outside-paths", o.allow_outside_paths,

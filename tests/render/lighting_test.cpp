@@ -163,5 +163,18 @@ TEST(ConstantSky, OpeningInARoofHasLessVarianceWithNextEventEstimation) {
   EXPECT_LT(with.variance, 0.8 * without.variance);
 }
 
+// A rough white metal (glTF's default material: metallic 1, roughness 1) under a constant
+// sky: sampling the sky must not change the mean, and must not add variance.
+TEST(ConstantSky, RoughMetalKeepsItsMeanWithNextEventEstimation) {
+  Scene scene = make_lit_plane(1.0f, 1.0f);
+  scene.materials[0].metallic = 1.0f;
+  scene.cameras[0] = Camera{{0, 1.5f, 1.5f}, {0, 0, 0}, {0, 1, 0}, 30.0f};
+  const Spread with = spread(scene, 4, true, 8), without = spread(scene, 4, false, 8);
+  std::printf("rough metal: NEE mean %.4f var %.4g, BSDF-only mean %.4f var %.4g\n", with.mean,
+              with.variance, without.mean, without.variance);
+  EXPECT_NEAR(with.mean, without.mean, 0.02 * without.mean);
+  EXPECT_LT(with.variance, 1.2 * without.variance);
+}
+
 }  // namespace
 }  // namespace multiray
