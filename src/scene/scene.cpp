@@ -110,30 +110,31 @@ void Texture::prefetch(Vec2 uv) const {
   __builtin_prefetch(&texels[size_t(y1) * size_t(width) + size_t(x0)]);
 }
 
-Vec3 Texture::sample(Vec2 uv) const {
-  if (width <= 0 || height <= 0) return Vec3(1.0f);
+Texture::Corners Texture::corners(Vec2 uv) const {
+  Corners c;
   int x0, y0;
-  float tx, ty;
-  footprint(uv, x0, y0, tx, ty);
+  footprint(uv, x0, y0, c.tx, c.ty);
   const int x1 = x0 + 1 < width ? x0 + 1 : 0, y1 = y0 + 1 < height ? y0 + 1 : 0;
   const uint32_t* row0 = &texels[size_t(y0) * size_t(width)];
   const uint32_t* row1 = &texels[size_t(y1) * size_t(width)];
+  c.p00 = row0[x0], c.p10 = row0[x1], c.p01 = row1[x0], c.p11 = row1[x1];
+  return c;
+}
+
+Vec3 Texture::sample(Vec2 uv) const {
+  if (width <= 0 || height <= 0) return Vec3(1.0f);
+  const Corners c = corners(uv);
   const float* lut = texel_decoding_table(coding);
-  return lerp(lerp(decode(row0[x0], lut), decode(row0[x1], lut), tx),
-              lerp(decode(row1[x0], lut), decode(row1[x1], lut), tx), ty);
+  return lerp(lerp(decode(c.p00, lut), decode(c.p10, lut), c.tx),
+              lerp(decode(c.p01, lut), decode(c.p11, lut), c.tx), c.ty);
 }
 
 float Texture::sample_alpha(Vec2 uv) const {
   if (width <= 0 || height <= 0) return 1.0f;
-  int x0, y0;
-  float tx, ty;
-  footprint(uv, x0, y0, tx, ty);
-  const int x1 = x0 + 1 < width ? x0 + 1 : 0, y1 = y0 + 1 < height ? y0 + 1 : 0;
-  const uint32_t* row0 = &texels[size_t(y0) * size_t(width)];
-  const uint32_t* row1 = &texels[size_t(y1) * size_t(width)];
-  const float top = decode_alpha(row0[x0]) * (1.0f - tx) + decode_alpha(row0[x1]) * tx;
-  const float bottom = decode_alpha(row1[x0]) * (1.0f - tx) + decode_alpha(row1[x1]) * tx;
-  return top * (1.0f - ty) + bottom * ty;
+  const Corners c = corners(uv);
+  const float top = decode_alpha(c.p00) * (1.0f - c.tx) + decode_alpha(c.p10) * c.tx;
+  const float bottom = decode_alpha(c.p01) * (1.0f - c.tx) + decode_alpha(c.p11) * c.tx;
+  return top * (1.0f - c.ty) + bottom * c.ty;
 }
 
 Bounds3 Scene::bounds() const {

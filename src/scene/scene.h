@@ -47,6 +47,13 @@ struct Texture {
  private:
   // The top-left texel of the bilinear footprint of `uv`, wrapped into the texture.
   void footprint(Vec2 uv, int& x0, int& y0, float& tx, float& ty) const;
+  // The four texels of that footprint (row y0: p00, p10; row y0 + 1: p01, p11) and the
+  // weights towards x1 and y1; the one neighbour lookup sample() and sample_alpha() share.
+  struct Corners {
+    uint32_t p00, p10, p01, p11;
+    float tx, ty;
+  };
+  Corners corners(Vec2 uv) const;
 };
 
 // The decoding table of `coding`: linear value of each byte (core of Texture::sample;
