@@ -78,3 +78,26 @@ if(_multiray_assimp_mode STREQUAL "AUTO" OR _multiray_assimp_mode STREQUAL "ON")
 elseif(NOT _multiray_assimp_mode STREQUAL "OFF")
   message(FATAL_ERROR "MULTIRAY_WITH_ASSIMP must be AUTO, ON or OFF, not '${MULTIRAY_WITH_ASSIMP}'")
 endif()
+
+# MPI (Debian's Open MPI) for `--distributed` runs: a master rank and worker ranks
+# (src/device/remote, src/engine/rank_worker.*). MULTIRAY_WITH_MPI:
+#   AUTO (default) build it when MPI's C++ bindings are found, else warn;
+#   ON   strict: fail the configure without it;  OFF  never build it.
+# Sets MULTIRAY_MPI_ENABLED for src/device and src/engine, and MULTIRAY_MPIEXEC for tests.
+set(MULTIRAY_WITH_MPI AUTO CACHE STRING "Build the MPI master/worker support: AUTO, ON or OFF")
+set_property(CACHE MULTIRAY_WITH_MPI PROPERTY STRINGS AUTO ON OFF)
+string(TOUPPER "${MULTIRAY_WITH_MPI}" _multiray_mpi_mode)
+set(MULTIRAY_MPI_ENABLED OFF)
+if(_multiray_mpi_mode STREQUAL "AUTO" OR _multiray_mpi_mode STREQUAL "ON")
+  find_package(MPI QUIET COMPONENTS CXX)
+  if(MPI_CXX_FOUND AND TARGET MPI::MPI_CXX AND MPIEXEC_EXECUTABLE)
+    set(MULTIRAY_MPI_ENABLED ON)
+    message(STATUS "multiray: MPI enabled (${MPIEXEC_EXECUTABLE})")
+  elseif(_multiray_mpi_mode STREQUAL "ON")
+    message(FATAL_ERROR "MULTIRAY_WITH_MPI=ON but MPI was not found (libopenmpi-dev, openmpi-bin)")
+  else()
+    message(WARNING "multiray: MPI not found (libopenmpi-dev, openmpi-bin): --distributed disabled")
+  endif()
+elseif(NOT _multiray_mpi_mode STREQUAL "OFF")
+  message(FATAL_ERROR "MULTIRAY_WITH_MPI must be AUTO, ON or OFF, not '${MULTIRAY_WITH_MPI}'")
+endif()

@@ -55,5 +55,45 @@ TEST(Region, TwoLevelSplitCoversTheFrameAndBalancesEachMachine) {
   }
 }
 
+TEST(Region, TransposeAndOneViewCropKeepWeights) {
+  FrameShape s{3, 2, 2, {}};
+  for (int i = 0; i < 12; ++i) s.pixel_weight.push_back(float(i));
+  const FrameShape t = transposed(s);
+  EXPECT_EQ(t.width, 2);
+  EXPECT_EQ(t.height, 3);
+  EXPECT_EQ(t.pixel_weight, (std::vector<float>{0, 3, 1, 4, 2, 5, 6, 9, 7, 10, 8, 11}));
+  const FrameShape v1 = crop_shape(s, Rect{1, 0, 3, 2}, 1);
+  EXPECT_EQ(v1.views, 1);
+  EXPECT_EQ(v1.pixel_weight, (std::vector<float>{7, 8, 10, 11}));
+  EXPECT_THROW(crop_shape(s, Rect{0, 0, 3, 2}, 2), std::invalid_argument);
+}
+
+// Harada's second level: a machine splits its band (here of view 1 only) across its
+// devices in the other direction. Every balancer covers exactly the band of that view,
+// with items that span the band's full height (columns) for the row-splitting ones.
+TEST(Region, TransposedSplitOfOneViewCoversItsBandInColumns) {
+  const FrameShape shape{64, 48, 2, {}};
+  const Region band{Rect{0, 16, 64, 40}, 1, true};
+  for (const std::string& spec : balancer_names()) {
+    RegionBalancer machine(make_balancer(spec, 3), band);
+    const std::vector<SimDevice> devs = testing::devices_with_speeds({1.0, 0.5, 0.25});
+    for (int frame = 0; frame < 4; ++frame) {
+      const Plan p = machine.plan(shape, frame);
+      std::vector<WorkItem> local;
+      for (WorkItem it : p.all_items()) {
+        ASSERT_EQ(it.view, 1) << spec;
+        ASSERT_GE(it.rect.y0, 16) << spec;
+        ASSERT_LE(it.rect.y1, 40) << spec;
+        if (spec == "uniform") EXPECT_EQ(it.rect.height(), 24) << spec << ": not a column";
+        it.view = 0;
+        it.rect = Rect{it.rect.x0, it.rect.y0 - 16, it.rect.x1, it.rect.y1 - 16};
+        local.push_back(it);
+      }
+      ASSERT_EQ(coverage_error(local, 64, 24, 1), "") << spec;
+      machine.update(simulate(p, shape, devs, testing::uneven_cost(shape), frame));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace multiray::balance
