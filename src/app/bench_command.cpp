@@ -70,6 +70,7 @@ Runner add_bench_command(CLI::App& app) {
     if (b->ideal_frames < 1 || b->ideal_frames > 1000)
       throw InputError("--ideal-frames must be in 1..1000");
     Setup s = make_setup(*o, int(specs.size()));
+    if (s.cluster && !s.cluster->master()) return serve_as_worker(s);
     std::vector<std::string> mapped;
     for (const auto& spec : specs) mapped.push_back(apply_mapping(spec, o->mapping));
     std::unique_ptr<Session> session = s.make_session(mapped, "--balancers");  // checks every spec

@@ -49,6 +49,8 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
     if (app.got_subcommand("bench")) return bench();
     if (app.got_subcommand("devices")) return devices();
     if (app.got_subcommand("simulate")) return simulate();
+  } catch (const QuietExit& e) {  // a worker rank; the master said why
+    return e.code;
   } catch (const InputError& e) {
     if (!hooks.quiet) fmt::print(stderr, "multiray: error: {}\n", e.what());
     return 2;

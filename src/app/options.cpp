@@ -264,8 +264,10 @@ std::string check_kernel(const CommonOptions& o, bool volume_input) {
 }
 }  // namespace
 
-Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>& before_load) {
-  Setup s;
+namespace {
+// make_setup() without the distributed part.
+void fill_setup(Setup& s, const CommonOptions& o, int lanes,
+                const std::function<void()>& before_load) {
   s.res = parse_resolution(o.resolution);
   if (o.spp < 0 || o.spp > 1 << 20) throw InputError("--spp must be in 0..1048576 (0: auto)");
   if (o.bounces < 0 || o.bounces > 1024) throw InputError("--bounces must be in 0..1024");
@@ -320,7 +322,7 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
   if (!o.camera.empty()) cli_camera = parse_camera(o.camera);
   s.up = parse_up(o.up, volume_input);
   // "threads=0" means every hardware thread; resolved here so the spec stays readable.
-  std::string devices = o.devices;
+  std::string devices = s.cluster ? s.cluster->devices_of_this_rank(o.devices) : o.devices;
   const std::string all =
       "threads=" + std::to_string(std::max(1u, std::thread::hardware_concurrency()));
   for (size_t p; (p = devices.find("threads=0")) != std::string::npos &&
@@ -334,7 +336,7 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
     const std::string why = unsupported_job(info, s.settings.kernel, o.sampling);
     if (!why.empty()) throw InputError("--devices: " + why);
   }
-  s.perturbations = parse_perturbations(o.perturb, int(specs.size()));
+  if (!s.cluster) s.perturbations = parse_perturbations(o.perturb, int(specs.size()));
 
   const double limit = parse_memory_limit(o.max_memory);
   const MemoryEstimate need =
@@ -390,11 +392,56 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
       s.path = sequence_path(*seq, base, o.frames);
     }
   }
-  for (const DeviceSpec& d : specs) s.devices.push_back(create_device(d, *s.scenes));
+  if (!s.cluster || !s.cluster->master() || o.distributed.master_renders)
+    for (const DeviceSpec& d : specs) s.devices.push_back(create_device(d, *s.scenes));
   // The adaptive edge pass runs on the host, on the CPU representation.
   const RenderScene* host = sampling.mode == Sampling::Adaptive ? &s.scenes->embree() : nullptr;
   s.views =
       std::make_unique<FrameViews>(rig, s.res.width, s.res.height, std::move(sampling), host);
+}
+
+// The master's checks of what cannot run distributed.
+void check_distributed(const CommonOptions& o) {
+  if (o.sampling == "foveated")
+    throw InputError(
+        "--distributed: foveated sampling does not run on other ranks yet "
+        "(uniform and adaptive do)");
+  if (!o.volume.sequence.empty())
+    throw InputError("--distributed: --sequence does not run on other ranks yet");
+}
+}  // namespace
+
+Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>& before_load) {
+  Setup s;
+  if (!o.distributed.enabled) {
+    fill_setup(s, o, lanes, before_load);
+    return s;
+  }
+  s.cluster = std::make_shared<Cluster>(o.distributed);
+  if (!s.cluster->master()) {
+    try {
+      check_distributed(o);
+      fill_setup(s, o, lanes, {});
+    } catch (const InputError& e) {
+      s.cluster->say_cannot_start(e.what());
+      throw QuietExit{2};
+    } catch (const std::exception& e) {
+      s.cluster->say_cannot_start(e.what());
+      throw QuietExit{3};
+    }
+    s.cluster->say_hello(s.devices);
+    return s;
+  }
+  check_distributed(o);
+  fill_setup(s, o, lanes, before_load);
+  std::vector<std::unique_ptr<Device>> all = s.cluster->connect_workers();
+  for (auto& d : s.devices) all.push_back(std::move(d));
+  s.devices = std::move(all);
+  s.perturbations = parse_perturbations(o.perturb, int(s.devices.size()));
+  for (const auto& d : s.devices) {
+    const std::string why = unsupported_job(d->info(), s.settings.kernel, o.sampling);
+    if (!why.empty()) throw InputError("--distributed: " + why);
+  }
   return s;
 }
 

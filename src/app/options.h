@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/distributed.h"
 #include "app/volume_options.h"
 #include "app/volume_run.h"
 #include "engine/frame_views.h"
@@ -51,6 +52,7 @@ struct CommonOptions {
   FoveationParams foveation;         // foveated: --fovea-spp, --fovea-radius, --periphery-spp
   bool allow_outside_paths = false;  // files a scene names may lie outside its folder
   std::string max_memory = "auto";   // bytes (K/M/G suffixes) or auto: half of physical RAM
+  DistributedOptions distributed;    // --distributed and its options (app/distributed.h)
 };
 
 // Parses --gaze "X,Y" (each in [0, 1]) and --gaze-path (fixed | orbit | orbit:PERIOD).
@@ -81,6 +83,9 @@ std::vector<Perturbation> parse_perturbations(const std::vector<std::string>& it
 
 // The loaded scene and everything derived from the options; owns the devices.
 struct Setup {
+  // A distributed run's MPI side (null otherwise). First, so that it outlives the devices
+  // (the master's remote devices use its transport).
+  std::shared_ptr<Cluster> cluster;
   std::unique_ptr<Scene> scene;
   std::unique_ptr<SceneCache> scenes;  // the representations the devices render
   std::vector<std::unique_ptr<Device>> devices;
@@ -126,10 +131,17 @@ double to_number(const std::string& tok, const std::string& what);
 // `s` cut at every `sep` (a trailing separator gives a final empty part).
 std::vector<std::string> split(const std::string& s, char sep);
 
+// A worker rank of a distributed run (s.cluster, not the master): serves the master over
+// s.devices until it says quit; returns the exit code.
+int serve_as_worker(Setup& s);
+
 // Validates every option before loading anything expensive (the memory estimate
 // included, for `lanes` balancers), then loads the scene and creates the devices.
 // `before_load`, if given, runs after the options are checked and before the scene loads
 // (e.g. preparing the output folder: its refusal then costs nothing).
+// With --distributed, MPI starts here; on the master, s.devices are then one remote device
+// per worker (then its own, with --master-renders); a worker's fault in setting up is
+// reported by the master as "rank R: ...", and the worker ends with QuietExit.
 Setup make_setup(const CommonOptions& o, int lanes = 1,
                  const std::function<void()>& before_load = {});
 

@@ -104,6 +104,7 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                  "(OpenCL devices: path only). " +
                      kernels);
   add_volume_options(cmd, o.volume);
+  add_distributed_options(cmd, o.distributed);
   cmd.add_option("--ao-rays", o.ao_rays, "Occlusion rays per AO sample")->capture_default_str();
   cmd.add_option("--ao-distance", o.ao_distance,
                  "Occlusion range in scene units (0: 0.3 of the scene size)")
@@ -292,6 +293,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     const bool volume_input = is_volume_input(o->scene_path, o->volume);
     display.tone = parse_tone(*tone, volume_input);
     Setup s = make_setup(*o, 1, [&] { prepare_output_folder(*out_dir, *overwrite); });
+    if (s.cluster && !s.cluster->master()) return serve_as_worker(s);
     if (s.volume && s.volume->modes().size() > 1)
       throw InputError("--adapt: render takes one mode (bench compares several)");
     std::unique_ptr<Session> session = s.make_session({spec});

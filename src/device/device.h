@@ -61,6 +61,9 @@ class WorkSource {
   // Reserves up to `k` further items for `device` without starting them: they stay
   // stealable until a later next() starts them. Returns how many. Default: none.
   virtual size_t prefetch(int /*device*/, size_t /*k*/) { return 0; }
+  // How many not-started items are `device`'s own already (its assigned list): a device
+  // behind a link takes them in one request. Default: none known.
+  virtual size_t pending(int /*device*/) const { return 0; }
   // The item with id `id` (valid for the frame).
   virtual const WorkItem& item(uint32_t id) const = 0;
 };

@@ -22,6 +22,7 @@ class DispatchSource : public WorkSource {
     return true;
   }
   size_t prefetch(int device, size_t k) override { return dispatch_.prefetch(device, k); }
+  size_t pending(int device) const override { return dispatch_.pending(device).size(); }
   const WorkItem& item(uint32_t id) const override { return dispatch_.items()[id]; }
 
   balance::Dispatcher& dispatcher() { return dispatch_; }

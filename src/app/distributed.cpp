@@ -1,0 +1,183 @@
+#include "app/distributed.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include <fmt/core.h>
+
+#include "core/error.h"
+
+#ifdef MULTIRAY_HAS_MPI
+#include "device/remote/protocol.h"
+#include "device/remote/remote_device.h"
+#include "device/remote/transport.h"
+#include "engine/rank_worker.h"
+#endif
+#include "app/options.h"
+
+namespace multiray::app {
+
+void add_distributed_options(CLI::App& cmd, DistributedOptions& o) {
+  cmd.add_flag("--distributed", o.enabled,
+               "Run as one MPI job (mpirun -np K multiray ... --distributed): rank 0 plans, "
+               "composites and writes; every other rank is a worker that loads the same scene "
+               "path and renders what it is sent over its own --devices (docs/distributed.md)");
+  cmd.add_option("--rank-devices", o.rank_devices,
+                 "R=DEVICES, repeatable: rank R's --devices (e.g. 2=cpu:threads=1:speed=0.5)");
+  cmd.add_flag("--master-renders", o.master_renders,
+               "Rank 0 renders too, with its own --devices (default: it only plans and "
+               "composites)");
+  cmd.add_option("--rank-balancer", o.rank_balancer,
+                 "How each worker splits what it is sent across its local devices (any "
+                 "--balancer; Harada's hierarchy: the master's bands, split the other way)")
+      ->capture_default_str();
+  cmd.add_flag("--rank-same-direction", o.same_direction,
+               "Workers split along the master's axis instead of the other one");
+  cmd.add_option("--link", o.link,
+                 "Emulated network between master and workers (always labelled emulated): "
+                 "none, lan (0.1 ms, 10 Gbit/s), wifi (5 ms, 200 Mbit/s, a mobile cluster), "
+                 "or LATENCY_MS,MBIT[,separate]; the master's link is shared by all workers "
+                 "unless 'separate'")
+      ->capture_default_str();
+  cmd.add_option("--worker-timeout", o.worker_timeout_s,
+                 "Seconds of silence (no result, no heartbeat) after which a worker is given "
+                 "up on and its work re-assigned")
+      ->capture_default_str();
+  cmd.add_option("--depth", o.depth,
+                 "Items pulled on demand that a worker holds at once (2: it renders one while "
+                 "the previous one's pixels travel)")
+      ->capture_default_str();
+}
+
+namespace {
+
+// "R=DEVICES" → (R, DEVICES); throws InputError.
+std::pair<int, std::string> parse_rank_devices(const std::string& text) {
+  const auto eq = text.find('=');
+  const auto bad = [&](const std::string& why) {
+    return InputError("--rank-devices '" + text + "': " + why + " (expected R=DEVICES)");
+  };
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) throw bad("not R=DEVICES");
+  const std::string r = text.substr(0, eq);
+  if (r.size() > 6 || r.find_first_not_of("0123456789") != std::string::npos)
+    throw bad("'" + r + "' is not a rank number");
+  return {std::stoi(r), text.substr(eq + 1)};
+}
+
+}  // namespace
+
+std::string Cluster::devices_of_this_rank(const std::string& all) const {
+  std::string mine = all;
+  for (const std::string& entry : options_.rank_devices) {
+    const auto [r, devices] = parse_rank_devices(entry);
+    if (r == rank()) mine = devices;
+  }
+  return mine;
+}
+
+#ifdef MULTIRAY_HAS_MPI
+
+Cluster::Cluster(const DistributedOptions& o) : options_(o), link_(remote::parse_link(o.link)) {
+  if (!(o.worker_timeout_s >= 0.5 && o.worker_timeout_s <= 86400))
+    throw InputError("--worker-timeout must be in [0.5, 86400] seconds");
+  if (o.depth < 1 || o.depth > 64) throw InputError("--depth must be in 1..64");
+  for (const std::string& entry : o.rank_devices) parse_rank_devices(entry);
+  transport_ = std::make_shared<remote::Transport>(link_);
+  if (size() < 2)
+    throw InputError(
+        "--distributed needs a master and at least one worker: run it as "
+        "mpirun -np K multiray ... --distributed with K >= 2");
+  for (const std::string& entry : o.rank_devices)
+    if (const int r = parse_rank_devices(entry).first; r >= size())
+      throw InputError(
+          fmt::format("--rank-devices: rank {} does not exist (ranks 0..{})", r, size() - 1));
+  if (!master()) transport_->set_heartbeat(std::chrono::milliseconds(250));
+}
+
+Cluster::~Cluster() {
+  if (!transport_ || !master()) return;
+  for (int r = 1; r < size(); ++r) transport_->send(r, remote::kQuit, {});
+}
+
+int Cluster::rank() const { return transport_->rank(); }
+int Cluster::size() const { return transport_->size(); }
+
+void Cluster::say_hello(const std::vector<std::unique_ptr<Device>>& devices) {
+  remote::HelloMessage h;
+  for (const auto& d : devices) h.devices.push_back(d->info());
+  transport_->send(0, remote::kHello, remote::encode(h));
+}
+
+void Cluster::say_cannot_start(const std::string& why) {
+  remote::HelloMessage h;
+  h.ok = false;
+  h.error = why;
+  transport_->send(0, remote::kHello, remote::encode(h));
+}
+
+std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {
+  const auto timeout = std::chrono::milliseconds(int64_t(options_.worker_timeout_s * 1000));
+  std::vector<std::optional<remote::HelloMessage>> hellos(static_cast<size_t>(size()));
+  for (int waiting = size() - 1; waiting > 0;) {
+    const auto now = remote::Transport::Clock::now();
+    std::optional<remote::Message> m =
+        transport_->receive(-1, now + std::chrono::milliseconds(100));
+    if (!m) {
+      for (int r = 1; r < size(); ++r)
+        if (!hellos[size_t(r)] && now - transport_->last_heard(r) > timeout) {
+          transport_->give_up(r);
+          throw DeviceError(fmt::format("rank {} did not say it was ready within {} s", r,
+                                        options_.worker_timeout_s));
+        }
+      continue;
+    }
+    if (m->tag != remote::kHello || m->from < 1 || hellos[size_t(m->from)]) continue;
+    hellos[size_t(m->from)] = remote::decode_hello(m->bytes);
+    --waiting;
+    if (!hellos[size_t(m->from)]->ok)
+      throw InputError(fmt::format("rank {}: {}", m->from, hellos[size_t(m->from)]->error));
+  }
+  std::vector<std::unique_ptr<Device>> devices;
+  remote::RemoteOptions ro;
+  ro.timeout = timeout;
+  ro.depth = options_.depth;
+  for (int r = 1; r < size(); ++r)
+    devices.push_back(
+        std::make_unique<remote::RemoteDevice>(*transport_, r, *hellos[size_t(r)], ro));
+  return devices;
+}
+
+int serve_as_worker(Setup& s) {
+  RankWorkerOptions wo;
+  wo.balancer = s.cluster->options().rank_balancer;
+  wo.transposed = !s.cluster->options().same_direction;
+  // Testing aid (tests/mpi): MULTIRAY_TEST_KILL=R:F makes rank R kill itself when it is
+  // asked for frame F, as a crashed machine would vanish.
+  if (const char* kill = std::getenv("MULTIRAY_TEST_KILL")) {
+    int r = -1, f = -1;
+    if (std::sscanf(kill, "%d:%d", &r, &f) == 2 && r == s.cluster->rank()) wo.kill_at_frame = f;
+  }
+  RankWorker worker(s.cluster->transport(), s.device_ptrs(), s.settings, wo);
+  return worker.serve();
+}
+
+#else  // built without MPI
+
+int serve_as_worker(Setup&) { return 0; }
+
+Cluster::Cluster(const DistributedOptions& o) : options_(o) {
+  throw InputError(
+      "--distributed: this multiray was built without MPI (install "
+      "libopenmpi-dev and openmpi-bin, and build with MULTIRAY_WITH_MPI=AUTO or ON)");
+}
+Cluster::~Cluster() = default;
+int Cluster::rank() const { return 0; }
+int Cluster::size() const { return 1; }
+void Cluster::say_hello(const std::vector<std::unique_ptr<Device>>&) {}
+void Cluster::say_cannot_start(const std::string&) {}
+std::vector<std::unique_ptr<Device>> Cluster::connect_workers() { return {}; }
+
+#endif
+
+}  // namespace multiray::app

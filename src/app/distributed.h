@@ -1,0 +1,73 @@
+// `--distributed`: one mpirun job, rank 0 the master, the other ranks workers (Seo et al.
+// 2022 §4; Harada, GPU Pro 7 Fig. 4.5). Every rank parses the same command line and loads
+// the scene from the same path; the master plans, composites and writes, and sees each
+// worker as one device (device/remote/remote_device.h); each worker renders what it is
+// sent over its own local devices (engine/rank_worker.h). Built only with MPI
+// (MULTIRAY_WITH_MPI); without it --distributed is refused with one line.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "device/device.h"
+#include "device/remote/link.h"
+
+namespace multiray::remote {
+class Transport;
+}
+
+namespace multiray::app {
+
+struct DistributedOptions {
+  bool enabled = false;
+  std::vector<std::string> rank_devices;  // "R=DEVICES": rank R's --devices
+  bool master_renders = false;            // rank 0 also renders with --devices
+  std::string rank_balancer = "semi-static";
+  bool same_direction = false;  // workers split their part along the master's axis
+  std::string link = "none";
+  double worker_timeout_s = 10;
+  int depth = 2;
+};
+
+void add_distributed_options(CLI::App& cmd, DistributedOptions& o);
+
+struct Setup;
+
+// A worker printing nothing and ending with this exit code (the master reports why).
+struct QuietExit {
+  int code = 2;
+};
+
+// This process's place in a distributed run. Creating it starts MPI.
+class Cluster {
+ public:
+  // Checks the options and starts MPI; throws InputError for bad options, fewer than two
+  // ranks, or a build without MPI.
+  explicit Cluster(const DistributedOptions& o);
+  // The master tells every worker still answering to quit.
+  ~Cluster();
+  int rank() const;
+  int size() const;
+  bool master() const { return rank() == 0; }
+  const DistributedOptions& options() const { return options_; }
+  remote::Transport& transport() { return *transport_; }
+  // The --devices of this rank: its --rank-devices entry, else `all`.
+  std::string devices_of_this_rank(const std::string& all) const;
+
+  // Worker: tells the master it is ready with `devices`, or why it cannot start.
+  void say_hello(const std::vector<std::unique_ptr<Device>>& devices);
+  void say_cannot_start(const std::string& why);
+  // Master: waits for every worker's hello and returns one device per worker. Throws
+  // InputError naming the first worker that cannot start, DeviceError for a silent one.
+  std::vector<std::unique_ptr<Device>> connect_workers();
+
+ private:
+  DistributedOptions options_;
+  remote::LinkSpec link_;
+  std::shared_ptr<remote::Transport> transport_;  // (shared_ptr: no MPI type needed here)
+};
+
+}  // namespace multiray::app

@@ -1,0 +1,195 @@
+#include "device/remote/protocol.h"
+
+#include <cmath>
+
+#include "device/remote/wire.h"
+
+namespace multiray::remote {
+
+namespace {
+
+constexpr int kMaxSide = 1 << 16;  // no image side beyond this travels
+
+void put_info(ByteWriter& w, const DeviceInfo& d) {
+  w.put_string(d.type), w.put_string(d.name), w.put_string(d.spec);
+  w.put(int32_t(d.threads)), w.put(d.emulated_speed), w.put(d.cpu_quota);
+  w.put(uint64_t(d.caps.kernels.size()));
+  for (const auto& k : d.caps.kernels) w.put_string(k);
+  w.put(uint64_t(d.caps.sampling.size()));
+  for (const auto& s : d.caps.sampling) w.put_string(s);
+  w.put_string(d.caps.representation);
+}
+
+DeviceInfo get_info(ByteReader& r) {
+  DeviceInfo d;
+  d.type = r.get_string(), d.name = r.get_string(), d.spec = r.get_string();
+  d.threads = r.get<int32_t>(), d.emulated_speed = r.get<double>(), d.cpu_quota = r.get<double>();
+  for (uint64_t n = r.count(8); n > 0; --n) d.caps.kernels.push_back(r.get_string());
+  for (uint64_t n = r.count(8); n > 0; --n) d.caps.sampling.push_back(r.get_string());
+  d.caps.representation = r.get_string();
+  return d;
+}
+
+void put_item(ByteWriter& w, const WorkItem& it) {
+  w.put(int32_t(it.rect.x0)), w.put(int32_t(it.rect.y0));
+  w.put(int32_t(it.rect.x1)), w.put(int32_t(it.rect.y1)), w.put(int32_t(it.view));
+}
+
+WorkItem get_item(ByteReader& r) {
+  WorkItem it;
+  it.rect.x0 = r.get<int32_t>(), it.rect.y0 = r.get<int32_t>();
+  it.rect.x1 = r.get<int32_t>(), it.rect.y1 = r.get<int32_t>(), it.view = r.get<int32_t>();
+  if (it.rect.x0 < 0 || it.rect.y0 < 0 || it.rect.x1 > kMaxSide || it.rect.y1 > kMaxSide ||
+      it.rect.x1 < it.rect.x0 || it.rect.y1 < it.rect.y0 || it.view < 0)
+    throw WireError("work item out of range");
+  return it;
+}
+
+void put_settings(ByteWriter& w, const RenderSettings& s) {
+  w.put(int32_t(s.spp)), w.put(int32_t(s.max_bounces)), w.put(int32_t(s.rr_start));
+  w.put(s.seed), w.put_string(s.kernel), w.put(int32_t(s.ao_rays)), w.put(s.ao_distance);
+  w.put(s.step_scale), w.put(uint8_t(s.sample_environment));
+}
+
+RenderSettings get_settings(ByteReader& r) {
+  RenderSettings s;
+  s.spp = r.get<int32_t>(), s.max_bounces = r.get<int32_t>(), s.rr_start = r.get<int32_t>();
+  s.seed = r.get<uint64_t>(), s.kernel = r.get_string(), s.ao_rays = r.get<int32_t>();
+  s.ao_distance = r.get<float>(), s.step_scale = r.get<float>();
+  s.sample_environment = r.get<uint8_t>() != 0;
+  if (s.spp < 0 || s.max_bounces < 0 || s.ao_rays < 0 || !std::isfinite(s.step_scale) ||
+      !(s.step_scale > 0))
+    throw WireError("render settings out of range");
+  return s;
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode(const HelloMessage& m) {
+  ByteWriter w;
+  w.put(uint8_t(m.ok)), w.put_string(m.error), w.put(uint64_t(m.devices.size()));
+  for (const DeviceInfo& d : m.devices) put_info(w, d);
+  return w.take();
+}
+
+HelloMessage decode_hello(const std::vector<uint8_t>& bytes) {
+  ByteReader r(bytes);
+  HelloMessage m;
+  m.ok = r.get<uint8_t>() != 0, m.error = r.get_string();
+  for (uint64_t n = r.count(8); n > 0; --n) m.devices.push_back(get_info(r));
+  return m;
+}
+
+std::vector<uint8_t> encode(const FrameMessage& m) {
+  ByteWriter w;
+  w.put(m.epoch);
+  put_settings(w, m.settings);
+  w.put(uint64_t(m.views.size()));
+  for (size_t i = 0; i < m.views.size(); ++i) {
+    const ViewSetup& v = m.views[i];
+    w.put(v.camera.eye), w.put(v.camera.target), w.put(v.camera.up), w.put(v.camera.fov_y_deg);
+    w.put(int32_t(v.camera.film_width)), w.put(int32_t(v.camera.film_height));
+    w.put(int32_t(v.width)), w.put(int32_t(v.height)), w.put(v.view), w.put(v.frame);
+    w.put_array(i < m.spp_maps.size() ? m.spp_maps[i] : std::vector<uint8_t>{});
+  }
+  return w.take();
+}
+
+FrameMessage decode_frame(const std::vector<uint8_t>& bytes) {
+  ByteReader r(bytes);
+  FrameMessage m;
+  m.epoch = r.get<uint32_t>();
+  m.settings = get_settings(r);
+  for (uint64_t n = r.count(64); n > 0; --n) {
+    ViewSetup v;
+    v.camera.eye = r.get<Vec3>(), v.camera.target = r.get<Vec3>(), v.camera.up = r.get<Vec3>();
+    v.camera.fov_y_deg = r.get<float>();
+    v.camera.film_width = r.get<int32_t>(), v.camera.film_height = r.get<int32_t>();
+    v.width = r.get<int32_t>(), v.height = r.get<int32_t>();
+    v.view = r.get<uint32_t>(), v.frame = r.get<uint32_t>();
+    if (v.width < 1 || v.height < 1 || v.width > kMaxSide || v.height > kMaxSide)
+      throw WireError("view size out of range");
+    m.spp_maps.push_back(r.get_array<uint8_t>());
+    if (!m.spp_maps.back().empty() && m.spp_maps.back().size() != size_t(v.width) * v.height)
+      throw WireError("sample map of the wrong size");
+    m.views.push_back(v);
+  }
+  if (m.views.empty()) throw WireError("a frame without views");
+  return m;
+}
+
+std::vector<uint8_t> encode(const WorkMessage& m) {
+  ByteWriter w;
+  w.put(m.epoch), w.put(uint8_t(m.batched)), w.put(uint64_t(m.items.size()));
+  for (size_t i = 0; i < m.items.size(); ++i) w.put(m.ids.at(i)), put_item(w, m.items[i]);
+  return w.take();
+}
+
+WorkMessage decode_work(const std::vector<uint8_t>& bytes) {
+  ByteReader r(bytes);
+  WorkMessage m;
+  m.epoch = r.get<uint32_t>(), m.batched = r.get<uint8_t>() != 0;
+  for (uint64_t n = r.count(24); n > 0; --n) {
+    m.ids.push_back(r.get<uint32_t>());
+    m.items.push_back(get_item(r));
+  }
+  return m;
+}
+
+std::vector<uint8_t> encode(const ResultMessage& m) {
+  ByteWriter w;
+  w.put(m.epoch), w.put(uint64_t(m.items.size()));
+  for (const ItemResult& it : m.items) {
+    w.put(it.report.id), put_item(w, it.report.item);
+    w.put(it.report.time_ms), w.put(it.report.busy_ms), w.put(it.report.samples), w.put(it.rays);
+    w.put_array(it.pixels);
+  }
+  w.put_array(m.local);
+  return w.take();
+}
+
+ResultMessage decode_result(const std::vector<uint8_t>& bytes) {
+  ByteReader r(bytes);
+  ResultMessage m;
+  m.epoch = r.get<uint32_t>();
+  for (uint64_t n = r.count(60); n > 0; --n) {
+    ItemResult it;
+    it.report.id = r.get<uint32_t>(), it.report.item = get_item(r);
+    it.report.time_ms = r.get<double>(), it.report.busy_ms = r.get<double>();
+    it.report.samples = r.get<double>(), it.rays = r.get<uint64_t>();
+    it.pixels = r.get_array<Vec3>();
+    if (int64_t(it.pixels.size()) != it.report.item.rect.area())
+      throw WireError("result pixels do not match the item's rect");
+    m.items.push_back(std::move(it));
+  }
+  m.local = r.get_array<LocalDeviceTime>();
+  return m;
+}
+
+std::vector<uint8_t> encode(const FailureMessage& m) {
+  ByteWriter w;
+  w.put(m.epoch), w.put_string(m.error);
+  return w.take();
+}
+
+FailureMessage decode_failure(const std::vector<uint8_t>& bytes) {
+  ByteReader r(bytes);
+  FailureMessage m;
+  m.epoch = r.get<uint32_t>(), m.error = r.get_string();
+  return m;
+}
+
+std::vector<uint8_t> encode_speed(double speed) {
+  ByteWriter w;
+  w.put(speed);
+  return w.take();
+}
+
+double decode_speed(const std::vector<uint8_t>& bytes) {
+  ByteReader r(bytes);
+  const double s = r.get<double>();
+  if (!(s >= kMinEmulatedSpeed && s <= 1.0)) throw WireError("emulated speed out of range");
+  return s;
+}
+
+}  // namespace multiray::remote

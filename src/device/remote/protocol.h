@@ -1,0 +1,86 @@
+// The messages between the master (rank 0) and its workers. One frame of one remote
+// device, as the master's RemoteDevice drives it:
+//
+//   master                                   worker
+//   Frame{epoch, views, settings}   ─────►   sets up the frame
+//   Work{epoch, items, batched}     ─────►   renders the items over its local devices
+//                                   ◄─────   Result{epoch, items with pixels}: one per item,
+//                                            or one per Work message when `batched`
+//   (more Work as the master pulls items for it; the frame ends when nothing is owed)
+//
+// Hello (worker → master, once, before any frame) says what the worker offers or why it
+// could not start; Speed sets the emulated speed of its devices (--perturb); Quit ends it.
+// `epoch` numbers the master's requests to that worker, so results of a frame the master
+// gave up on are recognised and dropped. (Heartbeats belong to the transport.)
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "device/device.h"
+
+namespace multiray::remote {
+
+enum Tag : int { kHello = 1, kFrame, kWork, kResult, kFailure, kSpeed, kQuit };
+
+struct HelloMessage {
+  bool ok = true;
+  std::string error;                // why the worker cannot render (ok = false)
+  std::vector<DeviceInfo> devices;  // its local devices
+};
+
+struct FrameMessage {
+  uint32_t epoch = 0;
+  RenderSettings settings;  // volume_style is not sent: the worker keeps its own
+  std::vector<ViewSetup> views;
+  // Adaptive sampling: each view's sample map (empty: none), for views[i].spp_map.
+  std::vector<std::vector<uint8_t>> spp_maps;
+};
+
+struct WorkMessage {
+  uint32_t epoch = 0;
+  bool batched = false;  // true: send every result in one message after the last item
+  std::vector<uint32_t> ids;
+  std::vector<WorkItem> items;
+};
+
+// One local device's part of the worker's frame so far: what Harada's deviation is
+// measured over in a hierarchy.
+struct LocalDeviceTime {
+  double time_ms = 0, busy_ms = 0;
+};
+
+struct ItemResult {
+  ItemReport report;  // measured on the worker; time_ms = its wall time there
+  uint64_t rays = 0;
+  std::vector<Vec3> pixels;  // the item's rect, row-major
+};
+
+struct ResultMessage {
+  uint32_t epoch = 0;
+  std::vector<ItemResult> items;
+  std::vector<LocalDeviceTime> local;  // per local device, the frame so far
+};
+
+struct FailureMessage {
+  uint32_t epoch = 0;
+  std::string error;
+};
+
+std::vector<uint8_t> encode(const HelloMessage& m);
+std::vector<uint8_t> encode(const FrameMessage& m);
+std::vector<uint8_t> encode(const WorkMessage& m);
+std::vector<uint8_t> encode(const ResultMessage& m);
+std::vector<uint8_t> encode(const FailureMessage& m);
+std::vector<uint8_t> encode_speed(double speed);
+
+// Each throws WireError for a message that does not parse or holds impossible values.
+HelloMessage decode_hello(const std::vector<uint8_t>& bytes);
+FrameMessage decode_frame(const std::vector<uint8_t>& bytes);
+WorkMessage decode_work(const std::vector<uint8_t>& bytes);
+ResultMessage decode_result(const std::vector<uint8_t>& bytes);
+FailureMessage decode_failure(const std::vector<uint8_t>& bytes);
+double decode_speed(const std::vector<uint8_t>& bytes);
+
+}  // namespace multiray::remote

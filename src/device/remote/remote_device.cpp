@@ -1,0 +1,157 @@
+#include "device/remote/remote_device.h"
+
+#include <algorithm>
+
+#include "core/clock.h"
+#include "device/remote/wire.h"
+
+namespace multiray::remote {
+
+namespace {
+
+// What every local device of the worker can do.
+DeviceCapabilities common_caps(const std::vector<DeviceInfo>& devices) {
+  DeviceCapabilities caps;
+  if (devices.empty()) return caps;
+  caps = devices.front().caps;
+  for (const DeviceInfo& d : devices) {
+    const auto keep = [&](std::vector<std::string>& mine, const std::vector<std::string>& theirs) {
+      mine.erase(std::remove_if(mine.begin(), mine.end(),
+                                [&](const std::string& x) {
+                                  return std::find(theirs.begin(), theirs.end(), x) ==
+                                         theirs.end();
+                                }),
+                 mine.end());
+    };
+    keep(caps.kernels, d.caps.kernels);
+    keep(caps.sampling, d.caps.sampling);
+  }
+  caps.sampling.erase(std::remove(caps.sampling.begin(), caps.sampling.end(), "foveated"),
+                      caps.sampling.end());  // its sample pattern does not travel
+  return caps;
+}
+
+}  // namespace
+
+RemoteDevice::RemoteDevice(Transport& transport, int rank, const HelloMessage& hello,
+                           RemoteOptions options)
+    : transport_(transport), rank_(rank), options_(options), local_(hello.devices) {
+  info_.type = "rank";
+  info_.spec = "rank:" + std::to_string(rank);
+  info_.name = "rank " + std::to_string(rank) + " [";
+  info_.threads = 0;
+  for (size_t i = 0; i < local_.size(); ++i) {
+    info_.name += (i ? " + " : "") + local_[i].name;
+    info_.threads += local_[i].threads;
+  }
+  info_.name += "]";
+  info_.caps = common_caps(local_);
+  options_.depth = std::max(1, options_.depth);
+}
+
+void RemoteDevice::set_emulated_speed(double speed) {
+  info_.emulated_speed = speed;
+  if (!given_up_) transport_.send(rank_, kSpeed, encode_speed(speed));
+}
+
+FrameMessage RemoteDevice::frame_message(const FrameJob& job) const {
+  FrameMessage m;
+  m.epoch = epoch_;
+  m.settings = job.settings;
+  m.views = job.views;
+  for (const ViewSetup& v : job.views)
+    m.spp_maps.push_back(v.spp_map ? *v.spp_map : std::vector<uint8_t>{});
+  return m;
+}
+
+void RemoteDevice::ship(const FrameJob& /*job*/, WorkSource& source,
+                        const std::vector<uint32_t>& ids, bool batched) {
+  WorkMessage w;
+  w.epoch = epoch_;
+  w.batched = batched;
+  w.ids = ids;
+  for (uint32_t id : ids) w.items.push_back(source.item(id));
+  transport_.send(rank_, kWork, encode(w));
+}
+
+size_t RemoteDevice::take_results(const Message& m, const FrameJob& job, DeviceReport& report) {
+  const ResultMessage r = decode_result(m.bytes);
+  if (r.epoch != epoch_) return 0;  // a frame given up on
+  for (const ItemResult& it : r.items) {
+    const WorkItem& item = it.report.item;
+    if (size_t(item.view) >= job.outputs->size()) throw WireError("result for an unknown view");
+    Framebuffer& fb = (*job.outputs)[size_t(item.view)];
+    if (item.rect.x1 > fb.width || item.rect.y1 > fb.height)
+      throw WireError("result outside the image");
+    const Vec3* src = it.pixels.data();
+    for (int y = item.rect.y0; y < item.rect.y1; ++y, src += item.rect.width())
+      std::copy(src, src + item.rect.width(), &fb.at(item.rect.x0, y));
+    report.add(it.report, it.rays);
+  }
+  if (!r.local.empty()) local_times_ = r.local;
+  return r.items.size();
+}
+
+DeviceReport RemoteDevice::render(const FrameJob& job, WorkSource& source, int index) {
+  DeviceReport report;
+  const auto fail = [&](const std::string& why) {
+    report.failed = true;
+    report.error = "rank " + std::to_string(rank_) + ": " + why;
+    return report;
+  };
+  if (given_up_) return fail("given up on earlier");
+  for (const ViewSetup& v : job.views)
+    if (v.foveation) return fail("foveated sampling does not run on other ranks");
+  Stopwatch clock;
+  ++epoch_;
+  local_times_.clear();
+  transport_.send(rank_, kFrame, encode(frame_message(job)));
+
+  size_t owed = 0;  // items sent whose results have not come back
+  int units = 0;    // Work messages whose results have not all come back
+  std::vector<uint32_t> ids;
+  if (const size_t own = source.pending(index); own > 0 && source.next(index, own, ids) > 0) {
+    ship(job, source, ids, true);
+    owed += ids.size(), ++units;
+  }
+  bool exhausted = false;
+  for (;;) {
+    while (!exhausted && units < options_.depth) {
+      ids.clear();
+      if (source.next(index, 1, ids) == 0) {
+        exhausted = true;
+      } else {
+        ship(job, source, ids, false);
+        owed += ids.size(), ++units;
+      }
+    }
+    if (owed == 0) break;
+    const auto now = Transport::Clock::now();
+    std::optional<Message> m = transport_.receive(rank_, now + std::chrono::milliseconds(50));
+    if (!m) {
+      if (now - transport_.last_heard(rank_) > options_.timeout) {
+        given_up_ = true;
+        transport_.give_up(rank_);
+        return fail("no answer for " +
+                    std::to_string(options_.timeout.count() / 1000.0).substr(0, 4) +
+                    " s; its work was re-assigned");
+      }
+      continue;
+    }
+    try {
+      if (m->tag == kResult) {
+        const size_t n = take_results(*m, job, report);
+        if (n > 0) owed -= std::min(owed, n), --units;
+      } else if (m->tag == kFailure) {
+        const FailureMessage f = decode_failure(m->bytes);
+        if (f.epoch == epoch_) return fail(f.error);
+      }
+    } catch (const WireError& e) {
+      return fail(std::string("bad message: ") + e.what());
+    }
+  }
+  report.time_ms = clock.elapsed_ms();
+  return report;
+}
+
+}  // namespace multiray::remote

@@ -1,0 +1,204 @@
+#include "device/remote/transport.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+
+#include "core/error.h"
+
+namespace multiray::remote {
+
+struct Transport::InFlight {
+  MPI_Request request = MPI_REQUEST_NULL;
+  int to = 0;
+  std::vector<uint8_t> bytes;
+};
+
+namespace {
+// How long the transport's thread sleeps when nothing moved: short enough that an idle
+// worker hears its next item within a fraction of a millisecond, long enough that three
+// polling ranks cost a few percent of a core.
+constexpr auto kIdleSleep = std::chrono::microseconds(100);
+// How long the destructor lets queued messages (Quit to every worker) drain.
+constexpr auto kDrainLimit = std::chrono::seconds(3);
+}  // namespace
+
+Transport::Transport(LinkSpec link) : link_(std::move(link), 1) {
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (!initialized) {
+    int provided = 0;
+    if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided) != MPI_SUCCESS)
+      throw DeviceError("MPI could not be initialised");
+    if (provided < MPI_THREAD_SERIALIZED)
+      throw DeviceError("this MPI library has no MPI_THREAD_SERIALIZED support");
+  }
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  link_ = LinkModel(rank_ == 0 ? link_.spec() : LinkSpec{}, std::max(1, size_ - 1));
+  heard_.assign(size_t(size_), Clock::now());
+  given_up_.assign(size_t(size_), false);
+  thread_ = std::thread([this] { loop(); });
+}
+
+Transport::~Transport() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  arrived_.notify_all();
+  thread_.join();
+  if (!gave_up_on_anyone()) MPI_Finalize();
+}
+
+void Transport::send(int to, int tag, std::vector<uint8_t> bytes) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const Clock::time_point now = Clock::now();
+  const Clock::time_point release =
+      rank_ == 0 && to > 0 ? link_.deliver_at(to - 1, bytes.size(), now) : now;
+  outbox_.push_back(Outgoing{release, to, tag, std::move(bytes)});
+}
+
+std::optional<Message> Transport::receive(int from, Clock::time_point deadline) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    const auto it = std::find_if(inbox_.begin(), inbox_.end(),
+                                 [&](const Message& m) { return from < 0 || m.from == from; });
+    if (it != inbox_.end()) {
+      Message m = std::move(*it);
+      inbox_.erase(it);
+      return m;
+    }
+    if (stop_ || arrived_.wait_until(lock, deadline) == std::cv_status::timeout) {
+      if (Clock::now() >= deadline || stop_) return std::nullopt;
+    }
+  }
+}
+
+Transport::Clock::time_point Transport::last_heard(int peer) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return heard_.at(size_t(peer));
+}
+
+void Transport::give_up(int peer) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  given_up_.at(size_t(peer)) = true;
+  inbox_.erase(std::remove_if(inbox_.begin(), inbox_.end(),
+                              [&](const Message& m) { return m.from == peer; }),
+               inbox_.end());
+}
+
+bool Transport::gave_up_on_anyone() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::find(given_up_.begin(), given_up_.end(), true) != given_up_.end();
+}
+
+TransportStats Transport::stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return stats_;
+}
+
+void Transport::loop() {
+  Clock::time_point beat = Clock::now();
+  Clock::time_point drain_until{};
+  for (;;) {
+    const bool moved = pump();
+    const Clock::time_point now = Clock::now();
+    const auto period = std::chrono::milliseconds(heartbeat_ms_.load());
+    if (period.count() > 0 && rank_ != 0 && now - beat >= period) {
+      beat = now;
+      auto f = std::make_unique<InFlight>();
+      f->to = 0;
+      MPI_Isend(nullptr, 0, MPI_BYTE, 0, kHeartbeatTag, MPI_COMM_WORLD, &f->request);
+      in_flight_.push_back(std::move(f));
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (stop_) {
+        if (drain_until == Clock::time_point{}) drain_until = now + kDrainLimit;
+        bool pending = !outbox_.empty();
+        for (const auto& f : in_flight_) pending |= !given_up_[size_t(f->to)];
+        if (!pending || now >= drain_until) break;
+      }
+    }
+    if (!moved) std::this_thread::sleep_for(kIdleSleep);
+  }
+  for (auto& f : in_flight_)
+    if (f->request != MPI_REQUEST_NULL && !given_up_[size_t(f->to)]) MPI_Request_free(&f->request);
+}
+
+bool Transport::pump() {
+  bool moved = false;
+  const Clock::time_point now = Clock::now();
+  // Due messages leave, in order (the emulated link releases them monotonically per peer).
+  std::vector<Outgoing> due;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto it = outbox_.begin(); it != outbox_.end();)
+      if (it->release <= now) {
+        due.push_back(std::move(*it));
+        it = outbox_.erase(it);
+      } else {
+        ++it;
+      }
+  }
+  for (Outgoing& o : due) {
+    auto f = std::make_unique<InFlight>();
+    f->to = o.to;
+    f->bytes = std::move(o.bytes);
+    MPI_Isend(f->bytes.data(), int(f->bytes.size()), MPI_BYTE, o.to, o.tag, MPI_COMM_WORLD,
+              &f->request);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stats_.messages_sent++, stats_.bytes_sent += f->bytes.size();
+    }
+    in_flight_.push_back(std::move(f));
+    moved = true;
+  }
+  // Finished sends release their buffers.
+  for (auto it = in_flight_.begin(); it != in_flight_.end();) {
+    int done = 0;
+    MPI_Test(&(*it)->request, &done, MPI_STATUS_IGNORE);
+    it = done ? in_flight_.erase(it) : it + 1;
+  }
+  while (probe_one()) moved = true;
+  // The emulated link delivers what is due.
+  std::lock_guard<std::mutex> lock(mutex_);
+  bool delivered = false;
+  std::stable_sort(delayed_.begin(), delayed_.end(),
+                   [](const Delayed& a, const Delayed& b) { return a.deliver < b.deliver; });
+  while (!delayed_.empty() && delayed_.front().deliver <= now) {
+    inbox_.push_back(std::move(delayed_.front().message));
+    delayed_.erase(delayed_.begin());
+    delivered = true;
+  }
+  if (delivered) arrived_.notify_all();
+  return moved || delivered;
+}
+
+bool Transport::probe_one() {
+  int flag = 0;
+  MPI_Status status;
+  MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
+  if (!flag) return false;
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  Message m;
+  m.from = status.MPI_SOURCE;
+  m.tag = status.MPI_TAG;
+  m.bytes.resize(size_t(std::max(count, 0)));
+  // The message is already arriving (probed), so this returns once its bytes are in.
+  MPI_Recv(m.bytes.data(), count, MPI_BYTE, m.from, m.tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  const Clock::time_point now = Clock::now();
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (m.from < 0 || m.from >= size_ || given_up_[size_t(m.from)]) return true;
+  heard_[size_t(m.from)] = now;
+  if (m.tag == kHeartbeatTag) return true;
+  stats_.messages_received++, stats_.bytes_received += m.bytes.size();
+  const Clock::time_point at =
+      rank_ == 0 && m.from > 0 ? link_.deliver_at(m.from - 1, m.bytes.size(), now) : now;
+  delayed_.push_back(Delayed{at, std::move(m)});
+  return true;
+}
+
+}  // namespace multiray::remote

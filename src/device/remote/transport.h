@@ -1,0 +1,106 @@
+// Messages between the ranks of one mpirun job, over MPI (Open MPI). One thread per
+// process — the transport's — makes every MPI call (MPI_THREAD_SERIALIZED), with
+// non-blocking sends and probes only: a rank that died never answers and, with Open MPI
+// 4.1, no MPI error ever reports it, so a blocking call to it would hang forever. The
+// other threads hand messages to send() and wait in receive() with a deadline.
+//
+// Sending overlaps rendering: send() returns at once and the transport's thread moves
+// the bytes while the caller renders the next item (Seo et al. 2022 use a sender thread
+// per worker for the same overlap). On the master (rank 0), messages to and from workers
+// cross the emulated link (link.h) when one is given.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "device/remote/link.h"
+
+namespace multiray::remote {
+
+// The tag of the transport's own heartbeats (never delivered to receive()).
+constexpr int kHeartbeatTag = 99;
+
+struct Message {
+  int from = -1, tag = 0;
+  std::vector<uint8_t> bytes;
+};
+
+// What crossed this rank's transport.
+struct TransportStats {
+  uint64_t messages_sent = 0, bytes_sent = 0, messages_received = 0, bytes_received = 0;
+};
+
+class Transport {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  // Initialises MPI (once per process; MPI_THREAD_SERIALIZED or better) and starts the
+  // transport's thread. Throws DeviceError when MPI cannot start or lacks thread support.
+  // `link` is emulated on rank 0 only.
+  explicit Transport(LinkSpec link = {});
+  // Stops the thread and finalises MPI, unless a peer was given up on (finalising would
+  // wait for it forever): then MPI is left as is and the process must end by _exit.
+  ~Transport();
+  Transport(const Transport&) = delete;
+  Transport& operator=(const Transport&) = delete;
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  const LinkSpec& link() const { return link_.spec(); }
+
+  // Queues `bytes` for rank `to`; returns at once.
+  void send(int to, int tag, std::vector<uint8_t> bytes);
+  // The oldest message from `from` (-1: anyone), waiting until `deadline`; nullopt when
+  // none arrived in time (or the transport is stopping).
+  std::optional<Message> receive(int from, Clock::time_point deadline);
+  // When anything (a heartbeat included) last arrived from `peer`.
+  Clock::time_point last_heard(int peer) const;
+  // Marks `peer` as given up on: its messages are dropped from now on.
+  void give_up(int peer);
+  bool gave_up_on_anyone() const;
+  // Sends a heartbeat to rank 0 every `period` (workers), so the master tells a busy
+  // worker from a dead one. Zero: none.
+  void set_heartbeat(std::chrono::milliseconds period) { heartbeat_ms_ = period.count(); }
+  TransportStats stats() const;
+
+ private:
+  struct Outgoing {
+    Clock::time_point release;
+    int to, tag;
+    std::vector<uint8_t> bytes;
+  };
+  struct Delayed {
+    Clock::time_point deliver;
+    Message message;
+  };
+  struct InFlight;
+  void loop();
+  // One pass of the transport's thread; true when it moved anything.
+  bool pump();
+  bool probe_one();
+
+  int rank_ = 0, size_ = 1;
+  LinkModel link_;
+  std::atomic<int64_t> heartbeat_ms_{0};
+  mutable std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::deque<Outgoing> outbox_;
+  std::vector<Delayed> delayed_;  // received, not yet delivered by the emulated link
+  std::deque<Message> inbox_;
+  std::vector<Clock::time_point> heard_;
+  std::vector<bool> given_up_;
+  std::vector<std::unique_ptr<InFlight>> in_flight_;  // transport thread only
+  TransportStats stats_;
+  bool stop_ = false;
+  std::thread thread_;
+};
+
+}  // namespace multiray::remote

@@ -1,0 +1,63 @@
+// A worker rank of a distributed run (`--distributed`, ranks >= 1): it serves the master's
+// requests (device/remote/protocol.h) over its own local devices until told to quit.
+// Every item the master sends is one region to balance across the local devices, with
+// the worker's own balancer (RegionBalancer over --rank-balancer): Harada's hierarchy,
+// where the master splits the frame into bands across machines and each machine splits
+// its band across its devices in the other direction (GPU Pro 7, Fig. 4.5). With one
+// local device the region simply goes to it.
+//
+// Results go back as soon as an item is done (the transport sends them while the next
+// item renders) or, for a batched Work message, all in one message after its last item
+// (Seo et al. 2022, strategy II).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "balance/region.h"
+#include "device/remote/protocol.h"
+#include "device/remote/transport.h"
+#include "engine/engine.h"
+
+namespace multiray {
+
+struct RankWorkerOptions {
+  std::string balancer = "semi-static";  // the local split of each region
+  bool transposed = true;                // split the other way from the master (Harada)
+  int kill_at_frame = -1;                // testing aid: SIGKILL itself when asked for it
+};
+
+class RankWorker {
+ public:
+  // `local` must outlive the worker. `base` gives what the master does not send (the
+  // volume style).
+  RankWorker(remote::Transport& transport, std::vector<Device*> local, RenderSettings base,
+             RankWorkerOptions options);
+
+  // Serves until the master says Quit; returns 0. Faults of the local devices go back to
+  // the master as Failure messages; nothing here throws for them.
+  int serve();
+
+ private:
+  void start_frame(const remote::FrameMessage& m);
+  void render_work(const remote::WorkMessage& m);
+  remote::ItemResult render_item(uint32_t id, const WorkItem& item);
+  void fail(const std::string& why);
+
+  remote::Transport& transport_;
+  std::vector<Device*> local_;
+  RenderSettings base_, settings_;
+  RankWorkerOptions options_;
+  balance::RegionBalancer* region_ = nullptr;  // owned by engine_
+  std::unique_ptr<Engine> engine_;
+  std::vector<ViewSetup> views_;
+  std::vector<std::vector<uint8_t>> spp_maps_;
+  std::vector<Framebuffer> images_;
+  std::vector<remote::LocalDeviceTime> times_;  // per local device, this frame so far
+  uint32_t epoch_ = 0;
+  bool failed_ = false;  // this frame: every local device failed
+  int passes_ = 0;       // local engine frames so far (the local balancer's frame count)
+};
+
+}  // namespace multiray
