@@ -1,0 +1,155 @@
+// `--distributed` under mpirun, run as a user would: a frame rendered by a master and
+// workers is bit-identical to the same frame rendered by one process, for every balancer
+// at the master, Seo's two strategies, Harada's two-level split, links, multiview and
+// adaptive sampling; a worker killed mid-run costs no pixel; bad setups fail in one line.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "support/run_cli.h"
+
+namespace {
+
+using multiray::testing::CliResult;
+
+// As root, Open MPI needs both switches; two cores hold four ranks only oversubscribed.
+const std::string kMpirun = std::string(MULTIRAY_MPIEXEC) + " --oversubscribe --allow-run-as-root";
+
+CliResult single(const std::string& args) {
+  return multiray::testing::run_cli(MULTIRAY_BIN, args);
+}
+CliResult distributed(int ranks, const std::string& args, const std::string& mpi_flags = "",
+                      const std::string& env = "") {
+  return multiray::testing::run_cli(
+      kMpirun + " -np " + std::to_string(ranks) + " " + mpi_flags + " " + MULTIRAY_BIN,
+      args + " --distributed", env);
+}
+
+std::string out_dir(const std::string& name) {
+  // Named per test: ctest runs the tests of this file in parallel processes.
+  const std::string dir = ::testing::TempDir() + "/mpi_" +
+                          ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                          name;
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+nlohmann::json stats(const std::string& dir) {
+  std::ifstream in(dir + "/stats.json");
+  return nlohmann::json::parse(in);
+}
+
+std::vector<std::string> hashes(const std::string& dir) {
+  std::vector<std::string> h;
+  for (const auto& f : stats(dir)["frames"]) h.push_back(f["image_hash"]);
+  return h;
+}
+
+// Two frames of an orbit, so the balancers' second plans (from measurements) count too.
+const std::string kScene =
+    "render --res 80x48 --spp 2 --bounces 3 --frames 2 "
+    "--camera-path orbit:10 -q ";
+
+std::vector<std::string> reference(const std::string& extra) {
+  const std::string dir = out_dir("reference");
+  const CliResult r = single(kScene + extra + " --devices cpu:threads=1 --out " + dir);
+  EXPECT_EQ(r.code, 0) << r.out;
+  return hashes(dir);
+}
+
+TEST(Distributed, EveryBalancerAtTheMasterGivesTheSinglePixels) {
+  const std::vector<std::string> want = reference("");
+  for (const char* balancer :
+       {"uniform", "static", "queue:tile=16", "semi-static", "dlb", "hybrid", "bruder", "cycles",
+        "equalizer", "ospray-static:tile=16", "ospray-dynamic:tile=16"}) {
+    const std::string dir = out_dir("balancer");
+    const CliResult r = distributed(
+        3, kScene + "--devices cpu:threads=1 --balancer " + balancer + " --out " + dir);
+    ASSERT_EQ(r.code, 0) << balancer << ": " << r.out;
+    EXPECT_EQ(hashes(dir), want) << balancer;
+    EXPECT_THAT(stats(dir)["devices"][0]["name"].get<std::string>(),
+                ::testing::HasSubstr("rank 1"));
+  }
+}
+
+// Seo et al.'s strategies on four ranks (three workers), over the emulated mobile link, and
+// Harada's hierarchy: bands across ranks, each band split across a rank's own devices in
+// the other direction by every balancer at the lower level.
+TEST(Distributed, FourRanksSeoStrategiesAndHaradaHierarchyGiveTheSinglePixels) {
+  const std::vector<std::string> want = reference("");
+  const std::string two_devices = " --rank-devices 1=cpu:threads=1,cpu:threads=1:speed=0.5";
+  const std::vector<std::string> runs = {
+      "--balancer queue:tile=16 --link wifi",           // Seo I: dynamic tile queue
+      "--balancer ospray-static:tile=16 --link wifi",   // Seo II: static batched
+      "--balancer hybrid --master-renders --link lan",  // master renders too
+      "--balancer semi-static --rank-balancer semi-static" + two_devices,  // Harada
+      "--balancer semi-static --rank-balancer hybrid --rank-same-direction" + two_devices,
+      "--balancer uniform --rank-balancer queue:tile=8" + two_devices,
+  };
+  for (const std::string& run : runs) {
+    const std::string dir = out_dir("four");
+    const CliResult r =
+        distributed(4, kScene + "--devices cpu:threads=1 " + run + " --out " + dir);
+    ASSERT_EQ(r.code, 0) << run << ": " << r.out;
+    EXPECT_EQ(hashes(dir), want) << run;
+  }
+}
+
+TEST(Distributed, MultiviewAndAdaptiveSamplingGiveTheSinglePixels) {
+  const std::string extra = "--views 2x1 --sampling adaptive ";
+  const std::vector<std::string> want = reference(extra);
+  const std::string dir = out_dir("views");
+  const CliResult r = distributed(
+      3, kScene + extra + "--devices cpu:threads=1 --balancer dlb --mapping strips --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(hashes(dir), want);
+}
+
+// A worker that vanishes (SIGKILL at frame 1) is given up on after --worker-timeout; what
+// it owed is re-rendered by the others and every frame is still complete and exact. Open
+// MPI keeps the other ranks alive only with --enable-recovery.
+TEST(Distributed, AKilledWorkerCostsNoPixel) {
+  const std::string frames =
+      "render --res 80x48 --spp 2 --bounces 3 --frames 3 "
+      "--camera-path orbit:10 ";
+  const std::string ref = out_dir("killed_ref");
+  ASSERT_EQ(single(frames + "-q --devices cpu:threads=1 --out " + ref).code, 0);
+  for (const char* balancer : {"queue:tile=16", "semi-static"}) {
+    const std::string dir = out_dir("killed");
+    const CliResult r =
+        distributed(3,
+                    frames + "--devices cpu:threads=1 --worker-timeout 1 --balancer " + balancer +
+                        " --out " + dir,
+                    "--enable-recovery -x MULTIRAY_TEST_KILL", "MULTIRAY_TEST_KILL=2:1");
+    ASSERT_TRUE(std::filesystem::exists(dir + "/stats.json")) << balancer << ": " << r.out;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("rank 2: no answer"));
+    EXPECT_EQ(hashes(dir), hashes(ref)) << balancer;
+    EXPECT_EQ(stats(dir)["frames"].size(), 3u);
+  }
+}
+
+TEST(Distributed, BadSetupsFailInOneLine) {
+  const std::string dir = out_dir("bad");
+  // One rank is no cluster.
+  CliResult r = distributed(1, "render --res 16x16 --spp 1 --out " + dir);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("at least one worker"));
+  // A worker that cannot create its devices: the master names it, nobody hangs.
+  r = distributed(2, "render --res 16x16 --spp 1 --rank-devices 1=gpu --out " + dir);
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("rank 1: --devices 'gpu'"));
+  r = distributed(2, "render --res 16x16 --spp 1 --link fast --out " + dir);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("--link 'fast'"));
+  r = distributed(2, "render --res 16x16 --spp 1 --sampling foveated --out " + dir);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("foveated"));
+}
+
+}  // namespace

@@ -1,0 +1,145 @@
+// The messages between ranks and the emulated link, without MPI: every message survives
+// a round trip, no truncated or inflated message is accepted, and the link model charges
+// latency and bandwidth as Seo et al.'s shared master link does.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "device/remote/link.h"
+#include "device/remote/protocol.h"
+#include "device/remote/wire.h"
+
+namespace multiray::remote {
+namespace {
+
+FrameMessage sample_frame() {
+  FrameMessage m;
+  m.epoch = 7;
+  m.settings.spp = 3, m.settings.max_bounces = 5, m.settings.seed = 99;
+  m.settings.kernel = "ao", m.settings.step_scale = 0.5f;
+  ViewSetup v;
+  v.camera.eye = {1, 2, 3}, v.camera.fov_y_deg = 30;
+  v.width = 4, v.height = 2, v.view = 1, v.frame = 12;
+  m.views = {v, v};
+  m.spp_maps = {{}, {1, 2, 3, 4, 5, 6, 7, 8}};
+  return m;
+}
+
+ResultMessage sample_result() {
+  ResultMessage m;
+  m.epoch = 3;
+  ItemResult it;
+  it.report.id = 5;
+  it.report.item = WorkItem{Rect{1, 1, 3, 2}, 1};
+  it.report.time_ms = 2.5, it.report.busy_ms = 2, it.report.samples = 8;
+  it.rays = 40;
+  it.pixels = {{1, 2, 3}, {4, 5, 6}};
+  m.items = {it};
+  m.local = {{1.5, 1.0}, {2.5, 2.0}};
+  return m;
+}
+
+TEST(Protocol, MessagesSurviveARoundTrip) {
+  const FrameMessage f = decode_frame(encode(sample_frame()));
+  EXPECT_EQ(f.epoch, 7u);
+  EXPECT_EQ(f.settings.kernel, "ao");
+  EXPECT_EQ(f.settings.seed, 99u);
+  EXPECT_FLOAT_EQ(f.settings.step_scale, 0.5f);
+  ASSERT_EQ(f.views.size(), 2u);
+  EXPECT_EQ(f.views[1].frame, 12u);
+  EXPECT_FLOAT_EQ(f.views[1].camera.eye.y, 2);
+  EXPECT_EQ(f.spp_maps[1].size(), 8u);
+
+  WorkMessage w{4, true, {9, 10}, {WorkItem{Rect{0, 0, 2, 2}, 0}, WorkItem{Rect{2, 0, 4, 2}, 1}}};
+  const WorkMessage w2 = decode_work(encode(w));
+  EXPECT_TRUE(w2.batched);
+  EXPECT_EQ(w2.ids, w.ids);
+  EXPECT_EQ(w2.items, w.items);
+
+  const ResultMessage r = decode_result(encode(sample_result()));
+  ASSERT_EQ(r.items.size(), 1u);
+  EXPECT_EQ(r.items[0].report.item, (WorkItem{Rect{1, 1, 3, 2}, 1}));
+  EXPECT_FLOAT_EQ(r.items[0].pixels[1].z, 6);
+  EXPECT_EQ(r.items[0].rays, 40u);
+  EXPECT_DOUBLE_EQ(r.local[1].time_ms, 2.5);
+
+  HelloMessage h;
+  h.devices.push_back(DeviceInfo{
+      "cpu", "cpu (1 thread)", "cpu:threads=1", 1, 0.5, 0, {{"path"}, {"uniform"}, "embree"}});
+  const HelloMessage h2 = decode_hello(encode(h));
+  ASSERT_EQ(h2.devices.size(), 1u);
+  EXPECT_EQ(h2.devices[0].caps.kernels, std::vector<std::string>{"path"});
+  EXPECT_DOUBLE_EQ(h2.devices[0].emulated_speed, 0.5);
+  EXPECT_EQ(decode_failure(encode(FailureMessage{2, "lost"})).error, "lost");
+  EXPECT_DOUBLE_EQ(decode_speed(encode_speed(0.25)), 0.25);
+}
+
+TEST(Protocol, EveryTruncationIsRefused) {
+  const std::vector<uint8_t> frame = encode(sample_frame()), result = encode(sample_result());
+  for (size_t n = 0; n < frame.size(); ++n)
+    EXPECT_THROW(decode_frame(std::vector<uint8_t>(frame.begin(), frame.begin() + n)), WireError)
+        << n;
+  for (size_t n = 0; n < result.size(); ++n)
+    EXPECT_THROW(decode_result(std::vector<uint8_t>(result.begin(), result.begin() + n)),
+                 WireError)
+        << n;
+}
+
+TEST(Protocol, ImpossibleValuesAreRefused) {
+  ResultMessage r = sample_result();
+  r.items[0].pixels.pop_back();  // fewer pixels than the rect holds
+  EXPECT_THROW(decode_result(encode(r)), WireError);
+  FrameMessage f = sample_frame();
+  f.spp_maps[1].pop_back();  // a sample map of the wrong size
+  EXPECT_THROW(decode_frame(encode(f)), WireError);
+  f = sample_frame();
+  f.views[0].width = 0;
+  EXPECT_THROW(decode_frame(encode(f)), WireError);
+  WorkMessage w{1, false, {1}, {WorkItem{Rect{3, 0, 2, 2}, 0}}};  // x1 < x0
+  EXPECT_THROW(decode_work(encode(w)), WireError);
+  EXPECT_THROW(decode_speed(encode_speed(0)), WireError);
+  // A count far beyond the message's length must not allocate.
+  ByteWriter big;
+  big.put(uint32_t(1)), big.put(uint64_t(1) << 60);
+  EXPECT_THROW(decode_result(big.take()), WireError);
+}
+
+TEST(Link, PresetsAndCustomLinks) {
+  EXPECT_FALSE(parse_link("none").active());
+  const LinkSpec wifi = parse_link("wifi");
+  EXPECT_DOUBLE_EQ(wifi.latency_ms, 5);
+  EXPECT_DOUBLE_EQ(wifi.mbit_per_s, 200);
+  EXPECT_TRUE(wifi.shared);
+  EXPECT_THAT(wifi.describe(), ::testing::HasSubstr("emulated"));
+  const LinkSpec lan = parse_link("lan");
+  EXPECT_DOUBLE_EQ(lan.latency_ms, 0.1);
+  EXPECT_DOUBLE_EQ(lan.mbit_per_s, 10000);
+  const LinkSpec custom = parse_link("2,50,separate");
+  EXPECT_FALSE(custom.shared);
+  for (const char* bad : {"fast", "1", "1,2,3", "-1,5", "1,x", "1,2,shared", "nan,1", "1,1e9"})
+    EXPECT_THROW(parse_link(bad), InputError) << bad;
+}
+
+TEST(Link, SharedMasterLinkSerialisesMessagesAndAddsLatency) {
+  using Clock = LinkModel::Clock;
+  const auto ms = [](double x) {
+    return std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double, std::milli>(x));
+  };
+  const Clock::time_point t0{};
+  // 1 Mbit/s: 125 bytes take 1 ms; latency 5 ms.
+  LinkModel shared(LinkSpec{"test", 5, 1, true}, 2);
+  EXPECT_EQ(shared.deliver_at(0, 125, t0), t0 + ms(6));
+  // Worker 1's message waits for worker 0's on the shared link.
+  EXPECT_EQ(shared.deliver_at(1, 125, t0), t0 + ms(7));
+  LinkModel separate(LinkSpec{"test", 5, 1, false}, 2);
+  EXPECT_EQ(separate.deliver_at(0, 125, t0), t0 + ms(6));
+  EXPECT_EQ(separate.deliver_at(1, 125, t0), t0 + ms(6));
+  // A free link: latency only.
+  EXPECT_EQ(separate.deliver_at(1, 0, t0 + ms(100)), t0 + ms(105));
+  LinkModel none(LinkSpec{}, 2);
+  EXPECT_EQ(none.deliver_at(0, 1 << 20, t0), t0);
+}
+
+}  // namespace
+}  // namespace multiray::remote
