@@ -53,6 +53,7 @@ class Cluster {
   int size() const;
   bool master() const { return rank() == 0; }
   const DistributedOptions& options() const { return options_; }
+  const remote::LinkSpec& link() const { return link_; }
   remote::Transport& transport() { return *transport_; }
   // The --devices of this rank: its --rank-devices entry, else `all`.
   std::string devices_of_this_rank(const std::string& all) const;

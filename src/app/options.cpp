@@ -438,6 +438,10 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
   for (auto& d : s.devices) all.push_back(std::move(d));
   s.devices = std::move(all);
   s.perturbations = parse_perturbations(o.perturb, int(s.devices.size()));
+  s.notes.push_back(
+      fmt::format("distributed over {} ranks: the master{} and {} worker(s); link: {}",
+                  s.cluster->size(), o.distributed.master_renders ? " (rendering too)" : "",
+                  s.cluster->size() - 1, s.cluster->link().describe()));
   for (const auto& d : s.devices) {
     const std::string why = unsupported_job(d->info(), s.settings.kernel, o.sampling);
     if (!why.empty()) throw InputError("--distributed: " + why);

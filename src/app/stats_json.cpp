@@ -7,6 +7,20 @@ namespace multiray::app {
 
 namespace {
 nlohmann::json vec3_json(Vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+
+nlohmann::json distributed_to_json(const Setup& s) {
+  if (!s.cluster) return nullptr;
+  const DistributedOptions& o = s.cluster->options();
+  return {{"ranks", s.cluster->size()},
+          {"master_renders", o.master_renders},
+          {"rank_devices", o.rank_devices},
+          {"rank_balancer", o.rank_balancer},
+          {"rank_split", o.same_direction ? "same direction" : "other direction"},
+          {"link", s.cluster->link().describe()},
+          {"link_emulated", s.cluster->link().active()},
+          {"worker_timeout_s", o.worker_timeout_s},
+          {"depth", o.depth}};
+}
 }  // namespace
 
 nlohmann::json settings_to_json(const CommonOptions& o, const Setup& s,
@@ -39,13 +53,26 @@ nlohmann::json settings_to_json(const CommonOptions& o, const Setup& s,
                                                  {"half_angle_rad", s.scene->sun.half_angle_rad}}
                                 : nlohmann::json(nullptr)},
       {"views", o.stereo > 0 ? "stereo" : o.views},
-      {"devices", o.devices}};
+      {"devices", o.devices},
+      {"distributed", distributed_to_json(s)}};
 }
 
 nlohmann::json frame_to_json(const FrameRecord& rec) {
   nlohmann::json device_ms = nlohmann::json::array(), busy_ms = nlohmann::json::array(),
                  share = nlohmann::json::array(), planned = nlohmann::json::array(),
                  samples = nlohmann::json::array(), pixels = nlohmann::json::array();
+  // Every device at the bottom of the hierarchy: a rank's own devices, or the device.
+  nlohmann::json leaf_ms = nlohmann::json::array();
+  std::vector<double> leaves;
+  for (const auto& d : rec.devices) {
+    if (!d.alive) continue;
+    const std::vector<double> mine =
+        d.local_ms.empty() ? std::vector<double>{d.time_ms} : d.local_ms;
+    leaf_ms.push_back(mine);
+    leaves.insert(leaves.end(), mine.begin(), mine.end());
+  }
+  double leaf_imbalance = 0, leaf_deviation = 0;
+  imbalance_of(leaves, leaf_imbalance, leaf_deviation);
   for (const auto& d : rec.devices) {
     device_ms.push_back(d.time_ms);
     busy_ms.push_back(d.busy_ms);
@@ -65,6 +92,8 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
           {"pixels", pixels},
           {"imbalance", rec.imbalance},
           {"deviation", rec.deviation},
+          {"leaf_device_ms", leaf_ms},
+          {"leaf_deviation", leaf_deviation},
           {"plan_ms", rec.plan_ms},
           {"gather_ms", rec.gather_ms},
           {"update_ms", rec.update_ms},

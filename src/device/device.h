@@ -89,6 +89,9 @@ struct DeviceReport {
   bool alive = true;         // false once the device failed and was dropped
   double work_share = 0;     // fraction of the frame's samples this device rendered
   double planned_share = 0;  // the share the balancer intended
+  // A worker rank (device/remote): each of its own devices' time in this frame, measured
+  // there (Harada's deviation is over these); empty for a device that is not a rank.
+  std::vector<double> local_ms;
 
   // Adds one finished item.
   void add(const ItemReport& r, uint64_t rays_of_item);

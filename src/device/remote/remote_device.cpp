@@ -151,6 +151,7 @@ DeviceReport RemoteDevice::render(const FrameJob& job, WorkSource& source, int i
     }
   }
   report.time_ms = clock.elapsed_ms();
+  for (const LocalDeviceTime& t : local_times_) report.local_ms.push_back(t.time_ms);
   return report;
 }
 
