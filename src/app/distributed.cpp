@@ -45,8 +45,9 @@ void add_distributed_options(CLI::App& cmd, DistributedOptions& o) {
                  "up on and its work re-assigned")
       ->capture_default_str();
   cmd.add_option("--depth", o.depth,
-                 "Items pulled on demand that a worker holds at once (2: it renders one while "
-                 "the previous one's pixels travel)")
+                 "Items pulled on demand that a worker holds at once: N in 1..64 (2: it renders "
+                 "one while the previous one's pixels travel, as Seo et al.), or auto: from 2, "
+                 "deeper while the worker measured itself waiting for items")
       ->capture_default_str();
 }
 
@@ -65,6 +66,16 @@ std::pair<int, std::string> parse_rank_devices(const std::string& text) {
   return {std::stoi(r), text.substr(eq + 1)};
 }
 
+// --depth: "auto" (2, adapting) or a whole number in 1..64.
+int parse_depth(const std::string& text) {
+  if (text == "auto") return 2;
+  if (text.empty() || text.size() > 2 ||
+      text.find_first_not_of("0123456789") != std::string::npos || std::stoi(text) < 1 ||
+      std::stoi(text) > 64)
+    throw InputError("--depth '" + text + "' must be auto or a whole number in 1..64");
+  return std::stoi(text);
+}
+
 }  // namespace
 
 std::string Cluster::devices_of_this_rank(const std::string& all) const {
@@ -81,7 +92,7 @@ std::string Cluster::devices_of_this_rank(const std::string& all) const {
 Cluster::Cluster(const DistributedOptions& o) : options_(o), link_(remote::parse_link(o.link)) {
   if (!(o.worker_timeout_s >= 0.5 && o.worker_timeout_s <= 86400))
     throw InputError("--worker-timeout must be in [0.5, 86400] seconds");
-  if (o.depth < 1 || o.depth > 64) throw InputError("--depth must be in 1..64");
+  parse_depth(o.depth);
   for (const std::string& entry : o.rank_devices) parse_rank_devices(entry);
   transport_ = std::make_shared<remote::Transport>(link_);
   if (size() < 2)
@@ -141,7 +152,8 @@ std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {
   std::vector<std::unique_ptr<Device>> devices;
   remote::RemoteOptions ro;
   ro.timeout = timeout;
-  ro.depth = options_.depth;
+  ro.depth = parse_depth(options_.depth);
+  ro.auto_depth = options_.depth == "auto";
   for (int r = 1; r < size(); ++r)
     devices.push_back(
         std::make_unique<remote::RemoteDevice>(*transport_, r, *hellos[size_t(r)], ro));

@@ -29,7 +29,7 @@ struct DistributedOptions {
   bool same_direction = false;  // workers split their part along the master's axis
   std::string link = "none";
   double worker_timeout_s = 10;
-  int depth = 2;
+  std::string depth = "auto";  // auto (adapts, from 2) or a fixed depth
 };
 
 void add_distributed_options(CLI::App& cmd, DistributedOptions& o);

@@ -62,6 +62,8 @@ void RankWorker::start_frame(const FrameMessage& m) {
   for (size_t i = 0; i < views_.size(); ++i)
     views_[i].spp_map = spp_maps_[i].empty() ? nullptr : &spp_maps_[i];
   times_.assign(local_.size(), LocalDeviceTime{});
+  idle_ms_ = 0;
+  idle_since_.reset();
 }
 
 void RankWorker::fail(const std::string& why) {
@@ -96,7 +98,11 @@ ItemResult RankWorker::render_item(uint32_t id, const WorkItem& item) {
 
 void RankWorker::render_work(const WorkMessage& m) {
   if (m.epoch != epoch_ || failed_) return;  // a frame given up on, or already failed
-  ResultMessage batch{epoch_, {}, {}};
+  if (idle_since_)
+    idle_ms_ +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - *idle_since_)
+            .count();
+  ResultMessage batch{epoch_, {}, {}, 0};
   for (size_t i = 0; i < m.items.size(); ++i) {
     ItemResult r;
     try {
@@ -107,13 +113,15 @@ void RankWorker::render_work(const WorkMessage& m) {
     if (m.batched) {
       batch.items.push_back(std::move(r));
     } else {
-      ResultMessage one{epoch_, {}, times_};
+      if (i + 1 == m.items.size()) idle_since_ = std::chrono::steady_clock::now();
+      ResultMessage one{epoch_, {}, times_, idle_ms_};
       one.items.push_back(std::move(r));
       transport_.send(0, kResult, encode(one));
     }
   }
   if (m.batched) {
     batch.local = times_;
+    batch.idle_ms = idle_ms_;
     transport_.send(0, kResult, encode(batch));
   }
 }

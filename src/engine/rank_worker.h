@@ -11,7 +11,9 @@
 // (Seo et al. 2022, strategy II).
 #pragma once
 
+#include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,7 +59,10 @@ class RankWorker {
   std::vector<remote::LocalDeviceTime> times_;  // per local device, this frame so far
   uint32_t epoch_ = 0;
   bool failed_ = false;  // this frame: every local device failed
-  int passes_ = 0;       // local engine frames so far (the local balancer's frame count)
+  // Waiting for the next item after finishing one, this frame (ms), and since when.
+  double idle_ms_ = 0;
+  std::optional<std::chrono::steady_clock::time_point> idle_since_;
+  int passes_ = 0;  // local engine frames so far (the local balancer's frame count)
 };
 
 }  // namespace multiray

@@ -145,6 +145,7 @@ std::vector<uint8_t> encode(const ResultMessage& m) {
     w.put_array(it.pixels);
   }
   w.put_array(m.local);
+  w.put(m.idle_ms);
   return w.take();
 }
 
@@ -163,6 +164,8 @@ ResultMessage decode_result(const std::vector<uint8_t>& bytes) {
     m.items.push_back(std::move(it));
   }
   m.local = r.get_array<LocalDeviceTime>();
+  m.idle_ms = r.get<double>();
+  if (!(m.idle_ms >= 0)) throw WireError("idle time out of range");
   return m;
 }
 

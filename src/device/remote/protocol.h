@@ -61,6 +61,9 @@ struct ResultMessage {
   uint32_t epoch = 0;
   std::vector<ItemResult> items;
   std::vector<LocalDeviceTime> local;  // per local device, the frame so far
+  // The frame so far: ms the worker waited for its next item after finishing one (work
+  // in transit: the pipeline of items on demand was too shallow).
+  double idle_ms = 0;
 };
 
 struct FailureMessage {

@@ -33,6 +33,16 @@ DeviceCapabilities common_caps(const std::vector<DeviceInfo>& devices) {
 
 }  // namespace
 
+int next_depth(int depth, double idle_ms, double frame_ms) {
+  if (!(frame_ms > 0)) return depth;
+  const double idle = idle_ms / frame_ms;
+  if (idle > 0.03)
+    depth += std::max(1, depth / 2);
+  else if (idle < 0.005)
+    depth -= 1;
+  return std::clamp(depth, 2, 32);
+}
+
 RemoteDevice::RemoteDevice(Transport& transport, int rank, const HelloMessage& hello,
                            RemoteOptions options)
     : transport_(transport), rank_(rank), options_(options), local_(hello.devices) {
@@ -89,6 +99,7 @@ size_t RemoteDevice::take_results(const Message& m, const FrameJob& job, DeviceR
     report.add(it.report, it.rays);
   }
   if (!r.local.empty()) local_times_ = r.local;
+  idle_ms_ = std::max(idle_ms_, r.idle_ms);
   return r.items.size();
 }
 
@@ -105,6 +116,8 @@ DeviceReport RemoteDevice::render(const FrameJob& job, WorkSource& source, int i
   Stopwatch clock;
   ++epoch_;
   local_times_.clear();
+  idle_ms_ = 0;
+  bool pulled = false;  // items on demand this frame
   transport_.send(rank_, kFrame, encode(frame_message(job)));
 
   size_t owed = 0;  // items sent whose results have not come back
@@ -122,7 +135,7 @@ DeviceReport RemoteDevice::render(const FrameJob& job, WorkSource& source, int i
         exhausted = true;
       } else {
         ship(job, source, ids, false);
-        owed += ids.size(), ++units;
+        owed += ids.size(), ++units, pulled = true;
       }
     }
     if (owed == 0) break;
@@ -151,6 +164,8 @@ DeviceReport RemoteDevice::render(const FrameJob& job, WorkSource& source, int i
     }
   }
   report.time_ms = clock.elapsed_ms();
+  if (options_.auto_depth && pulled)
+    options_.depth = next_depth(options_.depth, idle_ms_, report.time_ms);
   for (const LocalDeviceTime& t : local_times_) report.local_ms.push_back(t.time_ms);
   return report;
 }

@@ -8,7 +8,11 @@
 //    back in one message at its end ("batched": one exchange per frame);
 //  - items pulled on demand (the shared queue: Seo's strategy I) are kept `depth` deep at
 //    the worker, so the worker renders the next item while the last one's pixels travel
-//    (the overlap the paper gets from a sender thread).
+//    (the overlap the paper gets from a sender thread: depth 2). With `auto` depth the
+//    depth adapts from frame to frame to what the worker measured: it grows while the
+//    worker waited for items (more than 3% of its frame), and shrinks while it never did
+//    (under 0.5%), so a link's round trip stays hidden without holding more items than
+//    needed at the end of a frame.
 //
 // Time is measured by the master from the start of the frame to the last result (the time
 // the master waits for this worker, link included); each item's busy time is measured on
@@ -29,7 +33,13 @@ namespace multiray::remote {
 struct RemoteOptions {
   std::chrono::milliseconds timeout{10000};  // silence after which a worker is given up on
   int depth = 2;                             // items on demand kept at the worker, >= 1
+  bool auto_depth = true;                    // adapt depth (starting from `depth`)
 };
+
+// The depth of the next frame from this frame's: the worker waited `idle_ms` for items
+// on demand during `frame_ms`. Grows by half while idle > 3%, shrinks by one while idle <
+// 0.5%, stays in [2, 32].
+int next_depth(int depth, double idle_ms, double frame_ms);
 
 class RemoteDevice : public Device {
  public:
@@ -46,6 +56,7 @@ class RemoteDevice : public Device {
   // Per local device, its time in the last frame (Harada's deviation over every device).
   const std::vector<LocalDeviceTime>& last_local_times() const { return local_times_; }
   bool given_up() const { return given_up_; }
+  int depth() const { return options_.depth; }
 
  private:
   // Sends `ids` as one Work message; returns how many results it owes (items).
@@ -61,6 +72,7 @@ class RemoteDevice : public Device {
   DeviceInfo info_;
   std::vector<DeviceInfo> local_;
   std::vector<LocalDeviceTime> local_times_;
+  double idle_ms_ = 0;  // the worker's wait for items this frame
   uint32_t epoch_ = 0;
   bool given_up_ = false;
 };

@@ -91,7 +91,8 @@ class Transport {
   LinkModel link_;
   std::atomic<int64_t> heartbeat_ms_{0};
   mutable std::mutex mutex_;
-  std::condition_variable arrived_;
+  std::condition_variable arrived_;  // a message reached the inbox
+  std::condition_variable wake_;     // a message was queued to send
   std::deque<Outgoing> outbox_;
   std::vector<Delayed> delayed_;  // received, not yet delivered by the emulated link
   std::deque<Message> inbox_;
