@@ -31,7 +31,9 @@ Plan SemiStaticBalancer::plan(const FrameShape& shape, int /*frame*/) {
         flat_row_weights(WeightMap(shape.width, shape.height, shape.views, shape.pixel_weight));
   } else {
     row_weight.assign(size_t(shape.views) * size_t(shape.height), double(shape.width));
-    if (density_shape_.same_size(shape))
+    // Samples per pixel of each row stay meaningful when only the width changed: the
+    // columns of a band whose height the level above changes (Harada's second level).
+    if (density_shape_.views == shape.views && density_shape_.height == shape.height)
       for (size_t c = 0; c < row_weight.size(); ++c) row_weight[c] *= density_[c];
   }
   Plan plan;

@@ -115,11 +115,18 @@ class Device {
 // keeps the scheduler's wake-up overshoot from adding up over many small items, which
 // would otherwise penalise balancers that hand out many items. Emulation only: real
 // slowness comes from quotas. Create one per frame, when the device starts it.
+//
+// "Busy" is the item's wall time, or, when the device can give it, the CPU time its one
+// thread spent on it: then time the thread was preempted by other processes is not
+// multiplied by 1/speed (at speed 0.1 a 10-ms preemption would otherwise cost 100 ms),
+// so many emulated devices sharing a few cores keep their speeds.
 class SlowdownEmulator {
  public:
   explicit SlowdownEmulator(double speed);
   // Call after each item with its busy (rendering) time.
   void after_unit(double busy_ms);
+  // The CPU time (ms) the calling thread has used so far (CLOCK_THREAD_CPUTIME_ID).
+  static double thread_cpu_ms();
 
  private:
   double speed_;

@@ -1,3 +1,5 @@
+#include <time.h>
+
 #include <thread>
 
 #include "device/device.h"
@@ -15,6 +17,12 @@ void SlowdownEmulator::after_unit(double busy_ms) {
       start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                    std::chrono::duration<double, std::milli>(busy_total_ms_ / speed_));
   std::this_thread::sleep_until(deadline);
+}
+
+double SlowdownEmulator::thread_cpu_ms() {
+  timespec t{};
+  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t) != 0) return 0;
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
 }
 
 }  // namespace multiray

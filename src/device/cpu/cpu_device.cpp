@@ -159,6 +159,10 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
                                  " items (fail_after, a testing aid)");
       ++impl_->items_done;
       const Stopwatch item_clock;
+      // With one thread the arena runs the item on this thread: its CPU time is the
+      // device's own work (see SlowdownEmulator).
+      const bool one_thread = impl_->opts.threads == 1;
+      const double cpu_start = one_thread ? SlowdownEmulator::thread_cpu_ms() : 0;
       const WorkItem& item = source.item(id);
       const ViewSetup& view = job.views.at(size_t(item.view));
       Framebuffer& out = job.outputs->at(size_t(item.view));
@@ -176,7 +180,7 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
             });
       });
       const double busy = item_clock.elapsed_ms();
-      slowdown.after_unit(busy);
+      slowdown.after_unit(one_thread ? SlowdownEmulator::thread_cpu_ms() - cpu_start : busy);
       report.add(ItemReport{item, item_clock.elapsed_ms(), double(samples.load()), busy, id},
                  rays);
     }
