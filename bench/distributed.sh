@@ -96,3 +96,16 @@ for pair in "semi-static semi-static" "semi-static hybrid" "hybrid hybrid"; do
     "$(mean deviation 5 19 < "$dir/stats.json")" "$(mean frame_ms 5 19 < "$dir/stats.json")" \
     | tee -a "$out/harada.txt"
 done
+
+echo "== E. a worker slowing down mid-run: 3 workers at emulated speed 0.5, worker 2 to 0.15 from frame 8" \
+  | tee "$out/slow_worker.txt"
+for balancer in semi-static hybrid queue:tile=32; do
+  dir="$out/slow"
+  $mpirun -np 4 "$bin" render --distributed --res 512x512 --spp 1 --bounces 3 --frames 20 \
+    --devices cpu:threads=1:speed=0.5 --perturb 8:1:0.15 --balancer "$balancer" \
+    -q --out "$dir" --overwrite 2> /dev/null
+  printf "%-16s frame ms 4..7 %9s, 8..9 %9s, 12..19 %9s; imbalance 12..19 %s\n" "$balancer" \
+    "$(mean frame_ms 4 7 < "$dir/stats.json")" "$(mean frame_ms 8 9 < "$dir/stats.json")" \
+    "$(mean frame_ms 12 19 < "$dir/stats.json")" "$(mean imbalance 12 19 < "$dir/stats.json")" \
+    | tee -a "$out/slow_worker.txt"
+done

@@ -1,6 +1,7 @@
 #include "app/distributed.h"
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 
@@ -161,6 +162,11 @@ std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {
 }
 
 int serve_as_worker(Setup& s) {
+  // mpirun forwards Ctrl-C and SIGTERM to every rank. The master finishes its frame and
+  // writes its outputs (app/interrupt.h), which needs the workers' results: they carry on
+  // until the master tells them to quit.
+  std::signal(SIGINT, SIG_IGN);
+  std::signal(SIGTERM, SIG_IGN);
   RankWorkerOptions wo;
   wo.balancer = s.cluster->options().rank_balancer;
   wo.transposed = !s.cluster->options().same_direction;
