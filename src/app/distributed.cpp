@@ -12,7 +12,9 @@
 #ifdef MULTIRAY_HAS_MPI
 #include "device/remote/protocol.h"
 #include "device/remote/remote_device.h"
+#include "device/remote/scene_codec.h"
 #include "device/remote/transport.h"
+#include "device/remote/wire.h"
 #include "engine/rank_worker.h"
 #endif
 #include "app/options.h"
@@ -40,6 +42,11 @@ void add_distributed_options(CLI::App& cmd, DistributedOptions& o) {
                  "none, lan (0.1 ms, 10 Gbit/s), wifi (5 ms, 200 Mbit/s, a mobile cluster), "
                  "or LATENCY_MS,MBIT[,separate]; the master's link is shared by all workers "
                  "unless 'separate'")
+      ->capture_default_str();
+  cmd.add_option("--scene-from", o.scene_from,
+                 "Where workers get the scene: shared (each loads the same path: a shared "
+                 "folder or a copy on every machine) or master (the master sends the scene it "
+                 "loaded, lighting included; up to 2 GiB)")
       ->capture_default_str();
   cmd.add_option("--worker-timeout", o.worker_timeout_s,
                  "Seconds of silence (no result, no heartbeat) after which a worker is given "
@@ -94,6 +101,8 @@ Cluster::Cluster(const DistributedOptions& o) : options_(o), link_(remote::parse
   if (!(o.worker_timeout_s >= 0.5 && o.worker_timeout_s <= 86400))
     throw InputError("--worker-timeout must be in [0.5, 86400] seconds");
   parse_depth(o.depth);
+  if (o.scene_from != "shared" && o.scene_from != "master")
+    throw InputError("--scene-from '" + o.scene_from + "' must be shared or master");
   for (const std::string& entry : o.rank_devices) parse_rank_devices(entry);
   transport_ = std::make_shared<remote::Transport>(link_);
   if (size() < 2)
@@ -109,11 +118,32 @@ Cluster::Cluster(const DistributedOptions& o) : options_(o), link_(remote::parse
 
 Cluster::~Cluster() {
   if (!transport_ || !master()) return;
-  for (int r = 1; r < size(); ++r) transport_->send(r, remote::kQuit, {});
+  for (int r = 1; r < size(); ++r) transport_->send(r, remote::kQuit, std::vector<uint8_t>{});
 }
 
 int Cluster::rank() const { return transport_->rank(); }
 int Cluster::size() const { return transport_->size(); }
+
+void Cluster::send_scene(const Scene& scene) {
+  const auto bytes = std::make_shared<const std::vector<uint8_t>>(remote::encode_scene(scene));
+  for (int r = 1; r < size(); ++r) transport_->send(r, remote::kScene, bytes);
+}
+
+Scene Cluster::receive_scene() {
+  for (;;) {
+    std::optional<remote::Message> m =
+        transport_->receive(0, remote::Transport::Clock::now() + std::chrono::seconds(1));
+    if (!m) continue;
+    if (m->tag == remote::kQuit) throw QuietExit{2};  // the master could not start
+    if (m->tag == remote::kScene) {
+      try {
+        return remote::decode_scene(m->bytes);
+      } catch (const remote::WireError& e) {
+        throw InputError(std::string("the scene from the master: ") + e.what());
+      }
+    }
+  }
+}
 
 void Cluster::say_hello(const std::vector<std::unique_ptr<Device>>& devices) {
   remote::HelloMessage h;
@@ -126,6 +156,11 @@ void Cluster::say_cannot_start(const std::string& why) {
   h.ok = false;
   h.error = why;
   transport_->send(0, remote::kHello, remote::encode(h));
+  // mpirun ends the whole job as soon as one rank exits with an error, which could cut the
+  // master off before it printed why: wait until the master says quit (it does once it has).
+  const auto until = remote::Transport::Clock::now() + std::chrono::seconds(30);
+  while (remote::Transport::Clock::now() < until)
+    if (auto m = transport_->receive(0, until); m && m->tag == remote::kQuit) return;
 }
 
 std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {
@@ -195,6 +230,8 @@ int Cluster::size() const { return 1; }
 void Cluster::say_hello(const std::vector<std::unique_ptr<Device>>&) {}
 void Cluster::say_cannot_start(const std::string&) {}
 std::vector<std::unique_ptr<Device>> Cluster::connect_workers() { return {}; }
+void Cluster::send_scene(const Scene&) {}
+Scene Cluster::receive_scene() { return {}; }
 
 #endif
 

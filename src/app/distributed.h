@@ -14,6 +14,7 @@
 
 #include "device/device.h"
 #include "device/remote/link.h"
+#include "scene/scene.h"
 
 namespace multiray::remote {
 class Transport;
@@ -29,7 +30,8 @@ struct DistributedOptions {
   bool same_direction = false;  // workers split their part along the master's axis
   std::string link = "none";
   double worker_timeout_s = 10;
-  std::string depth = "auto";  // auto (adapts, from 2) or a fixed depth
+  std::string depth = "auto";         // auto (adapts, from 2) or a fixed depth
+  std::string scene_from = "shared";  // shared: every rank loads it; master: sent to workers
 };
 
 void add_distributed_options(CLI::App& cmd, DistributedOptions& o);
@@ -58,8 +60,13 @@ class Cluster {
   // The --devices of this rank: its --rank-devices entry, else `all`.
   std::string devices_of_this_rank(const std::string& all) const;
 
+  // --scene-from master. Master: sends the loaded scene (lighting applied) to every
+  // worker. Worker: waits for it; throws QuietExit when the master quits first.
+  void send_scene(const Scene& scene);
+  Scene receive_scene();
   // Worker: tells the master it is ready with `devices`, or why it cannot start.
   void say_hello(const std::vector<std::unique_ptr<Device>>& devices);
+  // (This one returns once the master said quit, at most 30 s later.)
   void say_cannot_start(const std::string& why);
   // Master: waits for every worker's hello and returns one device per worker. Throws
   // InputError naming the first worker that cannot start, DeviceError for a silent one.

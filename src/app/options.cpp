@@ -349,13 +349,19 @@ void fill_setup(Setup& s, const CommonOptions& o, int lanes,
   if (before_load) before_load();
   LoadOptions load;
   load.allow_outside = o.allow_outside_paths;
-  s.scene = std::make_unique<Scene>(
-      o.scene_path.empty() ? make_cornell_box()
-      : volume_input       ? load_volume_scene(o.scene_path, o.volume, o.allow_outside_paths,
-                                               uint64_t(std::max(limit - need.frame_bytes, 0.0)))
-                           : load_scene(o.scene_path, load));
-  s.scene->up = s.up;
-  apply_lighting({o.env, o.env_scale, o.sun}, volume_input, load, *s.scene, s.notes);
+  const bool sent = s.cluster && o.distributed.scene_from == "master";
+  if (sent && !s.cluster->master()) {
+    s.scene = std::make_unique<Scene>(s.cluster->receive_scene());
+  } else {
+    s.scene = std::make_unique<Scene>(
+        o.scene_path.empty() ? make_cornell_box()
+        : volume_input       ? load_volume_scene(o.scene_path, o.volume, o.allow_outside_paths,
+                                                 uint64_t(std::max(limit - need.frame_bytes, 0.0)))
+                             : load_scene(o.scene_path, load));
+    s.scene->up = s.up;
+    apply_lighting({o.env, o.env_scale, o.sun}, volume_input, load, *s.scene, s.notes);
+    if (sent) s.cluster->send_scene(*s.scene);
+  }
   if (sampling.mode == Sampling::Foveated)
     sampling.pattern = std::make_shared<const FoveationPattern>(
         make_foveation_pattern(s.res.width, s.res.height, o.foveation));

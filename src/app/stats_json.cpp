@@ -19,7 +19,8 @@ nlohmann::json distributed_to_json(const Setup& s) {
           {"link", s.cluster->link().describe()},
           {"link_emulated", s.cluster->link().active()},
           {"worker_timeout_s", o.worker_timeout_s},
-          {"depth", o.depth}};
+          {"depth", o.depth},
+          {"scene_from", o.scene_from}};
 }
 }  // namespace
 

@@ -152,4 +152,31 @@ TEST(Distributed, BadSetupsFailInOneLine) {
   EXPECT_THAT(r.out, ::testing::HasSubstr("foveated"));
 }
 
+// --scene-from master: the workers are given a scene path that does not exist (mpirun's
+// MPMD form gives ranks different command lines) and still render the master's scene
+// bit for bit; without it, the worker that cannot load says so through the master.
+TEST(Distributed, TheMasterSendsTheScene) {
+  // A glTF whose texture is a separate file: the texels must travel too.
+  const std::string scene =
+      std::string(MULTIRAY_ASSIMP_MODELS_DIR) + "/glTF2/BoxTextured-glTF/BoxTextured.gltf";
+  if (!std::filesystem::exists(scene)) GTEST_SKIP() << scene << " missing (assimp-testmodels)";
+  const std::string args = " --res 64x48 --spp 2 --bounces 3 -q --devices cpu:threads=1 ";
+  const std::string ref = out_dir("ref");
+  ASSERT_EQ(single("render " + scene + args + "--out " + ref).code, 0);
+  const auto mpmd = [&](const std::string& extra, const std::string& dir) {
+    return multiray::testing::run_cli(kMpirun + " -np 1 " + MULTIRAY_BIN,
+                                      "render " + scene + args + extra + " --distributed --out " +
+                                          dir + " : -np 2 " + MULTIRAY_BIN +
+                                          " render /nonexistent/scene.gltf" + args + extra +
+                                          " --distributed --out " + dir);
+  };
+  const std::string dir = out_dir("sent");
+  const CliResult sent = mpmd("--scene-from master", dir);
+  ASSERT_EQ(sent.code, 0) << sent.out;
+  EXPECT_EQ(hashes(dir), hashes(ref));
+  const CliResult shared = mpmd("", out_dir("shared"));
+  EXPECT_EQ(shared.code, 2) << shared.out;
+  EXPECT_THAT(shared.out, ::testing::HasSubstr("rank 1: /nonexistent/scene.gltf"));
+}
+
 }  // namespace

@@ -8,7 +8,8 @@
 //                                            or one per Work message when `batched`
 //   (more Work as the master pulls items for it; the frame ends when nothing is owed)
 //
-// Hello (worker → master, once, before any frame) says what the worker offers or why it
+// Scene (master → worker, first, only with --scene-from master: scene_codec.h) carries
+// the scene. Hello (worker → master, once, before any frame) says what the worker offers or why it
 // could not start; Speed sets the emulated speed of its devices (--perturb); Quit ends it.
 // `epoch` numbers the master's requests to that worker, so results of a frame the master
 // gave up on are recognised and dropped. (Heartbeats belong to the transport.)
@@ -22,7 +23,7 @@
 
 namespace multiray::remote {
 
-enum Tag : int { kHello = 1, kFrame, kWork, kResult, kFailure, kSpeed, kQuit };
+enum Tag : int { kHello = 1, kFrame, kWork, kResult, kFailure, kSpeed, kQuit, kScene };
 
 struct HelloMessage {
   bool ok = true;

@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <limits>
 
 #include "core/error.h"
 
@@ -11,7 +12,7 @@ namespace multiray::remote {
 struct Transport::InFlight {
   MPI_Request request = MPI_REQUEST_NULL;
   int to = 0;
-  std::vector<uint8_t> bytes;
+  std::shared_ptr<const std::vector<uint8_t>> bytes;  // kept until the send completes
 };
 
 namespace {
@@ -54,10 +55,17 @@ Transport::~Transport() {
 }
 
 void Transport::send(int to, int tag, std::vector<uint8_t> bytes) {
+  send(to, tag, std::make_shared<const std::vector<uint8_t>>(std::move(bytes)));
+}
+
+void Transport::send(int to, int tag, std::shared_ptr<const std::vector<uint8_t>> bytes) {
+  if (bytes->size() > size_t(std::numeric_limits<int>::max()))
+    throw DeviceError("a message of " + std::to_string(bytes->size() >> 20) +
+                      " MiB is more than MPI sends at once (2 GiB)");
   std::lock_guard<std::mutex> lock(mutex_);
   const Clock::time_point now = Clock::now();
   const Clock::time_point release =
-      rank_ == 0 && to > 0 ? link_.deliver_at(to - 1, bytes.size(), now) : now;
+      rank_ == 0 && to > 0 ? link_.deliver_at(to - 1, bytes->size(), now) : now;
   outbox_.push_back(Outgoing{release, to, tag, std::move(bytes)});
   wake_.notify_one();
 }
@@ -153,11 +161,11 @@ bool Transport::pump() {
     auto f = std::make_unique<InFlight>();
     f->to = o.to;
     f->bytes = std::move(o.bytes);
-    MPI_Isend(f->bytes.data(), int(f->bytes.size()), MPI_BYTE, o.to, o.tag, MPI_COMM_WORLD,
+    MPI_Isend(f->bytes->data(), int(f->bytes->size()), MPI_BYTE, o.to, o.tag, MPI_COMM_WORLD,
               &f->request);
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      stats_.messages_sent++, stats_.bytes_sent += f->bytes.size();
+      stats_.messages_sent++, stats_.bytes_sent += f->bytes->size();
     }
     in_flight_.push_back(std::move(f));
     moved = true;

@@ -56,8 +56,11 @@ class Transport {
   int size() const { return size_; }
   const LinkSpec& link() const { return link_.spec(); }
 
-  // Queues `bytes` for rank `to`; returns at once.
+  // Queues `bytes` for rank `to`; returns at once. Throws DeviceError for a message of
+  // 2 GiB or more (an MPI count is an int).
   void send(int to, int tag, std::vector<uint8_t> bytes);
+  // The same bytes to several ranks without a copy each (a scene to every worker).
+  void send(int to, int tag, std::shared_ptr<const std::vector<uint8_t>> bytes);
   // The oldest message from `from` (-1: anyone), waiting until `deadline`; nullopt when
   // none arrived in time (or the transport is stopping).
   std::optional<Message> receive(int from, Clock::time_point deadline);
@@ -75,7 +78,7 @@ class Transport {
   struct Outgoing {
     Clock::time_point release;
     int to, tag;
-    std::vector<uint8_t> bytes;
+    std::shared_ptr<const std::vector<uint8_t>> bytes;
   };
   struct Delayed {
     Clock::time_point deliver;
