@@ -24,7 +24,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 preset=fuzz
 [ "$mode" = smoke ] && preset=fuzz-smoke
 build="$root/build-$preset"
-targets=${FUZZ_TARGETS:-"ply obj gltf glb camera_json camera_render trace cli volume transfer"}
+targets=${FUZZ_TARGETS:-"ply obj gltf glb camera_json camera_render trace cli volume transfer messages"}
 crashes=${FUZZ_CRASH_DIR:-"$root/fuzz/crashes"}
 case "$mode" in
   smoke) seconds=${FUZZ_SMOKE_SECONDS:-5} ;;
