@@ -101,3 +101,32 @@ if(_multiray_mpi_mode STREQUAL "AUTO" OR _multiray_mpi_mode STREQUAL "ON")
 elseif(NOT _multiray_mpi_mode STREQUAL "OFF")
   message(FATAL_ERROR "MULTIRAY_WITH_MPI must be AUTO, ON or OFF, not '${MULTIRAY_WITH_MPI}'")
 endif()
+
+# The live viewer (`multiray view`, src/app/viewer): an HTTP + WebSocket server from
+# Debian's civetweb. MULTIRAY_WITH_VIEWER: AUTO (default) build it when civetweb is found,
+# else warn; ON strict; OFF never. Sets MULTIRAY_VIEWER_ENABLED for src/app.
+set(MULTIRAY_WITH_VIEWER AUTO CACHE STRING "Build the live viewer (civetweb): AUTO, ON or OFF")
+set_property(CACHE MULTIRAY_WITH_VIEWER PROPERTY STRINGS AUTO ON OFF)
+string(TOUPPER "${MULTIRAY_WITH_VIEWER}" _multiray_viewer_mode)
+set(MULTIRAY_VIEWER_ENABLED OFF)
+if(_multiray_viewer_mode STREQUAL "AUTO" OR _multiray_viewer_mode STREQUAL "ON")
+  # Not find_package(civetweb): Debian's config file also imports the `civetweb` server
+  # program and fails the configure when that package is not installed.
+  find_path(CIVETWEB_INCLUDE_DIR civetweb.h)
+  find_library(CIVETWEB_LIBRARY civetweb)
+  if(CIVETWEB_INCLUDE_DIR AND CIVETWEB_LIBRARY AND NOT TARGET multiray_civetweb)
+    add_library(multiray_civetweb UNKNOWN IMPORTED)
+    set_target_properties(multiray_civetweb PROPERTIES IMPORTED_LOCATION "${CIVETWEB_LIBRARY}"
+                          INTERFACE_INCLUDE_DIRECTORIES "${CIVETWEB_INCLUDE_DIR}")
+  endif()
+  if(TARGET multiray_civetweb)
+    set(MULTIRAY_VIEWER_ENABLED ON)
+    message(STATUS "multiray: live viewer enabled (civetweb)")
+  elseif(_multiray_viewer_mode STREQUAL "ON")
+    message(FATAL_ERROR "MULTIRAY_WITH_VIEWER=ON but civetweb was not found (libcivetweb-dev)")
+  else()
+    message(WARNING "multiray: civetweb not found (libcivetweb-dev): `multiray view` disabled")
+  endif()
+elseif(NOT _multiray_viewer_mode STREQUAL "OFF")
+  message(FATAL_ERROR "MULTIRAY_WITH_VIEWER must be AUTO, ON or OFF, not '${MULTIRAY_WITH_VIEWER}'")
+endif()

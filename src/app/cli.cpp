@@ -31,6 +31,7 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
   Runner bench = add_bench_command(app);
   Runner devices = add_devices_command(app);
   Runner simulate = add_simulate_command(app);
+  Runner view = add_view_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -49,6 +50,7 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
     if (app.got_subcommand("bench")) return bench();
     if (app.got_subcommand("devices")) return devices();
     if (app.got_subcommand("simulate")) return simulate();
+    if (app.got_subcommand("view")) return view();
   } catch (const QuietExit& e) {  // a worker rank; the master said why
     return e.code;
   } catch (const InputError& e) {

@@ -22,6 +22,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
 Runner add_bench_command(CLI::App& app);
 Runner add_devices_command(CLI::App& app);
 Runner add_simulate_command(CLI::App& app);
+Runner add_view_command(CLI::App& app);
 
 // True when stderr is a terminal (progress lines are drawn only then).
 bool stderr_is_tty();

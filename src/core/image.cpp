@@ -84,6 +84,17 @@ void write_png_rgb8(const std::string& path, int width, int height,
   write_file_atomically(path, png);
 }
 
+std::string encode_jpeg(int width, int height, const std::vector<uint8_t>& rgb, int quality) {
+  std::string jpeg;
+  auto append = [](void* out, void* data, int size) {
+    static_cast<std::string*>(out)->append(static_cast<const char*>(data), size_t(size));
+  };
+  if (rgb.size() != size_t(width) * size_t(height) * 3 ||
+      !stbi_write_jpg_to_func(append, &jpeg, width, height, 3, rgb.data(), quality))
+    throw InputError("cannot encode a JPEG image");
+  return jpeg;
+}
+
 void write_png(const std::string& path, const Framebuffer& fb, const Display& d) {
   write_png_rgb8(path, fb.width, fb.height, to_srgb8(fb, d));
 }

@@ -55,6 +55,8 @@ Framebuffer make_quilt(const std::vector<Framebuffer>& views, int columns);
 void write_png(const std::string& path, const Framebuffer& fb, const Display& d = {});
 void write_png_rgb8(const std::string& path, int width, int height,
                     const std::vector<uint8_t>& rgb);
+// JPEG bytes of 8-bit RGB pixels at `quality` in [1, 100] (for streaming to a viewer).
+std::string encode_jpeg(int width, int height, const std::vector<uint8_t>& rgb, int quality);
 void write_exr(const std::string& path, const Framebuffer& fb);
 
 }  // namespace multiray

@@ -73,6 +73,13 @@ Engine::Engine(std::vector<Device*> devices, std::unique_ptr<balance::Balancer> 
   if (devices_.empty()) throw InputError("no devices to render with");
 }
 
+void Engine::set_balancer(std::unique_ptr<balance::Balancer> balancer) {
+  if (!balancer) throw InputError("no balancer");
+  balancer_ = std::move(balancer);
+  for (size_t i = 0; i < alive_.size(); ++i)
+    if (!alive_[i]) balancer_->drop_device(int(i));
+}
+
 void Engine::apply_perturbations(int frame) {
   for (const Perturbation& p : perturbations_)
     if (p.frame == frame && p.device >= 0 && size_t(p.device) < devices_.size())

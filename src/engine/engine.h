@@ -52,6 +52,9 @@ class Engine {
   // What the balancer was told about the last frame (per-item times included).
   const balance::FrameStats& last_stats() const { return stats_; }
   balance::Balancer& balancer() { return *balancer_; }
+  // Replaces the balancer for the following frames (e.g. switched from a live viewer);
+  // devices that died stay dropped. Call between frames only.
+  void set_balancer(std::unique_ptr<balance::Balancer> balancer);
   void set_perturbations(std::vector<Perturbation> p) { perturbations_ = std::move(p); }
   // Predictions and frame-time targeting for the following frames (frame_advisor.h), or
   // null for none. The balancer then plans each frame at the advised image scale and must

@@ -1,0 +1,81 @@
+// `multiray view`: render continuously and watch (and steer) it in a browser
+// (app/viewer/live_view.h). Without civetweb the command says so in one line.
+#include <fmt/core.h>
+
+#include "app/commands.h"
+#include "app/interrupt.h"
+#include "core/error.h"
+
+#ifdef MULTIRAY_HAS_VIEWER
+#include "app/viewer/live_view.h"
+#endif
+
+namespace multiray::app {
+
+Runner add_view_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "view",
+      "Render continuously and watch it in a web browser: orbit, pan and zoom with the "
+      "mouse, switch the balancer, see which device drew what and how long each took");
+  auto o = std::make_shared<CommonOptions>();
+  add_common_options(*cmd, *o);
+  auto balancer = std::make_shared<std::string>("hybrid");
+  auto bind = std::make_shared<std::string>("127.0.0.1");
+  auto port = std::make_shared<int>(8080);
+  auto max_frames = std::make_shared<int>(0);
+  auto exposure = std::make_shared<double>(0.0);
+  auto tone = std::make_shared<std::string>("auto");
+  cmd->add_option("--balancer", *balancer, "The balancer to start with (switchable in the page)")
+      ->capture_default_str();
+  cmd->add_option("--port", *port, "TCP port of the page (0: any free port, printed)")
+      ->capture_default_str();
+  cmd->add_option("--bind", *bind,
+                  "Address to listen on; the default serves this machine only. Anything else "
+                  "lets every machine that reaches it watch and steer the render")
+      ->capture_default_str();
+  cmd->add_option("--max-frames", *max_frames, "Stop after this many frames (0: at Ctrl-C)")
+      ->capture_default_str();
+  cmd->add_option("--exposure", *exposure, "Exposure of the streamed frames in stops, [-20, 20]")
+      ->capture_default_str();
+  cmd->add_option("--tone", *tone, "Tone curve of the streamed frames: filmic, clamp or auto")
+      ->capture_default_str();
+  return [=]() -> int {
+#ifndef MULTIRAY_HAS_VIEWER
+    throw InputError(
+        "view: this multiray was built without the viewer (install "
+        "libcivetweb-dev and build with MULTIRAY_WITH_VIEWER=AUTO or ON)");
+#else
+    if (*max_frames < 0 || *max_frames > 100000000)
+      throw InputError("--max-frames must be in 0..100000000 (0: until Ctrl-C)");
+    if (o->distributed.enabled) throw InputError("view: --distributed is not supported yet");
+    viewer::LiveViewOptions vo;
+    vo.bind = *bind;
+    vo.port = *port;
+    vo.display.exposure_ev = parse_exposure(*exposure);
+    vo.display.tone = parse_tone(*tone, is_volume_input(o->scene_path, o->volume));
+    Setup s = make_setup(*o, 1);
+    std::unique_ptr<Session> session = s.make_session({*balancer});
+    for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
+    std::vector<std::string> names;
+    for (const auto& d : s.devices) names.push_back(d->info().name);
+    viewer::LiveView view(*session, viewer::OrbitCamera(s.camera, s.up), names, vo);
+    if (*bind != "127.0.0.1" && *bind != "localhost" && *bind != "::1")
+      fmt::print(stderr,
+                 "multiray: warning: --bind {}: anyone who reaches it can steer this run\n",
+                 *bind);
+    fmt::print("multiray: viewer at http://{}:{}/  (Ctrl-C to stop)\n", *bind, view.port());
+    std::fflush(stdout);
+    int interrupted = 0;
+    {
+      InterruptWatch watch(*session);
+      const int count = *max_frames > 0 ? *max_frames : 1000000000;
+      session->run(0, count, view);
+      interrupted = watch.signal();
+    }
+    fmt::print("multiray: {} frames dropped for slow clients\n", view.frames_dropped());
+    return interrupted ? 128 + interrupted : 0;
+#endif
+  };
+}
+
+}  // namespace multiray::app

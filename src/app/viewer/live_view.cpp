@@ -1,0 +1,162 @@
+#include "app/viewer/live_view.h"
+
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "balance/balancer.h"
+#include "core/error.h"
+
+namespace multiray::app::viewer {
+
+namespace {
+std::string error_json(const std::string& message) {
+  return nlohmann::json{{"type", "error"}, {"message", message}}.dump();
+}
+}  // namespace
+
+LiveView::LiveView(Session& session, OrbitCamera camera, std::vector<std::string> device_names,
+                   LiveViewOptions options)
+    : session_(session),
+      device_names_(std::move(device_names)),
+      options_(std::move(options)),
+      camera_(std::move(camera)),
+      balancer_(session.engine(0).balancer().spec()) {
+  server_ = std::make_unique<WebServer>(
+      options_.bind, options_.port, viewer_page(),
+      [this](int client) { server_->send_text(client, hello()); },
+      [this](int client, const std::string& text) { handle(client, text); });
+  sender_ = std::thread([this] { send_loop(); });
+}
+
+LiveView::~LiveView() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  sender_.join();
+  server_.reset();
+}
+
+std::string LiveView::hello() const {
+  nlohmann::json devices = nlohmann::json::array();
+  for (const std::string& n : device_names_) devices.push_back(n);
+  return nlohmann::json{{"type", "hello"},
+                        {"balancers", balance::balancer_names()},
+                        {"devices", devices},
+                        {"views", session_.views().rig().view_count()}}
+      .dump();
+}
+
+void LiveView::handle(int client, const std::string& text) {
+  Command c;
+  try {
+    c = parse_command(text, int(session_.views().rig().view_count()));
+    if (c.kind == Command::Kind::Balancer)  // checked here, applied between frames
+      balance::make_balancer(c.spec, int(device_names_.size()));
+  } catch (const std::exception& e) {  // InputError, or a bad balancer spec
+    server_->send_text(client, error_json(e.what()));
+    return;
+  }
+  if (c.kind == Command::Kind::Balancer || c.kind == Command::Kind::View) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (c.kind == Command::Kind::Balancer)
+      balancer_request_ = c.spec;
+    else
+      view_ = c.view;
+    return;
+  }
+  std::lock_guard<std::mutex> lock(camera_mutex_);
+  if (c.kind == Command::Kind::Orbit)
+    camera_.orbit(c.x, c.y);
+  else if (c.kind == Command::Kind::Pan)
+    camera_.pan(c.x, c.y);
+  else if (c.kind == Command::Kind::Zoom)
+    camera_.zoom(c.x);
+  else
+    camera_.reset();
+  session_.set_camera(camera_.camera());
+}
+
+void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
+  std::string request;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (pending_) ++dropped_;
+    pending_ = result;
+    request.swap(balancer_request_);
+  }
+  wake_.notify_one();
+  if (!request.empty()) {  // between frames, on the session's thread
+    Engine& engine = session_.engine(result->lane);
+    engine.set_balancer(balance::make_balancer(request, int(engine.device_count())));
+    std::lock_guard<std::mutex> lock(mutex_);
+    balancer_ = engine.balancer().spec();
+  }
+}
+
+std::string LiveView::frame_json(const FrameResult& r, int view) const {
+  const FrameRecord& rec = r.record;
+  nlohmann::json devices = nlohmann::json::array(), items = nlohmann::json::array();
+  for (size_t d = 0; d < rec.devices.size(); ++d)
+    devices.push_back({{"name", d < device_names_.size() ? device_names_[d] : ""},
+                       {"time_ms", rec.devices[d].time_ms},
+                       {"share", rec.devices[d].work_share},
+                       {"alive", rec.devices[d].alive}});
+  // What each device rendered of the streamed view, in output pixels.
+  const double scale = rec.quality.image_scale > 0 ? 1.0 / rec.quality.image_scale : 1.0;
+  for (size_t d = 0; d < r.rendered.size(); ++d)
+    for (const balance::WorkItem& it : r.rendered[d])
+      if (it.view == view)
+        items.push_back({d, int(it.rect.x0 * scale), int(it.rect.y0 * scale),
+                         int(it.rect.x1 * scale), int(it.rect.y1 * scale)});
+  const Framebuffer& img = r.images.at(size_t(view));
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)image_hash(img));
+  return nlohmann::json{{"type", "frame"},
+                        {"frame", r.frame},
+                        {"view", view},
+                        {"width", img.width},
+                        {"height", img.height},
+                        {"image_hash", hash},
+                        {"frame_ms", rec.frame_ms},
+                        {"imbalance", rec.imbalance},
+                        {"balancer", balancer_},
+                        {"dropped", dropped_.load()},
+                        {"devices", devices},
+                        {"items", items}}
+      .dump();
+}
+
+void LiveView::send_loop() {
+  for (;;) {
+    std::shared_ptr<const FrameResult> frame;
+    int view = 0;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [&] { return stop_ || pending_; });
+      if (stop_) return;
+      frame.swap(pending_);
+      view = std::min(view_, int(frame->images.size()) - 1);
+    }
+    if (server_->clients() == 0) continue;
+    const Framebuffer& img = frame->images.at(size_t(view));
+    std::string jpeg;
+    try {
+      jpeg = encode_jpeg(img.width, img.height, to_srgb8(img, options_.display),
+                         options_.jpeg_quality);
+    } catch (const std::exception&) {
+      continue;  // an empty image; nothing to show
+    }
+    std::string json;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      json = frame_json(*frame, view);
+    }
+    server_->broadcast_text(json);
+    server_->broadcast_binary(jpeg);
+  }
+}
+
+}  // namespace multiray::app::viewer

@@ -1,0 +1,71 @@
+// `multiray view`: a frame observer that streams every finished frame to the browsers
+// connected to its web server, and turns their messages into camera moves, balancer
+// switches and view choices for the session (issue "Live viewer").
+//
+// Rendering never waits on a browser: on_frame() only keeps the newest frame and wakes the
+// sender thread, which encodes it (JPEG) and sends it with its measurements; frames that
+// arrive while it is busy replace the one waiting (dropped, counted). Camera moves go
+// through Session::set_camera (thread-safe); a balancer switch is applied by on_frame,
+// between frames, on the session's thread.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "app/viewer/view_control.h"
+#include "app/viewer/web_server.h"
+#include "core/image.h"
+#include "engine/session.h"
+
+namespace multiray::app::viewer {
+
+struct LiveViewOptions {
+  std::string bind = "127.0.0.1";
+  int port = 8080;
+  Display display;
+  int jpeg_quality = 85;
+};
+
+class LiveView : public FrameObserver {
+ public:
+  // `session` must outlive the view; `camera` starts at the session's camera.
+  LiveView(Session& session, OrbitCamera camera, std::vector<std::string> device_names,
+           LiveViewOptions options);
+  ~LiveView();
+
+  void on_frame(const std::shared_ptr<const FrameResult>& result) override;
+  int port() const { return server_->port(); }
+  uint64_t frames_dropped() const { return dropped_; }
+
+ private:
+  void send_loop();
+  void handle(int client, const std::string& text);
+  std::string hello() const;
+  std::string frame_json(const FrameResult& r, int view) const;
+
+  Session& session_;
+  std::vector<std::string> device_names_;
+  LiveViewOptions options_;
+  std::mutex camera_mutex_;
+  OrbitCamera camera_;
+  std::mutex mutex_;  // guards the fields below
+  std::condition_variable wake_;
+  std::shared_ptr<const FrameResult> pending_;
+  std::string balancer_request_;
+  std::string balancer_;  // the spec in use
+  int view_ = 0;
+  bool stop_ = false;
+  std::atomic<uint64_t> dropped_{0};
+  std::unique_ptr<WebServer> server_;
+  std::thread sender_;
+};
+
+// The page served at "/" (HTML, CSS and script in one file).
+const std::string& viewer_page();
+
+}  // namespace multiray::app::viewer

@@ -1,0 +1,158 @@
+// The live viewer's page: plain HTML, CSS and script, no framework, served from memory.
+// Protocol (app/viewer/live_view.h): the server sends {"type":"hello"} once, then per
+// frame a {"type":"frame",...} text message followed by the frame as a JPEG binary
+// message; the page sends the commands of app/viewer/view_control.h.
+// With ?selftest=1 the page exercises itself (drag, balancer switch, overlay) and writes
+// the outcome into document.title, for the headless-browser test (tests/viewer).
+#include "app/viewer/live_view.h"
+
+namespace multiray::app::viewer {
+
+const std::string& viewer_page() {
+  static const std::string page = R"PAGE(<!doctype html>
+<html lang="en"><head><meta charset="utf-8"><title>multiray view</title>
+<style>
+body { font: 13px system-ui, sans-serif; margin: 0; background: #1e1f22; color: #ddd; }
+header { padding: 6px 10px; background: #2b2d31; display: flex; gap: 14px; align-items: center; flex-wrap: wrap; }
+#stage { position: relative; display: inline-block; margin: 10px; cursor: grab; }
+#stage canvas { display: block; }
+#overlay { position: absolute; left: 0; top: 0; pointer-events: none; }
+#side { display: inline-block; vertical-align: top; margin: 10px; }
+.dev { display: flex; gap: 6px; align-items: center; }
+.sw { width: 12px; height: 12px; display: inline-block; }
+#err { color: #f88; }
+</style></head><body>
+<header>
+ <b>multiray view</b>
+ <label>balancer <select id="balancer"></select></label>
+ <label><input type="checkbox" id="overlayOn"> partition overlay</label>
+ <label id="viewBox" hidden>view <select id="view"></select></label>
+ <button id="reset">reset camera</button>
+ <span id="stats">waiting for the first frame ...</span>
+ <span id="err"></span>
+</header>
+<div id="stage"><canvas id="image" width="640" height="360"></canvas><canvas id="overlay" width="640" height="360"></canvas></div>
+<div id="side"><div id="devices"></div><canvas id="plot" width="360" height="200"></canvas>
+<div>drag: orbit &middot; shift+drag or right drag: pan &middot; wheel: zoom</div></div>
+<script>
+"use strict";
+const colors = ["#e6194b","#3cb44b","#4363d8","#f58231","#911eb4","#42d4f4","#f032e6","#bfef45","#fabed4","#469990","#dcbeff","#9a6324"];
+const $ = (id) => document.getElementById(id);
+const image = $("image"), overlay = $("overlay"), plot = $("plot");
+const history = [];  // per frame: device times
+let ws, meta = null, last = null, devices = [], frames = 0, t0 = performance.now();
+function send(obj) { if (ws && ws.readyState === 1) ws.send(JSON.stringify(obj)); }
+function connect() {
+  ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws");
+  ws.binaryType = "blob";
+  ws.onmessage = async (ev) => {
+    if (typeof ev.data === "string") {
+      const m = JSON.parse(ev.data);
+      if (m.type === "hello") hello(m);
+      else if (m.type === "frame") meta = m;
+      else if (m.type === "error") { $("err").textContent = "server: " + m.message; }
+      return;
+    }
+    if (!meta) return;
+    const m = meta; meta = null;
+    const bitmap = await createImageBitmap(ev.data);
+    for (const c of [image, overlay]) if (c.width !== m.width || c.height !== m.height) { c.width = m.width; c.height = m.height; }
+    image.getContext("2d").drawImage(bitmap, 0, 0);
+    last = m; frames++;
+    drawOverlay(); drawStats(m);
+    if (window.onFrameForTest) window.onFrameForTest(m);
+  };
+  ws.onclose = () => { $("stats").textContent = "disconnected; retrying ..."; setTimeout(connect, 1000); };
+}
+function hello(m) {
+  devices = m.devices;
+  const sel = $("balancer"); sel.innerHTML = "";
+  for (const b of m.balancers) { const o = document.createElement("option"); o.value = o.textContent = b; sel.appendChild(o); }
+  const vs = $("view"); vs.innerHTML = "";
+  for (let i = 0; i < m.views; i++) { const o = document.createElement("option"); o.value = i; o.textContent = i; vs.appendChild(o); }
+  $("viewBox").hidden = m.views < 2;
+  $("devices").innerHTML = devices.map((d, i) => `<div class="dev"><span class="sw" style="background:${colors[i % colors.length]}"></span>${d}</div>`).join("");
+}
+function drawOverlay() {
+  const g = overlay.getContext("2d");
+  g.clearRect(0, 0, overlay.width, overlay.height);
+  if (!$("overlayOn").checked || !last) return;
+  g.globalAlpha = 0.35;
+  for (const [d, x0, y0, x1, y1] of last.items) { g.fillStyle = colors[d % colors.length]; g.fillRect(x0, y0, x1 - x0, y1 - y0); }
+  g.globalAlpha = 1;
+}
+function drawStats(m) {
+  const fps = frames / ((performance.now() - t0) / 1000);
+  $("stats").textContent = `frame ${m.frame}  ${m.frame_ms.toFixed(1)} ms  ${fps.toFixed(1)} fps shown  imbalance ${(100 * m.imbalance).toFixed(1)}%  ${m.balancer}  dropped ${m.dropped}`;
+  if ($("balancer").value !== m.balancer.split(":")[0] && document.activeElement !== $("balancer")) $("balancer").value = m.balancer.split(":")[0];
+  history.push(m.devices.map((d) => d.time_ms)); if (history.length > 100) history.shift();
+  const g = plot.getContext("2d"), W = plot.width, H = plot.height - 40;
+  g.fillStyle = "#26282c"; g.fillRect(0, 0, W, plot.height);
+  const max = Math.max(1, ...history.flat());
+  g.fillStyle = "#aaa"; g.fillText(`device ms (max ${max.toFixed(0)})`, 4, 12);
+  for (let d = 0; d < m.devices.length; d++) {
+    g.strokeStyle = colors[d % colors.length]; g.beginPath();
+    history.forEach((t, i) => { const x = i * W / 100, y = H - (t[d] || 0) / max * (H - 16); i ? g.lineTo(x, y) : g.moveTo(x, y); });
+    g.stroke();
+  }
+  let x = 0;  // this frame's shares, stacked
+  m.devices.forEach((d, i) => { g.fillStyle = colors[i % colors.length]; g.fillRect(x, H + 14, d.share * W, 20); x += d.share * W; });
+  g.fillStyle = "#aaa"; g.fillText("work share", 4, H + 10);
+}
+// Mouse: orbit, pan, zoom; moves are summed and sent at most once per animation frame.
+let drag = null, acc = { orbit: [0, 0], pan: [0, 0], zoom: 1 }, queued = false;
+function flush() {
+  queued = false;
+  if (acc.orbit[0] || acc.orbit[1]) send({ type: "orbit", dx: acc.orbit[0], dy: acc.orbit[1] });
+  if (acc.pan[0] || acc.pan[1]) send({ type: "pan", dx: acc.pan[0], dy: acc.pan[1] });
+  if (acc.zoom !== 1) send({ type: "zoom", factor: Math.min(10, Math.max(0.1, acc.zoom)) });
+  acc = { orbit: [0, 0], pan: [0, 0], zoom: 1 };
+}
+function queue() { if (!queued) { queued = true; requestAnimationFrame(flush); } }
+const stage = $("stage");
+stage.addEventListener("contextmenu", (e) => e.preventDefault());
+stage.addEventListener("mousedown", (e) => { drag = { x: e.clientX, y: e.clientY, pan: e.shiftKey || e.button === 2 }; });
+window.addEventListener("mouseup", () => { drag = null; });
+window.addEventListener("mousemove", (e) => {
+  if (!drag) return;
+  const dx = e.clientX - drag.x, dy = e.clientY - drag.y; drag.x = e.clientX; drag.y = e.clientY;
+  if (drag.pan) { acc.pan[0] -= dx / image.height; acc.pan[1] += dy / image.height; }
+  else { acc.orbit[0] -= dx * 0.3; acc.orbit[1] += dy * 0.3; }
+  acc.orbit = acc.orbit.map((v) => Math.max(-360, Math.min(360, v)));
+  acc.pan = acc.pan.map((v) => Math.max(-10, Math.min(10, v)));
+  queue();
+});
+stage.addEventListener("wheel", (e) => { e.preventDefault(); acc.zoom *= Math.exp(e.deltaY * 0.001); queue(); }, { passive: false });
+$("balancer").addEventListener("change", () => send({ type: "balancer", spec: $("balancer").value }));
+$("view").addEventListener("change", () => send({ type: "view", index: Number($("view").value) }));
+$("overlayOn").addEventListener("change", drawOverlay);
+$("reset").addEventListener("click", () => send({ type: "reset" }));
+connect();
+
+// ?selftest=1: what a user would do, checked; the result goes into the title.
+if (new URLSearchParams(location.search).get("selftest")) {
+  const result = { frame: 0, drag: 0, balancer: 0, colors: 0 };
+  const report = () => { document.title = "selftest " + Object.entries(result).map(([k, v]) => k + "=" + v).join(" "); };
+  const nextFrame = (pred) => new Promise((ok) => { window.onFrameForTest = (m) => { if (!pred || pred(m)) { window.onFrameForTest = null; ok(m); } }; });
+  (async () => {
+    const first = await nextFrame(); result.frame = 1; report();
+    const r = stage.getBoundingClientRect(), cx = r.left + 50, cy = r.top + 50;
+    stage.dispatchEvent(new MouseEvent("mousedown", { clientX: cx, clientY: cy, bubbles: true }));
+    window.dispatchEvent(new MouseEvent("mousemove", { clientX: cx + 80, clientY: cy + 10, bubbles: true }));
+    window.dispatchEvent(new MouseEvent("mouseup", { clientX: cx + 80, clientY: cy + 10, bubbles: true }));
+    const moved = await nextFrame((m) => m.frame > first.frame + 1);
+    result.drag = moved.image_hash !== first.image_hash ? 1 : 0; report();
+    const sel = $("balancer"); sel.value = "queue"; sel.dispatchEvent(new Event("change"));
+    await nextFrame((m) => m.balancer.startsWith("queue")); result.balancer = 1; report();
+    $("overlayOn").checked = true; $("overlayOn").dispatchEvent(new Event("change"));
+    const px = overlay.getContext("2d").getImageData(0, 0, overlay.width, overlay.height).data, seen = new Set();
+    for (let i = 0; i < px.length; i += 4) if (px[i + 3] > 0) seen.add(px[i] + "," + px[i + 1] + "," + px[i + 2]);
+    result.colors = seen.size; report();
+  })();
+}
+</script></body></html>
+)PAGE";
+  return page;
+}
+
+}  // namespace multiray::app::viewer

@@ -1,0 +1,116 @@
+#include "app/viewer/view_control.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+
+namespace multiray::app::viewer {
+
+namespace {
+constexpr float kPi = 3.14159265358979f;
+constexpr size_t kMaxMessage = 4096;
+
+// Two unit vectors across `up`, for the yaw angle's origin.
+void frame_of(Vec3 up, Vec3& a, Vec3& b) {
+  a = std::abs(up.x) < 0.9f ? normalize(cross(up, Vec3{1, 0, 0}))
+                            : normalize(cross(up, Vec3{0, 1, 0}));
+  b = cross(up, a);
+}
+
+double number(const nlohmann::json& j, const char* key, double lo, double hi) {
+  const auto it = j.find(key);
+  if (it == j.end() || !it->is_number())
+    throw InputError(std::string("'") + key + "' must be a number");
+  const double v = it->get<double>();
+  if (!std::isfinite(v) || v < lo || v > hi)
+    throw InputError(std::string("'") + key + "' is out of range");
+  return v;
+}
+}  // namespace
+
+OrbitCamera::OrbitCamera(const Camera& base, Vec3 up) : base_(base), up_(normalize(up)) {
+  target_ = base.target;
+  const Vec3 d = base.eye - base.target;
+  distance_ = std::max(1e-6f, length(d));
+  Vec3 a, b;
+  frame_of(up_, a, b);
+  const Vec3 dir = d / distance_;
+  pitch_ = std::asin(std::clamp(dot(dir, up_), -1.0f, 1.0f));
+  yaw_ = std::atan2(dot(dir, b), dot(dir, a));
+  start_target_ = target_, start_distance_ = distance_, start_yaw_ = yaw_, start_pitch_ = pitch_;
+}
+
+void OrbitCamera::orbit(float yaw_deg, float pitch_deg) {
+  yaw_ += yaw_deg * kPi / 180;
+  const float limit = 89.0f * kPi / 180;
+  pitch_ = std::clamp(pitch_ + pitch_deg * kPi / 180, -limit, limit);
+}
+
+void OrbitCamera::pan(float right, float up) {
+  const Camera c = camera();
+  const Vec3 forward = normalize(c.target - c.eye);
+  const Vec3 r = normalize(cross(forward, up_));
+  const Vec3 u = cross(r, forward);
+  const float height = 2 * distance_ * std::tan(base_.fov_y_deg * kPi / 360);
+  target_ = target_ + (r * right + u * up) * height;
+}
+
+void OrbitCamera::zoom(float factor) {
+  distance_ = std::clamp(distance_ * factor, start_distance_ * 1e-4f, start_distance_ * 1e4f);
+}
+
+void OrbitCamera::reset() {
+  target_ = start_target_, distance_ = start_distance_, yaw_ = start_yaw_, pitch_ = start_pitch_;
+}
+
+Camera OrbitCamera::camera() const {
+  Vec3 a, b;
+  frame_of(up_, a, b);
+  const Vec3 dir =
+      (a * std::cos(yaw_) + b * std::sin(yaw_)) * std::cos(pitch_) + up_ * std::sin(pitch_);
+  Camera c = base_;
+  c.target = target_;
+  c.eye = target_ + dir * distance_;
+  c.up = up_;
+  return c;
+}
+
+Command parse_command(const std::string& text, int views) {
+  if (text.size() > kMaxMessage) throw InputError("message longer than 4096 bytes");
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) throw InputError("not a JSON object");
+  const auto type = j.find("type");
+  if (type == j.end() || !type->is_string()) throw InputError("'type' must be a string");
+  const std::string t = type->get<std::string>();
+  Command c;
+  if (t == "orbit") {
+    c.kind = Command::Kind::Orbit;
+    c.x = float(number(j, "dx", -360, 360)), c.y = float(number(j, "dy", -360, 360));
+  } else if (t == "pan") {
+    c.kind = Command::Kind::Pan;
+    c.x = float(number(j, "dx", -10, 10)), c.y = float(number(j, "dy", -10, 10));
+  } else if (t == "zoom") {
+    c.kind = Command::Kind::Zoom;
+    c.x = float(number(j, "factor", 0.1, 10));
+  } else if (t == "reset") {
+    c.kind = Command::Kind::Reset;
+  } else if (t == "balancer") {
+    c.kind = Command::Kind::Balancer;
+    const auto spec = j.find("spec");
+    if (spec == j.end() || !spec->is_string() || spec->get<std::string>().empty() ||
+        spec->get<std::string>().size() > 256)
+      throw InputError("'spec' must be a balancer spec");
+    c.spec = spec->get<std::string>();
+  } else if (t == "view") {
+    c.kind = Command::Kind::View;
+    c.view = int(number(j, "index", 0, std::max(0, views - 1)));
+  } else {
+    throw InputError("unknown message type '" + t.substr(0, 32) + "'");
+  }
+  return c;
+}
+
+}  // namespace multiray::app::viewer
