@@ -10,7 +10,7 @@ PACKAGES="build-essential cmake pkg-config clang-format libembree-dev libtbb-dev
   assimp-testmodels libnanoflann-dev pocl-opencl-icd ocl-icd-opencl-dev opencl-headers \
   opencl-clhpp-headers clang-15 libclang-common-15-dev \
   libteem-dev libdlib-dev libblas-dev liblapack-dev libjpeg-dev libassimp-dev \
-  libopenmpi-dev openmpi-bin libcivetweb-dev"
+  libopenmpi-dev openmpi-bin libcivetweb-dev chromium"
 missing=""
 for p in $PACKAGES; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed"; then

@@ -20,8 +20,7 @@ LiveView::LiveView(Session& session, OrbitCamera camera, std::vector<std::string
     : session_(session),
       device_names_(std::move(device_names)),
       options_(std::move(options)),
-      camera_(std::move(camera)),
-      balancer_(session.engine(0).balancer().spec()) {
+      camera_(std::move(camera)) {
   server_ = std::make_unique<WebServer>(
       options_.bind, options_.port, viewer_page(),
       [this](int client) { server_->send_text(client, hello()); },
@@ -80,23 +79,22 @@ void LiveView::handle(int client, const std::string& text) {
 }
 
 void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
+  Engine& engine = session_.engine(result->lane);
   std::string request;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (pending_) ++dropped_;
     pending_ = result;
+    pending_balancer_ = engine.balancer().spec();  // the one that planned this frame
     request.swap(balancer_request_);
   }
   wake_.notify_one();
-  if (!request.empty()) {  // between frames, on the session's thread
-    Engine& engine = session_.engine(result->lane);
+  if (!request.empty())  // between frames, on the session's thread
     engine.set_balancer(balance::make_balancer(request, int(engine.device_count())));
-    std::lock_guard<std::mutex> lock(mutex_);
-    balancer_ = engine.balancer().spec();
-  }
 }
 
-std::string LiveView::frame_json(const FrameResult& r, int view) const {
+std::string LiveView::frame_json(const FrameResult& r, int view,
+                                 const std::string& balancer) const {
   const FrameRecord& rec = r.record;
   nlohmann::json devices = nlohmann::json::array(), items = nlohmann::json::array();
   for (size_t d = 0; d < rec.devices.size(); ++d)
@@ -122,7 +120,7 @@ std::string LiveView::frame_json(const FrameResult& r, int view) const {
                         {"image_hash", hash},
                         {"frame_ms", rec.frame_ms},
                         {"imbalance", rec.imbalance},
-                        {"balancer", balancer_},
+                        {"balancer", balancer},
                         {"dropped", dropped_.load()},
                         {"devices", devices},
                         {"items", items}}
@@ -132,12 +130,14 @@ std::string LiveView::frame_json(const FrameResult& r, int view) const {
 void LiveView::send_loop() {
   for (;;) {
     std::shared_ptr<const FrameResult> frame;
+    std::string balancer;
     int view = 0;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [&] { return stop_ || pending_; });
       if (stop_) return;
       frame.swap(pending_);
+      balancer = pending_balancer_;
       view = std::min(view_, int(frame->images.size()) - 1);
     }
     if (server_->clients() == 0) continue;
@@ -149,12 +149,7 @@ void LiveView::send_loop() {
     } catch (const std::exception&) {
       continue;  // an empty image; nothing to show
     }
-    std::string json;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      json = frame_json(*frame, view);
-    }
-    server_->broadcast_text(json);
+    server_->broadcast_text(frame_json(*frame, view, balancer));
     server_->broadcast_binary(jpeg);
   }
 }

@@ -46,7 +46,7 @@ class LiveView : public FrameObserver {
   void send_loop();
   void handle(int client, const std::string& text);
   std::string hello() const;
-  std::string frame_json(const FrameResult& r, int view) const;
+  std::string frame_json(const FrameResult& r, int view, const std::string& balancer) const;
 
   Session& session_;
   std::vector<std::string> device_names_;
@@ -56,8 +56,8 @@ class LiveView : public FrameObserver {
   std::mutex mutex_;  // guards the fields below
   std::condition_variable wake_;
   std::shared_ptr<const FrameResult> pending_;
+  std::string pending_balancer_;  // the spec that planned pending_
   std::string balancer_request_;
-  std::string balancer_;  // the spec in use
   int view_ = 0;
   bool stop_ = false;
   std::atomic<uint64_t> dropped_{0};

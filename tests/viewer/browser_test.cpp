@@ -1,0 +1,44 @@
+// The viewer's page in headless Chromium (Debian's `chromium`): it loads, a frame arrives,
+// a mouse drag moves the camera, the balancer switch takes effect and the overlay shows
+// one colour per device (the page's ?selftest=1 mode does what a user would and reports in
+// its title); a screenshot is written. Skipped with a message where Chromium is absent.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "support/run_cli.h"
+#include "viewer_process.h"
+
+namespace {
+
+std::string chromium() {
+  for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
+    if (std::filesystem::exists(p)) return p;
+  return "";
+}
+
+TEST(ViewerBrowser, PageLoadsStreamsAndResponds) {
+  const std::string browser = chromium();
+  if (browser.empty()) GTEST_SKIP() << "Chromium is not installed (apt-get install chromium)";
+  multiray::testing::ViewerProcess viewer(
+      "--res 96x54 --spp 1 --bounces 2 --devices cpu:threads=1,cpu:threads=1");
+  ASSERT_GT(viewer.port(), 0);
+  const std::string url = "http://127.0.0.1:" + std::to_string(viewer.port()) + "/";
+  // Virtual time lets the page's script run for up to 20 s of page time, real network.
+  const std::string flags =
+      "--headless=new --no-sandbox --disable-gpu --virtual-time-budget=20000 ";
+  const auto r =
+      multiray::testing::run_cli(browser, flags + "--dump-dom '" + url + "?selftest=1'");
+  EXPECT_THAT(r.out, ::testing::HasSubstr("selftest frame=1 drag=1 balancer=1 colors=2"))
+      << r.out.substr(0, 2000);
+  const std::string shot = ::testing::TempDir() + "/viewer.png";
+  std::filesystem::remove(shot);
+  multiray::testing::run_cli(
+      browser, flags + "--window-size=1100,650 --screenshot=" + shot + " '" + url + "'");
+  ASSERT_TRUE(std::filesystem::exists(shot));
+  EXPECT_GT(std::filesystem::file_size(shot), 5000u);
+  EXPECT_EQ(viewer.stop(), 128 + SIGINT);
+}
+
+}  // namespace

@@ -1,0 +1,152 @@
+// `multiray view` over its WebSocket, as the page talks to it: frames arrive (JSON, then a
+// JPEG), the camera and the balancer follow commands, several clients watch at once, and
+// malformed or hostile messages get error replies while the server keeps rendering.
+#include <civetweb.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <random>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "viewer_process.h"
+
+namespace {
+
+using namespace std::chrono_literals;
+
+// A WebSocket client collecting what the server sends.
+class Client {
+ public:
+  explicit Client(int port) {
+    char error[256] = "";
+    conn_ = mg_connect_websocket_client("127.0.0.1", port, 0, error, sizeof error, "/ws", nullptr,
+                                        &Client::on_data, &Client::on_close, this);
+  }
+  ~Client() {
+    if (conn_) mg_close_connection(conn_);
+  }
+  bool connected() const { return conn_ != nullptr; }
+  void send(const std::string& text, int opcode = MG_WEBSOCKET_OPCODE_TEXT) {
+    mg_websocket_client_write(conn_, opcode, text.data(), text.size());
+  }
+  // The next text message for which `pred` holds (earlier ones are dropped), within 20 s.
+  nlohmann::json wait(const std::function<bool(const nlohmann::json&)>& pred) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const auto until = std::chrono::steady_clock::now() + 20s;
+    for (;;) {
+      while (!texts_.empty()) {
+        nlohmann::json j = nlohmann::json::parse(texts_.front(), nullptr, false);
+        texts_.pop_front();
+        if (!j.is_discarded() && pred(j)) return j;
+      }
+      if (arrived_.wait_until(lock, until) == std::cv_status::timeout) return nullptr;
+    }
+  }
+  nlohmann::json wait_type(const std::string& type) {
+    return wait([&](const nlohmann::json& j) { return j.value("type", "") == type; });
+  }
+  size_t jpegs() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return jpegs_;
+  }
+
+ private:
+  static int on_data(mg_connection*, int bits, char* data, size_t len, void* self) {
+    auto* c = static_cast<Client*>(self);
+    std::lock_guard<std::mutex> lock(c->mutex_);
+    if ((bits & 0xf) == MG_WEBSOCKET_OPCODE_TEXT) c->texts_.emplace_back(data, len);
+    if ((bits & 0xf) == MG_WEBSOCKET_OPCODE_BINARY && len > 2 && uint8_t(data[0]) == 0xff &&
+        uint8_t(data[1]) == 0xd8)
+      ++c->jpegs_;
+    c->arrived_.notify_all();
+    return 1;
+  }
+  static void on_close(const mg_connection*, void*) {}
+
+  mg_connection* conn_ = nullptr;
+  std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::deque<std::string> texts_;
+  size_t jpegs_ = 0;
+};
+
+const char* kArgs = "--res 64x36 --spp 1 --bounces 2 --devices cpu:threads=1,cpu:threads=1";
+
+TEST(ViewerServer, StreamsFramesAndFollowsCommands) {
+  mg_init_library(MG_FEATURES_WEBSOCKET);
+  multiray::testing::ViewerProcess viewer(kArgs);
+  ASSERT_GT(viewer.port(), 0);
+  Client a(viewer.port()), b(viewer.port());
+  ASSERT_TRUE(a.connected() && b.connected());
+  const nlohmann::json hello = a.wait_type("hello");
+  ASSERT_FALSE(hello.is_null());
+  EXPECT_EQ(hello["devices"].size(), 2u);
+  const nlohmann::json first = a.wait_type("frame");
+  ASSERT_FALSE(first.is_null());
+  EXPECT_EQ(first["width"], 64);
+  EXPECT_EQ(first["devices"].size(), 2u);
+  EXPECT_FALSE(first["items"].empty());
+  EXPECT_FALSE(b.wait_type("frame").is_null()) << "a second client sees frames too";
+  ASSERT_FALSE(a.wait_type("frame").is_null());
+  EXPECT_GT(a.jpegs(), 0u) << "the first frame's JPEG came before the second frame";
+
+  // The camera follows an orbit: a later frame differs.
+  const std::string before = a.wait_type("frame")["image_hash"];
+  a.send(R"({"type":"orbit","dx":40,"dy":10})");
+  const nlohmann::json moved = a.wait([&](const nlohmann::json& j) {
+    return j.value("type", "") == "frame" && j.value("image_hash", "") != before;
+  });
+  EXPECT_FALSE(moved.is_null()) << "the camera did not move";
+  // The balancer switches between frames.
+  a.send(R"({"type":"balancer","spec":"queue:tile=16"})");
+  const nlohmann::json switched = a.wait([](const nlohmann::json& j) {
+    return j.value("type", "") == "frame" && j.value("balancer", "").rfind("queue", 0) == 0;
+  });
+  EXPECT_FALSE(switched.is_null()) << "the balancer did not switch";
+  EXPECT_EQ(viewer.stop(), 128 + SIGINT);
+}
+
+// Fuzz-style: malformed, out-of-range, oversized and random messages each get an error
+// reply (or are ignored), and the server keeps streaming frames afterwards.
+TEST(ViewerServer, SurvivesHostileMessages) {
+  mg_init_library(MG_FEATURES_WEBSOCKET);
+  multiray::testing::ViewerProcess viewer(kArgs);
+  ASSERT_GT(viewer.port(), 0);
+  Client c(viewer.port());
+  ASSERT_TRUE(c.connected());
+  ASSERT_FALSE(c.wait_type("frame").is_null());
+  std::vector<std::string> bad = {"",
+                                  "{",
+                                  "[]",
+                                  "null",
+                                  R"({"type":"orbit","dx":1e999,"dy":0})",
+                                  R"({"type":"zoom","factor":"big"})",
+                                  R"({"type":"balancer","spec":"nonsense:x=1"})",
+                                  R"({"type":"view","index":3})",
+                                  std::string(10000, 'x'),
+                                  R"({"type":"balancer","spec":"../../etc/passwd"})"};
+  std::mt19937 rng(7);
+  for (int i = 0; i < 200; ++i) {
+    std::string s(size_t(rng() % 64), '\0');
+    for (char& ch : s) ch = char(rng());
+    bad.push_back(s);
+  }
+  for (const std::string& m : bad) c.send(m);
+  c.send(std::string("\x01\x02\x03", 3), MG_WEBSOCKET_OPCODE_BINARY);
+  const nlohmann::json error = c.wait_type("error");
+  ASSERT_FALSE(error.is_null());
+  EXPECT_FALSE(error["message"].get<std::string>().empty());
+  EXPECT_FALSE(c.wait_type("frame").is_null()) << "the server stopped streaming";
+  // A client that vanishes mid-stream does not stop the others.
+  { Client gone(viewer.port()); }
+  Client after(viewer.port());
+  EXPECT_FALSE(after.wait_type("frame").is_null());
+  EXPECT_EQ(viewer.stop(), 128 + SIGINT);
+}
+
+}  // namespace
