@@ -54,6 +54,7 @@ Runner add_view_command(CLI::App& app) {
     vo.display.exposure_ev = parse_exposure(*exposure);
     vo.display.tone = parse_tone(*tone, is_volume_input(o->scene_path, o->volume));
     Setup s = make_setup(*o, 1);
+    vo.volume = s.volume;
     std::unique_ptr<Session> session = s.make_session({*balancer});
     for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
     std::vector<std::string> names;

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "engine/volume_advisor.h"
 #include "render/volume_raycaster.h"
+#include "volume/transfer_function.h"
 
 namespace multiray::app {
 
@@ -50,6 +51,14 @@ std::shared_ptr<const VolumeStyle> VolumeRun::style(const std::string& tf) {
   style_ms.push_back(clock.elapsed_ms());
   if (!note.empty()) notes.push_back(note);
   return styles_[tf] = made;
+}
+
+std::shared_ptr<const VolumeStyle> VolumeRun::style_from_json(const std::string& json) {
+  const VolumeScene& vs = volume_scene(scenes_);
+  const TransferFunction tf = resolve(parse_transfer_function(json, "the viewer"), vs.volume);
+  auto made = make_volume_style(vs, tf, o_.step);
+  made->background = background_;
+  return made;
 }
 
 void VolumeRun::apply(int frame, RenderSettings& settings) {

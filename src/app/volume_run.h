@@ -25,6 +25,9 @@ class VolumeRun {
   // The style of transfer function `tf` (a preset or file; "auto" by voxel type), built on
   // first use. Throws InputError for a bad transfer function.
   std::shared_ptr<const VolumeStyle> style(const std::string& tf);
+  // The style of a transfer function given as JSON text (the file format of
+  // docs/volumes.md; a live viewer's editor), never cached. Throws InputError.
+  std::shared_ptr<const VolumeStyle> style_from_json(const std::string& json);
   // Settings schedule (Session::set_settings_schedule): the sequence's transfer function
   // at `frame`, or --tf.
   void apply(int frame, RenderSettings& settings);

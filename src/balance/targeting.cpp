@@ -164,6 +164,12 @@ std::optional<double> FrameTimeTargeting::second_pass(double first_ms) {
   return cost_;
 }
 
+void FrameTimeTargeting::set_target_ms(double ms) {
+  if (!(std::isfinite(ms) && ms > 0))
+    throw std::invalid_argument("the target frame time must be a finite number of ms > 0");
+  config_.target_ms = ms;
+}
+
 void FrameTimeTargeting::measured(double frame_ms) {
   if (!(std::isfinite(frame_ms) && frame_ms > 0)) return;
   last_ms_ = frame_ms;

@@ -84,6 +84,9 @@ class FrameTimeTargeting {
   void measured(double frame_ms);
 
   double cost() const { return cost_; }
+  // A new target for the following frames (a live viewer's slider); throws
+  // std::invalid_argument unless finite and > 0.
+  void set_target_ms(double ms);
   // The factor predictions are scaled by in predict:q=Q (1 until calibrated).
   double calibration() const;
 

@@ -56,6 +56,10 @@ class VolumeAdvisor : public FrameAdvisor {
   const std::vector<double>& predicted_sigma() const { return predicted_sigma_; }
   const std::vector<double>& measured_sigma() const { return measured_sigma_; }
   double cost_factor() const { return targeting_.cost(); }
+  // Whether it adapts quality to a frame-time target (an --adapt mode other than none).
+  bool targets_frame_time() const { return config_.targeting.mode != balance::AdaptMode::none; }
+  // The frame-time target of the following frames (ms, finite and > 0).
+  void set_target_ms(double ms) { targeting_.set_target_ms(ms), config_.targeting.target_ms = ms; }
 
  private:
   CostFeatures features(const ViewSetup& view, const VolumeStyle& style, double step_scale,

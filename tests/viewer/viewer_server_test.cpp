@@ -7,6 +7,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <fstream>
 #include <mutex>
 #include <random>
 #include <string>
@@ -147,6 +148,54 @@ TEST(ViewerServer, SurvivesHostileMessages) {
   Client after(viewer.port());
   EXPECT_FALSE(after.wait_type("frame").is_null());
   EXPECT_EQ(viewer.stop(), 128 + SIGINT);
+}
+
+// Volumes: the page's transfer-function presets and JSON change the picture; a name that
+// is not a preset (a path, say) is refused, never opened; the frame-time target needs
+// --adapt and is accepted with it.
+TEST(ViewerServer, VolumeTransferFunctionsAndTarget) {
+  mg_init_library(MG_FEATURES_WEBSOCKET);
+  std::string bytes;  // a 24^3 ball of 200 in zeros
+  for (int z = 0; z < 24; ++z)
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 24; ++x)
+        bytes.push_back(
+            char((x - 12) * (x - 12) + (y - 12) * (y - 12) + (z - 12) * (z - 12) < 64 ? 200 : 0));
+  const std::string raw = ::testing::TempDir() + "/viewer_ball.raw";
+  std::ofstream(raw, std::ios::binary) << bytes;
+  const std::string volume =
+      raw + " --raw 24x24x24:uint8 --res 48x32 --devices cpu:threads=1,cpu:threads=1 ";
+  {
+    multiray::testing::ViewerProcess viewer(volume + "--tf angio");
+    ASSERT_GT(viewer.port(), 0);
+    Client c(viewer.port());
+    const nlohmann::json hello = c.wait_type("hello");
+    ASSERT_TRUE(hello.value("volume", false));
+    const std::string before = c.wait_type("frame")["image_hash"];
+    c.send(R"({"type":"tf","preset":"grey"})");
+    EXPECT_FALSE(c.wait([&](const nlohmann::json& j) {
+                    return j.value("type", "") == "frame" && j.value("image_hash", "") != before;
+                  }).is_null());
+    const std::string grey = c.wait_type("frame")["image_hash"];
+    c.send(
+        R"({"type":"tf","json":"{\"units\":\"fraction\",\"points\":[{\"value\":0,\"color\":[1,0,0],\"opacity\":0},{\"value\":1,\"color\":[1,0,0],\"opacity\":1}]}"})");
+    EXPECT_FALSE(c.wait([&](const nlohmann::json& j) {
+                    return j.value("type", "") == "frame" && j.value("image_hash", "") != grey;
+                  }).is_null());
+    for (const char* bad : {R"({"type":"tf","preset":"/etc/passwd"})",
+                            R"({"type":"tf","json":"{"})", R"({"type":"target","ms":50})"}) {
+      c.send(bad);
+      EXPECT_FALSE(c.wait_type("error").is_null()) << bad;
+    }
+  }
+  multiray::testing::ViewerProcess adapting(volume + "--adapt last-frame --target-ms 40");
+  Client c(adapting.port());
+  ASSERT_FALSE(c.wait_type("frame").is_null());
+  c.send(R"({"type":"target","ms":20})");
+  c.send(R"({"type":"orbit","dx":1e999})");  // then an error, to see the target had none
+  const nlohmann::json error = c.wait_type("error");
+  ASSERT_FALSE(error.is_null());
+  EXPECT_EQ(error["message"].get<std::string>().find("targeting"), std::string::npos);
 }
 
 }  // namespace

@@ -1,11 +1,15 @@
 #include "app/viewer/live_view.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
 
+#include "app/volume_run.h"
 #include "balance/balancer.h"
 #include "core/error.h"
+#include "engine/volume_advisor.h"
+#include "volume/transfer_function.h"
 
 namespace multiray::app::viewer {
 
@@ -25,6 +29,12 @@ LiveView::LiveView(Session& session, OrbitCamera camera, std::vector<std::string
       options_.bind, options_.port, viewer_page(),
       [this](int client) { server_->send_text(client, hello()); },
       [this](int client, const std::string& text) { handle(client, text); });
+  if (options_.volume)
+    session_.set_settings_schedule([this, v = options_.volume](int frame, RenderSettings& s) {
+      std::lock_guard<std::mutex> lock(volume_mutex_);
+      v->apply(frame, s);
+      if (style_override_) s.volume_style = style_override_;
+    });
   sender_ = std::thread([this] { send_loop(); });
 }
 
@@ -44,7 +54,10 @@ std::string LiveView::hello() const {
   return nlohmann::json{{"type", "hello"},
                         {"balancers", balance::balancer_names()},
                         {"devices", devices},
-                        {"views", session_.views().rig().view_count()}}
+                        {"views", session_.views().rig().view_count()},
+                        {"volume", options_.volume != nullptr},
+                        {"presets", transfer_preset_names()},
+                        {"target_ms", options_.volume ? options_.volume->options().target_ms : 0}}
       .dump();
 }
 
@@ -56,6 +69,11 @@ void LiveView::handle(int client, const std::string& text) {
       balance::make_balancer(c.spec, int(device_names_.size()));
   } catch (const std::exception& e) {  // InputError, or a bad balancer spec
     server_->send_text(client, error_json(e.what()));
+    return;
+  }
+  if (c.kind == Command::Kind::Tf || c.kind == Command::Kind::Target) {
+    const std::string error = volume_command(c);
+    if (!error.empty()) server_->send_text(client, error_json(error));
     return;
   }
   if (c.kind == Command::Kind::Balancer || c.kind == Command::Kind::View) {
@@ -78,6 +96,35 @@ void LiveView::handle(int client, const std::string& text) {
   session_.set_camera(camera_.camera());
 }
 
+std::string LiveView::volume_command(const Command& c) {
+  if (!options_.volume) return "this run is not a volume";
+  if (c.kind == Command::Kind::Target) {
+    const auto* advisor = dynamic_cast<VolumeAdvisor*>(session_.engine(0).advisor());
+    if (!advisor || !advisor->targets_frame_time())
+      return "frame-time targeting is off: start multiray view with --adapt (e.g. --adapt "
+             "last-frame --target-ms 50)";
+    std::lock_guard<std::mutex> lock(mutex_);
+    target_request_ = c.x;
+    return "";
+  }
+  try {
+    std::shared_ptr<const VolumeStyle> style;
+    std::lock_guard<std::mutex> lock(volume_mutex_);
+    if (!c.spec.empty()) {  // a preset by name; never a file named by the page
+      const auto& names = transfer_preset_names();
+      if (std::find(names.begin(), names.end(), c.spec) == names.end())
+        return "unknown transfer-function preset '" + c.spec + "'";
+      style = options_.volume->style(c.spec);
+    } else {
+      style = options_.volume->style_from_json(c.json);
+    }
+    style_override_ = style;
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
 void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
   Engine& engine = session_.engine(result->lane);
   std::string request;
@@ -87,6 +134,10 @@ void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
     pending_ = result;
     pending_balancer_ = engine.balancer().spec();  // the one that planned this frame
     request.swap(balancer_request_);
+    if (target_request_ > 0)
+      if (auto* advisor = dynamic_cast<VolumeAdvisor*>(engine.advisor()))
+        advisor->set_target_ms(target_request_);
+    target_request_ = 0;
   }
   wake_.notify_one();
   if (!request.empty())  // between frames, on the session's thread

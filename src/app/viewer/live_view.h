@@ -22,9 +22,14 @@
 #include "core/image.h"
 #include "engine/session.h"
 
+namespace multiray::app {
+class VolumeRun;
+}
+
 namespace multiray::app::viewer {
 
 struct LiveViewOptions {
+  std::shared_ptr<VolumeRun> volume;  // volumes: the transfer functions and targeting
   std::string bind = "127.0.0.1";
   int port = 8080;
   Display display;
@@ -45,6 +50,8 @@ class LiveView : public FrameObserver {
  private:
   void send_loop();
   void handle(int client, const std::string& text);
+  // Volumes: a transfer function or target from the page; an error message or "".
+  std::string volume_command(const Command& c);
   std::string hello() const;
   std::string frame_json(const FrameResult& r, int view, const std::string& balancer) const;
 
@@ -57,6 +64,9 @@ class LiveView : public FrameObserver {
   std::condition_variable wake_;
   std::shared_ptr<const FrameResult> pending_;
   std::string pending_balancer_;  // the spec that planned pending_
+  double target_request_ = 0;     // ms; 0: none pending
+  std::mutex volume_mutex_;       // VolumeRun is used from the session's and civetweb's threads
+  std::shared_ptr<const VolumeStyle> style_override_;  // the page's transfer function
   std::string balancer_request_;
   int view_ = 0;
   bool stop_ = false;

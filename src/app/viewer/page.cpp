@@ -28,10 +28,19 @@ header { padding: 6px 10px; background: #2b2d31; display: flex; gap: 14px; align
  <label><input type="checkbox" id="overlayOn"> partition overlay</label>
  <label id="viewBox" hidden>view <select id="view"></select></label>
  <button id="reset">reset camera</button>
+ <span id="volBox" hidden><label>transfer function <select id="tf"></select></label>
+  <button id="tfEdit">edit</button>
+  <label>target ms <input id="target" type="number" min="1" max="100000" step="1" style="width:5em"></label></span>
  <span id="stats">waiting for the first frame ...</span>
  <span id="err"></span>
 </header>
 <div id="stage"><canvas id="image" width="640" height="360"></canvas><canvas id="overlay" width="640" height="360"></canvas></div>
+<div id="tfPanel" hidden style="margin:0 10px">transfer function (JSON, docs/volumes.md):<br>
+<textarea id="tfJson" rows="7" cols="70">{"units": "fraction", "points": [
+ {"value": 0.0, "color": [0, 0, 0], "opacity": 0},
+ {"value": 0.3, "color": [0.9, 0.5, 0.3], "opacity": 0.02},
+ {"value": 1.0, "color": [1, 1, 1], "opacity": 0.6}]}</textarea>
+<button id="tfApply">apply</button></div>
 <div id="side"><div id="devices"></div><canvas id="plot" width="360" height="200"></canvas>
 <div>drag: orbit &middot; shift+drag or right drag: pan &middot; wheel: zoom</div></div>
 <script>
@@ -71,6 +80,12 @@ function hello(m) {
   const vs = $("view"); vs.innerHTML = "";
   for (let i = 0; i < m.views; i++) { const o = document.createElement("option"); o.value = i; o.textContent = i; vs.appendChild(o); }
   $("viewBox").hidden = m.views < 2;
+  $("volBox").hidden = !m.volume;
+  if (m.volume) {
+    const tf = $("tf"); tf.innerHTML = "<option value=''>(as started)</option>";
+    for (const p of m.presets) { const o = document.createElement("option"); o.value = o.textContent = p; tf.appendChild(o); }
+    if (m.target_ms > 0) $("target").value = m.target_ms;
+  }
   $("devices").innerHTML = devices.map((d, i) => `<div class="dev"><span class="sw" style="background:${colors[i % colors.length]}"></span>${d}</div>`).join("");
 }
 function drawOverlay() {
@@ -127,6 +142,10 @@ $("balancer").addEventListener("change", () => send({ type: "balancer", spec: $(
 $("view").addEventListener("change", () => send({ type: "view", index: Number($("view").value) }));
 $("overlayOn").addEventListener("change", drawOverlay);
 $("reset").addEventListener("click", () => send({ type: "reset" }));
+$("tf").addEventListener("change", () => { if ($("tf").value) send({ type: "tf", preset: $("tf").value }); });
+$("tfEdit").addEventListener("click", () => { $("tfPanel").hidden = !$("tfPanel").hidden; });
+$("tfApply").addEventListener("click", () => { $("err").textContent = ""; send({ type: "tf", json: $("tfJson").value }); });
+$("target").addEventListener("change", () => { const v = Number($("target").value); if (v >= 1) send({ type: "target", ms: v }); });
 connect();
 
 // ?selftest=1: what a user would do, checked; the result goes into the title.

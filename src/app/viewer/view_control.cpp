@@ -107,6 +107,19 @@ Command parse_command(const std::string& text, int views) {
   } else if (t == "view") {
     c.kind = Command::Kind::View;
     c.view = int(number(j, "index", 0, std::max(0, views - 1)));
+  } else if (t == "tf") {
+    c.kind = Command::Kind::Tf;
+    const auto preset = j.find("preset"), text = j.find("json");
+    if (preset != j.end() && preset->is_string() && !preset->get<std::string>().empty() &&
+        preset->get<std::string>().size() <= 64)
+      c.spec = preset->get<std::string>();
+    else if (text != j.end() && text->is_string() && !text->get<std::string>().empty())
+      c.json = text->get<std::string>();
+    else
+      throw InputError("'tf' needs a 'preset' name or 'json' text");
+  } else if (t == "target") {
+    c.kind = Command::Kind::Target;
+    c.x = float(number(j, "ms", 1, 100000));
   } else {
     throw InputError("unknown message type '" + t.substr(0, 32) + "'");
   }

@@ -39,10 +39,15 @@ class OrbitCamera {
 //   {"type":"reset"}                        the starting camera
 //   {"type":"balancer","spec":"hybrid"}     a balancer spec (checked by make_balancer)
 //   {"type":"view","index":K}               K in [0, views): the view to stream
+//   {"type":"tf","preset":NAME}             volumes: a transfer-function preset
+//   {"type":"tf","json":TEXT}               volumes: a transfer function in the JSON file
+//                                           format (docs/volumes.md), as text
+//   {"type":"target","ms":F}                volumes: frame-time target, F in [1, 100000]
 struct Command {
-  enum class Kind { Orbit, Pan, Zoom, Reset, Balancer, View } kind = Kind::Reset;
-  float x = 0, y = 0;  // orbit / pan amounts, or zoom factor in x
-  std::string spec;    // balancer
+  enum class Kind { Orbit, Pan, Zoom, Reset, Balancer, View, Tf, Target } kind = Kind::Reset;
+  float x = 0, y = 0;  // orbit / pan amounts, zoom factor or target ms in x
+  std::string spec;    // balancer, or transfer-function preset
+  std::string json;    // transfer function as JSON text
   int view = 0;
 };
 
