@@ -53,6 +53,7 @@ std::string LiveView::hello() const {
   for (const std::string& n : device_names_) devices.push_back(n);
   return nlohmann::json{{"type", "hello"},
                         {"balancers", balance::balancer_names()},
+                        {"balancer", session_.engine(0).balancer().name()},
                         {"devices", devices},
                         {"views", session_.views().rig().view_count()},
                         {"volume", options_.volume != nullptr},

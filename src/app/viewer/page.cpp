@@ -2,8 +2,9 @@
 // Protocol (app/viewer/live_view.h): the server sends {"type":"hello"} once, then per
 // frame a {"type":"frame",...} text message followed by the frame as a JPEG binary
 // message; the page sends the commands of app/viewer/view_control.h.
-// With ?selftest=1 the page exercises itself (drag, balancer switch, overlay) and writes
-// the outcome into document.title, for the headless-browser test (tests/viewer).
+// ?overlay=1 starts with the partition overlay on; ?hold=N is for screenshots (below). With
+// ?selftest=1 the page exercises itself (drag, balancer switch, overlay) and writes the outcome
+// into document.title, for the headless-browser test (tests/viewer).
 #include "app/viewer/live_view.h"
 
 namespace multiray::app::viewer {
@@ -77,6 +78,7 @@ function hello(m) {
   devices = m.devices;
   const sel = $("balancer"); sel.innerHTML = "";
   for (const b of m.balancers) { const o = document.createElement("option"); o.value = o.textContent = b; sel.appendChild(o); }
+  sel.value = m.balancer;
   const vs = $("view"); vs.innerHTML = "";
   for (let i = 0; i < m.views; i++) { const o = document.createElement("option"); o.value = i; o.textContent = i; vs.appendChild(o); }
   $("viewBox").hidden = m.views < 2;
@@ -146,6 +148,14 @@ $("tf").addEventListener("change", () => { if ($("tf").value) send({ type: "tf",
 $("tfEdit").addEventListener("click", () => { $("tfPanel").hidden = !$("tfPanel").hidden; });
 $("tfApply").addEventListener("click", () => { $("err").textContent = ""; send({ type: "tf", json: $("tfJson").value }); });
 $("target").addEventListener("change", () => { const v = Number($("target").value); if (v >= 1) send({ type: "target", ms: v }); });
+if (new URLSearchParams(location.search).get("overlay")) $("overlayOn").checked = true;
+// ?hold=N: keep a request open until N frames were shown (headless screenshots: a pending
+// request holds the browser's virtual clock while frames arrive).
+let selftestDone = !new URLSearchParams(location.search).get("selftest");
+(async () => {
+  const n = Number(new URLSearchParams(location.search).get("hold") || 0);
+  while (frames < n || !selftestDone) await fetch("/?hold", { cache: "no-store" }).catch(() => {});
+})();
 connect();
 
 // ?selftest=1: what a user would do, checked; the result goes into the title.
@@ -167,6 +177,7 @@ if (new URLSearchParams(location.search).get("selftest")) {
     const px = overlay.getContext("2d").getImageData(0, 0, overlay.width, overlay.height).data, seen = new Set();
     for (let i = 0; i < px.length; i += 4) if (px[i + 3] > 0) seen.add(px[i] + "," + px[i + 1] + "," + px[i + 2]);
     result.colors = seen.size; report();
+    selftestDone = true;
   })();
 }
 </script></body></html>
