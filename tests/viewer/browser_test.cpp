@@ -1,7 +1,7 @@
 // The viewer's page in headless Chromium (Debian's `chromium`): it loads, a frame arrives,
-// a mouse drag moves the camera, the balancer switch takes effect and the overlay shows
-// one colour per device (the page's ?selftest=1 mode does what a user would and reports in
-// its title); a screenshot is written. Skipped with a message where Chromium is absent.
+// a mouse drag moves the camera, the balancer switch (to uniform) takes effect and the
+// overlay shows one colour per device (the page's ?selftest=1 mode does what a user would and
+// reports in its title); a screenshot is written. Skipped with a message where Chromium is absent.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 

@@ -171,8 +171,10 @@ if (new URLSearchParams(location.search).get("selftest")) {
     window.dispatchEvent(new MouseEvent("mouseup", { clientX: cx + 80, clientY: cy + 10, bubbles: true }));
     const moved = await nextFrame((m) => m.frame > first.frame + 1);
     result.drag = moved.image_hash !== first.image_hash ? 1 : 0; report();
-    const sel = $("balancer"); sel.value = "queue"; sel.dispatchEvent(new Event("change"));
-    await nextFrame((m) => m.balancer.startsWith("queue")); result.balancer = 1; report();
+    // uniform: every device gets a part of every frame, so the overlay must show them all
+    // (a queue may leave a device without a tile in a small frame).
+    const sel = $("balancer"); sel.value = "uniform"; sel.dispatchEvent(new Event("change"));
+    await nextFrame((m) => m.balancer.startsWith("uniform")); result.balancer = 1; report();
     $("overlayOn").checked = true; $("overlayOn").dispatchEvent(new Event("change"));
     const px = overlay.getContext("2d").getImageData(0, 0, overlay.width, overlay.height).data, seen = new Set();
     for (let i = 0; i < px.length; i += 4) if (px[i + 3] > 0) seen.add(px[i] + "," + px[i + 1] + "," + px[i + 2]);
