@@ -176,7 +176,8 @@ TEST(Distributed, TheMasterSendsTheScene) {
   EXPECT_EQ(hashes(dir), hashes(ref));
   const CliResult shared = mpmd("", out_dir("shared"));
   EXPECT_EQ(shared.code, 2) << shared.out;
-  EXPECT_THAT(shared.out, ::testing::HasSubstr("rank 1: /nonexistent/scene.gltf"));
+  // Both workers fail; the master names whichever told it first.
+  EXPECT_THAT(shared.out, ::testing::ContainsRegex("rank [12]: /nonexistent/scene.gltf"));
 }
 
 }  // namespace
