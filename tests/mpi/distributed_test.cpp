@@ -45,9 +45,14 @@ nlohmann::json stats(const std::string& dir) {
   return nlohmann::json::parse(in);
 }
 
+// One hash per frame. A missing or empty stats.json fails here, so two empty lists can
+// never compare equal. (The json is held in a local: a range-for over a member of a
+// temporary returned through operator[] would read a destroyed object.)
 std::vector<std::string> hashes(const std::string& dir) {
+  const nlohmann::json s = stats(dir);
   std::vector<std::string> h;
-  for (const auto& f : stats(dir)["frames"]) h.push_back(f["image_hash"]);
+  for (const auto& f : s.at("frames")) h.push_back(f.at("image_hash").get<std::string>());
+  EXPECT_FALSE(h.empty()) << dir << "/stats.json has no frames";
   return h;
 }
 
