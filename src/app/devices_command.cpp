@@ -1,11 +1,17 @@
 #include <unistd.h>
 
+#include <algorithm>
+#include <memory>
 #include <thread>
 
 #include <fmt/core.h>
 
 #include "app/commands.h"
 #include "device/device_factory.h"
+#include "device/scene_memory.h"
+#include "render/compact_scene.h"
+#include "scene/builders.h"
+#include "scene/loaders.h"
 #ifdef MULTIRAY_HAS_OPENCL
 #include "device/opencl/opencl_platform.h"
 #endif
@@ -21,11 +27,51 @@ void print_row(const std::string& type, const std::string& name, unsigned units,
   fmt::print("{:<8} {:<40} {:>6} {:>9}  {}\n", type, name, units, memory, spec);
 }
 
+// `multiray devices --devices SPEC [--scene FILE]`: builds each listed device on the
+// scene and prints the representation it renders from and its size (issue: memory per
+// device), with the scene's full-precision and compact sizes by part.
+int report_scene_memory(const std::string& scene_path, const std::string& devices) {
+  const Scene scene = scene_path.empty() ? make_cornell_box() : load_scene(scene_path);
+  SceneCache cache(scene);
+  fmt::print("scene {}: {} triangles, {} vertices\n", scene_path.empty() ? scene.name : scene_path,
+             scene.triangle_count(), scene.positions.size());
+  if (scene.has_triangles()) {
+    const CompactScene& c = cache.compact_scene();
+    const SceneBytes full = full_precision_bytes(scene, c.bvh.nodes.size());
+    const SceneBytes small = compact_bytes(c);
+    fmt::print("  full precision: mesh {}, structure {}, both {}\n", format_bytes(full.mesh),
+               format_bytes(full.structure), format_bytes(full.total()));
+    fmt::print("  compact:        mesh {}, structure {}, both {} ({:.2f}x smaller)\n",
+               format_bytes(small.mesh), format_bytes(small.structure),
+               format_bytes(small.total()),
+               double(full.total()) / double(std::max<size_t>(1, small.total())));
+  }
+  fmt::print("{:<44} {:<16} {:>11} {:>18}\n", "device", "representation", "scene", "memory limit");
+  for (const auto& d : create_devices(devices, cache)) {
+    const DeviceInfo& i = d->info();
+    fmt::print("{:<44} {:<16} {:>11} {:>18}\n", i.name, i.representation,
+               i.scene_bytes ? format_bytes(i.scene_bytes) : "-",
+               i.memory_limit ? format_bytes(i.memory_limit) + " (emulated)" : "-");
+  }
+  return 0;
+}
+
 }  // namespace
 
 Runner add_devices_command(CLI::App& app) {
-  app.add_subcommand("devices", "List the devices this machine offers, with their --devices spec");
-  return []() -> int {
+  CLI::App* cmd = app.add_subcommand(
+      "devices",
+      "List the devices this machine offers, with their --devices spec; with --devices, build "
+      "those devices on a scene and report the memory each one's scene representation takes");
+  auto devices = std::make_shared<std::string>();
+  auto scene = std::make_shared<std::string>();
+  cmd->add_option("--devices", *devices,
+                  "Devices to build on the scene, as for render (e.g. "
+                  "cpu,cpu:compact=1,opencl:0:compact=1:mem=256M)");
+  cmd->add_option("--scene", *scene, "Mesh file for --devices (default: the Cornell box)")
+      ->check(CLI::ExistingFile);
+  return [devices, scene]() -> int {
+    if (!devices->empty()) return report_scene_memory(*scene, *devices);
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
     const std::string ram = gib(double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)));
     fmt::print("{:<8} {:<40} {:>6} {:>9}  {}\n", "type", "name", "units", "memory", "spec");

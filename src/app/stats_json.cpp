@@ -113,15 +113,19 @@ nlohmann::json devices_to_json(const std::vector<std::unique_ptr<Device>>& devic
   nlohmann::json out = nlohmann::json::array();
   for (const auto& d : devices) {
     const DeviceInfo& i = d->info();
-    out.push_back({{"type", i.type},
-                   {"name", i.name},
-                   {"spec", i.spec},
-                   {"threads", i.threads},
-                   {"emulated_speed", i.emulated_speed},
-                   {"emulated", i.emulated_speed < 1.0},
-                   {"cpu_quota", i.cpu_quota},
-                   {"representation", i.caps.representation},
-                   {"kernels", i.caps.kernels}});
+    out.push_back(
+        {{"type", i.type},
+         {"name", i.name},
+         {"spec", i.spec},
+         {"threads", i.threads},
+         {"emulated_speed", i.emulated_speed},
+         {"emulated", i.emulated_speed < 1.0},
+         {"cpu_quota", i.cpu_quota},
+         {"representation", i.representation.empty() ? i.caps.representation : i.representation},
+         {"scene_bytes", i.scene_bytes},
+         {"memory_limit_bytes", i.memory_limit},
+         {"memory_limit_emulated", i.memory_limit > 0},
+         {"kernels", i.caps.kernels}});
   }
   return out;
 }

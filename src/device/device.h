@@ -41,6 +41,12 @@ struct DeviceInfo {
   double emulated_speed = 1.0;  // < 1: the device idles to mimic slower hardware (emulated)
   double cpu_quota = 0.0;       // > 0: real throttling by a cgroup CPU quota (fraction of a core)
   DeviceCapabilities caps;
+  // The scene representation this device renders from ("embree", "compact",
+  // "opencl-flat-bvh", "opencl-compact", "opencl-volume", ...) and its size in bytes
+  // (0 when not known); `memory_limit` is the emulated limit of `mem=` (0: none).
+  std::string representation;
+  uint64_t scene_bytes = 0;
+  uint64_t memory_limit = 0;
 };
 
 // Empty when a device with `info` can render frames of `kernel` with `sampling`;

@@ -8,6 +8,7 @@
 #include "balance/spec.h"
 #include "core/error.h"
 #include "device/cpu/cpu_device.h"
+#include "device/scene_memory.h"
 #ifdef MULTIRAY_HAS_OPENCL
 #include "device/opencl/opencl_device.h"
 #endif
@@ -44,6 +45,18 @@ balance::Spec device_spec(const std::string& item) {
   return spec;
 }
 
+// compact=1 (the compact scene representation) and mem=SIZE (an emulated memory limit).
+void read_memory_options(balance::Spec& spec, bool& compact, uint64_t& limit) {
+  compact = spec.get_bool("compact", compact);
+  if (!spec.has("mem")) return;
+  const std::string text = spec.get_string("mem", "", {});
+  try {
+    limit = parse_memory_size(text);
+  } catch (const std::invalid_argument& e) {
+    spec.fail(e.what());
+  }
+}
+
 // A core id: decimal digits only, below 100000 (so "-1", "1.5" and "0x2" are no ids).
 int core_id(const std::string& s) {
   if (s.empty() || s.size() > 5 ||
@@ -73,7 +86,7 @@ std::vector<int> read_cores(balance::Spec& spec) {
 }
 
 CpuDeviceOptions read_cpu_options(balance::Spec& spec) {
-  spec.accept_only({"threads", "cores", "speed", "quota", "tile", "fail_after"});
+  spec.accept_only({"threads", "cores", "speed", "quota", "tile", "fail_after", "compact", "mem"});
   CpuDeviceOptions o;
   o.threads = spec.get_int("threads", o.threads, 1, 1024);
   o.cores = read_cores(spec);
@@ -81,13 +94,14 @@ CpuDeviceOptions read_cpu_options(balance::Spec& spec) {
   o.quota = spec.get_positive("quota", o.quota, 1.0);                   // of a core per thread
   o.tile = spec.get_int("tile", o.tile, 1, 4096);
   o.fail_after = spec.get_int("fail_after", o.fail_after, 0, std::numeric_limits<int>::max());
+  read_memory_options(spec, o.compact, o.memory_limit);
   spec.finish();
   return o;
 }
 
 #ifdef MULTIRAY_HAS_OPENCL
 OpenClDeviceOptions read_opencl_options(balance::Spec& spec) {
-  spec.accept_only({"index", "speed", "tile", "wg", "cores", "fail_after"});
+  spec.accept_only({"index", "speed", "tile", "wg", "cores", "fail_after", "compact", "mem"});
   OpenClDeviceOptions o;
   o.index = spec.get_int("index", o.index, 0, 65535);
   o.speed = spec.get_double("speed", o.speed, kMinEmulatedSpeed, 1.0);  // emulated
@@ -95,6 +109,7 @@ OpenClDeviceOptions read_opencl_options(balance::Spec& spec) {
   o.work_group = spec.get_int("wg", o.work_group, 1, 4096);
   o.cores = read_cores(spec);
   o.fail_after = spec.get_int("fail_after", o.fail_after, 0, std::numeric_limits<int>::max());
+  read_memory_options(spec, o.compact, o.memory_limit);
   spec.finish();
   return o;
 }

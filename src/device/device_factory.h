@@ -2,14 +2,17 @@
 //
 // Grammar: DEVICE[,DEVICE...] where DEVICE is TYPE[:KEY=VALUE...], a balance::Spec (see
 // balance/spec.h) whose options are checked as below when the list is parsed.
-//   cpu:threads=N:cores=LIST:speed=S:quota=Q:tile=T:fail_after=K
+//   cpu:threads=N:cores=LIST:speed=S:quota=Q:tile=T:compact=B:mem=SIZE:fail_after=K
 //     threads  worker threads (default 1)
 //     cores    cores to pin to: "0", "0+2", "0-3" (default: not pinned)
 //     speed    emulated speed in [0.01, 1]: idles after each item (default 1)
 //     fail_after  testing aid: the device fails when it pulls an item after K items
 //     quota    real throttle: fraction of a core per thread via cgroup v1 (default none)
 //     tile     pixel block size handed to threads (default 16)
-//   opencl[:N]:speed=S:tile=T:wg=W:cores=LIST:fail_after=K
+//     compact  1: trace the compact scene (quantized mesh and tree, render/compact_scene.h)
+//     mem      emulated memory limit, e.g. 512M or 2G: a scene that does not fit the
+//              chosen representation is refused (device/scene_memory.h)
+//   opencl[:N]:speed=S:tile=T:wg=W:cores=LIST:compact=B:mem=SIZE:fail_after=K
 //     N        (or index=N) global OpenCL device index over all platforms, as
 //              `multiray devices` lists them (default 0)
 //     speed    emulated speed in (0, 1], as for cpu
@@ -17,6 +20,7 @@
 //     wg       work-group size (default 64, clamped to the kernel's maximum)
 //     cores    pin the thread that drives the device (with PoCL's `basic` driver the
 //              kernels run on that thread)
+//     compact, mem  as for cpu
 //     fail_after  testing aid: the device fails when it pulls a unit after K units
 //   Each OpenCL device runs on its own context. With PoCL, POCL_DEVICES="basic basic" gives
 //   two independent one-core devices (opencl:0, opencl:1); its default `pthread` device uses

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "render/compact_accel.h"
 #include "render/surface.h"
 
 namespace multiray {
@@ -22,7 +23,7 @@ void set_fast_float_mode() {
 namespace {
 
 // A number in [0, 1) fixed by the ray and the triangle (a 32-bit mix of their bits).
-float ray_hash(const float* values, int n, uint32_t prim) {
+float hash_floats(const float* values, int n, uint32_t prim) {
   uint32_t h = 0x9e3779b9u ^ prim;
   for (int i = 0; i < n; ++i) {
     uint32_t b;
@@ -56,15 +57,34 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
         RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
         RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
         RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
-    if (passes_through(*scene, m, uv, ray_hash(key, 6, prim))) args->valid[i] = 0;
+    if (passes_through(*scene, m, uv, hash_floats(key, 6, prim))) args->valid[i] = 0;
   }
 }
 
 }  // namespace
 
-Accel::Accel(const Scene& scene) {
+float cutout_hash(const Ray& ray, uint32_t prim) {
+  const float key[6] = {ray.org.x, ray.org.y, ray.org.z, ray.dir.x, ray.dir.y, ray.dir.z};
+  return hash_floats(key, 6, prim);
+}
+
+Accel::Accel(const Scene& scene, const CompactScene* compact) : compact_(compact) {
+  const bool any_cutout = std::any_of(scene.materials.begin(), scene.materials.end(),
+                                      [](const Material& m) { return m.may_be_transparent(); });
+  if (compact_) {
+    if (any_cutout) cutouts_ = &scene;
+    return;
+  }
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw DeviceError("Embree: cannot create a device");
+  // Embree reports every allocation of this device (the BVH and its vertex copies).
+  rtcSetDeviceMemoryMonitorFunction(
+      device_,
+      [](void* user, ssize_t bytes, bool) {
+        *static_cast<std::atomic<int64_t>*>(user) += int64_t(bytes);
+        return true;
+      },
+      &embree_bytes_);
   scene_ = rtcNewScene(device_);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
   RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -79,8 +99,7 @@ Accel::Accel(const Scene& scene) {
   if (!vertices || !indices) throw DeviceError("Embree: out of memory for the scene buffers");
   std::memcpy(vertices, scene.positions.data(), scene.positions.size() * sizeof(Vec3));
   std::memcpy(indices, scene.indices.data(), scene.indices.size() * sizeof(uint32_t));
-  if (std::any_of(scene.materials.begin(), scene.materials.end(),
-                  [](const Material& m) { return m.may_be_transparent(); })) {
+  if (any_cutout) {
     cutouts_ = &scene;
     rtcSetGeometryUserData(geom, const_cast<Scene*>(&scene));
     rtcSetGeometryIntersectFilterFunction(geom, alpha_filter);
@@ -100,6 +119,7 @@ Accel::~Accel() {
 }
 
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
+  if (compact_) return compact_intersect(*compact_, cutouts_, ray, hit);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -127,6 +147,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
 }
 
 bool Accel::occluded(const Ray& ray) const {
+  if (compact_) return compact_occluded(*compact_, cutouts_, ray);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRay r;

@@ -4,6 +4,10 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+
 #include "core/math.h"
 #include "scene/scene.h"
 
@@ -26,10 +30,15 @@ struct Hit {
 // material passes_through() (render/surface.h) is not a hit. The random number of
 // `blend` is a hash of the ray and the triangle, so a ray makes the same decision on
 // every device, whatever the split.
+//
+// With a compact scene (compact_scene.h) the queries run the compact traversal
+// (compact_accel.h) instead of Embree's, on quantized geometry.
+struct CompactScene;
 class Accel {
  public:
-  // Builds a high-quality BVH over `scene` (which must outlive the Accel).
-  explicit Accel(const Scene& scene);
+  // Builds a high-quality BVH over `scene` (which must outlive the Accel), or, given
+  // `compact` (which must outlive it too), traverses that instead and builds nothing.
+  explicit Accel(const Scene& scene, const CompactScene* compact = nullptr);
   ~Accel();
   Accel(const Accel&) = delete;
   Accel& operator=(const Accel&) = delete;
@@ -38,12 +47,22 @@ class Accel {
   bool intersect(const Ray& ray, Hit& hit) const;
   // True if anything lies along `ray` within [tmin, tmax].
   bool occluded(const Ray& ray) const;
+  // Bytes Embree holds for the BVH and its copy of the mesh (0 for a compact scene, whose
+  // bytes are its own).
+  uint64_t bytes() const { return uint64_t(std::max<int64_t>(0, embree_bytes_.load())); }
 
  private:
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
-  const Scene* cutouts_ = nullptr;  // the scene, when some material has an alpha mode
+  const CompactScene* compact_ = nullptr;
+  std::atomic<int64_t> embree_bytes_{0};  // Embree's builder allocates from many threads
+  const Scene* cutouts_ = nullptr;        // the scene, when some material has an alpha mode
 };
+
+// The random number of a `blend` cut-out decision for `ray` at triangle `prim`, in [0, 1):
+// a hash of the ray's origin and direction bits and the triangle (every traversal of the
+// renderer uses it, so a ray decides alike on every device).
+float cutout_hash(const Ray& ray, uint32_t prim);
 
 // Sets flush-to-zero and denormals-are-zero on the calling thread, as Embree recommends
 // for speed. Call once per rendering thread (cheap; idempotent).

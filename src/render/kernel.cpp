@@ -16,8 +16,8 @@ KernelStats Kernel::render_samples(const ViewSetup&, const RenderSettings&, cons
 
 namespace {
 template <class K>
-std::unique_ptr<Kernel> make(SceneCache& scenes) {
-  return std::make_unique<K>(scenes.embree());
+std::unique_ptr<Kernel> make(SceneCache& scenes, bool compact) {
+  return std::make_unique<K>(scenes.mesh(compact));
 }
 }  // namespace
 

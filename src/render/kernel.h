@@ -50,7 +50,8 @@ struct KernelEntry {
   std::string help;
   bool point_samples = false;
   KernelInput input = KernelInput::mesh;
-  std::unique_ptr<Kernel> (*make)(SceneCache& scenes) = nullptr;
+  // `compact`: trace the compact representation (SceneCache::mesh); volumes ignore it.
+  std::unique_ptr<Kernel> (*make)(SceneCache& scenes, bool compact) = nullptr;
 
   // True when the scene has what this kernel renders.
   bool accepts(const Scene& scene) const;

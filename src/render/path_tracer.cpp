@@ -45,8 +45,7 @@ Vec2 interpolate_uv(const TriangleShading& d, const Hit& hit) {
           d.uv[0].y * w + d.uv[1].y * hit.u + d.uv[2].y * hit.v};
 }
 
-Shading shade_point(const std::vector<TriangleShading>& data, const Ray& ray, const Hit& hit) {
-  const TriangleShading& d = data[hit.prim];
+Shading shade_point(const TriangleShading& d, const Ray& ray, const Hit& hit) {
   const float w = 1.0f - hit.u - hit.v;
   Shading sh;
   sh.p = ray.org + ray.dir * hit.t;
@@ -134,7 +133,7 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
   const Scene& scene = rs_.scene;
   const float p_env = settings.sample_environment ? rs_.environment_choice() : 0.0f;
   if (!hit) return escape(p, p_env);
-  Shading sh = shade_point(rs_.shading, p.ray, *hit);
+  Shading sh = shade_point(rs_.shading_of(hit->prim), p.ray, *hit);
   const Material& mat = scene.materials[sh.material];
   const Vec3 wo_world = -p.ray.dir;
   const bool front = dot(sh.ng, wo_world) > 0;
@@ -204,12 +203,12 @@ void PathTracer::trace_batch(std::vector<PathState>& paths, const RenderSettings
         ++stats.rays;
         if (log) log->closest.push_back(paths[i].ray);
         found[i] = rs_.accel.intersect(paths[i].ray, hits[i]);
-        if (found[i]) __builtin_prefetch(&rs_.shading[hits[i].prim]);
+        if (found[i] && !rs_.compact) __builtin_prefetch(&rs_.shading[hits[i].prim]);
       }
     // Start loading the texels every hit will need before shading any of them.
     for (size_t i = 0; i < n; ++i)
       if (paths[i].alive && found[i]) {
-        const TriangleShading& d = rs_.shading[hits[i].prim];
+        const TriangleShading d = rs_.shading_of(hits[i].prim);
         const int tex = rs_.scene.materials[d.material].base_color_texture;  // the hot one
         if (tex >= 0) rs_.scene.textures[size_t(tex)].prefetch(interpolate_uv(d, hits[i]));
       }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "render/accel.h"
+#include "render/compact_scene.h"
 #include "render/environment.h"
 #include "render/lights.h"
 #include "render/shading_data.h"
@@ -78,27 +79,45 @@ struct RayLog {
 };
 
 // The scene as the CPU kernels need it: geometry, BVH and light sampler, built once.
+// Two representations: full precision (Embree's BVH and a 64-byte shading record per
+// triangle) or, given a compact scene, the quantized mesh and tree (compact_scene.h),
+// decoded on access; lights, tangents and textures are full precision in both.
 struct RenderScene {
-  explicit RenderScene(const Scene& s)
+  // `c`, when given, must outlive the RenderScene.
+  explicit RenderScene(const Scene& s, const CompactScene* c = nullptr)
       : scene(s),
-        accel(s),
+        compact(c),
+        accel(s, compact),
         lights(s),
         environment(s),
-        shading(build_shading_data(s)),
+        shading(compact ? std::vector<TriangleShading>() : build_shading_data(s)),
         tangents(build_tangents(s)),
         environment_choice_(choose_environment(s, lights, environment)) {}
   const Scene& scene;
+  const CompactScene* compact;  // null at full precision
   Accel accel;
   LightSampler lights;
   EnvironmentLight environment;
-  std::vector<TriangleShading> shading;
+  std::vector<TriangleShading> shading;   // empty with a compact scene: use shading_of()
   std::vector<TriangleTangent> tangents;  // empty without normal maps
+
+  // The shading record of triangle `prim`: stored, or decoded from the compact mesh.
+  TriangleShading shading_of(uint32_t prim) const {
+    return compact ? decode_shading(*compact, prim) : shading[prim];
+  }
 
   // Probability that next-event estimation samples the environment rather than an
   // emissive triangle: 0 or 1 when only one kind exists; with both, in proportion to an
   // estimate of the power each brings into the scene's bounding sphere, kept in
   // [0.1, 0.9] so that neither is starved when the estimate is poor.
   float environment_choice() const { return environment_choice_; }
+
+  // Bytes this representation holds beyond the Scene: Embree's BVH (as Embree reports its
+  // allocations) and the shading records, or the compact mesh and tree; tangents in both.
+  uint64_t bytes() const {
+    return (compact ? compact->bytes() : accel.bytes()) +
+           shading.size() * sizeof(TriangleShading) + tangents.size() * sizeof(TriangleTangent);
+  }
 
  private:
   static float choose_environment(const Scene& s, const LightSampler& lights,

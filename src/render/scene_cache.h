@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "render/compact_scene.h"
 #include "render/render_types.h"
 #include "scene/scene.h"
 
@@ -47,6 +48,22 @@ class SceneCache {
   const RenderScene& embree() {
     return get<RenderScene>("embree",
                             [](const Scene& s) { return std::make_unique<RenderScene>(s); });
+  }
+  // The quantized mesh and tree (render/compact_scene.h), shared by every device that
+  // asked for compact=1 (representation "compact-scene").
+  const CompactScene& compact_scene() {
+    return get<CompactScene>("compact-scene", [](const Scene& s) {
+      return std::make_unique<CompactScene>(build_compact_scene(s));
+    });
+  }
+  // What the CPU kernels trace with compact=1 (representation "compact").
+  const RenderScene& compact() {
+    const CompactScene* c = &compact_scene();
+    return get<RenderScene>("compact",
+                            [c](const Scene& s) { return std::make_unique<RenderScene>(s, c); });
+  }
+  const RenderScene& mesh(bool compact_representation) {
+    return compact_representation ? compact() : embree();
   }
 
   // Names of the representations built so far.

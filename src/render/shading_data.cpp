@@ -1,5 +1,7 @@
 #include "render/shading_data.h"
 
+#include "render/compact_scene.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -19,6 +21,22 @@ std::vector<TriangleShading> build_shading_data(const Scene& s) {
     r.material = s.material_ids[t];
   }
   return out;
+}
+
+TriangleShading decode_shading(const CompactScene& c, uint32_t prim) {
+  const CompactMesh& m = c.mesh;
+  const uint32_t* idx = &m.indices[3 * size_t(prim)];
+  TriangleShading r;
+  if (m.normals.empty()) {
+    const Vec3 p0 = m.position(idx[0]);
+    const Vec3 face = normalize(cross(m.position(idx[1]) - p0, m.position(idx[2]) - p0));
+    r.normal[0] = r.normal[1] = r.normal[2] = face;
+  } else {
+    for (int k = 0; k < 3; ++k) r.normal[k] = decode_normal(m.normals[idx[k]]);
+  }
+  for (int k = 0; k < 3; ++k) r.uv[k] = m.uv(idx[k]);
+  r.material = m.material_ids[prim];
+  return r;
 }
 
 std::vector<TriangleTangent> build_tangents(const Scene& s) {

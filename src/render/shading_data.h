@@ -22,6 +22,11 @@ static_assert(sizeof(TriangleShading) == 64, "one cache line per triangle");
 
 std::vector<TriangleShading> build_shading_data(const Scene& scene);
 
+// The record of triangle `prim` decoded from a compact scene, with build_shading_data()'s
+// rules (face normal when the scene has no normals, uv 0 when it has no uvs).
+struct CompactScene;
+TriangleShading decode_shading(const CompactScene& c, uint32_t prim);
+
 // Per-triangle tangent frame for normal mapping: `u` is dp/du (unit), `sign` is +1 or -1
 // so that cross(n, u) * sign points along -dp/dv, glTF's "+y of the normal map" (its v
 // axis points down the image). u = 0 where the triangle's uvs have no area (the map is

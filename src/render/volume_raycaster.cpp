@@ -203,7 +203,7 @@ const VolumeScene& volume_scene(SceneCache& scenes) {
   });
 }
 
-std::unique_ptr<Kernel> make_volume_raycaster(SceneCache& scenes) {
+std::unique_ptr<Kernel> make_volume_raycaster(SceneCache& scenes, bool /*compact*/) {
   return std::make_unique<VolumeRaycaster>(volume_scene(scenes));
 }
 

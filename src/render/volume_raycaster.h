@@ -80,6 +80,6 @@ class VolumeRaycaster : public Kernel {
 
 // The SceneCache's "volume" representation of its scene (which must hold a volume).
 const VolumeScene& volume_scene(SceneCache& scenes);
-std::unique_ptr<Kernel> make_volume_raycaster(SceneCache& scenes);
+std::unique_ptr<Kernel> make_volume_raycaster(SceneCache& scenes, bool compact);
 
 }  // namespace multiray

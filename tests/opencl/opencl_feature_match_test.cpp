@@ -106,7 +106,7 @@ TEST(OpenClFeatureMatch, SameSeedUnderSkyMapAndSunGivesNearlyTheCpuImage) {
 
 // The constant sky is sampled cosine-weighted in a frame around the geometric normal, whose
 // orientation for an axis-aligned wall hangs on the sign of a zero component: the kernel
-// computes the normal as Embree does (bvh_flatten.h), so the closed box's walls draw the
+// computes the normal as Embree does (render/flat_bvh.h), so the closed box's walls draw the
 // same directions as on the CPU.
 TEST(OpenClFeatureMatch, SameSeedUnderConstantSkyInTheBoxGivesNearlyTheCpuImage) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();

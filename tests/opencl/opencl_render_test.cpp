@@ -9,9 +9,9 @@
 
 #include "core/error.h"
 #include "device/device_factory.h"
-#include "device/opencl/bvh_flatten.h"
 #include "device/opencl/cl_program.h"
 #include "opencl_helpers.h"
+#include "render/flat_bvh.h"
 #include "scene/builders.h"
 
 namespace multiray {

@@ -33,7 +33,7 @@ bool same_bits(const Framebuffer& a, const Framebuffer& b) {
 // Renders `rects` one after the other with the kernel (each rect renders its own samples).
 Framebuffer render_rects(SceneCache& rs, const ViewSetup& v, const RenderSettings& s,
                          const std::vector<Rect>& rects) {
-  const std::unique_ptr<Kernel> sampled = find_cpu_kernel(s.kernel)->make(rs);
+  const std::unique_ptr<Kernel> sampled = find_cpu_kernel(s.kernel)->make(rs, false);
   const FoveatedKernel kernel(*sampled);
   Framebuffer fb(v.width, v.height);
   std::vector<Vec3> scratch;

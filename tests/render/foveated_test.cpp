@@ -16,7 +16,7 @@ namespace {
 Framebuffer render_foveated(const Scene& scene, const FoveationFrame& f, RenderSettings s,
                             Rect rect = {}) {
   SceneCache scenes(scene);
-  const std::unique_ptr<Kernel> sampled = find_cpu_kernel(s.kernel)->make(scenes);
+  const std::unique_ptr<Kernel> sampled = find_cpu_kernel(s.kernel)->make(scenes, false);
   const FoveatedKernel kernel(*sampled);
   ViewSetup v;
   v.camera = scene.cameras[0];

@@ -12,15 +12,15 @@
 namespace multiray::testing {
 
 // Renders `regions` of one view on `device_count` CPU devices running concurrently
-// (devices pull regions from one shared list).
+// (devices pull regions from one shared list); `compact`: on the compact scene.
 inline Framebuffer render_regions(const Scene& scene, int w, int h, const RenderSettings& settings,
                                   const std::vector<Rect>& regions, int device_count = 1,
-                                  int threads = 1, int frame = 0) {
+                                  int threads = 1, int frame = 0, bool compact = false) {
   SceneCache rs(scene);
   std::vector<std::unique_ptr<CpuDevice>> devices;
   for (int i = 0; i < device_count; ++i)
-    devices.push_back(
-        std::make_unique<CpuDevice>(rs, CpuDeviceOptions{.threads = threads}, "cpu"));
+    devices.push_back(std::make_unique<CpuDevice>(
+        rs, CpuDeviceOptions{.threads = threads, .compact = compact}, "cpu"));
   std::vector<WorkItem> units;
   for (const Rect& r : regions) units.push_back(WorkItem{r, 0});
   ListWorkSource source(units);

@@ -18,6 +18,7 @@
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/cpu/cgroup_quota.h"
+#include "device/scene_memory.h"
 #include "render/foveated.h"
 #include "render/kernel.h"
 
@@ -60,7 +61,7 @@ struct CpuDevice::Impl {
   Impl(SceneCache& scenes, const CpuDeviceOptions& o, const std::string& name)
       : opts(o), arena(o.threads, 1) {
     for (const KernelEntry& e : cpu_kernels())
-      if (e.accepts(scenes.scene())) kernels.emplace(e.name, e.make(scenes));
+      if (e.accepts(scenes.scene())) kernels.emplace(e.name, e.make(scenes, o.compact));
     if (o.quota > 0) quota.emplace(name, o.quota * o.threads);
     setup.emplace(arena, o.cores, quota ? &*quota : nullptr);
   }
@@ -103,6 +104,7 @@ CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec
                        " does not exist (this machine has " + std::to_string(ncpu) + ")");
   if (!(opts.speed > 0 && opts.speed <= 1))
     throw InputError("cpu device: speed must be in (0, 1], got " + std::to_string(opts.speed));
+  check_scene_fits(scenes.scene(), opts.compact, opts.memory_limit, "--devices '" + spec + "'");
   static std::atomic<int> counter{0};
   impl_ = std::make_unique<Impl>(scenes, opts, "cpu" + std::to_string(counter++));
   impl_->speed = opts.speed;
@@ -112,6 +114,12 @@ CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec
   info_.emulated_speed = opts.speed;
   info_.cpu_quota = opts.quota;
   info_.caps = capabilities();
+  if (scenes.scene().has_triangles()) {
+    const RenderScene& rs = scenes.mesh(opts.compact);
+    info_.representation = opts.compact ? "compact" : "embree";
+    info_.scene_bytes = rs.bytes();
+  }
+  info_.memory_limit = opts.memory_limit;
   info_.name =
       "cpu (" + std::to_string(opts.threads) + (opts.threads == 1 ? " thread" : " threads");
   if (!opts.cores.empty()) {
@@ -120,6 +128,8 @@ CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec
   }
   if (opts.quota > 0) info_.name += ", quota " + std::to_string(opts.quota).substr(0, 4);
   if (opts.speed < 1) info_.name += ", emulated speed " + std::to_string(opts.speed).substr(0, 4);
+  if (opts.compact) info_.name += ", compact scene";
+  if (opts.memory_limit > 0) info_.name += ", emulated memory " + format_bytes(opts.memory_limit);
   info_.name += ")";
 }
 

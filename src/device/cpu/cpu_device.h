@@ -20,6 +20,8 @@ struct CpuDeviceOptions {
   double quota = 0.0;           // fraction of one core per thread via cgroup v1; 0 = none
   int tile = 16;                // side of the pixel blocks handed to the threads
   int fail_after = -1;          // testing aid: fail when pulling an item after this many items
+  bool compact = false;         // trace the compact scene representation
+  uint64_t memory_limit = 0;    // emulated memory limit in bytes (mem=); 0: none
 };
 
 class CpuDevice : public Device {

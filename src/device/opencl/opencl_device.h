@@ -23,12 +23,14 @@
 namespace multiray {
 
 struct OpenClDeviceOptions {
-  int index = 0;             // global device index over all platforms (`opencl:N`)
-  double speed = 1.0;        // emulated speed in (0, 1]: idles after each unit
-  int tile = 256;            // side of the largest square one kernel launch renders
-  int work_group = 64;       // work-group size, clamped to what the kernel allows
-  std::vector<int> cores{};  // pin the thread that drives the device (empty: not pinned)
-  int fail_after = -1;       // testing aid: fail when pulling a unit after this many units
+  int index = 0;              // global device index over all platforms (`opencl:N`)
+  double speed = 1.0;         // emulated speed in (0, 1]: idles after each unit
+  int tile = 256;             // side of the largest square one kernel launch renders
+  int work_group = 64;        // work-group size, clamped to what the kernel allows
+  std::vector<int> cores{};   // pin the thread that drives the device (empty: not pinned)
+  int fail_after = -1;        // testing aid: fail when pulling a unit after this many units
+  bool compact = false;       // upload the compact scene representation (compact_scene.h)
+  uint64_t memory_limit = 0;  // emulated device memory limit in bytes (mem=); 0: none
 };
 
 class OpenClDevice : public Device {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "device/opencl/bvh_flatten.h"
+#include "render/flat_bvh.h"
 #include "render/path_tracer.h"
 
 namespace multiray {

@@ -1,5 +1,5 @@
 // Shared definitions of the OpenCL path tracer: buffer records (mirroring
-// device/opencl/bvh_flatten.h and scene_buffers.h byte for byte) and small vector helpers
+// render/flat_bvh.h and device/opencl/scene_buffers.h byte for byte) and small vector helpers
 // that evaluate in the same order as core/math.h.
 //
 // Contraction of a*b+c into fma is off: a fused and an unfused evaluation of the same

@@ -1,4 +1,4 @@
-// Ray queries against the flat BVH (device/opencl/bvh_flatten.h): a stack-based
+// Ray queries against the flat BVH (device/opencl/render/flat_bvh.h): a stack-based
 // traversal that visits the nearer child first and skips subtrees beyond the closest hit.
 // Cut-out materials (alpha mask/blend) reject hits as render/accel.cpp's Embree filter
 // does, for closest and shadow rays alike, with the same hash of the ray.
@@ -84,7 +84,7 @@ bool tri_hit(const SceneData* sc, const __global Tri* tri, const Ray* ray, float
 }
 
 // Closest hit (any_hit = false) or any hit (any_hit = true, for shadow rays). `ref` is the
-// child reference being visited (a node index or a leaf, see bvh_flatten.h).
+// child reference being visited (a node index or a leaf, see render/flat_bvh.h).
 bool traverse(const SceneData* sc, const Ray* ray, bool any_hit, Hit* hit) {
   const __global Node* nodes = sc->nodes;
   const __global Tri* tris = sc->tris;

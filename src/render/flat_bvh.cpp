@@ -1,4 +1,4 @@
-#include "device/opencl/bvh_flatten.h"
+#include "render/flat_bvh.h"
 
 #include <embree3/rtcore.h>
 

@@ -1,5 +1,6 @@
 // A binary BVH in one flat array, built on the host and traversed by the OpenCL kernel
-// (kernels/traverse.cl). The layout is part of the kernel's contract: change both together.
+// (device/opencl/kernels/traverse.cl); the layout is part of the kernel's contract, change
+// both together. The compact representation (compact_scene.h) quantizes this same tree.
 #pragma once
 
 #include <cstdint>

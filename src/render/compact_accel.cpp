@@ -1,0 +1,146 @@
+#include "render/compact_accel.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/flat_bvh.h"
+#include "render/surface.h"
+
+namespace multiray {
+
+namespace {
+
+Vec3 safe_inverse(Vec3 d) {
+  const auto inv = [](float x) {
+    return 1.0f / (std::fabs(x) < 1e-30f ? std::copysign(1e-30f, x) : x);
+  };
+  return Vec3(inv(d.x), inv(d.y), inv(d.z));
+}
+
+// Slab test; on a hit, *t_near is where the ray enters the box (within the ray's range).
+bool box_hit(const Bounds3& b, Vec3 org, Vec3 inv, float tmin, float tmax, float* t_near) {
+  const float tx0 = (b.lo.x - org.x) * inv.x, tx1 = (b.hi.x - org.x) * inv.x;
+  const float ty0 = (b.lo.y - org.y) * inv.y, ty1 = (b.hi.y - org.y) * inv.y;
+  const float tz0 = (b.lo.z - org.z) * inv.z, tz1 = (b.hi.z - org.z) * inv.z;
+  const float lo = std::max(std::max(std::min(tx0, tx1), std::min(ty0, ty1)),
+                            std::max(std::min(tz0, tz1), tmin));
+  const float hi = std::min(std::min(std::max(tx0, tx1), std::max(ty0, ty1)),
+                            std::min(std::max(tz0, tz1), tmax));
+  *t_near = lo;
+  return lo <= hi;
+}
+
+Bounds3 child_box(const CompactNode& n, int c, const Bounds3& parent) {
+  Bounds3 b;
+  b.lo = Vec3(dequantize_plane(parent.lo.x, parent.hi.x, n.lo[c][0]),
+              dequantize_plane(parent.lo.y, parent.hi.y, n.lo[c][1]),
+              dequantize_plane(parent.lo.z, parent.hi.z, n.lo[c][2]));
+  b.hi = Vec3(dequantize_plane(parent.lo.x, parent.hi.x, n.hi[c][0]),
+              dequantize_plane(parent.lo.y, parent.hi.y, n.hi[c][1]),
+              dequantize_plane(parent.lo.z, parent.hi.z, n.hi[c][2]));
+  return b;
+}
+
+bool cut_out(const CompactMesh& m, const Scene& scene, const Ray& ray, uint32_t prim, float u,
+             float v) {
+  const Material& mat = scene.materials[m.material_ids[prim]];
+  if (!mat.may_be_transparent()) return false;
+  Vec2 uv{};
+  if (!m.uvs.empty()) {
+    const uint32_t* idx = &m.indices[3 * size_t(prim)];
+    const Vec2 a = m.uv(idx[0]), b = m.uv(idx[1]), c = m.uv(idx[2]);
+    const float w = 1.0f - u - v;
+    uv = Vec2{a.x * w + b.x * u + c.x * v, a.y * w + b.y * u + c.y * v};
+  }
+  return passes_through(scene, mat, uv, cutout_hash(ray, prim));
+}
+
+// Moller-Trumbore on the decoded triangle, with the edges of the flat BVH's triangles
+// (flat_bvh.h: e1n = v0 - v1, e2 = v2 - v0) so the normal is Embree's.
+bool triangle_hit(const CompactMesh& m, const Scene* cutouts, uint32_t prim, const Ray& ray,
+                  float& tmax, Hit& hit) {
+  const Vec3 v0 = m.corner(prim, 0), e1n = v0 - m.corner(prim, 1), e2 = m.corner(prim, 2) - v0;
+  const Vec3 e1 = Vec3(0.0f) - e1n;
+  const Vec3 p = cross(ray.dir, e2);
+  const float det = dot(e1, p);
+  if (det == 0.0f) return false;
+  const float inv = 1.0f / det;
+  const Vec3 s = ray.org - v0;
+  const float u = dot(s, p) * inv;
+  if (u < 0.0f || u > 1.0f) return false;
+  const Vec3 q = cross(s, e1);
+  const float v = dot(ray.dir, q) * inv;
+  if (v < 0.0f || u + v > 1.0f) return false;
+  const float t = dot(e2, q) * inv;
+  if (!(t > ray.tmin && t < tmax)) return false;
+  if (cutouts && cut_out(m, *cutouts, ray, prim, u, v)) return false;
+  tmax = t;
+  hit.t = t, hit.prim = prim, hit.u = u, hit.v = v;
+  hit.ng = cross(e2, e1n);
+  return true;
+}
+
+struct StackEntry {
+  uint32_t ref;
+  float t;      // where the ray enters the subtree
+  Bounds3 box;  // the subtree root's decoded box (unused for leaves)
+};
+
+bool traverse(const CompactScene& c, const Scene* cutouts, const Ray& ray, bool any_hit,
+              Hit& hit) {
+  if (c.bvh.nodes.empty()) return false;
+  const Vec3 inv = safe_inverse(ray.dir);
+  float tmax = ray.tmax;
+  StackEntry stack[kMaxBvhDepth];
+  int sp = 0;
+  uint32_t ref = 0;
+  Bounds3 box = c.bvh.root;
+  bool found = false;
+  for (;;) {
+    bool descend = false;
+    if (ref & kLeafBit) {
+      const uint32_t first = (ref & ~kLeafBit) >> kLeafCountBits;
+      const uint32_t count = (ref & (kMaxLeafTriangles - 1)) + 1;
+      for (uint32_t i = first; i < first + count; ++i)
+        if (triangle_hit(c.mesh, cutouts, c.bvh.prims[i], ray, tmax, hit)) {
+          found = true;
+          if (any_hit) return true;
+        }
+    } else {
+      const CompactNode& n = c.bvh.nodes[ref];
+      const Bounds3 b0 = child_box(n, 0, box), b1 = child_box(n, 1, box);
+      float t0, t1;
+      const bool h0 = box_hit(b0, ray.org, inv, ray.tmin, tmax, &t0);
+      const bool h1 = box_hit(b1, ray.org, inv, ray.tmin, tmax, &t1);
+      if (h0 && h1) {
+        const int first = t1 < t0 ? 1 : 0;
+        stack[sp++] = StackEntry{n.child[1 - first], first ? t0 : t1, first ? b0 : b1};
+        ref = n.child[first], box = first ? b1 : b0;
+        descend = true;
+      } else if (h0 || h1) {
+        ref = n.child[h0 ? 0 : 1], box = h0 ? b0 : b1;
+        descend = true;
+      }
+    }
+    if (descend) continue;
+    for (;;) {  // the nearest pending subtree that can still hold a closer hit
+      if (sp == 0) return found;
+      --sp;
+      if (stack[sp].t <= tmax) break;
+    }
+    ref = stack[sp].ref, box = stack[sp].box;
+  }
+}
+
+}  // namespace
+
+bool compact_intersect(const CompactScene& c, const Scene* cutouts, const Ray& ray, Hit& hit) {
+  return traverse(c, cutouts, ray, false, hit);
+}
+
+bool compact_occluded(const CompactScene& c, const Scene* cutouts, const Ray& ray) {
+  Hit unused;
+  return traverse(c, cutouts, ray, true, unused);
+}
+
+}  // namespace multiray

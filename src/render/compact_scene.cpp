@@ -1,0 +1,137 @@
+#include "render/compact_scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "render/flat_bvh.h"
+
+namespace multiray {
+
+size_t CompactMesh::bytes() const {
+  return positions.size() * sizeof(QuantizedPosition) + normals.size() * 2 + uvs.size() * 2 +
+         indices.size() * 4 + material_ids.size() * 2;
+}
+
+CompactMesh build_compact_mesh(const Scene& scene) {
+  if (scene.materials.size() > 65535)
+    throw InputError("the compact representation holds at most 65,535 materials, the scene has " +
+                     std::to_string(scene.materials.size()));
+  CompactMesh m;
+  m.grid = PositionGrid::fit(scene.bounds());
+  m.positions.reserve(scene.positions.size());
+  for (const Vec3& p : scene.positions) m.positions.push_back(encode_position(m.grid, p));
+  m.normals.reserve(scene.normals.size());
+  for (const Vec3& n : scene.normals) m.normals.push_back(encode_normal(n));
+  if (!scene.uvs.empty()) {
+    Vec2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
+    for (const Vec2& t : scene.uvs) {
+      lo = Vec2{std::min(lo.x, t.x), std::min(lo.y, t.y)};
+      hi = Vec2{std::max(hi.x, t.x), std::max(hi.y, t.y)};
+    }
+    m.uv_range = UvRange::fit(lo, hi);
+    m.uvs.resize(2 * scene.uvs.size());
+    for (size_t i = 0; i < scene.uvs.size(); ++i)
+      encode_uv(m.uv_range, scene.uvs[i], &m.uvs[2 * i]);
+  }
+  m.indices = scene.indices;
+  m.material_ids.assign(scene.material_ids.begin(), scene.material_ids.end());
+  return m;
+}
+
+namespace {
+
+// The 8-bit plane of `value` inside [lo, hi]: rounded down for a lower plane, up for an
+// upper one, then stepped until dequantize_plane() (the traversal's own arithmetic) lies
+// on the safe side of `value`.
+uint8_t quantize_plane(float lo, float hi, float value, bool upper) {
+  if (!(hi > lo)) return upper ? 255 : 0;
+  const float f = (value - lo) / (hi - lo) * 255.0f;
+  int q = int(upper ? std::ceil(f) : std::floor(f));
+  q = std::clamp(q, 0, 255);
+  if (upper)
+    while (q < 255 && dequantize_plane(lo, hi, uint8_t(q)) < value) ++q;
+  else
+    while (q > 0 && dequantize_plane(lo, hi, uint8_t(q)) > value) --q;
+  return uint8_t(q);
+}
+
+// Quantizes the children of flat node `index`, whose decoded box is `box`, and recurses
+// into interior children with their decoded boxes.
+void quantize_subtree(const FlatBvh& flat, uint32_t index, const Bounds3& box,
+                      std::vector<CompactNode>& out) {
+  const FlatNode& f = flat.nodes[index];
+  CompactNode& n = out[index];
+  const float lo[3] = {box.lo.x, box.lo.y, box.lo.z}, hi[3] = {box.hi.x, box.hi.y, box.hi.z};
+  Bounds3 child_box[2];
+  for (int c = 0; c < 2; ++c) {
+    float dlo[3], dhi[3];
+    for (int a = 0; a < 3; ++a) {
+      n.lo[c][a] = quantize_plane(lo[a], hi[a], f.lo[c][a], false);
+      n.hi[c][a] = quantize_plane(lo[a], hi[a], f.hi[c][a], true);
+      dlo[a] = dequantize_plane(lo[a], hi[a], n.lo[c][a]);
+      dhi[a] = dequantize_plane(lo[a], hi[a], n.hi[c][a]);
+    }
+    child_box[c].lo = Vec3(dlo[0], dlo[1], dlo[2]);
+    child_box[c].hi = Vec3(dhi[0], dhi[1], dhi[2]);
+    n.child[c] = f.child[c];
+  }
+  for (int c = 0; c < 2; ++c)
+    if (!(f.child[c] & kLeafBit)) quantize_subtree(flat, f.child[c], child_box[c], out);
+}
+
+}  // namespace
+
+CompactScene build_compact_scene(const Scene& scene) {
+  CompactScene c;
+  c.mesh = build_compact_mesh(scene);
+  // The tree is built over the decoded positions: its boxes must bound what is tested.
+  Scene decoded;
+  decoded.indices = scene.indices;
+  decoded.positions.reserve(scene.positions.size());
+  for (uint32_t v = 0; v < c.mesh.positions.size(); ++v)
+    decoded.positions.push_back(c.mesh.position(v));
+  // A scene whose triangles all lost their area (all vertices equal, say) has an empty
+  // tree: every ray misses, as Embree's full-precision traversal would have it.
+  bool any_area = false;
+  for (uint32_t t = 0; t < scene.triangle_count() && !any_area; ++t) {
+    const Vec3 a = c.mesh.corner(t, 0), b = c.mesh.corner(t, 1), d = c.mesh.corner(t, 2);
+    const Vec3 n = cross(b - a, d - a);
+    any_area = n.x != 0 || n.y != 0 || n.z != 0;
+  }
+  if (!any_area) return c;
+  const FlatBvh flat = build_flat_bvh(decoded);
+  c.bvh.depth = flat.depth;
+  c.bvh.prims.reserve(flat.triangles.size());
+  for (const FlatTriangle& t : flat.triangles) c.bvh.prims.push_back(t.prim);
+  const FlatNode& r = flat.nodes[0];
+  c.bvh.root.lo = Vec3(std::min(r.lo[0][0], r.lo[1][0]), std::min(r.lo[0][1], r.lo[1][1]),
+                       std::min(r.lo[0][2], r.lo[1][2]));
+  c.bvh.root.hi = Vec3(std::max(r.hi[0][0], r.hi[1][0]), std::max(r.hi[0][1], r.hi[1][1]),
+                       std::max(r.hi[0][2], r.hi[1][2]));
+  c.bvh.nodes.resize(flat.nodes.size());
+  quantize_subtree(flat, 0, c.bvh.root, c.bvh.nodes);
+  return c;
+}
+
+SceneBytes full_precision_bytes(const Scene& s, size_t tree_nodes) {
+  SceneBytes b;
+  b.mesh = s.positions.size() * 12 + s.normals.size() * 12 + s.uvs.size() * 8 +
+           s.indices.size() * 4 + s.material_ids.size() * 4;
+  b.structure = tree_nodes * sizeof(FlatNode) + s.triangle_count() * 4;
+  return b;
+}
+
+SceneBytes estimate_compact_bytes(const Scene& s) {
+  SceneBytes b;
+  b.mesh = s.positions.size() * sizeof(QuantizedPosition) + s.normals.size() * 2 +
+           s.uvs.size() * 4 + s.indices.size() * 4 + s.material_ids.size() * 2;
+  b.structure = s.triangle_count() * (sizeof(CompactNode) + 4);
+  return b;
+}
+
+SceneBytes compact_bytes(const CompactScene& c) {
+  return SceneBytes{c.mesh.bytes(), c.bvh.bytes()};
+}
+
+}  // namespace multiray

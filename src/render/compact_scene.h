@@ -1,0 +1,101 @@
+// The compact scene representation (Seo, Park & Ihm, Sensors 2022, §3): a quantized mesh
+// (compact_quantize.h) and a quantized BVH, so that a device with little memory can hold a
+// large scene. A device opts in per device (`compact=1` in its --devices spec); the image
+// it renders differs from the full-precision one by the quantization only, and is
+// bit-identical for any split among devices of the same type and representation.
+//
+// The acceleration structure. The paper compacts a kd-tree; we quantize our own binary
+// BVH (render/flat_bvh.h, Embree's binned SAH builder) instead, as compressed wide BVHs do
+// (Ylitie, Karras & Laine, HPG 2017): each node stores its two children's boxes in 8 bits
+// per plane relative to its own box (20 bytes a node instead of 64), and leaves refer to
+// triangles by index instead of holding copies of their vertices (4 bytes a triangle
+// instead of 48). Why not the kd-tree: the renderer's traversals are BVH traversals, a
+// kd-tree would duplicate references of triangles that straddle a split, and our
+// measurements (docs/compact.md) put the quantized BVH under the goal without one.
+//
+// The tree is built over the *decoded* positions, so its boxes bound the triangles the
+// traversal actually tests.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "render/compact_quantize.h"
+#include "scene/scene.h"
+
+namespace multiray {
+
+// Faces stay uncompressed (random access), as in the paper.
+struct CompactMesh {
+  PositionGrid grid;
+  std::vector<QuantizedPosition> positions;
+  std::vector<uint16_t> normals;  // one octahedral code per position, or empty
+  UvRange uv_range;
+  std::vector<uint16_t> uvs;           // two per position, or empty
+  std::vector<uint32_t> indices;       // three per triangle, as Scene::indices
+  std::vector<uint16_t> material_ids;  // one per triangle
+
+  Vec3 position(uint32_t v) const { return decode_position(grid, positions[v]); }
+  Vec3 corner(uint32_t tri, int k) const { return position(indices[3 * size_t(tri) + k]); }
+  Vec2 uv(uint32_t v) const { return uvs.empty() ? Vec2{} : decode_uv(uv_range, &uvs[2 * v]); }
+  size_t bytes() const;
+};
+
+// 20 bytes: the boxes of both children, each plane as q / 255 of the way across this
+// node's own box (lower planes rounded down, upper up, so a child box always contains its
+// triangles), and the children's references as in FlatNode (a node index or a leaf:
+// kLeafBit | first << kLeafCountBits | (count - 1), `first` indexing CompactBvh::prims).
+struct CompactNode {
+  uint8_t lo[2][3];
+  uint8_t hi[2][3];
+  uint32_t child[2];
+};
+static_assert(sizeof(CompactNode) == 20, "kernels expect 20-byte nodes");
+
+struct CompactBvh {
+  Bounds3 root;                    // the root node's own box, at full precision
+  std::vector<CompactNode> nodes;  // nodes[0] is the root; empty: nothing can be hit
+  std::vector<uint32_t> prims;     // scene triangle indices, in leaf order
+  int depth = 0;
+  size_t bytes() const { return nodes.size() * sizeof(CompactNode) + prims.size() * 4; }
+};
+
+// A child's box from its parent's decoded box `lo`..`hi` and its 8-bit planes. Plane 0 is
+// the parent's lower plane and 255 its upper plane exactly, whatever the rounding.
+inline float dequantize_plane(float lo, float hi, uint8_t q) {
+  if (q == 0) return lo;
+  if (q == 255) return hi;
+  return lo + (hi - lo) * (float(q) * (1.0f / 255.0f));
+}
+
+struct CompactScene {
+  CompactMesh mesh;
+  CompactBvh bvh;
+  size_t bytes() const { return mesh.bytes() + bvh.bytes(); }
+};
+
+// Sizes, in bytes, of the parts of a scene at full precision and compact, for the
+// memory reports and the `mem=` check. Full precision counts the indexed mesh (float
+// positions, normals and uvs, 32-bit indices and material ids) and the same tree with
+// float boxes (FlatNode) and 32-bit triangle references: the textbook layout the paper
+// compares against, not any one device's buffers.
+struct SceneBytes {
+  size_t mesh = 0, structure = 0;
+  size_t total() const { return mesh + structure; }
+};
+SceneBytes full_precision_bytes(const Scene& scene, size_t tree_nodes);
+// An estimate made before building (for refusing a device early): the tree's node count
+// is taken as the triangle count, an upper bound for leaves of one triangle or more.
+SceneBytes estimate_compact_bytes(const Scene& scene);
+SceneBytes compact_bytes(const CompactScene& c);
+
+// Throws InputError when the scene has more than 65,535 materials (16-bit material ids),
+// DeviceError when the tree cannot be built (see build_flat_bvh).
+CompactScene build_compact_scene(const Scene& scene);
+
+// The mesh alone (for tests of the quantization): no tree.
+CompactMesh build_compact_mesh(const Scene& scene);
+
+}  // namespace multiray
