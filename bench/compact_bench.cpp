@@ -9,8 +9,14 @@
 // (median reported); and PSNR of the compact image against the full-precision one (same
 // seeds). Writes one JSON object per scene to stdout's last lines and a table to stderr.
 //
+// With --opencl (when the OpenCL backend is built and a device is found), the paper's
+// like-for-like comparison as well: the same OpenCL path-tracing kernel on the flat BVH
+// and on the compact scene (opencl:0 against opencl:0:compact=1), alternately `reps`
+// times, each frame's busy time as the device measures it around its kernel launches
+// (median reported), the scene buffers each device uploaded, and the PSNR between them.
+//
 // Usage: compact_bench [--res WxH] [--spp N] [--bounces N] [--reps N]
-//                      [--subdivide K] SCENE...
+//                      [--subdivide K] [--opencl] SCENE...
 // --subdivide K splits every triangle of the scenes into 4^K (a generated large mesh).
 #include <algorithm>
 #include <cstdio>
@@ -27,6 +33,12 @@
 #include "render/path_tracer.h"
 #include "scene/builders.h"
 #include "scene/loaders.h"
+
+#ifdef MULTIRAY_HAS_OPENCL
+#include "device/opencl/opencl_device.h"
+#include "device/opencl/opencl_platform.h"
+#include "device/work_list.h"
+#endif
 
 using namespace multiray;
 
@@ -66,7 +78,48 @@ Scene subdivide(const Scene& s) {
 
 struct Options {
   int w = 480, h = 270, spp = 4, bounces = 4, reps = 3, subdivide = 0;
+  bool opencl = false;
 };
+
+#ifdef MULTIRAY_HAS_OPENCL
+// One whole frame on `device`; returns its busy time (ms, measured by the device).
+double render_frame(Device& device, const ViewSetup& view, const RenderSettings& settings,
+                    Framebuffer& out) {
+  ListWorkSource source({WorkItem{{0, 0, view.width, view.height}, 0}});
+  std::vector<Framebuffer> outputs{Framebuffer(view.width, view.height)};
+  const FrameJob job{{view}, settings, &outputs};
+  const DeviceReport r = device.render(job, source, 0);
+  if (r.failed) throw std::runtime_error(r.error);
+  out = outputs[0];
+  return r.busy_ms;
+}
+
+nlohmann::json opencl_comparison(const Scene& scene, const ViewSetup& view,
+                                 const RenderSettings& settings, const Options& o) {
+  if (list_opencl_devices().empty()) return {{"skipped", "no OpenCL device"}};
+  SceneCache cache(scene);
+  OpenClDevice flat(cache, {}, "opencl:0");
+  OpenClDevice compact(cache, {.compact = true}, "opencl:0:compact=1");
+  Framebuffer a(view.width, view.height), b(view.width, view.height);
+  std::vector<double> tf, tc;
+  for (int r = 0; r < o.reps; ++r) {
+    tf.push_back(render_frame(flat, view, settings, a));
+    tc.push_back(render_frame(compact, view, settings, b));
+  }
+  return {{"device", flat.info().name},
+          {"scene_bytes",
+           {{"flat", flat.info().scene_bytes}, {"compact", compact.info().scene_bytes}}},
+          {"scene_ratio", double(flat.info().scene_bytes) / double(compact.info().scene_bytes)},
+          {"busy_ms", {{"flat", median(tf)}, {"compact", median(tc)}}},
+          {"render_time_increase", median(tc) / median(tf) - 1.0},
+          {"psnr_db", image_error(b, a).psnr_db}};
+}
+#else
+nlohmann::json opencl_comparison(const Scene&, const ViewSetup&, const RenderSettings&,
+                                 const Options&) {
+  return {{"skipped", "built without OpenCL"}};
+}
+#endif
 
 nlohmann::json run(const std::string& path, const Options& o) {
   Scene scene = load_scene(path);
@@ -120,6 +173,19 @@ nlohmann::json run(const std::string& path, const Options& o) {
         {"spp", o.spp},
         {"bounces", o.bounces},
         {"reps", o.reps}}}};
+  if (o.opencl) {
+    j["opencl"] = opencl_comparison(scene, view, settings, o);
+    const nlohmann::json& c = j["opencl"];
+    if (c.contains("skipped"))
+      fmt::print(stderr, "opencl: skipped ({})\n", c["skipped"].get<std::string>());
+    else
+      fmt::print(
+          stderr,
+          "opencl: buffers {:.2f}x smaller, busy {:.0f} -> {:.0f} ms ({:+.0f}%), PSNR {:.1f} dB\n",
+          c["scene_ratio"].get<double>(), c["busy_ms"]["flat"].get<double>(),
+          c["busy_ms"]["compact"].get<double>(), 100 * c["render_time_increase"].get<double>(),
+          c["psnr_db"].get<double>());
+  }
   fmt::print(stderr,
              "{:<40} {:>9} tris  mesh {:.2f}x  structure {:.2f}x  both {:.2f}x  (cpu device "
              "{:.2f}x)  time {:+.0f}%  PSNR {:.1f} dB\n",
@@ -151,6 +217,8 @@ int main(int argc, char** argv) {
         o.bounces = std::clamp(std::stoi(next()), 0, 64);
       } else if (a == "--reps") {
         o.reps = std::clamp(std::stoi(next()), 1, 100);
+      } else if (a == "--opencl") {
+        o.opencl = true;
       } else if (a == "--subdivide") {
         o.subdivide = std::clamp(std::stoi(next()), 0, 6);
       } else {
@@ -162,7 +230,9 @@ int main(int argc, char** argv) {
     }
   }
   if (scenes.empty()) {
-    fmt::print(stderr, "usage: compact_bench [--res WxH] [--spp N] [--subdivide K] SCENE...\n");
+    fmt::print(stderr,
+               "usage: compact_bench [--res WxH] [--spp N] [--bounces N] [--reps N] "
+               "[--subdivide K] [--opencl] SCENE...\n");
     return 2;
   }
   for (const std::string& s : scenes) {

@@ -35,6 +35,8 @@ PositionGrid PositionGrid::fit(const Bounds3& box) {
   while (cells_for(e, cell) > kMaxGridCells) cell = std::nextafter(cell, INFINITY);
   g.cell = cell;
   for (int a = 0; a < 3; ++a) g.n[a] = uint32_t(cells_along(e[a], cell));
+  g.magic_n0 = division_magic(g.n[0]);
+  g.magic_n01 = division_magic(g.n[0] * g.n[1]);
   return g;
 }
 

@@ -23,12 +23,26 @@ inline constexpr uint32_t kMaxGridCells = 65536;
 // Offsets inside a cell: 10 bits per axis, 0..1023 spanning the cell's full width.
 inline constexpr uint32_t kOffsetLevels = 1023;
 
+// x / d for x < 2^16 and 1 <= d <= 2^16 without a divide (a cell index is decoded at every
+// triangle test, and an integer divide costs several multiplies): the high word of
+// x * magic, magic = ceil(2^32 / d), is exactly floor(x / d) in that range, because with
+// x = q d + r the excess x (magic - 2^32 / d) / 2^32 stays under 1 <= d - r. magic 0
+// stands for d = 1. kernels/shading.cl decodes with the same numbers (mul_hi).
+inline uint32_t division_magic(uint32_t d) {
+  return d <= 1 ? 0 : uint32_t(((uint64_t(1) << 32) + d - 1) / d);
+}
+inline uint32_t divide_u16(uint32_t x, uint32_t magic) {
+  return magic == 0 ? x : uint32_t((uint64_t(x) * magic) >> 32);
+}
+
 // Cubic cells of side `cell` from `origin`, n[0] x n[1] x n[2] of them (product at most
 // kMaxGridCells), covering the box given to fit().
 struct PositionGrid {
   Vec3 origin{0.0f};
   float cell = 1.0f;
   uint32_t n[3] = {1, 1, 1};
+  // division_magic of n[0] and of n[0] * n[1], set with n by fit().
+  uint32_t magic_n0 = 0, magic_n01 = 0;
 
   // The smallest cell size (found by bisection, as the paper does) for which whole cells
   // cover `box` within kMaxGridCells. A box that is a point or flat gets one cell along
@@ -52,8 +66,9 @@ QuantizedPosition encode_position(const PositionGrid& grid, Vec3 p);
 
 inline Vec3 decode_position(const PositionGrid& g, QuantizedPosition q) {
   const uint32_t off = uint32_t(q.offsets_lo) | uint32_t(q.offsets_hi) << 16;
-  const uint32_t cx = q.cell % g.n[0], cy = (q.cell / g.n[0]) % g.n[1],
-                 cz = q.cell / (g.n[0] * g.n[1]);
+  const uint32_t cz = divide_u16(q.cell, g.magic_n01);
+  const uint32_t rest = q.cell - cz * (g.n[0] * g.n[1]);
+  const uint32_t cy = divide_u16(rest, g.magic_n0), cx = rest - cy * g.n[0];
   constexpr float k = 1.0f / float(kOffsetLevels);
   return Vec3(g.origin.x + g.cell * (float(cx) + float(off & 1023u) * k),
               g.origin.y + g.cell * (float(cy) + float((off >> 10) & 1023u) * k),

@@ -44,11 +44,11 @@ inline PixelStats batches(Device& device, const Scene& scene, int spp, uint64_t 
 }
 
 // The OpenCL image of `scene` against the CPU's: at most 1% of channels beyond |z| = 4,
-// mean z within +-0.1.
-inline ZSummary expect_matches_cpu(const Scene& scene, int spp) {
+// mean z within +-0.1. With `compact`, both devices render the compact scene.
+inline ZSummary expect_matches_cpu(const Scene& scene, int spp, bool compact = false) {
   SceneCache rs(scene);
-  CpuDevice cpu(rs, {}, "cpu");
-  OpenClDevice cl(rs, {}, "opencl:0");
+  CpuDevice cpu(rs, {.compact = compact}, "cpu");
+  OpenClDevice cl(rs, {.compact = compact}, "opencl:0");
   const PixelStats ref = batches(cpu, scene, spp, 1000), got = batches(cl, scene, spp, 2000);
   const ZSummary z = summarize(z_scores(got, ref));
   EXPECT_LE(z.beyond4, 0.01) << scene.name;
@@ -74,10 +74,12 @@ inline void expect_test_sees_feature(const Scene& with, const Scene& without, in
 // The fraction of channels of the OpenCL image within 1e-3 (relative above 1) of the
 // CPU's, both rendered with the same seed: near 1 only when the kernel draws the CPU's
 // random numbers in the CPU's order (a few paths diverge where an ulp flips a decision).
-inline double same_seed_agreement(const Scene& scene, bool sample_environment = true) {
+// With `compact`, both devices render the compact scene.
+inline double same_seed_agreement(const Scene& scene, bool sample_environment = true,
+                                  bool compact = false) {
   SceneCache rs(scene);
-  CpuDevice cpu(rs, {}, "cpu");
-  OpenClDevice cl(rs, {}, "opencl:0");
+  CpuDevice cpu(rs, {.compact = compact}, "cpu");
+  OpenClDevice cl(rs, {.compact = compact}, "opencl:0");
   RenderSettings s{.spp = 4, .max_bounces = 6, .seed = 5};
   s.sample_environment = sample_environment;
   const ViewSetup view = view_of(scene, kMatchW, kMatchH);

@@ -55,6 +55,18 @@ TEST(CompactQuantize, GridCellIsTheSmallestThatFits) {
   EXPECT_GT(cells, double(kMaxGridCells));
 }
 
+// The multiply-high division of cell indices equals the integer division for every
+// 16-bit index and every divisor a grid can have at its extremes and in between.
+TEST(CompactQuantize, CellIndexDivisionIsExact) {
+  std::vector<uint32_t> divisors = {1, 2, 3, 7, 255, 256, 257, 4095, 32767, 32768, 65535, 65536};
+  std::mt19937 rng(11);
+  for (int i = 0; i < 100; ++i) divisors.push_back(1 + rng() % 65536);
+  for (uint32_t d : divisors) {
+    const uint32_t magic = division_magic(d);
+    for (uint32_t x = 0; x < 65536; ++x) ASSERT_EQ(divide_u16(x, magic), x / d) << x << " / " << d;
+  }
+}
+
 TEST(CompactQuantize, PositionCodesRoundTrip) {
   const PositionGrid g = PositionGrid::fit(Bounds3{{-2, 0, 1}, {5, 1, 3}});
   std::mt19937 rng(3);

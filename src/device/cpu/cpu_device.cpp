@@ -124,7 +124,7 @@ CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec
       "cpu (" + std::to_string(opts.threads) + (opts.threads == 1 ? " thread" : " threads");
   if (!opts.cores.empty()) {
     info_.name += ", cores";
-    for (int c : opts.cores) info_.name += " " + std::to_string(c);
+    for (int c : opts.cores) info_.name.append(" ").append(std::to_string(c));
   }
   if (opts.quota > 0) info_.name += ", quota " + std::to_string(opts.quota).substr(0, 4);
   if (opts.speed < 1) info_.name += ", emulated speed " + std::to_string(opts.speed).substr(0, 4);

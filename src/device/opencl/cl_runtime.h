@@ -87,7 +87,8 @@ class ClKernelRunner {
   // cannot render.
   virtual KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, Rect rect,
                                   Framebuffer& out) = 0;
-  bool from_cache = false;  // the program binary came from the disk cache
+  bool from_cache = false;   // the program binary came from the disk cache
+  uint64_t scene_bytes = 0;  // bytes of the scene buffers it uploaded
 };
 
 // PinholeCamera's frame as four float4s and its scale (tan half-fov x, tan half-fov y,

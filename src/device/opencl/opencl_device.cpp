@@ -13,6 +13,7 @@
 #include "device/opencl/cl_runtime.h"
 #include "device/opencl/opencl_path_tracer.h"
 #include "device/opencl/opencl_volume.h"
+#include "device/scene_memory.h"
 
 namespace multiray {
 
@@ -45,7 +46,7 @@ struct OpenClDevice::Impl {
     if (scene.volume)
       kernels.emplace("volume", make_cl_volume_raycaster(*runtime, volume_scene(scenes)));
     if (!scene.volume || scene.has_triangles())
-      kernels.emplace("path", make_cl_path_tracer(*runtime, scenes.embree()));
+      kernels.emplace("path", make_cl_path_tracer(*runtime, scenes.mesh(opts.compact)));
   }
   // Throws std::invalid_argument for a kernel this device did not build.
   ClKernelRunner& kernel(const std::string& name) {
@@ -61,7 +62,7 @@ DeviceCapabilities OpenClDevice::capabilities() {
   caps.kernels = {"path", "volume"};
   caps.sampling = {"uniform", "adaptive"};  // per-pixel sample maps; no foveated patterns
   // A device's own info() names the one it built.
-  caps.representation = "opencl-flat-bvh or opencl-volume";
+  caps.representation = "opencl-flat-bvh, opencl-compact or opencl-volume";
   return caps;
 }
 
@@ -86,6 +87,7 @@ OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::st
     throw InputError("opencl device: there is no OpenCL device " + std::to_string(opts.index) +
                      " (found " + std::to_string(all.size()) +
                      ", numbered from 0; see `multiray devices`)");
+  check_scene_fits(scenes.scene(), opts.compact, opts.memory_limit, "--devices '" + spec + "'");
   impl_->opts = opts;
   impl_->speed = opts.speed;
   const cl::Device& device = all[size_t(opts.index)];
@@ -102,7 +104,13 @@ OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::st
   info_.caps = capabilities();
   info_.caps.kernels.clear();  // what this device built for its scene
   for (const auto& [kernel, runner] : impl_->kernels) info_.caps.kernels.push_back(kernel);
-  info_.caps.representation = impl_->kernels.count("volume") ? "opencl-volume" : "opencl-flat-bvh";
+  info_.caps.representation = impl_->kernels.count("volume") ? "opencl-volume"
+                              : opts.compact                 ? "opencl-compact"
+                                                             : "opencl-flat-bvh";
+  for (const auto& [kernel, runner] : impl_->kernels) info_.scene_bytes += runner->scene_bytes;
+  if (impl_->kernels.count("path"))
+    info_.representation = opts.compact ? "opencl-compact" : "opencl-flat-bvh";
+  info_.memory_limit = opts.memory_limit;
   info_.spec = std::move(spec);
   info_.emulated_speed = opts.speed;
   info_.name = "opencl " + std::to_string(opts.index) + " (" + name;
@@ -112,6 +120,8 @@ OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::st
     for (int c : opts.cores) info_.name.append(" ").append(std::to_string(c));
   }
   if (opts.speed < 1) info_.name += ", emulated speed " + std::to_string(opts.speed).substr(0, 4);
+  if (opts.compact) info_.name += ", compact scene";
+  if (opts.memory_limit > 0) info_.name += ", emulated memory " + format_bytes(opts.memory_limit);
   info_.name += ")";
 }
 

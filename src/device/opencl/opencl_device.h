@@ -36,9 +36,10 @@ struct OpenClDeviceOptions {
 class OpenClDevice : public Device {
  public:
   // Uploads what its kernels need of `scenes` into its own buffers: the "embree"
-  // representation flattened for a scene with triangles (or without a volume), the
-  // "volume" one for a volume (`scenes` must outlive the device). Throws InputError when
-  // `opts` are impossible here (no such device index, bad values) and DeviceError when the
+  // representation flattened for a scene with triangles (or without a volume), or the
+  // compact scene with opts.compact; the "volume" one for a volume (`scenes` must outlive
+  // the device). Throws InputError when `opts` are impossible here (no such device index,
+  // bad values, a scene over the emulated memory limit) and DeviceError when the
   // device cannot be set up (kernel build error with the compiler's log, scene or volume
   // too large, out of memory).
   OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::string spec);

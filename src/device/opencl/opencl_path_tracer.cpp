@@ -14,14 +14,28 @@ namespace {
 class ClPathTracer : public ClKernelRunner {
  public:
   ClPathTracer(const ClRuntime& rt, const RenderScene& rs) : rt_(rt), out_(rt) {
-    kernel_ = rt.build_kernel(kPathTracerSource, "render_rect", MR_ARG_COUNT, "", from_cache);
-    // Every argument is a buffer, set once here; the arguments are listed once, in
-    // kernels/launch_params.h.
-    std::array<cl::Buffer, MR_ARG_COUNT> args;
     const ClScene s = build_cl_scene(rs);
+    scene_bytes = cl_scene_bytes(s);
+    // One program per representation: the compact one traverses the quantized tree and
+    // decodes the mesh (kernels/shading.cl, traverse_compact.cl).
+    kernel_ = rt.build_kernel(kPathTracerSource, "render_rect", MR_ARG_COUNT,
+                              s.is_compact ? "-DMR_COMPACT=1" : "", from_cache);
+    // Every argument is a buffer, set once here; the arguments are listed once, in
+    // kernels/launch_params.h. The buffers of the representation not in use are empty
+    // (one placeholder byte each).
+    std::array<cl::Buffer, MR_ARG_COUNT> args;
     args[MR_ARG_nodes] = upload(s.bvh.nodes);
     args[MR_ARG_tris] = upload(s.bvh.triangles);
     args[MR_ARG_shading] = upload(s.shading);
+    const ClCompactScene& k = s.compact;
+    args[MR_ARG_cnodes] = upload(k.nodes);
+    args[MR_ARG_prims] = upload(k.prims);
+    args[MR_ARG_qpos] = upload(k.positions);
+    args[MR_ARG_indices] = upload(k.indices);
+    args[MR_ARG_qnormals] = upload(k.normals);
+    args[MR_ARG_quvs] = upload(k.uvs);
+    args[MR_ARG_material_ids] = upload(k.material_ids);
+    args[MR_ARG_compact] = upload(std::vector<ClCompactInfo>{k.info});
     args[MR_ARG_materials] = upload(s.materials);
     args[MR_ARG_lights] = upload(s.lights);
     args[MR_ARG_light_cdf] = upload(s.light_cdf);

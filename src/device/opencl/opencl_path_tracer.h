@@ -1,6 +1,7 @@
 // The host side of the OpenCL path tracer (kernels/path_tracer.cl): the scene flattened
 // into its own buffers (BVH built on the host, shading records, materials, lights,
-// textures), uploaded once, then one launch per tile x tile piece of a rect.
+// textures; or the compact scene's quantized mesh and tree when the RenderScene has one),
+// uploaded once, then one launch per tile x tile piece of a rect.
 #pragma once
 
 #include <memory>

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "render/compact_scene.h"
 #include "render/flat_bvh.h"
 #include "render/path_tracer.h"
 
@@ -75,9 +76,41 @@ struct ClSky {
 };
 static_assert(sizeof(ClSky) == 128);
 
+// CompactInfo of kernels/common.cl: the scalars of the compact scene.
+struct ClCompactInfo {
+  float origin[3];
+  float cell;
+  uint32_t n[3];
+  uint32_t has_normals;
+  float root_lo[3];
+  uint32_t has_nodes;
+  float root_hi[3];
+  uint32_t pad0;
+  float uv_lo[2];
+  float uv_scale[2];
+  uint32_t magic_n0, magic_n01;
+  uint32_t pad1[2];
+};
+static_assert(sizeof(ClCompactInfo) == 96);
+
+// The compact scene's arrays as the kernel reads them (render/compact_scene.h): its nodes
+// and QuantizedPosition are uploaded byte for byte.
+struct ClCompactScene {
+  ClCompactInfo info{};
+  std::vector<CompactNode> nodes;
+  std::vector<uint32_t> prims;
+  std::vector<QuantizedPosition> positions;
+  std::vector<uint32_t> indices;
+  std::vector<uint16_t> normals, uvs, material_ids;
+};
+
 struct ClScene {
+  // Full precision: the flat BVH and a shading record per scene triangle (64 bytes each).
+  // With a compact scene both are empty and `compact` holds the quantized mesh and tree.
+  bool is_compact = false;
   FlatBvh bvh;
-  std::vector<TriangleShading> shading;  // per scene triangle (64 bytes each)
+  std::vector<TriangleShading> shading;
+  ClCompactScene compact;
   std::vector<ClMaterial> materials;
   std::vector<ClLight> lights;
   std::vector<float> light_cdf;          // LightSampler::cdf()
@@ -96,8 +129,13 @@ struct ClScene {
 // What `scene` uses that the OpenCL kernel does not render (one phrase), or "".
 std::string cl_unsupported_feature(const Scene& scene);
 
-// Throws DeviceError when the BVH cannot be built (see build_flat_bvh) or the scene
-// uses a feature of cl_unsupported_feature().
+// The buffers for `rs`: the compact scene when rs.compact is set (lights, materials,
+// textures, tangents and the sky stay full precision in both). Throws DeviceError when
+// the BVH cannot be built (see build_flat_bvh) or the scene uses a feature of
+// cl_unsupported_feature().
 ClScene build_cl_scene(const RenderScene& rs);
+
+// Bytes of the scene buffers the device holds (every array of `c`).
+uint64_t cl_scene_bytes(const ClScene& c);
 
 }  // namespace multiray

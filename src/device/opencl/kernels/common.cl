@@ -26,6 +26,31 @@ typedef struct {
   float pad1;
 } Tri;
 
+// The compact scene (render/compact_scene.h, built with -DMR_COMPACT=1): a node of the
+// quantized BVH, 20 bytes, its children's boxes in 8 bits per plane of its own box.
+typedef struct {
+  uchar lo[2][3];
+  uchar hi[2][3];
+  uint child[2];  // as Node::child, `first` indexing SceneData::prims
+} CompactNode;
+
+// The scalars of the compact scene (scene_buffers.h ClCompactInfo): the position grid
+// (PositionGrid), the root node's box and the uv range (UvRange).
+typedef struct {
+  float origin[3];
+  float cell;
+  uint n[3];
+  uint has_normals;  // 0: the mesh has no normals, shading uses the face normal
+  float root_lo[3];
+  uint has_nodes;  // 0: the tree is empty, nothing can be hit
+  float root_hi[3];
+  uint pad0;
+  float uv_lo[2];
+  float uv_scale[2];
+  uint magic_n0, magic_n01;  // PositionGrid's: cell index divisions as multiplies
+  uint pad1[2];
+} CompactInfo;
+
 typedef struct {
   float normal[9];  // three corner normals
   float uv[6];      // three corner uvs
@@ -157,6 +182,17 @@ typedef struct {
   const __global float4* tangents;   // per triangle (TriangleTangent u, sign) if has_tangents
   const __global Sky* sky;
   const __global float* sky_data;
+  // The compact scene (placeholders without MR_COMPACT): the tree, triangle references in
+  // leaf order, 3 ushorts per vertex (QuantizedPosition), faces, normal codes and uvs per
+  // vertex, material per triangle.
+  const __global CompactNode* cnodes;
+  const __global uint* prims;
+  const __global ushort* qpos;
+  const __global uint* indices;
+  const __global ushort* qnormals;
+  const __global ushort* quvs;
+  const __global ushort* material_ids;
+  const __global CompactInfo* compact;
   uint light_count;
   bool has_tangents;  // some material has a normal map (and the scene has uvs)
   bool cutouts;       // some material has an alpha mode: traversal tests coverage

@@ -91,6 +91,14 @@ typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 160 ? 1 : -1];
   X(tangents, const __global float4*) SEP()             \
   X(sky, const __global Sky*) SEP()                     \
   X(sky_data, const __global float*) SEP()              \
+  X(cnodes, const __global CompactNode*) SEP()          \
+  X(prims, const __global uint*) SEP()                  \
+  X(qpos, const __global ushort*) SEP()                 \
+  X(indices, const __global uint*) SEP()                \
+  X(qnormals, const __global ushort*) SEP()             \
+  X(quvs, const __global ushort*) SEP()                 \
+  X(material_ids, const __global ushort*) SEP()         \
+  X(compact, const __global CompactInfo*) SEP()         \
   X(params, __constant LaunchParams*) SEP()             \
   X(spp_map, const __global uchar*) SEP()               \
   X(radiance, __global float4*) SEP()                   \

@@ -1,7 +1,7 @@
 // Next-event estimation's light sampling, as render/lights.cpp: a triangle is chosen by
 // binary search in the power CDF (the LightSampler's own table), a point on it by Heitz's
 // low-distortion map (render/sampling.h), its radiance the material's emission at the
-// point's uv (emission_at, with the uvs of the triangle's shading record).
+// point's uv (emission_at, with the triangle's uvs: shading.cl's uv_at).
 
 typedef struct {
   float3 point;
@@ -47,14 +47,11 @@ LightSample sample_light(const SceneData* sc, float u, float u1, float u2) {
   LightSample s;
   s.point = a * (1.0f - bc.x - bc.y) + b * bc.x + c * bc.y;
   s.normal = normalize3(cross3(b - a, c - a));
-  const __global Shading* d = &sc->shading[l->prim];
-  const __global Material* m = &sc->materials[d->material];
+  const __global Material* m = &sc->materials[material_of(sc, l->prim)];
   s.radiance = load3(l->radiance);
   if (m->emission_texture >= 0) {
     // LightSampler::uv_at, then emission_at.
-    const float b0 = 1.0f - bc.x - bc.y;
-    const float2 uv = (float2)(d->uv[0] * b0 + d->uv[2] * bc.x + d->uv[4] * bc.y,
-                               d->uv[1] * b0 + d->uv[3] * bc.x + d->uv[5] * bc.y);
+    const float2 uv = uv_at(sc, l->prim, 1.0f - bc.x - bc.y, bc.x, bc.y);
     s.radiance = s.radiance * scene_texture(sc, m->emission_texture, uv);
   }
   s.pdf_area = l->pdf_area;

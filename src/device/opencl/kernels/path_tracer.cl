@@ -73,17 +73,14 @@ float3 trace_path(const SceneData* sc, Ray ray, Rng* rng, int max_bounces, int r
       return L + beta * le * w;
     }
     // Shading point, as shade_point() on the CPU.
-    const __global Shading* d = &sc->shading[hit.prim];
     const float w = 1.0f - hit.u - hit.v;
     const float3 p = ray.org + ray.dir * hit.t;
     float3 ng = normalize3(hit.ng);
-    const float3 n =
-        load3(d->normal) * w + load3(d->normal + 3) * hit.u + load3(d->normal + 6) * hit.v;
+    const float3 n = normal_at(sc, hit.prim, w, hit.u, hit.v);
     float3 ns = dot3(n, n) > 0.0f ? normalize3(n) : ng;
     if (dot3(ns, ng) < 0.0f) ns = -ns;
-    const float2 uv = (float2)(d->uv[0] * w + d->uv[2] * hit.u + d->uv[4] * hit.v,
-                               d->uv[1] * w + d->uv[3] * hit.u + d->uv[5] * hit.v);
-    const __global Material* mat = &sc->materials[d->material];
+    const float2 uv = uv_at(sc, hit.prim, w, hit.u, hit.v);
+    const __global Material* mat = &sc->materials[material_of(sc, hit.prim)];
     const float3 wo_world = -ray.dir;
     const bool front = dot3(ng, wo_world) > 0.0f;
 
@@ -157,10 +154,12 @@ __kernel REQD_GROUP_SIZE void render_rect(MR_RENDER_RECT_ARGS(MR_ARG_PARAM, MR_A
   const LaunchParams p = *params;
   const size_t i = get_global_id(0);
   if (i >= (size_t)p.rect.z * (size_t)p.rect.w) return;
-  const SceneData sc = {nodes, tris, shading, materials, lights, light_cdf, light_pdf_by_prim,
-                        texels, textures, texel_luts, tangents, sky, sky_data, p.light_count,
-                        p.has_tangents != 0, p.cutouts != 0, p.env_choice_eps.x,
-                        p.env_choice_eps.w};
+  const SceneData sc = {nodes,         tris,           shading,   materials,        lights,
+                        light_cdf,     light_pdf_by_prim, texels, textures,         texel_luts,
+                        tangents,      sky,            sky_data,  cnodes,           prims,
+                        qpos,          indices,        qnormals,  quvs,             material_ids,
+                        compact,       p.light_count,  p.has_tangents != 0, p.cutouts != 0,
+                        p.env_choice_eps.x, p.env_choice_eps.w};
   const int x = p.rect.x + (int)(i % (size_t)p.rect.z);
   const int y = p.rect.y + (int)(i / (size_t)p.rect.z);
   const uint pixel = (uint)y * p.width + (uint)x;

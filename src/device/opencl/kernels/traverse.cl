@@ -1,5 +1,6 @@
-// Ray queries against the flat BVH (device/opencl/render/flat_bvh.h): a stack-based
-// traversal that visits the nearer child first and skips subtrees beyond the closest hit.
+// Ray queries: the flat BVH (render/flat_bvh.h) at full precision, or the quantized BVH of
+// the compact scene with -DMR_COMPACT=1 (traverse_compact.cl). Both are stack-based
+// traversals that visit the nearer child first and skip subtrees beyond the closest hit.
 // Cut-out materials (alpha mask/blend) reject hits as render/accel.cpp's Embree filter
 // does, for closest and shadow rays alike, with the same hash of the ray.
 
@@ -7,12 +8,12 @@
 #define LEAF_BIT 0x80000000u  // kLeafBit
 #define LEAF_COUNT_BITS 4     // kLeafCountBits
 
-// Slab test of child `c` of `n`; `inv_dir` has no infinities (see safe_inverse). On a
-// hit, *t_near is where the ray enters the box (clamped to the ray's range).
-bool box_hit(const __global Node* n, int c, float3 org, float3 inv_dir, float tmin, float tmax,
-             float* t_near) {
-  const float3 t0 = (load3(n->lo[c]) - org) * inv_dir;
-  const float3 t1 = (load3(n->hi[c]) - org) * inv_dir;
+// Slab test of the box lo..hi; `inv_dir` has no infinities (see safe_inverse). On a hit,
+// *t_near is where the ray enters the box (clamped to the ray's range).
+bool box_hit(float3 lo_corner, float3 hi_corner, float3 org, float3 inv_dir, float tmin,
+             float tmax, float* t_near) {
+  const float3 t0 = (lo_corner - org) * inv_dir;
+  const float3 t1 = (hi_corner - org) * inv_dir;
   // min/max, not fmin/fmax: no operand is NaN (finite boxes, origins and inverse
   // directions), and the NaN-aware versions cost a compare and blend each on a CPU.
   const float3 a = min(t0, t1), b = max(t0, t1);
@@ -48,24 +49,22 @@ float ray_hash(const Ray* ray, uint prim) {
 // accel.cpp's alpha_filter: whether `ray` passes through scene triangle `prim` at
 // barycentrics (u, v).
 bool cut_out(const SceneData* sc, const Ray* ray, uint prim, float u, float v) {
-  const __global Shading* d = &sc->shading[prim];
-  const __global Material* m = &sc->materials[d->material];
+  const __global Material* m = &sc->materials[material_of(sc, prim)];
   if (m->alpha_mode == 0u) return false;
-  const float w = 1.0f - u - v;
-  const float2 uv = (float2)(d->uv[0] * w + d->uv[2] * u + d->uv[4] * v,
-                             d->uv[1] * w + d->uv[3] * u + d->uv[5] * v);
-  return passes_through(sc, m, uv, ray_hash(ray, prim));
+  return passes_through(sc, m, uv_at(sc, prim, 1.0f - u - v, u, v), ray_hash(ray, prim));
 }
 
-// Moller-Trumbore. Updates `hit` and returns true for a hit in (tmin, *tmax) that is not
-// cut out.
-bool tri_hit(const SceneData* sc, const __global Tri* tri, const Ray* ray, float* tmax, Hit* hit) {
-  const float3 e1n = load3(tri->e1n), e1 = -e1n, e2 = load3(tri->e2);
+// Moller-Trumbore on scene triangle `prim` with corner v0 and edges e1n = v0 - v1 (Embree's
+// e1) and e2 = v2 - v0. Updates `hit` and returns true for a hit in (tmin, *tmax) that is
+// not cut out.
+bool tri_hit(const SceneData* sc, uint prim, float3 v0, float3 e1n, float3 e2, const Ray* ray,
+             float* tmax, Hit* hit) {
+  const float3 e1 = -e1n;
   const float3 p = cross3(ray->dir, e2);
   const float det = dot3(e1, p);
   if (det == 0.0f) return false;
   const float inv = 1.0f / det;
-  const float3 s = ray->org - load3(tri->v0);
+  const float3 s = ray->org - v0;
   const float u = dot3(s, p) * inv;
   if (u < 0.0f || u > 1.0f) return false;
   const float3 q = cross3(s, e1);
@@ -73,15 +72,17 @@ bool tri_hit(const SceneData* sc, const __global Tri* tri, const Ray* ray, float
   if (v < 0.0f || u + v > 1.0f) return false;
   const float t = dot3(e2, q) * inv;
   if (!(t > ray->tmin && t < *tmax)) return false;
-  if (sc->cutouts && cut_out(sc, ray, tri->prim, u, v)) return false;
+  if (sc->cutouts && cut_out(sc, ray, prim, u, v)) return false;
   *tmax = t;
   hit->t = t;
-  hit->prim = tri->prim;
+  hit->prim = prim;
   hit->u = u;
   hit->v = v;
   hit->ng = cross3(e2, e1n);  // as Embree's, zero signs included
   return true;
 }
+
+#ifndef MR_COMPACT
 
 // Closest hit (any_hit = false) or any hit (any_hit = true, for shadow rays). `ref` is the
 // child reference being visited (a node index or a leaf, see render/flat_bvh.h).
@@ -101,15 +102,18 @@ bool traverse(const SceneData* sc, const Ray* ray, bool any_hit, Hit* hit) {
       const uint first = (ref & ~LEAF_BIT) >> LEAF_COUNT_BITS;
       const uint count = (ref & ((1u << LEAF_COUNT_BITS) - 1u)) + 1u;
       for (uint i = first; i < first + count; ++i)
-        if (tri_hit(sc, &tris[i], ray, &tmax, hit)) {
+        if (tri_hit(sc, tris[i].prim, load3(tris[i].v0), load3(tris[i].e1n), load3(tris[i].e2),
+                    ray, &tmax, hit)) {
           found = true;
           if (any_hit) return true;
         }
     } else {
       const __global Node* n = &nodes[ref];
       float t0, t1;
-      const bool h0 = box_hit(n, 0, ray->org, inv_dir, ray->tmin, tmax, &t0);
-      const bool h1 = box_hit(n, 1, ray->org, inv_dir, ray->tmin, tmax, &t1);
+      const bool h0 = box_hit(load3(n->lo[0]), load3(n->hi[0]), ray->org, inv_dir, ray->tmin,
+                              tmax, &t0);
+      const bool h1 = box_hit(load3(n->lo[1]), load3(n->hi[1]), ray->org, inv_dir, ray->tmin,
+                              tmax, &t1);
       if (h0 && h1) {
         const int first_child = t1 < t0 ? 1 : 0;
         stack[sp] = n->child[1 - first_child];
@@ -133,11 +137,4 @@ bool traverse(const SceneData* sc, const Ray* ray, bool any_hit, Hit* hit) {
   }
 }
 
-bool intersect_closest(const SceneData* sc, const Ray* ray, Hit* hit) {
-  return traverse(sc, ray, false, hit);
-}
-
-bool occluded(const SceneData* sc, const Ray* ray) {
-  Hit unused;
-  return traverse(sc, ray, true, &unused);
-}
+#endif  // MR_COMPACT
