@@ -1,7 +1,8 @@
 #!/bin/sh
 # The compact scene against full precision (issue 11; the table of docs/benchmarks.md,
-# "Compact scene"): sizes by part, render time on one CPU thread and PSNR for the shared
-# meshes and one generated large mesh (the bunny subdivided to 4.4 M triangles).
+# "Compact scene"): sizes by part, render time on one CPU thread, the same OpenCL kernel
+# on the flat and the compact tree (when an OpenCL device is found) and PSNR, for the
+# shared meshes and one generated large mesh (the flight helmet split to 6.06 M triangles).
 #   bench/compact.sh [BUILD]      (default build/; needs ../shared/data)
 # JSON lines go to bench-out/compact.jsonl, the table to the terminal.
 set -eu
@@ -14,11 +15,11 @@ bin=$build/bench/compact_bench
 mkdir -p "$root/bench-out"
 out=$root/bench-out/compact.jsonl
 : > "$out"
-"$bin" --res 480x270 --spp 4 --bounces 4 --reps 3 \
+"$bin" --res 320x180 --spp 2 --bounces 4 --reps 3 --opencl \
   "$data/stanford_bunny/bunny.ply" \
   "$data/dabrovic_sponza/sponza.obj" \
   "$data/damaged_helmet/DamagedHelmet.gltf" \
   "$data/flight_helmet/FlightHelmet.gltf" >> "$out"
-"$bin" --res 480x270 --spp 4 --bounces 4 --reps 3 --subdivide 3 \
-  "$data/stanford_bunny/bunny.ply" >> "$out"
+"$bin" --res 320x180 --spp 1 --bounces 4 --reps 1 --subdivide 3 --opencl \
+  "$data/flight_helmet/FlightHelmet.gltf" >> "$out"
 echo "compact.sh: wrote $out"
