@@ -278,9 +278,11 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                   "roll off), clamp (values above 1 clip), or auto: filmic for meshes, clamp for "
                   "volumes (the raycaster already writes display colours)")
       ->capture_default_str();
-  cmd->add_option("--balancer", *balancer,
-                  "How work is split between devices: uniform, static[:ratios=A/B/..], "
-                  "queue[:tile=N:batch=N], semi-static[:alpha=A], dlb, hybrid")
+  cmd->add_option(
+         "--balancer", *balancer,
+         "How work is split between devices: uniform, static[:ratios=A/B/..], "
+         "queue[:tile=N:batch=N], semi-static[:alpha=A:split=columns|rows:cdf=reported|frame], "
+         "dlb, hybrid")
       ->capture_default_str();
   cmd->add_option("--trace", *trace_path,
                   "Write every work item's device, view, rect, samples, busy and wall time to "

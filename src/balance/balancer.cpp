@@ -32,8 +32,15 @@ std::unique_ptr<Balancer> build(Spec& spec, int n) {
     const int batch = spec.get_int("batch", 1, 1, 1024);
     return std::make_unique<QueueBalancer>(n, tile, batch);
   }
-  if (name == "semi-static")
-    return std::make_unique<SemiStaticBalancer>(n, spec.get_double("alpha", 0.4, 1e-6, 1.0));
+  if (name == "semi-static") {
+    SemiStaticOptions o;
+    o.alpha = spec.get_double("alpha", 0.4, 1e-6, 1.0);
+    o.split = spec.get_string("split", "columns", {"columns", "rows"}) == "rows"
+                  ? LineAxis::rows
+                  : LineAxis::columns;
+    o.cdf_from_frame = spec.get_string("cdf", "reported", {"reported", "frame"}) == "frame";
+    return std::make_unique<SemiStaticBalancer>(n, o);
+  }
   if (name == "dlb") {
     const int interval = spec.get_int("interval", 5, 1, 1000);
     const double band = spec.get_double("band", 0.1, 0.0, 10.0);

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "balance/row_density.h"
+#include "balance/line_density.h"
 #include "partition/cdf_split.h"
 #include "partition/scanline.h"
 #include "partition/shuffled_strips.h"
@@ -314,7 +314,7 @@ void HybridBalancer::update(const FrameStats& stats) {
     return c;
   };
 
-  RowDensity observed(base);
+  LineDensity observed(base);
   std::vector<std::pair<double, double>> points;  // (model cost, time) of each item
   for (int i = 0; i < device_count(); ++i) {
     const DeviceFrameStats* d = device_stats(stats, i);

@@ -7,23 +7,38 @@
 // n_i ← (1−α)·n_i + α·n_i*, which damps the reaction to noise and to the fact that p_i was
 // measured on a region the device will only partly render again.
 //
-// The shares are turned into one contiguous scanline range per device (views laid end to
-// end) by binary search in a piecewise-linear CDF of sample counts: from the frame's own
-// pixel_weight when given (irregular sampling: devices then get equal work, not equal
-// area), otherwise from the per-row sample densities the devices reported for last frame.
+// The shares are turned into one contiguous range of lines per device by binary search
+// in a piecewise-linear CDF of sample counts. The paper's form is the default: the CDF is
+// built from the samples the devices reported for the previous frame (per column: each
+// reported item's samples spread over its area, so the CDF is piecewise linear over the
+// devices' last regions) and the image is split vertically "for all test cases" (views
+// side by side; the cut falls at pixel precision inside a column). Ours is an
+// option: `cdf=frame` builds the CDF from this frame's own pixel_weight when there is one
+// (irregular sampling: the split then follows the samples of the frame being rendered,
+// not those of the last one), and `split=rows` cuts scanline ranges at pixel precision
+// (views end to end); `semi-static:split=rows:cdf=frame` is multiray's form.
 //
-// | parameter | default | meaning                                     |
-// |-----------|---------|---------------------------------------------|
-// | alpha     | 0.4     | blend towards the ideal split, (0, 1]       |
+// | parameter | default  | meaning                                                   |
+// |-----------|----------|-----------------------------------------------------------|
+// | alpha     | 0.4      | blend towards the ideal split, (0, 1]                     |
+// | split     | columns  | columns (Harada: vertical bands) or rows (scanline ranges)|
+// | cdf       | reported | reported (last frame's reports) or frame (this frame's map)|
 #pragma once
 
 #include "balance/balancer_base.h"
+#include "balance/line_density.h"
 
 namespace multiray::balance {
 
+struct SemiStaticOptions {
+  double alpha = 0.4;
+  LineAxis split = LineAxis::columns;
+  bool cdf_from_frame = false;  // cdf=frame: this frame's pixel_weight when it has one
+};
+
 class SemiStaticBalancer final : public BalancerBase {
  public:
-  SemiStaticBalancer(int device_count, double alpha = 0.4);
+  SemiStaticBalancer(int device_count, SemiStaticOptions options = {});
 
   std::string name() const override { return "semi-static"; }
   std::string spec() const override;
@@ -35,10 +50,13 @@ class SemiStaticBalancer final : public BalancerBase {
 
  private:
   void on_drop(int index) override;
+  // Weight of every flat line of `shape` for the split: samples, or their estimate.
+  std::vector<double> line_weights(const FrameShape& shape) const;
+  void learn_density(const FrameStats& stats);
 
-  double alpha_;
+  SemiStaticOptions options_;
   std::vector<double> shares_;
-  // Samples per pixel of each flat row in the last report, and the size it applies to.
+  // Samples per pixel of each flat line in the last report, and the size it applies to.
   std::vector<double> density_;
   FrameShape density_shape_;
 };

@@ -38,4 +38,13 @@ void append_flat_range(int width, int height, int64_t begin, int64_t end,
   }
 }
 
+void append_flat_column_range(int width, int height, int64_t begin, int64_t end,
+                              std::vector<WorkItem>& out) {
+  // Column order is scanline order of the transposed image: cut there, transpose back.
+  std::vector<WorkItem> transposed;
+  append_flat_range(height, width, begin, end, transposed);
+  for (const WorkItem& t : transposed)
+    out.push_back(WorkItem{Rect{t.rect.y0, t.rect.x0, t.rect.y1, t.rect.x1}, t.view});
+}
+
 }  // namespace multiray::balance

@@ -22,4 +22,10 @@ void append_scanline_rects(int width, int64_t begin, int64_t end, int view,
 void append_flat_range(int width, int height, int64_t begin, int64_t end,
                        std::vector<WorkItem>& out);
 
+// The same in column order over views laid side by side (flat index
+// (view*width + x)*height + y): per view, at most a partial first column, a block of
+// whole columns and a partial last column (vertical bands, as Harada's split).
+void append_flat_column_range(int width, int height, int64_t begin, int64_t end,
+                              std::vector<WorkItem>& out);
+
 }  // namespace multiray::balance

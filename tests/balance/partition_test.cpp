@@ -130,6 +130,29 @@ TEST(Scanline, RandomCutsOfFlatViewsCoverOnce) {
     }
 }
 
+// Column order: a partial column, whole columns, a partial column; random cuts over
+// views side by side cover every pixel once.
+TEST(Scanline, ColumnRangesAreVerticalBandsThatCoverOnce) {
+  std::vector<WorkItem> out;
+  append_flat_column_range(4, 10, 7, 35, out);  // 3 px of column 0, columns 1-2, 5 of 3
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[0].rect, (Rect{0, 7, 1, 10}));
+  EXPECT_EQ(out[1].rect, (Rect{1, 0, 3, 10}));
+  EXPECT_EQ(out[2].rect, (Rect{3, 0, 4, 5}));
+  std::mt19937_64 rng(5);
+  for (const Size& size : kSizes)
+    for (int views : {1, 3}) {
+      const int64_t total = int64_t(size.w) * size.h * views;
+      std::vector<int64_t> cuts = {0, total};
+      for (int k = 0; k < 10; ++k) cuts.push_back(int64_t(rng() % uint64_t(total + 1)));
+      std::sort(cuts.begin(), cuts.end());
+      std::vector<WorkItem> items;
+      for (size_t k = 0; k + 1 < cuts.size(); ++k)
+        append_flat_column_range(size.w, size.h, cuts[k], cuts[k + 1], items);
+      ASSERT_EQ(coverage_error(items, size.w, size.h, views), "");
+    }
+}
+
 TEST(Coverage, ReportsOverlapGapsAndOutOfBounds) {
   EXPECT_NE(coverage_error({{Rect{0, 0, 2, 2}, 0}, {Rect{1, 1, 2, 2}, 0}}, 2, 2, 1), "");
   EXPECT_NE(coverage_error({{Rect{0, 0, 2, 1}, 0}}, 2, 2, 1), "");

@@ -134,15 +134,15 @@ TEST(FoveatedSampling, EngineImagesMatchForEveryBalancerAndDeviceCount) {
 }
 
 // The balancers see the samples positioned in each pixel: semi-static's first split of
-// an even pair gives both devices the same samples, so the band with the fovea is
-// smaller in area than the other.
+// an even pair (multiray's form, which reads the frame's own sample map) gives both
+// devices the same samples, so the band with the fovea is smaller in area than the other.
 TEST(FoveatedSampling, SemiStaticSplitsBySamplesNotArea) {
   const Scene scene = make_cornell_box();
   SceneCache rs(scene);
   const int w = 64, h = 64;
   const FoveationFrame f = prepare_foveation_frame(make_foveation_pattern(w, h, {}), 0.5f, 0.2f);
   CpuDevice a(rs, {}, "cpu"), b(rs, {}, "cpu");
-  Engine engine({&a, &b}, balance::make_balancer("semi-static", 2));
+  Engine engine({&a, &b}, balance::make_balancer("semi-static:split=rows:cdf=frame", 2));
   RenderSettings s;
   s.kernel = "ao";
   engine.render_frame(0, {foveated_view(scene, f, 0)}, s);
