@@ -45,11 +45,12 @@ std::unique_ptr<Balancer> build(Spec& spec, int n) {
     const int interval = spec.get_int("interval", 5, 1, 1000);
     const double band = spec.get_double("band", 0.1, 0.0, 10.0);
     const double slow = spec.get_double("slow", 0.75, 0.0, 1.0);
-    int bits = -1;  // "auto": the paper's 128–256 pixels per strip
+    int bits = -1;  // "auto": from the least pixels per strip (dlb.h)
     if (spec.get_string("bits", "auto", {}) != "auto") bits = spec.get_int("bits", -1, 0, 24);
+    const int strip = spec.get_int("strip", 32, 1, 65536);
     const std::string layout = spec.get_string("layout", "strips", {"strips", "views"});
-    return std::make_unique<DlbBalancer>(n, interval, band, slow, bits,
-                                         layout_from_string(layout));
+    return std::make_unique<DlbBalancer>(n, interval, band, slow, bits, layout_from_string(layout),
+                                         strip);
   }
   if (name == "hybrid") {
     HybridBalancer::Options o;

@@ -18,8 +18,9 @@ class Balancer {
 
   // Short name, as in the spec ("hybrid").
   virtual std::string name() const = 0;
-  // The spec with every parameter spelled out ("dlb:interval=5:band=0.1:slow=0.75:bits=auto"),
-  // for logs and benchmark records; make_balancer(spec()) builds an equivalent balancer.
+  // The spec with every parameter spelled out
+  // ("dlb:interval=5:band=0.1:slow=0.75:bits=auto:strip=32"), for logs and benchmark records;
+  // make_balancer(spec()) builds an equivalent balancer.
   virtual std::string spec() const { return name(); }
 
   // The plan for `frame` of `shape`. Throws std::invalid_argument for an invalid shape
@@ -42,7 +43,7 @@ class Balancer {
 //   static[:ratios=3/1][:layout=...]      (no ratios: calibrate from the first frame)
 //   queue[:tile=64][:batch=1]
 //   semi-static[:alpha=0.4]
-//   dlb[:interval=5][:band=0.1][:slow=0.75][:bits=auto][:layout=strips|views]
+//   dlb[:interval=5][:band=0.1][:slow=0.75][:bits=auto][:strip=32][:layout=strips|views]
 //   hybrid[:bands=8][:taper=0.7][:tail=0.02][:alpha=0.5][:jump=0.2][:gamma=0.5]
 //         [:min_chunk=256][:steal=1][:overhead=0.1]
 //   bruder[:zeta=0.5][:tile=8][:steal=0][:items=rows]  (Bruder et al. 2017: predicted costs,

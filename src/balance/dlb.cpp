@@ -6,17 +6,19 @@
 #include <sstream>
 
 #include "balance/layout.h"
+#include "partition/shuffled_strips.h"
 
 namespace multiray::balance {
 
 DlbBalancer::DlbBalancer(int device_count, int interval, double band, double slow, int bits,
-                         Layout layout)
+                         Layout layout, int min_strip)
     : BalancerBase(device_count),
       layout_(layout),
       interval_(interval),
       band_(band),
       slow_(slow),
       bits_(bits),
+      min_strip_(min_strip),
       ratios_(even()),
       time_sum_(size_t(device_count), 0.0),
       task_sum_(size_t(device_count), 0.0),
@@ -27,7 +29,7 @@ std::string DlbBalancer::spec() const {
   std::ostringstream s;
   s << "dlb:interval=" << interval_ << ":band=" << band_ << ":slow=" << slow_
     << ":bits=" << (bits_ < 0 ? std::string("auto") : std::to_string(bits_))
-    << ":layout=" << to_string(layout_);
+    << ":strip=" << min_strip_ << ":layout=" << to_string(layout_);
   return s.str();
 }
 
@@ -36,7 +38,8 @@ void DlbBalancer::on_drop(int /*index*/) { ratios_ = sanitize(ratios_, even()); 
 Plan DlbBalancer::plan(const FrameShape& shape, int /*frame*/) {
   validate_shape(shape);
   if (alive_count() == 0) return empty_plan();
-  return plan_from_ratios(shape, ratios_, layout_, bits_);
+  const int bits = bits_ >= 0 ? bits_ : strip_bits_for(shape.pixels_per_view(), min_strip_);
+  return plan_from_ratios(shape, ratios_, layout_, bits);
 }
 
 void DlbBalancer::update(const FrameStats& stats) {

@@ -14,9 +14,9 @@ namespace {
 constexpr int kMaxBits = 24;
 }  // namespace
 
-int strip_bits_for(int64_t pixels) {
+int strip_bits_for(int64_t pixels, int64_t min_pixels) {
   int bits = 0;
-  while (bits < kMaxBits && (pixels >> (bits + 1)) >= 128) ++bits;
+  while (bits < kMaxBits && (pixels >> (bits + 1)) >= std::max<int64_t>(min_pixels, 1)) ++bits;
   return bits;
 }
 

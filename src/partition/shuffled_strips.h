@@ -15,10 +15,11 @@
 
 namespace multiray::balance {
 
-// The paper's strip count for a view of `pixels` pixels: the largest b for which strips
-// have at least 128 pixels, so strips hold 128–256 pixels (floor/ceil of pixels/2^b).
-// Views under 256 pixels get b = 0: a single strip (the clamp for tiny images).
-int strip_bits_for(int64_t pixels);
+// The strip count for a view of `pixels` pixels: the largest b for which strips have at
+// least `min_pixels` pixels, so strips hold min_pixels to 2·min_pixels pixels (floor/ceil
+// of pixels/2^b); 1 gives Leria et al.'s rule (the most strips, 2^19 at 1280x720, about
+// 1.8 px each). Views under 2·min_pixels pixels get b = 0: a single strip.
+int strip_bits_for(int64_t pixels, int64_t min_pixels = 128);
 
 // `value`'s lowest `bits` bits in reverse order (bits in 0..31; higher bits are dropped).
 uint32_t bit_reverse(uint32_t value, int bits);

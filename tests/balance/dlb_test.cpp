@@ -52,7 +52,7 @@ TEST(Dlb, EveryViewGetsTheSameShareOfShuffledStrips) {
   DlbBalancer b(3, 1, 0.1, 0.75);
   const auto run = simulate_run(b, kShape, constant({2, 1, 1}), flat_cost(kShape), 3);
   const Plan& p = run.back().plan;
-  const int64_t strip = (160 * 90) >> strip_bits_for(160 * 90);
+  const int64_t strip = (160 * 90) >> strip_bits_for(160 * 90, 32);
   for (int v = 0; v < 4; ++v) {
     int64_t px = 0;
     for (const WorkItem& it : p.assigned[0])

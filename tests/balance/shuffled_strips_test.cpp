@@ -29,6 +29,20 @@ TEST(ShuffledStrips, StripsHold128To256Pixels) {
   EXPECT_EQ(strip_bits_for(255), 0);
 }
 
+// Leria et al.'s rule (the most strips: 2^19 at 1280x720) and the dlb default's floor.
+TEST(ShuffledStrips, LeastPixelsPerStripSetsTheCount) {
+  EXPECT_EQ(strip_bits_for(1280 * 720, 1), 19);   // ~1.76 px per strip, the paper's Fig. 3
+  EXPECT_EQ(strip_bits_for(1280 * 720, 32), 14);  // 56.25 px
+  EXPECT_EQ(strip_bits_for(320 * 180, 32), 10);   // 56.25 px
+  for (int64_t least : {1, 7, 32, 500})
+    for (int64_t pixels : {1000, 57600, 921600}) {
+      const int b = strip_bits_for(pixels, least);
+      if (b == 0) continue;
+      EXPECT_GE(pixels >> b, least);
+      EXPECT_LT(pixels >> (b + 1), least) << "not the largest count";
+    }
+}
+
 TEST(ShuffledStrips, BitReversalIsAPermutation) {
   EXPECT_EQ(bit_reverse(1, 3), 4u);
   EXPECT_EQ(bit_reverse(6, 3), 3u);
