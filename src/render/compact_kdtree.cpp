@@ -85,8 +85,8 @@ Bounds3 clipped_bounds(const Vec3 v[3], const Bounds3& cell) {
 
 class KdBuilder {
  public:
-  KdBuilder(const CompactMesh& mesh, const KdBuildOptions& o, CompactKdTree& tree)
-      : mesh_(mesh), o_(o), tree_(tree) {}
+  KdBuilder(const CompactMesh& mesh, const KdBuildOptions& o, int max_depth, CompactKdTree& tree)
+      : mesh_(mesh), o_(o), max_depth_(max_depth), tree_(tree) {}
 
   // Makes tree_.nodes[node] the root of a subtree over `refs` (consumed) in `cell`.
   void build(uint32_t node, const Bounds3& cell, std::vector<Ref>& refs, int depth) {
@@ -132,8 +132,6 @@ class KdBuilder {
     build(uint32_t(first), lcell, left, depth + 1);
     build(uint32_t(first + 1), rcell, right, depth + 1);
   }
-
-  int max_depth_ = 0;
 
  private:
   struct Split {
@@ -210,6 +208,7 @@ class KdBuilder {
 
   const CompactMesh& mesh_;
   const KdBuildOptions& o_;
+  const int max_depth_;
   CompactKdTree& tree_;
   std::vector<Event> events_;
 };
@@ -340,11 +339,11 @@ CompactKdTree build_compact_kdtree(const CompactMesh& mesh, const KdBuildOptions
   for (int a = 0; a < 3; ++a)
     largest = std::max({largest, std::fabs(tree.root.lo[a]), std::fabs(tree.root.hi[a])});
   tree.pad = 16.0f * FLT_EPSILON * largest;
-  KdBuilder builder(mesh, options, tree);
-  builder.max_depth_ =
+  const int max_depth =
       options.max_depth > 0
           ? std::min(options.max_depth, kMaxKdDepth)
           : std::min(kMaxKdDepth, int(8.0 + 1.3 * std::log2(double(refs.size()))));
+  KdBuilder builder(mesh, options, max_depth, tree);
   tree.nodes.push_back(KdNode{});
   builder.build(0, tree.root, refs, 0);
   return tree;
