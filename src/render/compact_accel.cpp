@@ -10,6 +10,9 @@ namespace multiray {
 
 namespace {
 
+// 1 + 2·gamma(3), gamma(n) = n·u / (1 - n·u), u = 2^-24 (see box_hit).
+constexpr float kSlabSlack = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
+
 Vec3 safe_inverse(Vec3 d) {
   const auto inv = [](float x) {
     return 1.0f / (std::fabs(x) < 1e-30f ? std::copysign(1e-30f, x) : x);
@@ -18,14 +21,19 @@ Vec3 safe_inverse(Vec3 d) {
 }
 
 // Slab test; on a hit, *t_near is where the ray enters the box (within the ray's range).
+// The exit distance is scaled by 1 + 2·gamma(3) (Ize, "Robust BVH ray traversal", JCGT
+// 2013; pbrt's Bounds3::IntersectP): the rounding of the three slab distances can
+// otherwise put a ray that grazes the box's corner or edge out by an ulp and lose a hit on
+// a triangle lying in the box's face (the compact kd-tree's test found such misses at the
+// Cornell box's corners).
 bool box_hit(const Bounds3& b, Vec3 org, Vec3 inv, float tmin, float tmax, float* t_near) {
   const float tx0 = (b.lo.x - org.x) * inv.x, tx1 = (b.hi.x - org.x) * inv.x;
   const float ty0 = (b.lo.y - org.y) * inv.y, ty1 = (b.hi.y - org.y) * inv.y;
   const float tz0 = (b.lo.z - org.z) * inv.z, tz1 = (b.hi.z - org.z) * inv.z;
   const float lo = std::max(std::max(std::min(tx0, tx1), std::min(ty0, ty1)),
                             std::max(std::min(tz0, tz1), tmin));
-  const float hi = std::min(std::min(std::max(tx0, tx1), std::max(ty0, ty1)),
-                            std::min(std::max(tz0, tz1), tmax));
+  const float hi = std::min(std::min(std::max(tx0, tx1), std::max(ty0, ty1)) * kSlabSlack,
+                            std::min(std::max(tz0, tz1) * kSlabSlack, tmax));
   *t_near = lo;
   return lo <= hi;
 }
