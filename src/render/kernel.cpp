@@ -4,6 +4,7 @@
 
 #include "render/ambient_occlusion.h"
 #include "render/depth_kernel.h"
+#include "render/direct_lighting.h"
 #include "render/path_tracer.h"
 #include "render/volume_raycaster.h"
 
@@ -25,6 +26,10 @@ const std::vector<KernelEntry>& cpu_kernels() {
   static const std::vector<KernelEntry> entries{
       {"path", "path tracing with next-event estimation and MIS", true, KernelInput::mesh,
        &make<PathTracer>},
+      {"direct",
+       "direct illumination: one light and one BSDF sample with MIS at the first surface "
+       "(the path tracer stopped after one bounce; --bounces is ignored)",
+       true, KernelInput::mesh, &make<DirectLighting>},
       {"ao", "ambient occlusion (--ao-rays, --ao-distance)", true, KernelInput::mesh,
        &make<AmbientOcclusion>},
       {"depth", "distance to the first surface, one ray per pixel (debugging)", true,

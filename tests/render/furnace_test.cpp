@@ -1,6 +1,8 @@
 // Analytic scenes with known answers.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "render_helpers.h"
 #include "scene/builders.h"
 
@@ -27,6 +29,25 @@ TEST(Furnace, EveryPixelEqualsLeOverOneMinusAlbedo) {
           ASSERT_NEAR(fb.at(x, y)[c], expected, 0.01f * expected)
               << "albedo " << albedo << " pixel " << x << "," << y;
   }
+}
+
+// Direct illumination in the furnace: the emission seen (Le) plus one bounce of it
+// (albedo x Le), whatever --bounces says; the path tracer with one bounce is the same.
+TEST(Furnace, DirectLightingIsLeTimesOnePlusAlbedo) {
+  const float albedo = 0.6f, le = 1.0f;
+  const Scene scene = make_furnace_sphere(albedo, le);
+  RenderSettings s;
+  s.kernel = "direct";
+  s.spp = 256;
+  s.max_bounces = 40;
+  const Framebuffer fb = testing::render_regions(scene, 8, 8, s, {{0, 0, 8, 8}}, 1, 2);
+  for (const Vec3& p : fb.pixels)
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(p[c], le * (1.0f + albedo), 0.01f * le);
+  RenderSettings one = s;
+  one.kernel = "path";
+  one.max_bounces = 1;
+  const Framebuffer path = testing::render_regions(scene, 8, 8, one, {{0, 0, 8, 8}}, 1, 2);
+  EXPECT_EQ(std::memcmp(path.pixels.data(), fb.pixels.data(), fb.pixels.size() * sizeof(Vec3)), 0);
 }
 
 // A diffuse plane under a constant sky sees the whole sky hemisphere, so its radiance is
