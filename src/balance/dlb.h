@@ -23,7 +23,8 @@
 // | band      | 0.1     | tolerated relative time difference to device 0      |
 // | slow      | 0.75    | weight of a slow device's local mean, [0, 1]        |
 // | bits      | auto    | log2 strips per view; auto = 128–256 px per strip   |
-// | layout    | strips  | strips, or views: whole views per device             |
+// | layout    | strips  | strips as in the paper, or views: whole views per    |
+// |           |         | device (multiray's own mapping, not the paper's)    |
 #pragma once
 
 #include "balance/balancer_base.h"
@@ -34,7 +35,8 @@ namespace multiray::balance {
 class DlbBalancer final : public BalancerBase {
  public:
   // `bits` < 0: automatic strip size.
-  // `layout` Strips (the paper's shuffled strips of every view) or Views (whole views).
+  // `layout` Strips (shuffled strips of every view, as in the paper) or Views (whole views
+  // per device: multiray's own mapping, see layout.h).
   DlbBalancer(int device_count, int interval = 5, double band = 0.1, double slow = 0.75,
               int bits = -1, Layout layout = Layout::Strips);
 
