@@ -4,6 +4,8 @@
 
 #include <fmt/core.h>
 
+#include "balance/stats.h"
+
 namespace multiray::app {
 
 double interpolate_ideal(const std::vector<int>& sampled, const std::vector<double>& ideal_ms,
@@ -41,12 +43,12 @@ RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
     ideal_sum += interpolate_ideal(sampled, ideal_ms, r.frame);
   }
   sum.efficiency = actual_sum > 0 ? ideal_sum / actual_sum : 0.0;
-  if (perturb_frame >= 0)
-    for (size_t f = size_t(perturb_frame); f < recs.size(); ++f)
-      if (recs[f].imbalance < 0.05) {
-        sum.recovery_frames = int(f) - perturb_frame;
-        break;
-      }
+  if (perturb_frame >= 0) {
+    std::vector<double> lambda;
+    for (const auto& r : recs) lambda.push_back(r.imbalance);
+    const int recovered = balance::recovered_from(lambda, perturb_frame);
+    if (recovered >= 0) sum.recovery_frames = recovered - perturb_frame;
+  }
   return sum;
 }
 

@@ -16,8 +16,10 @@ struct RunSummary {
   // Sum of ideal / sum of actual frame times over full-quality frames; 0 when there are none
   // (printed "-", null in JSON).
   double efficiency = 0;
-  double speedup = 0;        // uniform's mean frame time / this one's (0: no uniform run)
-  int recovery_frames = -1;  // frames after the perturbation until imbalance < 5% (-1: none)
+  double speedup = 0;  // uniform's mean frame time / this one's (0: no uniform run)
+  // Frames from the perturbation to the first frame from which imbalance stays < 5% to the
+  // end of the run (balance::recovered_from); -1: none, or imbalance >= 5% at the end.
+  int recovery_frames = -1;
 };
 
 // The ideal time of `frame`, linearly interpolated between the sampled frames (clamped at

@@ -113,6 +113,15 @@ INSTANTIATE_TEST_SUITE_P(Adaptive, Convergence, ::testing::ValuesIn(kCases),
                            return n;
                          });
 
+TEST(Recovery, FirstFrameFromWhichImbalanceStaysUnderTheLimit) {
+  const std::vector<double> lambda{0.5, 0.04, 0.2, 0.01, 0.049, 0.0};
+  EXPECT_EQ(recovered_from(lambda, 0), 3);  // frame 1 dips under 5%, frame 2 is back over
+  EXPECT_EQ(recovered_from(lambda, 4), 4);  // counted from `from` on
+  EXPECT_EQ(recovered_from(lambda, 3, 0.01), 5);
+  EXPECT_EQ(recovered_from({0.01, 0.06}, 0), -1);  // over the limit at the end
+  EXPECT_EQ(recovered_from(lambda, 6), -1);        // `from` past the end
+}
+
 TEST(Static, GivenRatiosAreKeptForEver) {
   const auto b = make_balancer("static:ratios=3/0/1", 3);
   const auto run = simulate_run(*b, kShape, constant({1, 1, 1}), flat_cost(kShape), 5);

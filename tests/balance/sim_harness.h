@@ -57,16 +57,12 @@ inline double mean_imbalance(const std::vector<SimFrame>& run, int from, int to)
   return s / (to - from);
 }
 
-// First frame at or after `from` from which on imbalance stays below `limit`; -1 if never.
+// First frame at or after `from` from which on imbalance stays below `limit`; -1 if never
+// (balance::recovered_from, the bench's definition of recovery).
 inline int settles_at(const std::vector<SimFrame>& run, int from, double limit) {
-  int settled = -1;
-  for (int f = from; f < int(run.size()); ++f) {
-    if (imbalance(run[size_t(f)].stats) >= limit)
-      settled = -1;
-    else if (settled < 0)
-      settled = f;
-  }
-  return settled;
+  std::vector<double> lambda;
+  for (const SimFrame& f : run) lambda.push_back(imbalance(f.stats));
+  return recovered_from(lambda, from, limit);
 }
 
 inline double stddev_of_share(const std::vector<SimFrame>& run, int device, int from, int to) {

@@ -1,4 +1,5 @@
-// The bench command's arithmetic: interpolated ideal, efficiency, recovery, speedup.
+// The bench command's arithmetic: interpolated ideal, efficiency, recovery (from where the
+// imbalance stays under 5%), speedup.
 #include <gtest/gtest.h>
 
 #include "app/bench_summary.h"
@@ -38,6 +39,17 @@ TEST(BenchSummary, EfficiencyRecoveryAndSpeedup) {
   add_speedups({"uniform:layout=rows", "hybrid"}, all);
   EXPECT_DOUBLE_EQ(all[1].speedup, 2.0);
   EXPECT_DOUBLE_EQ(all[0].speedup, 1.0);
+}
+
+TEST(BenchSummary, RecoveryIsWhereImbalanceStaysUnder5PercentToTheEnd) {
+  // Perturbation at frame 1: frame 2 dips under 5% but frame 3 is back above it, so the
+  // run recovers at frame 4 (3 frames), not at the first frame under 5%.
+  const auto recs = frames({10, 10, 10, 10, 10, 10}, {0.01, 0.3, 0.03, 0.2, 0.04, 0.01});
+  EXPECT_EQ(summarize(recs, 0, {0}, {10}, 1).recovery_frames, 3);
+  // Over 5% in the last frame: not recovered, whatever came before.
+  const auto late = frames({10, 10, 10, 10}, {0.01, 0.3, 0.01, 0.06});
+  EXPECT_EQ(summarize(late, 0, {0}, {10}, 1).recovery_frames, -1);
+  EXPECT_EQ(summarize(late, 0, {0}, {10}, -1).recovery_frames, -1);  // no perturbation
 }
 
 TEST(BenchSummary, EfficiencyLeavesOutFramesBelowFullQuality) {
