@@ -65,6 +65,19 @@ inline int settles_at(const std::vector<SimFrame>& run, int from, double limit) 
   return recovered_from(lambda, from, limit);
 }
 
+// Direction flips of device `i`'s planned share over frames [from, to): frames f in
+// [from + 2, to) where the share moved one way into frame f - 1 and the other way into f.
+// Moves under 1e-4 of the frame count as none (a balancer holding its shares).
+inline int direction_flips(const std::vector<SimFrame>& run, int i, int from, int to) {
+  int flips = 0;
+  for (int f = from + 2; f < to; ++f) {
+    const double d0 = planned(run[size_t(f - 1)], i) - planned(run[size_t(f - 2)], i);
+    const double d1 = planned(run[size_t(f)], i) - planned(run[size_t(f - 1)], i);
+    flips += std::abs(d0) > 1e-4 && std::abs(d1) > 1e-4 && (d0 > 0) != (d1 > 0) ? 1 : 0;
+  }
+  return flips;
+}
+
 inline double stddev_of_share(const std::vector<SimFrame>& run, int device, int from, int to) {
   double m = 0, m2 = 0;
   for (int f = from; f < to; ++f) m += planned(run[size_t(f)], device);
