@@ -72,7 +72,8 @@ Runner add_bench_command(CLI::App& app) {
     Setup s = make_setup(*o, int(specs.size()));
     if (s.cluster && !s.cluster->master()) return serve_as_worker(s);
     std::vector<std::string> mapped;
-    for (const auto& spec : specs) mapped.push_back(apply_mapping(spec, o->mapping));
+    for (const auto& spec : specs)
+      mapped.push_back(apply_mapping(spec, o->mapping, "--balancers"));
     std::unique_ptr<Session> session = s.make_session(mapped, "--balancers");  // checks every spec
     const std::vector<std::string> lanes = s.lane_labels(mapped);
     if (!b->report_dir.empty()) {
