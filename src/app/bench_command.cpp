@@ -32,7 +32,7 @@ struct BenchOptions {
   std::string json_path;
   std::string report_dir;
   std::string trace_prefix;
-  int warmup = 10;
+  int warmup = 0;  // used when --warmup is given; default_warmup(frames) otherwise
   int ideal_frames = 20;
 };
 
@@ -55,8 +55,10 @@ Runner add_bench_command(CLI::App& app) {
   cmd->add_option("--trace", b->trace_prefix,
                   "Write one trace per balancer, PREFIX-<balancer>.trace: every work item's "
                   "device, view, rect, samples, busy and wall time (format: docs/traces.md)");
-  cmd->add_option("--warmup", b->warmup, "Frames left out of the summary (balancers settling)")
-      ->capture_default_str();
+  CLI::Option* warmup_option =
+      cmd->add_option("--warmup", b->warmup,
+                      "Frames left out of the summary (balancers settling); default min(10, "
+                      "frames / 4), so short runs work without it");
   cmd->add_option("--ideal-frames", b->ideal_frames,
                   "Frames (spread over those after --warmup) on which each device is timed alone; "
                   "efficiency = sum of ideal times (interpolated between those frames) / sum of "
@@ -65,7 +67,8 @@ Runner add_bench_command(CLI::App& app) {
   return [=]() -> int {
     const auto specs = balance::split_spec_list(b->balancers);
     if (specs.empty()) throw InputError("--balancers is empty");
-    if (b->warmup < 0 || b->warmup >= o->frames)
+    const int warmup = warmup_option->count() > 0 ? b->warmup : default_warmup(o->frames);
+    if (warmup < 0 || warmup >= o->frames)
       throw InputError("--warmup must be in 0.." + std::to_string(o->frames - 1));
     if (b->ideal_frames < 1 || b->ideal_frames > 1000)
       throw InputError("--ideal-frames must be in 1..1000");
@@ -109,7 +112,7 @@ Runner add_bench_command(CLI::App& app) {
 
     BenchConfig config;
     config.frames = o->frames;
-    config.warmup = b->warmup;
+    config.warmup = warmup;
     config.ideal_frames = b->ideal_frames;
     config.partition_frame = b->report_dir.empty() ? -1 : o->frames / 2;
     config.keep_stats = !b->trace_prefix.empty();
@@ -148,8 +151,7 @@ Runner add_bench_command(CLI::App& app) {
     const int perturb_frame = s.perturbations.empty() ? -1 : s.perturbations.front().frame;
     std::vector<RunSummary> summaries;
     for (const BenchLane& lane : result.lanes)
-      summaries.push_back(
-          summarize(lane.records, b->warmup, result.sampled, ideal, perturb_frame));
+      summaries.push_back(summarize(lane.records, warmup, result.sampled, ideal, perturb_frame));
     add_speedups(lanes, summaries);
     print_table(lanes, summaries);
     // Bit-identical images are promised per device type; with several types the split
@@ -188,10 +190,10 @@ Runner add_bench_command(CLI::App& app) {
                                            : nlohmann::json(mismatched.empty())},
            {"mismatched_frames", mismatched},
            {"frames", frames},
-           {"summary", summary_to_json(summaries[k], b->warmup, ideal_mean, result.sampled)}});
+           {"summary", summary_to_json(summaries[k], warmup, ideal_mean, result.sampled)}});
       if (s.volume && s.volume->options().target_ms > 0)
         runs_json.back()["targeting"] = targeting_to_json(targeting_summary(
-            lane.records, b->warmup, s.volume->options().target_ms, lane.error_vs_lane0));
+            lane.records, warmup, s.volume->options().target_ms, lane.error_vs_lane0));
       if (!b->trace_prefix.empty()) {
         TraceFile trace(fmt::format("{}-{}.trace", b->trace_prefix, name), lane.spec, s.devices);
         for (const balance::FrameStats& f : lane.stats) trace.writer().frame(f);
@@ -218,7 +220,7 @@ Runner add_bench_command(CLI::App& app) {
     if (s.volume && s.volume->options().target_ms > 0) {
       std::vector<TargetingSummary> t;
       for (const BenchLane& lane : result.lanes)
-        t.push_back(targeting_summary(lane.records, b->warmup, s.volume->options().target_ms,
+        t.push_back(targeting_summary(lane.records, warmup, s.volume->options().target_ms,
                                       lane.error_vs_lane0));
       print_targeting(lanes, t, s.volume->options().target_ms);
       if (!b->report_dir.empty()) {

@@ -18,6 +18,8 @@ double interpolate_ideal(const std::vector<int>& sampled, const std::vector<doub
   return ideal_ms[k] * (1 - t) + ideal_ms[k + 1] * t;
 }
 
+int default_warmup(int frames) { return std::clamp(frames / 4, 0, 10); }
+
 RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
                      const std::vector<int>& sampled, const std::vector<double>& ideal_ms,
                      int perturb_frame) {

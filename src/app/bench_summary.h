@@ -27,6 +27,10 @@ struct RunSummary {
 double interpolate_ideal(const std::vector<int>& sampled, const std::vector<double>& ideal_ms,
                          int frame);
 
+// The warm-up when --warmup is not given: frames / 4, at most 10 (100 frames: 10; 2 frames:
+// none, so a short run needs no option).
+int default_warmup(int frames);
+
 // `ideal_ms[k]` is the ideal time of frame `sampled[k]`; `perturb_frame` < 0: none.
 RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
                      const std::vector<int>& sampled, const std::vector<double>& ideal_ms,

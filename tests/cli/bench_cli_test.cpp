@@ -1,8 +1,12 @@
-// `multiray bench` run as a user would: a bad --balancers entry is named as such.
+// `multiray bench` run as a user would: a short run needs no --warmup, and a bad --balancers
+// entry is named as such.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "support/cli_expect.h"
 
@@ -13,6 +17,24 @@ using Result = multiray::testing::CliResult;
 Result run(const std::string& args) { return multiray::testing::run_cli(MULTIRAY_BIN, args); }
 
 constexpr const char* kSmall = "bench --res 24x16 --spp 1 --devices cpu:threads=1,cpu:threads=1 ";
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+TEST(BenchCli, TwoFramesRunWithoutChoosingAWarmup) {
+  const std::string json = ::testing::TempDir() + "/bench_two.json";
+  const Result r =
+      run(std::string(kSmall) + "--frames 2 --balancers uniform,queue --json " + json);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json doc = read_json(json);
+  for (const auto& lane : doc.at("runs")) {
+    EXPECT_EQ(lane.at("frames").size(), 2u);
+    EXPECT_EQ(lane.at("summary").at("from_frame"), 0);  // min(10, 2 / 4)
+  }
+  EXPECT_THAT(run("bench --help").out, ::testing::HasSubstr("min(10, frames / 4)"));
+}
 
 TEST(BenchCli, BadBalancersEntryIsNamedAsSuch) {
   for (const std::string mapping : {"", "--mapping strips "}) {

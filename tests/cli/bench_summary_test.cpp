@@ -1,5 +1,5 @@
 // The bench command's arithmetic: interpolated ideal, efficiency, recovery (from where the
-// imbalance stays under 5%), speedup.
+// imbalance stays under 5%), speedup, the default warm-up.
 #include <gtest/gtest.h>
 
 #include "app/bench_summary.h"
@@ -25,6 +25,14 @@ TEST(BenchSummary, InterpolatesIdealBetweenSampledFrames) {
   EXPECT_DOUBLE_EQ(interpolate_ideal({2, 6}, {10, 30}, 0), 10);  // clamped
   EXPECT_DOUBLE_EQ(interpolate_ideal({2, 6}, {10, 30}, 9), 30);
   EXPECT_DOUBLE_EQ(interpolate_ideal({2, 6, 8}, {10, 30, 0}, 7), 15);
+}
+
+TEST(BenchSummary, DefaultWarmupLeavesShortRunsAFrameToSummarise) {
+  EXPECT_EQ(default_warmup(100), 10);
+  EXPECT_EQ(default_warmup(1000), 10);
+  EXPECT_EQ(default_warmup(20), 5);
+  EXPECT_EQ(default_warmup(2), 0);
+  EXPECT_EQ(default_warmup(1), 0);
 }
 
 TEST(BenchSummary, EfficiencyRecoveryAndSpeedup) {
