@@ -1,8 +1,9 @@
-// `multiray bench` run as a user would: a short run needs no --warmup, and a bad --balancers
-// entry is named as such.
+// `multiray bench` run as a user would: a short run needs no --warmup, the printed ideal
+// frame time is the one efficiency uses, and a bad --balancers entry is named as such.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -17,6 +18,13 @@ using Result = multiray::testing::CliResult;
 Result run(const std::string& args) { return multiray::testing::run_cli(MULTIRAY_BIN, args); }
 
 constexpr const char* kSmall = "bench --res 24x16 --spp 1 --devices cpu:threads=1,cpu:threads=1 ";
+
+// The bench's line "ideal frame time X ms" for `ms`.
+std::string ideal_line(double ms) {
+  char text[64];
+  std::snprintf(text, sizeof text, "ideal frame time %.1f ms", ms);
+  return text;
+}
 
 nlohmann::json read_json(const std::string& path) {
   std::ifstream in(path);
@@ -34,6 +42,24 @@ TEST(BenchCli, TwoFramesRunWithoutChoosingAWarmup) {
     EXPECT_EQ(lane.at("summary").at("from_frame"), 0);  // min(10, 2 / 4)
   }
   EXPECT_THAT(run("bench --help").out, ::testing::HasSubstr("min(10, frames / 4)"));
+}
+
+TEST(BenchCli, PrintedIdealIsTheOneEfficiencyUses) {
+  const std::string json = ::testing::TempDir() + "/bench_ideal.json";
+  const Result r =
+      run(std::string(kSmall) +
+          "--frames 8 --warmup 2 --ideal-frames 3 --balancers uniform,queue --json " + json);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json doc = read_json(json);
+  const double ideal = doc.at("ideal_ms").get<double>();
+  EXPECT_THAT(r.out, ::testing::HasSubstr(ideal_line(ideal)));
+  for (const auto& lane : doc.at("runs")) {
+    const auto& s = lane.at("summary");
+    EXPECT_NEAR(s.at("ideal_ms").get<double>(), ideal, 1e-9 * ideal) << lane.at("lane");
+    EXPECT_NEAR(s.at("efficiency").get<double>(), ideal / s.at("mean_frame_ms").get<double>(),
+                1e-9)
+        << lane.at("lane");
+  }
 }
 
 TEST(BenchCli, BadBalancersEntryIsNamedAsSuch) {

@@ -27,6 +27,21 @@ TEST(BenchSummary, InterpolatesIdealBetweenSampledFrames) {
   EXPECT_DOUBLE_EQ(interpolate_ideal({2, 6, 8}, {10, 30, 0}, 7), 15);
 }
 
+TEST(BenchSummary, PrintedIdealIsTheOneEfficiencyUses) {
+  // Timed on frames 2 and 3 (10 and 40 ms); frames 4-5 are clamped to 40 ms. The plain
+  // mean of the timed frames (25 ms) is not what efficiency compares against: 32.5 ms is.
+  const std::vector<int> sampled{2, 3};
+  const std::vector<double> ideal{10, 40};
+  EXPECT_DOUBLE_EQ(mean_ideal_ms(sampled, ideal, 2, 6), 32.5);
+  EXPECT_DOUBLE_EQ(mean_ideal_ms(sampled, ideal, 2, 2), 0);  // no frames
+  const auto recs = frames({100, 100, 65, 65, 65, 65}, {0, 0, 0, 0, 0, 0});
+  const RunSummary s = summarize(recs, 2, sampled, ideal, -1);
+  EXPECT_DOUBLE_EQ(s.ideal_ms, 32.5);
+  EXPECT_DOUBLE_EQ(s.efficiency, 0.5);
+  EXPECT_DOUBLE_EQ(s.efficiency, s.ideal_ms / s.mean_frame_ms);
+  EXPECT_DOUBLE_EQ(summary_to_json(s, 2, sampled)["ideal_ms"].get<double>(), 32.5);
+}
+
 TEST(BenchSummary, DefaultWarmupLeavesShortRunsAFrameToSummarise) {
   EXPECT_EQ(default_warmup(100), 10);
   EXPECT_EQ(default_warmup(1000), 10);
