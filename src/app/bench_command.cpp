@@ -165,15 +165,17 @@ Runner add_bench_command(CLI::App& app) {
       fmt::print(
           "(mixed device types: images agree statistically, not bit for bit, so they are "
           "not compared)\n");
+    // Every view of every frame, between the lanes that rendered it at the same quality.
+    const std::string mismatch =
+        mixed_types ? "" : mismatch_summary(lanes, result.mismatched_frames);
+    if (!mixed_types && mismatch.empty())
+      fmt::print(
+          "(images: every view of every frame bit-identical across the balancers that "
+          "rendered it at the same quality)\n");
     nlohmann::json runs_json = nlohmann::json::array();
     for (size_t k = 0; k < result.lanes.size(); ++k) {
       const BenchLane& lane = result.lanes[k];
       const std::vector<int>& mismatched = result.mismatched_frames[k];
-      if (!mismatched.empty() && !mixed_types)
-        fmt::print(stderr,
-                   "multiray: warning: {} produced different images than another run at the "
-                   "same quality in {} frame(s), first frame {}\n",
-                   lanes[k], mismatched.size(), mismatched.front());
       nlohmann::json frames = nlohmann::json::array();
       for (size_t f = 0; f < lane.records.size(); ++f) {
         frames.push_back(frame_to_json(lane.records[f]));
@@ -265,12 +267,23 @@ Runner add_bench_command(CLI::App& app) {
            "device_ms measured inside each device (steady_clock); frame_ms by the "
            "engine around all devices"},
           {"ideal_ms", ideal_mean},
+          {"images_identical", mixed_types ? nlohmann::json("not compared: mixed device types")
+                                           : nlohmann::json(mismatch.empty())},
           {"ideal", ideal_detail},
           {"volume_setup_ms", s.volume ? nlohmann::json{{"block_histograms", s.volume->blocks_ms},
                                                         {"styles", s.volume->style_ms}}
                                        : nlohmann::json()},
           {"runs", runs_json}};
       write_file_atomically(b->json_path, doc.dump(1) + "\n");
+    }
+    if (!mismatch.empty()) {
+      // A broken promise of the renderer: reported after the table and JSON, exit code 1.
+      fmt::print(stderr,
+                 "multiray: error: images differ between balancers rendering at the same "
+                 "quality (every view of every frame compared; mismatched_frames in the JSON): "
+                 "{}\n",
+                 mismatch);
+      return 1;
     }
     return 0;
   };

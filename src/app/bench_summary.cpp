@@ -73,6 +73,16 @@ void add_speedups(const std::vector<std::string>& specs, std::vector<RunSummary>
     s.speedup = uniform_ms > 0 && s.mean_frame_ms > 0 ? uniform_ms / s.mean_frame_ms : 0.0;
 }
 
+std::string mismatch_summary(const std::vector<std::string>& lanes,
+                             const std::vector<std::vector<int>>& mismatched) {
+  std::string out;
+  for (size_t k = 0; k < mismatched.size(); ++k)
+    if (!mismatched[k].empty())
+      out += fmt::format("{}{}: {} frame(s), first {}", out.empty() ? "" : "; ", lanes.at(k),
+                         mismatched[k].size(), mismatched[k].front());
+  return out;
+}
+
 void print_table(const std::vector<std::string>& specs, const std::vector<RunSummary>& summaries) {
   size_t width = 14;  // the longest label, so specs and lane names are never cut
   for (const std::string& spec : specs) width = std::max(width, spec.size());

@@ -48,6 +48,12 @@ RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
 // Fills in `speedup` from the run whose spec starts with "uniform", if any.
 void add_speedups(const std::vector<std::string>& specs, std::vector<RunSummary>& summaries);
 
+// The bit-identity verdict. `mismatched[k]`: the frames in which lane k's images (every
+// view) differed from an earlier lane's at the same quality. One entry per such lane,
+// "LANE: N frame(s), first F", joined by "; "; empty when every lane agreed.
+std::string mismatch_summary(const std::vector<std::string>& lanes,
+                             const std::vector<std::vector<int>>& mismatched);
+
 // The comparison table, one line per balancer.
 void print_table(const std::vector<std::string>& specs, const std::vector<RunSummary>& summaries);
 

@@ -1,5 +1,6 @@
-// `multiray bench` run as a user would: a short run needs no --warmup, the printed ideal
-// frame time is the one efficiency uses, and a bad --balancers entry is named as such.
+// `multiray bench` run as a user would: a short run needs no --warmup, the JSON holds each
+// frame's image hash (every view) and the comparison's verdict, the printed ideal frame
+// time is the one efficiency uses, and a bad --balancers entry is named as such.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -42,6 +43,29 @@ TEST(BenchCli, TwoFramesRunWithoutChoosingAWarmup) {
     EXPECT_EQ(lane.at("summary").at("from_frame"), 0);  // min(10, 2 / 4)
   }
   EXPECT_THAT(run("bench --help").out, ::testing::HasSubstr("min(10, frames / 4)"));
+}
+
+TEST(BenchCli, EveryViewOfEveryFrameIsHashedAndCompared) {
+  const std::string json = ::testing::TempDir() + "/bench_views.json";
+  const Result r = run(std::string(kSmall) +
+                       "--views 2x1 --frames 3 --warmup 1 --balancers uniform,hybrid,dlb "
+                       "--json " +
+                       json);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("every view of every frame bit-identical"));
+  const nlohmann::json doc = read_json(json);
+  EXPECT_EQ(doc.at("images_identical"), true);
+  const auto& runs = doc.at("runs");
+  ASSERT_EQ(runs.size(), 3u);
+  for (const auto& lane : runs) {
+    EXPECT_EQ(lane.at("image_matches_first_run"), true);
+    ASSERT_EQ(lane.at("frames").size(), 3u);
+    for (size_t f = 0; f < 3; ++f)
+      EXPECT_EQ(lane.at("frames")[f].at("image_hash"), runs[0].at("frames")[f].at("image_hash"))
+          << lane.at("lane") << " frame " << f;
+  }
+  // The camera orbits: each frame's hash is its own.
+  EXPECT_NE(runs[0].at("frames")[0].at("image_hash"), runs[0].at("frames")[2].at("image_hash"));
 }
 
 TEST(BenchCli, PrintedIdealIsTheOneEfficiencyUses) {

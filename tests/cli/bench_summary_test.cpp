@@ -1,5 +1,5 @@
-// The bench command's arithmetic: interpolated ideal, efficiency, recovery (from where the
-// imbalance stays under 5%), speedup, the default warm-up.
+// The bench command's arithmetic: interpolated ideal, efficiency, recovery, speedup, the
+// default warm-up and the bit-identity verdict.
 #include <gtest/gtest.h>
 
 #include "app/bench_summary.h"
@@ -48,6 +48,12 @@ TEST(BenchSummary, DefaultWarmupLeavesShortRunsAFrameToSummarise) {
   EXPECT_EQ(default_warmup(20), 5);
   EXPECT_EQ(default_warmup(2), 0);
   EXPECT_EQ(default_warmup(1), 0);
+}
+
+TEST(BenchSummary, MismatchNamesEachLaneWhoseImagesDiffered) {
+  EXPECT_EQ(mismatch_summary({"uniform", "hybrid"}, {{}, {}}), "");
+  EXPECT_EQ(mismatch_summary({"uniform", "hybrid", "queue"}, {{}, {3, 7}, {1}}),
+            "hybrid: 2 frame(s), first 3; queue: 1 frame(s), first 1");
 }
 
 TEST(BenchSummary, EfficiencyRecoveryAndSpeedup) {
