@@ -81,8 +81,9 @@ leria="--frames 100 --warmup 10 --balancers uniform,dlb,hybrid,semi-static,cycle
 "$bin" simulate "$out/lightfield.trace" --devices 4 --speeds list:1/0.8/0.5/0.25 $leria \
   > "$out/leria_4.txt"
 
-# Harada (& Fujita): adaptive AO (edge pixels 5 spp, others 1); deviation of device times
-# on two devices (1 : 0.5) and four whose speeds sum to 2 (0.8, 0.6, 0.4, 0.2).
+# Harada (GPU Pro 7 ch. 4, edge sampling after Mitchell 1987): adaptive AO (edge pixels 5
+# spp, others 1); deviation of device times on two devices (1 : 0.5) and four whose speeds
+# sum to 2 (0.8, 0.6, 0.4, 0.2).
 "$bin" render $anim --res 640x360 --integrator ao --sampling adaptive --devices cpu:threads=1 \
   --balancer queue:tile=16 --trace "$out/adaptive_ao.trace" --out "$out/adaptive_frames"
 "$bin" simulate "$out/adaptive_ao.trace" --devices 2 --speeds list:1/0.5 --noise 0.05 \

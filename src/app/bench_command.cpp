@@ -32,7 +32,7 @@ struct BenchOptions {
   std::string json_path;
   std::string report_dir;
   std::string trace_prefix;
-  int warmup = 10;
+  int warmup = 0;  // used when --warmup is given; default_warmup(frames) otherwise
   int ideal_frames = 20;
 };
 
@@ -55,8 +55,10 @@ Runner add_bench_command(CLI::App& app) {
   cmd->add_option("--trace", b->trace_prefix,
                   "Write one trace per balancer, PREFIX-<balancer>.trace: every work item's "
                   "device, view, rect, samples, busy and wall time (format: docs/traces.md)");
-  cmd->add_option("--warmup", b->warmup, "Frames left out of the summary (balancers settling)")
-      ->capture_default_str();
+  CLI::Option* warmup_option =
+      cmd->add_option("--warmup", b->warmup,
+                      "Frames left out of the summary (balancers settling); default min(10, "
+                      "frames / 4), so short runs work without it");
   cmd->add_option("--ideal-frames", b->ideal_frames,
                   "Frames (spread over those after --warmup) on which each device is timed alone; "
                   "efficiency = sum of ideal times (interpolated between those frames) / sum of "
@@ -65,14 +67,16 @@ Runner add_bench_command(CLI::App& app) {
   return [=]() -> int {
     const auto specs = balance::split_spec_list(b->balancers);
     if (specs.empty()) throw InputError("--balancers is empty");
-    if (b->warmup < 0 || b->warmup >= o->frames)
+    const int warmup = warmup_option->count() > 0 ? b->warmup : default_warmup(o->frames);
+    if (warmup < 0 || warmup >= o->frames)
       throw InputError("--warmup must be in 0.." + std::to_string(o->frames - 1));
     if (b->ideal_frames < 1 || b->ideal_frames > 1000)
       throw InputError("--ideal-frames must be in 1..1000");
     Setup s = make_setup(*o, int(specs.size()));
     if (s.cluster && !s.cluster->master()) return serve_as_worker(s);
     std::vector<std::string> mapped;
-    for (const auto& spec : specs) mapped.push_back(apply_mapping(spec, o->mapping));
+    for (const auto& spec : specs)
+      mapped.push_back(apply_mapping(spec, o->mapping, "--balancers"));
     std::unique_ptr<Session> session = s.make_session(mapped, "--balancers");  // checks every spec
     const std::vector<std::string> lanes = s.lane_labels(mapped);
     if (!b->report_dir.empty()) {
@@ -108,7 +112,7 @@ Runner add_bench_command(CLI::App& app) {
 
     BenchConfig config;
     config.frames = o->frames;
-    config.warmup = b->warmup;
+    config.warmup = warmup;
     config.ideal_frames = b->ideal_frames;
     config.partition_frame = b->report_dir.empty() ? -1 : o->frames / 2;
     config.keep_stats = !b->trace_prefix.empty();
@@ -139,16 +143,18 @@ Runner add_bench_command(CLI::App& app) {
       ideal_detail.push_back(
           {{"frame", i.frame}, {"device_alone_ms", i.device_alone_ms}, {"ideal_ms", i.ideal_ms}});
     }
-    double ideal_mean = 0;
-    for (double v : ideal) ideal_mean += v / double(ideal.size());
-    fmt::print("ideal frame time {:.1f} ms (mean over {} frames, each device timed alone)\n",
-               ideal_mean, ideal.size());
+    // The ideal efficiency compares against: each frame's, interpolated between the timed
+    // ones, averaged over the summarised frames.
+    const double ideal_mean = mean_ideal_ms(result.sampled, ideal, warmup, o->frames);
+    fmt::print(
+        "ideal frame time {:.1f} ms (mean over frames {}-{}, interpolated between {} frames "
+        "on which each device was timed alone)\n",
+        ideal_mean, warmup, o->frames - 1, ideal.size());
 
     const int perturb_frame = s.perturbations.empty() ? -1 : s.perturbations.front().frame;
     std::vector<RunSummary> summaries;
     for (const BenchLane& lane : result.lanes)
-      summaries.push_back(
-          summarize(lane.records, b->warmup, result.sampled, ideal, perturb_frame));
+      summaries.push_back(summarize(lane.records, warmup, result.sampled, ideal, perturb_frame));
     add_speedups(lanes, summaries);
     print_table(lanes, summaries);
     // Bit-identical images are promised per device type; with several types the split
@@ -159,15 +165,17 @@ Runner add_bench_command(CLI::App& app) {
       fmt::print(
           "(mixed device types: images agree statistically, not bit for bit, so they are "
           "not compared)\n");
+    // Every view of every frame, between the lanes that rendered it at the same quality.
+    const std::string mismatch =
+        mixed_types ? "" : mismatch_summary(lanes, result.mismatched_frames);
+    if (!mixed_types && mismatch.empty())
+      fmt::print(
+          "(images: every view of every frame bit-identical across the balancers that "
+          "rendered it at the same quality)\n");
     nlohmann::json runs_json = nlohmann::json::array();
     for (size_t k = 0; k < result.lanes.size(); ++k) {
       const BenchLane& lane = result.lanes[k];
       const std::vector<int>& mismatched = result.mismatched_frames[k];
-      if (!mismatched.empty() && !mixed_types)
-        fmt::print(stderr,
-                   "multiray: warning: {} produced different images than another run at the "
-                   "same quality in {} frame(s), first frame {}\n",
-                   lanes[k], mismatched.size(), mismatched.front());
       nlohmann::json frames = nlohmann::json::array();
       for (size_t f = 0; f < lane.records.size(); ++f) {
         frames.push_back(frame_to_json(lane.records[f]));
@@ -178,19 +186,18 @@ Runner add_bench_command(CLI::App& app) {
       if (s.volume && s.volume->modes().size() > 1)
         name += std::string("-") +
                 balance::adapt_name(s.volume->modes()[k % s.volume->modes().size()]);
-      runs_json.push_back(
-          {{"balancer", lane.spec},
-           {"lane", lanes[k]},
-           {"devices", devices_to_json(s.devices)},
-           {"image_matches_first_run", mixed_types
-                                           ? nlohmann::json("not compared: mixed device types")
-                                           : nlohmann::json(mismatched.empty())},
-           {"mismatched_frames", mismatched},
-           {"frames", frames},
-           {"summary", summary_to_json(summaries[k], b->warmup, ideal_mean, result.sampled)}});
+      runs_json.push_back({{"balancer", lane.spec},
+                           {"lane", lanes[k]},
+                           {"devices", devices_to_json(s.devices)},
+                           {"image_matches_first_run",
+                            mixed_types ? nlohmann::json("not compared: mixed device types")
+                                        : nlohmann::json(mismatched.empty())},
+                           {"mismatched_frames", mismatched},
+                           {"frames", frames},
+                           {"summary", summary_to_json(summaries[k], warmup, result.sampled)}});
       if (s.volume && s.volume->options().target_ms > 0)
         runs_json.back()["targeting"] = targeting_to_json(targeting_summary(
-            lane.records, b->warmup, s.volume->options().target_ms, lane.error_vs_lane0));
+            lane.records, warmup, s.volume->options().target_ms, lane.error_vs_lane0));
       if (!b->trace_prefix.empty()) {
         TraceFile trace(fmt::format("{}-{}.trace", b->trace_prefix, name), lane.spec, s.devices);
         for (const balance::FrameStats& f : lane.stats) trace.writer().frame(f);
@@ -217,7 +224,7 @@ Runner add_bench_command(CLI::App& app) {
     if (s.volume && s.volume->options().target_ms > 0) {
       std::vector<TargetingSummary> t;
       for (const BenchLane& lane : result.lanes)
-        t.push_back(targeting_summary(lane.records, b->warmup, s.volume->options().target_ms,
+        t.push_back(targeting_summary(lane.records, warmup, s.volume->options().target_ms,
                                       lane.error_vs_lane0));
       print_targeting(lanes, t, s.volume->options().target_ms);
       if (!b->report_dir.empty()) {
@@ -259,12 +266,24 @@ Runner add_bench_command(CLI::App& app) {
           {"timing",
            "device_ms measured inside each device (steady_clock); frame_ms by the "
            "engine around all devices"},
+          {"ideal_ms", ideal_mean},
+          {"images_identical", mixed_types ? nlohmann::json("not compared: mixed device types")
+                                           : nlohmann::json(mismatch.empty())},
           {"ideal", ideal_detail},
           {"volume_setup_ms", s.volume ? nlohmann::json{{"block_histograms", s.volume->blocks_ms},
                                                         {"styles", s.volume->style_ms}}
                                        : nlohmann::json()},
           {"runs", runs_json}};
       write_file_atomically(b->json_path, doc.dump(1) + "\n");
+    }
+    if (!mismatch.empty()) {
+      // A broken promise of the renderer: reported after the table and JSON, exit code 1.
+      fmt::print(stderr,
+                 "multiray: error: images differ between balancers rendering at the same "
+                 "quality (every view of every frame compared; mismatched_frames in the JSON): "
+                 "{}\n",
+                 mismatch);
+      return 1;
     }
     return 0;
   };

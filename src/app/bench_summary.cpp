@@ -4,6 +4,8 @@
 
 #include <fmt/core.h>
 
+#include "balance/stats.h"
+
 namespace multiray::app {
 
 double interpolate_ideal(const std::vector<int>& sampled, const std::vector<double>& ideal_ms,
@@ -15,6 +17,16 @@ double interpolate_ideal(const std::vector<int>& sampled, const std::vector<doub
   const double t = double(frame - sampled[k]) / double(sampled[k + 1] - sampled[k]);
   return ideal_ms[k] * (1 - t) + ideal_ms[k + 1] * t;
 }
+
+double mean_ideal_ms(const std::vector<int>& sampled, const std::vector<double>& ideal_ms,
+                     int from, int to) {
+  if (from >= to || sampled.empty()) return 0;
+  double sum = 0;
+  for (int f = from; f < to; ++f) sum += interpolate_ideal(sampled, ideal_ms, f);
+  return sum / double(to - from);
+}
+
+int default_warmup(int frames) { return std::clamp(frames / 4, 0, 10); }
 
 RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
                      const std::vector<int>& sampled, const std::vector<double>& ideal_ms,
@@ -33,20 +45,23 @@ RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
   // devices alone on every frame would cost more than the run itself). The ideal is timed
   // at full quality, so frames rendered at another (frame-time targeting) are left out.
   double ideal_sum = 0, actual_sum = 0;
+  int full_frames = 0;
   for (const auto& r : recs) {
     const bool full_quality =
         r.quality.image_scale == 1 && r.quality.step_scale == 1 && r.first_pass_ms == 0;
     if (r.frame < warmup || sampled.empty() || !full_quality) continue;
     actual_sum += r.frame_ms;
     ideal_sum += interpolate_ideal(sampled, ideal_ms, r.frame);
+    ++full_frames;
   }
   sum.efficiency = actual_sum > 0 ? ideal_sum / actual_sum : 0.0;
-  if (perturb_frame >= 0)
-    for (size_t f = size_t(perturb_frame); f < recs.size(); ++f)
-      if (recs[f].imbalance < 0.05) {
-        sum.recovery_frames = int(f) - perturb_frame;
-        break;
-      }
+  sum.ideal_ms = full_frames > 0 ? ideal_sum / full_frames : 0.0;
+  if (perturb_frame >= 0) {
+    std::vector<double> lambda;
+    for (const auto& r : recs) lambda.push_back(r.imbalance);
+    const int recovered = balance::recovered_from(lambda, perturb_frame);
+    if (recovered >= 0) sum.recovery_frames = recovered - perturb_frame;
+  }
   return sum;
 }
 
@@ -56,6 +71,16 @@ void add_speedups(const std::vector<std::string>& specs, std::vector<RunSummary>
     if (specs[k].rfind("uniform", 0) == 0) uniform_ms = summaries[k].mean_frame_ms;
   for (RunSummary& s : summaries)
     s.speedup = uniform_ms > 0 && s.mean_frame_ms > 0 ? uniform_ms / s.mean_frame_ms : 0.0;
+}
+
+std::string mismatch_summary(const std::vector<std::string>& lanes,
+                             const std::vector<std::vector<int>>& mismatched) {
+  std::string out;
+  for (size_t k = 0; k < mismatched.size(); ++k)
+    if (!mismatched[k].empty())
+      out += fmt::format("{}{}: {} frame(s), first {}", out.empty() ? "" : "; ", lanes.at(k),
+                         mismatched[k].size(), mismatched[k].front());
+  return out;
 }
 
 void print_table(const std::vector<std::string>& specs, const std::vector<RunSummary>& summaries) {
@@ -73,13 +98,12 @@ void print_table(const std::vector<std::string>& specs, const std::vector<RunSum
   }
 }
 
-nlohmann::json summary_to_json(const RunSummary& s, int warmup, double ideal_mean_ms,
-                               const std::vector<int>& sampled) {
+nlohmann::json summary_to_json(const RunSummary& s, int warmup, const std::vector<int>& sampled) {
   return {{"from_frame", warmup},
           {"mean_frame_ms", s.mean_frame_ms},
           {"mean_imbalance", s.mean_imbalance},
           {"mean_deviation", s.mean_deviation},
-          {"ideal_ms", ideal_mean_ms},
+          {"ideal_ms", s.ideal_ms > 0 ? nlohmann::json(s.ideal_ms) : nlohmann::json()},
           {"ideal_frames", sampled},
           {"efficiency", s.efficiency > 0 ? nlohmann::json(s.efficiency) : nlohmann::json()},
           {"speedup_vs_uniform", s.speedup > 0 ? nlohmann::json(s.speedup) : nlohmann::json()},

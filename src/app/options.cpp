@@ -186,7 +186,8 @@ std::vector<std::string> Setup::lane_labels(const std::vector<std::string>& spec
   return labels;
 }
 
-std::string apply_mapping(const std::string& text, const std::string& mapping) {
+std::string apply_mapping(const std::string& text, const std::string& mapping,
+                          const std::string& option) {
   if (mapping.empty()) return text;
   if (mapping != "strips" && mapping != "views")
     throw InputError("--mapping '" + mapping + "' must be strips or views");
@@ -194,7 +195,7 @@ std::string apply_mapping(const std::string& text, const std::string& mapping) {
     try {
       return balance::Spec(text);
     } catch (const std::invalid_argument& e) {
-      throw InputError(std::string("--balancer: ") + e.what());
+      throw InputError(option + ": " + e.what());
     }
   }();
   const std::string& name = spec.name();

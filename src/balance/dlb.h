@@ -24,7 +24,8 @@
 // | slow      | 0.75    | weight of a slow device's local mean, [0, 1]        |
 // | bits      | auto    | log2 strips per view; auto: from `strip`            |
 // | strip     | 32      | least pixels per strip when bits=auto (1–65536)     |
-// | layout    | strips  | strips, or views: whole views per device (ours)     |
+// | layout    | strips  | strips as in the paper, or views: whole views per    |
+// |           |         | device (multiray's own mapping, not the paper's)    |
 //
 // The strip count: Leria et al. choose b to maximise the strips 2^b per view (2^19 at
 // 1280x720, ~1.8 px a strip; `strip=1`), which suits a GPU that runs a work-item per
@@ -44,7 +45,8 @@ namespace multiray::balance {
 class DlbBalancer final : public BalancerBase {
  public:
   // `bits` < 0: automatic strip size.
-  // `layout` Strips (the paper's shuffled strips of every view) or Views (whole views).
+  // `layout` Strips (shuffled strips of every view, as in the paper) or Views (whole views
+  // per device: multiray's own mapping, see layout.h).
   DlbBalancer(int device_count, int interval = 5, double band = 0.1, double slow = 0.75,
               int bits = -1, Layout layout = Layout::Strips, int min_strip = 32);
 

@@ -12,8 +12,9 @@ enum class Layout {
   Rows,     // one horizontal band per device in every view
   Columns,  // one vertical band per device in every view
   Strips,   // shuffled strips (van Antwerpen et al.) of every view
-  Views,    // whole views: device i gets about ratios[i]·views consecutive views (Leria
-            // et al.'s alternative mapping when there are more views than devices)
+  Views,    // whole views: device i gets about ratios[i]·views consecutive views.
+            // multiray's own mapping: Leria et al. give every device a part of every view
+            // and name that full bipartite mapping a limitation (§6.3)
 };
 
 // "rows", "columns", "strips", "views".

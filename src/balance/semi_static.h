@@ -1,5 +1,6 @@
 // `semi-static`: Harada's split for multi-GPU rendering (GPU Pro 7, ch. 4, "Semi-static
-// load balancing"; Harada & Fujita 2014 for irregular sample counts).
+// load balancing"), with irregular sample counts: the chapter's adaptive edge sampling
+// (after Mitchell 1987) and foveated sampling (Harada & Fujita 2014).
 //
 // After each frame, device i's speed is p_i = n_i / t_i (n_i: samples it rendered,
 // t_i: its time). Had the frame been split ideally, all devices would have finished at

@@ -40,4 +40,11 @@ double deviation(const FrameStats& stats) {
   return worst / m;
 }
 
+int recovered_from(const std::vector<double>& imbalance, int from, double limit) {
+  if (from < 0 || from >= int(imbalance.size())) return -1;
+  int f = int(imbalance.size());
+  while (f > from && imbalance[size_t(f - 1)] < limit) --f;
+  return f == int(imbalance.size()) ? -1 : f;
+}
+
 }  // namespace multiray::balance

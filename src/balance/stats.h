@@ -43,4 +43,15 @@ double imbalance(const FrameStats& stats);
 // Deviation (Harada) = max_i |t_i − t_mean| / t_mean; 0 as above.
 double deviation(const FrameStats& stats);
 
+// The imbalance under which a frame counts as balanced when recovery is measured.
+inline constexpr double kRecoveredImbalance = 0.05;
+
+// Recovery after a change that takes effect at frame `from` (one definition for the bench,
+// the docs and the tests): the first frame f >= `from` from which the imbalance stays
+// below `limit` to the end of the run, i.e. imbalance[g] < limit for every g in [f, end).
+// `imbalance` is indexed by frame. -1 when the last frame is not below `limit` or `from`
+// is not a frame of the run.
+int recovered_from(const std::vector<double>& imbalance, int from,
+                   double limit = kRecoveredImbalance);
+
 }  // namespace multiray::balance

@@ -1,8 +1,8 @@
-// Ambient occlusion, the integrator of Harada's and Harada & Fujita's irregular-sampling
-// experiments: per sample, one primary ray and `ao_rays` cosine-distributed occlusion rays
-// of length `ao_distance` from the hit; the pixel value is the unoccluded fraction (1 where
-// the primary ray leaves the scene). Random numbers as in the path tracer, from
-// (pixel, sample, frame, view), so images do not depend on the split.
+// Ambient occlusion, the integrator of Harada's irregular-sampling experiments (GPU Pro 7
+// ch. 4: adaptive edge sampling, after Mitchell 1987): per sample, one primary ray and `ao_rays`
+// cosine-distributed occlusion rays of length `ao_distance` from the hit; the pixel value is the
+// unoccluded fraction (1 where the primary ray leaves the scene). Random numbers as in the path
+// tracer, from (pixel, sample, frame, view), so images do not depend on the split.
 #pragma once
 
 #include "core/image.h"

@@ -1,4 +1,5 @@
-// The first pass of adaptive edge sampling (Harada & Fujita): primary hits through pixel
+// The first pass of adaptive edge sampling (Harada, GPU Pro 7 ch. 4, after Mitchell 1987,
+// "Generating antialiased images at low sampling densities"): primary hits through pixel
 // centres give depth and normal, an edge detector marks pixels on geometric edges, and
 // those get more samples. The map changes every frame as the camera moves.
 #pragma once

@@ -44,8 +44,9 @@ struct ViewSetup {
   int width = 0, height = 0;
   uint32_t view = 0;
   uint32_t frame = 0;
-  // Irregular sampling (Harada & Fujita): samples of each pixel of this view, row-major;
-  // null means RenderSettings::spp everywhere. Must outlive the frame.
+  // Adaptive edge sampling (Harada, GPU Pro 7 ch. 4, after Mitchell 1987): samples of each
+  // pixel of this view, row-major; null means RenderSettings::spp everywhere. Must outlive
+  // the frame.
   const std::vector<uint8_t>* spp_map = nullptr;
   // Foveated sampling (foveated.h): the frame's samples and neighbour lists; pixels are
   // reconstructed from samples instead of being sampled themselves. Null: not foveated.

@@ -3,6 +3,8 @@
 // a speed change within a stated number of frames.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "balance/balancer.h"
 #include "sim_harness.h"
 
@@ -73,21 +75,41 @@ TEST_P(Convergence, BalancesUnevenPixelCost) {
   EXPECT_LE(mean_imbalance(run, 20, 40), c.uneven) << c.spec;
 }
 
+// Not a limit cycle: the planned share does not flip direction more often than noise makes
+// it. With noise alone, the most a balancer that does not over-correct can do is follow
+// each frame's measurement (queue: its ratios are last frame's shares). Its share is then
+// an i.i.d. sequence, and n i.i.d. values have 2(n − 2)/3 direction flips (turning points)
+// on average, variance (16n − 29)/90, whatever their distribution. The bound is that mean
+// + 3 sd: over frames 20–319 (n = 300), 198.7 + 3 · 7.3 = 220.5 of 298 chances (0.74).
+//
+// Correcting by a gain g of the measured error flips with probability ≈ 1/2 + asin(g/2)/π:
+// smoothing flips less (semi-static's blend, g = α = 0.4: 0.56), dead bands hold the share
+// (dlb, cycles: none); over-correction flips more (g = 1.5: 0.77, 229 flips), and a share
+// pushed up and down on alternate frames flips every frame. Measured with seed 5: queue
+// 0.62, ospray-dynamic 0.59, hybrid 0.58, semi-static 0.56, equalizer 0.43 of the chances.
+//
+// The run is this long to tell them apart: over frames 20–79 noise alone gives 38.7 ± 3.2
+// flips and g = 1.5 only 44.7, so any bound there fails a noise follower now and then or
+// lets a mild limit cycle pass. Checked by hand: semi-static and hybrid:steal=0 with ±0.3%
+// added to the share on alternate frames (a fifth of the ±1.5% the noise moves it) pass
+// the deviation and imbalance checks below but make 226 and 252 flips; over frames 20–79
+// semi-static made 42, under the bound of 45 this test had before.
+constexpr int kNoiseFrames = 320;
+
+double most_flips_of_noise(int n) {
+  return 2.0 * (n - 2) / 3 + 3 * std::sqrt((16.0 * n - 29) / 90);
+}
+
 TEST_P(Convergence, DoesNotOscillateUnderNoise) {
   const Case& c = GetParam();
   const auto b = make_balancer(c.spec, 2);
-  const auto run = simulate_run(*b, kShape, constant({3, 1}, 0.05), flat_cost(kShape), 80, 5);
+  const auto run =
+      simulate_run(*b, kShape, constant({3, 1}, 0.05), flat_cost(kShape), kNoiseFrames, 5);
   // ±5% on each device's speed moves the ideal share of device 0 by about ±1.5%.
-  EXPECT_LE(stddev_of_share(run, 0, 20, 80), 0.01) << c.spec;
-  EXPECT_LE(mean_imbalance(run, 20, 80), 0.04) << c.spec;
-  // Not a limit cycle: the share does not flip direction frame after frame.
-  int flips = 0;
-  for (int f = 22; f < 80; ++f) {
-    const double d1 = planned(run[size_t(f)], 0) - planned(run[size_t(f - 1)], 0);
-    const double d0 = planned(run[size_t(f - 1)], 0) - planned(run[size_t(f - 2)], 0);
-    flips += d1 * d0 < -1e-6 ? 1 : 0;
-  }
-  EXPECT_LT(flips, 45) << c.spec;
+  EXPECT_LE(stddev_of_share(run, 0, 20, kNoiseFrames), 0.01) << c.spec;
+  EXPECT_LE(mean_imbalance(run, 20, kNoiseFrames), 0.04) << c.spec;
+  EXPECT_LE(direction_flips(run, 0, 20, kNoiseFrames), most_flips_of_noise(kNoiseFrames - 20))
+      << c.spec;
 }
 
 TEST_P(Convergence, RecoversAfterSpeedChange) {
@@ -112,6 +134,15 @@ INSTANTIATE_TEST_SUITE_P(Adaptive, Convergence, ::testing::ValuesIn(kCases),
                            for (char ch : p.param.spec) n += std::isalnum(ch) ? ch : '_';
                            return n;
                          });
+
+TEST(Recovery, FirstFrameFromWhichImbalanceStaysUnderTheLimit) {
+  const std::vector<double> lambda{0.5, 0.04, 0.2, 0.01, 0.049, 0.0};
+  EXPECT_EQ(recovered_from(lambda, 0), 3);  // frame 1 dips under 5%, frame 2 is back over
+  EXPECT_EQ(recovered_from(lambda, 4), 4);  // counted from `from` on
+  EXPECT_EQ(recovered_from(lambda, 3, 0.01), 5);
+  EXPECT_EQ(recovered_from({0.01, 0.06}, 0), -1);  // over the limit at the end
+  EXPECT_EQ(recovered_from(lambda, 6), -1);        // `from` past the end
+}
 
 TEST(Static, GivenRatiosAreKeptForEver) {
   const auto b = make_balancer("static:ratios=3/0/1", 3);

@@ -164,8 +164,8 @@ TEST(Coverage, ReportsOverlapGapsAndOutOfBounds) {
 }  // namespace
 }  // namespace multiray::balance
 
-// Whole views per device (Leria et al.'s view mapping): each view goes to exactly one
-// device, in proportion to the ratios.
+// Whole views per device (multiray's own view mapping; Leria et al. split every view over
+// every device): each view goes to exactly one device, in proportion to the ratios.
 TEST(ViewsLayout, AssignsWholeViewsByRatio) {
   using namespace multiray::balance;
   FrameShape shape{16, 9, 9, {}};

@@ -57,16 +57,25 @@ inline double mean_imbalance(const std::vector<SimFrame>& run, int from, int to)
   return s / (to - from);
 }
 
-// First frame at or after `from` from which on imbalance stays below `limit`; -1 if never.
+// First frame at or after `from` from which on imbalance stays below `limit`; -1 if never
+// (balance::recovered_from, the bench's definition of recovery).
 inline int settles_at(const std::vector<SimFrame>& run, int from, double limit) {
-  int settled = -1;
-  for (int f = from; f < int(run.size()); ++f) {
-    if (imbalance(run[size_t(f)].stats) >= limit)
-      settled = -1;
-    else if (settled < 0)
-      settled = f;
+  std::vector<double> lambda;
+  for (const SimFrame& f : run) lambda.push_back(imbalance(f.stats));
+  return recovered_from(lambda, from, limit);
+}
+
+// Direction flips of device `i`'s planned share over frames [from, to): frames f in
+// [from + 2, to) where the share moved one way into frame f - 1 and the other way into f.
+// Moves under 1e-4 of the frame count as none (a balancer holding its shares).
+inline int direction_flips(const std::vector<SimFrame>& run, int i, int from, int to) {
+  int flips = 0;
+  for (int f = from + 2; f < to; ++f) {
+    const double d0 = planned(run[size_t(f - 1)], i) - planned(run[size_t(f - 2)], i);
+    const double d1 = planned(run[size_t(f)], i) - planned(run[size_t(f - 1)], i);
+    flips += std::abs(d0) > 1e-4 && std::abs(d1) > 1e-4 && (d0 > 0) != (d1 > 0) ? 1 : 0;
   }
-  return settled;
+  return flips;
 }
 
 inline double stddev_of_share(const std::vector<SimFrame>& run, int device, int from, int to) {

@@ -1,4 +1,5 @@
-// The bench command's arithmetic: interpolated ideal, efficiency, recovery, speedup.
+// The bench command's arithmetic: interpolated ideal, efficiency, recovery, speedup, the
+// default warm-up and the bit-identity verdict.
 #include <gtest/gtest.h>
 
 #include "app/bench_summary.h"
@@ -26,6 +27,35 @@ TEST(BenchSummary, InterpolatesIdealBetweenSampledFrames) {
   EXPECT_DOUBLE_EQ(interpolate_ideal({2, 6, 8}, {10, 30, 0}, 7), 15);
 }
 
+TEST(BenchSummary, PrintedIdealIsTheOneEfficiencyUses) {
+  // Timed on frames 2 and 3 (10 and 40 ms); frames 4-5 are clamped to 40 ms. The plain
+  // mean of the timed frames (25 ms) is not what efficiency compares against: 32.5 ms is.
+  const std::vector<int> sampled{2, 3};
+  const std::vector<double> ideal{10, 40};
+  EXPECT_DOUBLE_EQ(mean_ideal_ms(sampled, ideal, 2, 6), 32.5);
+  EXPECT_DOUBLE_EQ(mean_ideal_ms(sampled, ideal, 2, 2), 0);  // no frames
+  const auto recs = frames({100, 100, 65, 65, 65, 65}, {0, 0, 0, 0, 0, 0});
+  const RunSummary s = summarize(recs, 2, sampled, ideal, -1);
+  EXPECT_DOUBLE_EQ(s.ideal_ms, 32.5);
+  EXPECT_DOUBLE_EQ(s.efficiency, 0.5);
+  EXPECT_DOUBLE_EQ(s.efficiency, s.ideal_ms / s.mean_frame_ms);
+  EXPECT_DOUBLE_EQ(summary_to_json(s, 2, sampled)["ideal_ms"].get<double>(), 32.5);
+}
+
+TEST(BenchSummary, DefaultWarmupLeavesShortRunsAFrameToSummarise) {
+  EXPECT_EQ(default_warmup(100), 10);
+  EXPECT_EQ(default_warmup(1000), 10);
+  EXPECT_EQ(default_warmup(20), 5);
+  EXPECT_EQ(default_warmup(2), 0);
+  EXPECT_EQ(default_warmup(1), 0);
+}
+
+TEST(BenchSummary, MismatchNamesEachLaneWhoseImagesDiffered) {
+  EXPECT_EQ(mismatch_summary({"uniform", "hybrid"}, {{}, {}}), "");
+  EXPECT_EQ(mismatch_summary({"uniform", "hybrid", "queue"}, {{}, {3, 7}, {1}}),
+            "hybrid: 2 frame(s), first 3; queue: 1 frame(s), first 1");
+}
+
 TEST(BenchSummary, EfficiencyRecoveryAndSpeedup) {
   // Frames 0-1 are warm-up; the ideal is 10 ms everywhere; actual 20 ms then 10 ms.
   const auto recs = frames({100, 100, 20, 20, 10, 10}, {0.5, 0.5, 0.2, 0.1, 0.04, 0.0});
@@ -38,6 +68,17 @@ TEST(BenchSummary, EfficiencyRecoveryAndSpeedup) {
   add_speedups({"uniform:layout=rows", "hybrid"}, all);
   EXPECT_DOUBLE_EQ(all[1].speedup, 2.0);
   EXPECT_DOUBLE_EQ(all[0].speedup, 1.0);
+}
+
+TEST(BenchSummary, RecoveryIsWhereImbalanceStaysUnder5PercentToTheEnd) {
+  // Perturbation at frame 1: frame 2 dips under 5% but frame 3 is back above it, so the
+  // run recovers at frame 4 (3 frames), not at the first frame under 5%.
+  const auto recs = frames({10, 10, 10, 10, 10, 10}, {0.01, 0.3, 0.03, 0.2, 0.04, 0.01});
+  EXPECT_EQ(summarize(recs, 0, {0}, {10}, 1).recovery_frames, 3);
+  // Over 5% in the last frame: not recovered, whatever came before.
+  const auto late = frames({10, 10, 10, 10}, {0.01, 0.3, 0.01, 0.06});
+  EXPECT_EQ(summarize(late, 0, {0}, {10}, 1).recovery_frames, -1);
+  EXPECT_EQ(summarize(late, 0, {0}, {10}, -1).recovery_frames, -1);  // no perturbation
 }
 
 TEST(BenchSummary, EfficiencyLeavesOutFramesBelowFullQuality) {

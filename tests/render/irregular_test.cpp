@@ -1,4 +1,5 @@
-// Ambient occlusion and adaptive edge sampling (Harada & Fujita's workloads).
+// Ambient occlusion and adaptive edge sampling (the workloads of Harada, GPU Pro 7 ch. 4;
+// edge sampling after Mitchell 1987).
 #include <gtest/gtest.h>
 
 #include <cmath>

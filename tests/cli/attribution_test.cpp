@@ -1,0 +1,58 @@
+// Who a method is credited to, across docs/, src/, tests/, bench/ and README.md:
+// adaptive edge sampling is Harada's (GPU Pro 7 ch. 4, after Mitchell 1987), not Harada &
+// Fujita's (foveated sampling); the `views` layout (whole views per device) is multiray's
+// own, not Leria et al.'s (who split every view over every device, §6.3).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Every text file of the repository that can credit a method, with the test itself left
+// out (it names the wrong credits on purpose).
+std::vector<fs::path> text_files() {
+  const fs::path root = MULTIRAY_SOURCE_DIR;
+  std::vector<fs::path> out{root / "README.md"};
+  for (const char* dir : {"docs", "src", "tests", "bench"})
+    for (const auto& e : fs::recursive_directory_iterator(root / dir)) {
+      const std::string ext = e.path().extension().string();
+      if (e.is_regular_file() && e.path().filename() != "attribution_test.cpp" &&
+          (ext == ".md" || ext == ".h" || ext == ".cpp" || ext == ".sh"))
+        out.push_back(e.path());
+    }
+  return out;
+}
+
+// Lines (as "file:line: text") matching `pattern`.
+std::vector<std::string> lines_matching(const std::regex& pattern) {
+  std::vector<std::string> hits;
+  for (const fs::path& file : text_files()) {
+    std::ifstream in(file);
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n)
+      if (std::regex_search(line, pattern))
+        hits.push_back(file.string() + ":" + std::to_string(n) + ": " + line);
+  }
+  return hits;
+}
+
+TEST(Attribution, AdaptiveEdgeSamplingIsNotCreditedToHaradaAndFujita) {
+  const std::regex credit("Fujita.*(adaptive|edge)|(adaptive|edge).*Fujita", std::regex::icase);
+  EXPECT_THAT(lines_matching(credit), ::testing::IsEmpty());
+}
+
+TEST(Attribution, WholeViewsPerDeviceAreNotCreditedToLeria) {
+  // Within one sentence (no '.' or ';' between).
+  const std::regex credit("whole views[^.;]*(Leria|paper's)|(Leria|paper's)[^.;]*whole views",
+                          std::regex::icase);
+  EXPECT_THAT(lines_matching(credit), ::testing::IsEmpty());
+}
+
+}  // namespace

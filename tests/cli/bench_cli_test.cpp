@@ -1,0 +1,99 @@
+// `multiray bench` run as a user would: a short run needs no --warmup, the JSON holds each
+// frame's image hash (every view) and the comparison's verdict, the printed ideal frame
+// time is the one efficiency uses, and a bad --balancers entry is named as such.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "support/cli_expect.h"
+
+namespace {
+
+using Result = multiray::testing::CliResult;
+
+Result run(const std::string& args) { return multiray::testing::run_cli(MULTIRAY_BIN, args); }
+
+constexpr const char* kSmall = "bench --res 24x16 --spp 1 --devices cpu:threads=1,cpu:threads=1 ";
+
+// The bench's line "ideal frame time X ms" for `ms`.
+std::string ideal_line(double ms) {
+  char text[64];
+  std::snprintf(text, sizeof text, "ideal frame time %.1f ms", ms);
+  return text;
+}
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+TEST(BenchCli, TwoFramesRunWithoutChoosingAWarmup) {
+  const std::string json = ::testing::TempDir() + "/bench_two.json";
+  const Result r =
+      run(std::string(kSmall) + "--frames 2 --balancers uniform,queue --json " + json);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json doc = read_json(json);
+  for (const auto& lane : doc.at("runs")) {
+    EXPECT_EQ(lane.at("frames").size(), 2u);
+    EXPECT_EQ(lane.at("summary").at("from_frame"), 0);  // min(10, 2 / 4)
+  }
+  EXPECT_THAT(run("bench --help").out, ::testing::HasSubstr("min(10, frames / 4)"));
+}
+
+TEST(BenchCli, EveryViewOfEveryFrameIsHashedAndCompared) {
+  const std::string json = ::testing::TempDir() + "/bench_views.json";
+  const Result r = run(std::string(kSmall) +
+                       "--views 2x1 --frames 3 --warmup 1 --balancers uniform,hybrid,dlb "
+                       "--json " +
+                       json);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("every view of every frame bit-identical"));
+  const nlohmann::json doc = read_json(json);
+  EXPECT_EQ(doc.at("images_identical"), true);
+  const auto& runs = doc.at("runs");
+  ASSERT_EQ(runs.size(), 3u);
+  for (const auto& lane : runs) {
+    EXPECT_EQ(lane.at("image_matches_first_run"), true);
+    ASSERT_EQ(lane.at("frames").size(), 3u);
+    for (size_t f = 0; f < 3; ++f)
+      EXPECT_EQ(lane.at("frames")[f].at("image_hash"), runs[0].at("frames")[f].at("image_hash"))
+          << lane.at("lane") << " frame " << f;
+  }
+  // The camera orbits: each frame's hash is its own.
+  EXPECT_NE(runs[0].at("frames")[0].at("image_hash"), runs[0].at("frames")[2].at("image_hash"));
+}
+
+TEST(BenchCli, PrintedIdealIsTheOneEfficiencyUses) {
+  const std::string json = ::testing::TempDir() + "/bench_ideal.json";
+  const Result r =
+      run(std::string(kSmall) +
+          "--frames 8 --warmup 2 --ideal-frames 3 --balancers uniform,queue --json " + json);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json doc = read_json(json);
+  const double ideal = doc.at("ideal_ms").get<double>();
+  EXPECT_THAT(r.out, ::testing::HasSubstr(ideal_line(ideal)));
+  for (const auto& lane : doc.at("runs")) {
+    const auto& s = lane.at("summary");
+    EXPECT_NEAR(s.at("ideal_ms").get<double>(), ideal, 1e-9 * ideal) << lane.at("lane");
+    EXPECT_NEAR(s.at("efficiency").get<double>(), ideal / s.at("mean_frame_ms").get<double>(),
+                1e-9)
+        << lane.at("lane");
+  }
+}
+
+TEST(BenchCli, BadBalancersEntryIsNamedAsSuch) {
+  for (const std::string mapping : {"", "--mapping strips "}) {
+    const std::string args = std::string(kSmall) + "--frames 2 --warmup 0 " + mapping +
+                             "--balancers uniform,dlb:interval";
+    const Result r = run(args);
+    multiray::testing::expect_input_error(r, args, "--balancers: ");
+    EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("--balancer:"))) << args;
+  }
+}
+
+}  // namespace
