@@ -1,6 +1,7 @@
 #include "app/bench_summary.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/core.h>
 
@@ -62,7 +63,21 @@ RunSummary summarize(const std::vector<FrameRecord>& recs, int warmup,
     const int recovered = balance::recovered_from(lambda, perturb_frame);
     if (recovered >= 0) sum.recovery_frames = recovered - perturb_frame;
   }
+  sum.rebalances = count_rebalances(recs);
   return sum;
+}
+
+int count_rebalances(const std::vector<FrameRecord>& recs) {
+  int changes = 0;
+  for (size_t f = 1; f < recs.size(); ++f) {
+    const auto& now = recs[f].devices;
+    const auto& before = recs[f - 1].devices;
+    bool changed = now.size() != before.size();
+    for (size_t i = 0; !changed && i < now.size(); ++i)
+      changed = std::abs(now[i].planned_share - before[i].planned_share) > 1e-9;
+    changes += changed ? 1 : 0;
+  }
+  return changes;
 }
 
 void add_speedups(const std::vector<std::string>& specs, std::vector<RunSummary>& summaries) {
@@ -107,7 +122,8 @@ nlohmann::json summary_to_json(const RunSummary& s, int warmup, const std::vecto
           {"ideal_frames", sampled},
           {"efficiency", s.efficiency > 0 ? nlohmann::json(s.efficiency) : nlohmann::json()},
           {"speedup_vs_uniform", s.speedup > 0 ? nlohmann::json(s.speedup) : nlohmann::json()},
-          {"recovery_frames", s.recovery_frames}};
+          {"recovery_frames", s.recovery_frames},
+          {"rebalances", s.rebalances}};
 }
 
 }  // namespace multiray::app

@@ -24,7 +24,14 @@ struct RunSummary {
   // Frames from the perturbation to the first frame from which imbalance stays < 5% to the
   // end of the run (balance::recovered_from); -1: none, or imbalance >= 5% at the end.
   int recovery_frames = -1;
+  // Frames of the whole run whose planned shares differ from the previous frame's (by
+  // more than 1e-9 for some device): dlb's ratio recomputations (Leria et al.: a
+  // homogeneous pair must never rebalance), semi-static's updates, and so on.
+  int rebalances = 0;
 };
+
+// rebalances of RunSummary over `recs`.
+int count_rebalances(const std::vector<FrameRecord>& recs);
 
 // The ideal time of `frame`, linearly interpolated between the sampled frames (clamped at
 // the ends). `sampled` is increasing and non-empty; ideal_ms[k] belongs to sampled[k].

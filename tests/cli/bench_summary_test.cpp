@@ -1,5 +1,5 @@
-// The bench command's arithmetic: interpolated ideal, efficiency, recovery, speedup, the
-// default warm-up and the bit-identity verdict.
+// The bench command's arithmetic: interpolated ideal, efficiency, recovery, speedup,
+// rebalances, the default warm-up and the bit-identity verdict.
 #include <gtest/gtest.h>
 
 #include "app/bench_summary.h"
@@ -18,6 +18,22 @@ std::vector<FrameRecord> frames(const std::vector<double>& ms,
     out.push_back(r);
   }
   return out;
+}
+
+// A rebalance is a frame whose planned shares differ from the previous frame's.
+TEST(BenchSummary, CountsFramesWhoseSharesChanged) {
+  auto recs = frames({1, 1, 1, 1, 1, 1}, {0, 0, 0, 0, 0, 0});
+  const double shares[6] = {0.5, 0.5, 0.6, 0.6, 0.6, 0.55};
+  for (size_t f = 0; f < recs.size(); ++f) {
+    recs[f].devices.resize(2);
+    recs[f].devices[0].planned_share = shares[f];
+    recs[f].devices[1].planned_share = 1 - shares[f];
+  }
+  EXPECT_EQ(count_rebalances(recs), 2);  // frames 2 and 5
+  EXPECT_EQ(summarize(recs, 0, {}, {}, -1).rebalances, 2);
+  recs[3].devices[1].planned_share += 1e-12;  // rounding is not a rebalance
+  EXPECT_EQ(count_rebalances(recs), 2);
+  EXPECT_EQ(count_rebalances({}), 0);
 }
 
 TEST(BenchSummary, InterpolatesIdealBetweenSampledFrames) {
