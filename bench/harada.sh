@@ -1,0 +1,37 @@
+#!/bin/sh
+# Harada's semi-static experiments re-run (issue 13; docs/benchmarks.md, "Semi-static as
+# in Harada"), each with the paper's form (semi-static) and multiray's
+# (semi-static:split=rows:cdf=frame), on Sponza with the default camera orbit:
+#   1. adaptive AO at 1280x720 on two CPU devices (paper: 1.2% average deviation);
+#   2. adaptive path tracing on one CPU thread + PoCL (the paper's Fig. 4.3 pairs a CPU and
+#      a GPU, 0.9-2.9%; our OpenCL kernel has no AO, so the path tracer stands in);
+#   3. four emulated devices of speeds 0.8, 0.6, 0.4 and 0.2 (0.8 + 0.2 share core 0,
+#      0.6 + 0.4 core 1, so no core is oversubscribed; Harada & Fujita Fig. 1: 3.3-3.7%);
+#   4. foveated direct illumination with alpha = 0.2 (Harada, Fig. 4.4).
+# Deviation is the bench's mean_deviation: per frame max_i |t_i - mean| / mean over the
+# devices' own frame times, averaged over the frames after the warm-up.
+#   bench/harada.sh [BUILD] [FRAMES]   (default build/, 30; needs ../shared/data)
+set -eu
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-$root/build}
+frames=${2:-30}
+bin=$build/src/app/multiray
+scene=$root/../shared/data/meshes/dabrovic_sponza/sponza.obj
+[ -x "$bin" ] || { echo "harada.sh: build $bin first"; exit 1; }
+[ -f "$scene" ] || { echo "harada.sh: skipped: $scene not found"; exit 0; }
+out=$root/bench-out/harada
+mkdir -p "$out"
+forms=semi-static,semi-static:split=rows:cdf=frame
+two=cpu:threads=1:cores=0,cpu:threads=1:cores=1
+four=cpu:threads=1:cores=0:speed=0.8,cpu:threads=1:cores=1:speed=0.6,cpu:threads=1:cores=1:speed=0.4,cpu:threads=1:cores=0:speed=0.2
+"$bin" bench "$scene" --res 1280x720 --integrator ao --sampling adaptive --frames "$frames" \
+  --devices "$two" --balancers "$forms" --json "$out/ao_two.json"
+"$bin" bench "$scene" --res 640x360 --spp 1 --sampling adaptive --frames "$frames" \
+  --devices cpu:threads=1:cores=0,opencl:0:cores=1 --balancers "$forms" \
+  --json "$out/path_cpu_opencl.json" || echo "harada.sh: the CPU + OpenCL run failed (no OpenCL device?)"
+"$bin" bench "$scene" --res 1280x720 --integrator ao --sampling adaptive --frames "$frames" \
+  --devices "$four" --balancers "$forms" --json "$out/ao_four.json"
+"$bin" bench "$scene" --res 1280x720 --integrator direct --sampling foveated --frames "$frames" \
+  --devices "$two" --balancers semi-static:alpha=0.2,semi-static:alpha=0.2:split=rows:cdf=frame \
+  --json "$out/foveated_direct.json"
+echo "harada.sh: wrote $out"
