@@ -4,7 +4,7 @@
 # courtyard (bench/sequences/sponza_flythrough.json), 1 spp, 8 bounces, 0.2 view spacing.
 #   1. 3x3 views, 100 frames, uniform against dlb on a heterogeneous pair (one core at full
 #      speed, one emulated at half speed: labelled emulated in the output);
-#   2. grids 2x1, 3x3, 5x5 and 9x9 on that pair, 30 frames;
+#   2. grids 2x1, 3x3, 5x5 and 9x9 on that pair, 30 frames (9x9: 12);
 #   3. a homogeneous pair (two one-thread devices), where dlb must never rebalance
 #      (the `rebalances` of the JSON summaries).
 #   bench/leria.sh [BUILD] [RES]   (default build/, 320x180; needs ../shared/data)
@@ -24,8 +24,10 @@ common="--res $res --spp 1 --bounces 8 --view-spacing 0.2 --camera-path $path"
 "$bin" bench "$scene" $common --views 3x3 --frames 100 --devices "$pair" \
   --balancers uniform,dlb --json "$out/flythrough.json" --report "$out/flythrough"
 for grid in 2x1 3x3 5x5 9x9; do
-  "$bin" bench "$scene" $common --views "$grid" --frames 30 --devices "$pair" \
-    --balancers uniform,dlb --json "$out/grid_$grid.json"
+  frames=30 ideal=20
+  [ "$grid" = 9x9 ] && frames=12 ideal=4  # 81 views: ~7 s a frame here
+  "$bin" bench "$scene" $common --views "$grid" --frames $frames --ideal-frames $ideal \
+    --devices "$pair" --balancers uniform,dlb --json "$out/grid_$grid.json"
 done
 "$bin" bench "$scene" $common --views 3x3 --frames 60 \
   --devices cpu:threads=1:cores=0,cpu:threads=1:cores=1 --balancers uniform,dlb \
