@@ -50,8 +50,12 @@ Runner add_bench_command(CLI::App& app) {
   cmd->add_option("--balancers", b->balancers, "Comma-separated balancer specs to compare")
       ->capture_default_str();
   cmd->add_option("--json", b->json_path, "Write all measurements as JSON to this file");
-  cmd->add_option("--report", b->report_dir,
-                  "Folder for plots: <balancer>_timeline.svg, <balancer>_partition.png");
+  cmd->add_option(
+      "--report", b->report_dir,
+      "Folder for plots: comparison.svg (efficiency, imbalance and frame time of every "
+      "balancer), <balancer>_timeline.svg (device times on one scale for all "
+      "balancers, shares with the ideal split, warm-up shaded), "
+      "<balancer>_partition.png");
   cmd->add_option("--trace", b->trace_prefix,
                   "Write one trace per balancer, PREFIX-<balancer>.trace: every work item's "
                   "device, view, rect, samples, busy and wall time (format: docs/traces.md)");
@@ -172,6 +176,9 @@ Runner add_bench_command(CLI::App& app) {
       fmt::print(
           "(images: every view of every frame bit-identical across the balancers that "
           "rendered it at the same quality)\n");
+    const TimelineScale timeline =
+        timeline_scale(result, warmup, result.lanes.empty() ? 0 : result.lanes[0].records.size());
+    std::vector<ComparisonBar> bars;
     nlohmann::json runs_json = nlohmann::json::array();
     for (size_t k = 0; k < result.lanes.size(); ++k) {
       const BenchLane& lane = result.lanes[k];
@@ -209,7 +216,9 @@ Runner add_bench_command(CLI::App& app) {
         write_timeline_svg(fmt::format("{}/{}_timeline.svg", b->report_dir, name),
                            fmt::format("{} — {} ({}x{}, {} spp)", lane.spec, s.scene->name,
                                        s.res.width, s.res.height, s.settings.spp),
-                           lane.records, labels);
+                           lane.records, labels, timeline);
+        bars.push_back(ComparisonBar{lanes[k], summaries[k].efficiency,
+                                     summaries[k].mean_imbalance, summaries[k].mean_frame_ms});
       }
     }
     if (s.volume) {
@@ -248,6 +257,12 @@ Runner add_bench_command(CLI::App& app) {
             lanes, records, cost_lane, labels, switches);
       }
     }
+    if (!b->report_dir.empty() && !bars.empty())
+      write_comparison_svg(
+          b->report_dir + "/comparison.svg",
+          fmt::format("balancers compared — {} ({}x{}, frames {}-{})", s.scene->name, s.res.width,
+                      s.res.height, warmup, o->frames - 1),
+          bars);
     bool emulated = false;
     for (double v : initial) emulated |= v < 1;
     if (emulated || !s.perturbations.empty())

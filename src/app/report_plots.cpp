@@ -6,6 +6,7 @@
 
 #include <fmt/core.h>
 
+#include "app/svg_chart.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/image.h"
@@ -18,68 +19,124 @@ const char* device_colour(size_t i) {
   return kColours[i % 10];
 }
 
+TimelineScale timeline_scale(const BenchResult& result, int warmup, size_t frames) {
+  TimelineScale scale;
+  scale.warmup = warmup;
+  // After the warm-up only: a first frame's set-up would flatten every line.
+  for (const BenchLane& lane : result.lanes)
+    for (const FrameRecord& r : lane.records)
+      for (const DeviceReport& d : r.devices)
+        if (r.frame >= warmup) scale.time_max_ms = std::max(scale.time_max_ms, d.time_ms);
+  if (result.ideal.empty()) return scale;
+  // Speeds (1 / time alone) at the timed frames, then linearly between them.
+  auto speeds_at = [&](size_t k) {
+    std::vector<double> v;
+    for (double t : result.ideal[k].device_alone_ms) v.push_back(t > 0 ? 1.0 / t : 0.0);
+    return v;
+  };
+  for (size_t f = 0; f < frames; ++f) {
+    size_t k = 0;
+    while (k + 1 < result.ideal.size() && result.ideal[k + 1].frame <= int(f)) ++k;
+    std::vector<double> v = speeds_at(k);
+    if (k + 1 < result.ideal.size() && result.ideal[k].frame < int(f)) {
+      const double a = double(int(f) - result.ideal[k].frame) /
+                       double(result.ideal[k + 1].frame - result.ideal[k].frame);
+      const std::vector<double> next = speeds_at(k + 1);
+      for (size_t d = 0; d < v.size() && d < next.size(); ++d) v[d] += (next[d] - v[d]) * a;
+    }
+    double sum = 0;
+    for (double x : v) sum += x;
+    for (double& x : v) x = sum > 0 ? x / sum : 0.0;
+    scale.ideal_share.push_back(v);
+  }
+  return scale;
+}
+
 void write_timeline_svg(const std::string& path, const std::string& title,
                         const std::vector<FrameRecord>& frames,
-                        const std::vector<std::string>& labels) {
-  const double W = 900, left = 60, right = 20, plot_w = W - left - right;
-  const double top_y = 40, top_h = 260, gap = 50, bottom_h = 160,
-               H = top_y + top_h + gap + bottom_h + 60;
+                        const std::vector<std::string>& labels, const TimelineScale& scale) {
   const size_t n = frames.size(), devices = labels.size();
   if (n == 0) return;
-  double t_max = 1e-9;
+  double t_max = scale.time_max_ms;  // warm-up frames above it are clipped at the top
   for (const auto& f : frames)
-    for (const auto& d : f.devices) t_max = std::max(t_max, d.time_ms);
-  t_max *= 1.05;
-  auto x_of = [&](double i) { return left + (n > 1 ? i / double(n - 1) : 0.5) * plot_w; };
+    for (const auto& d : f.devices)
+      if (f.frame >= scale.warmup) t_max = std::max(t_max, d.time_ms);
+  SvgChart chart(title, n);
+  const int times = chart.add_panel("device time (ms)", t_max, 260);
+  std::vector<std::pair<std::string, const char*>> legend;
+  std::vector<std::vector<double>> shares(devices, std::vector<double>(n, 0.0));
+  std::vector<const char*> colours;
+  for (size_t d = 0; d < devices; ++d) {
+    std::vector<double> t(n, NAN);
+    for (size_t i = 0; i < n; ++i)
+      if (d < frames[i].devices.size()) {
+        t[i] = frames[i].devices[d].time_ms;
+        shares[d][i] = frames[i].devices[d].work_share;
+      }
+    chart.line(times, t, device_colour(d));
+    legend.emplace_back(labels[d], device_colour(d));
+    colours.push_back(device_colour(d));
+  }
+  chart.legend(times, legend);
+  const int share = chart.add_panel("work share", 1.0, 160);
+  chart.stacked(share, shares, colours);
+  // The ideal split (each device's share in proportion to its speed alone): dashed lines
+  // at the boundaries between the stacked devices.
+  for (size_t d = 0; d + 1 < devices && !scale.ideal_share.empty(); ++d) {
+    std::vector<double> boundary(n, NAN);
+    for (size_t i = 0; i < n && i < scale.ideal_share.size(); ++i) {
+      double below = 0;
+      for (size_t e = 0; e <= d && e < scale.ideal_share[i].size(); ++e)
+        below += scale.ideal_share[i][e];
+      if (!scale.ideal_share[i].empty()) boundary[i] = below;
+    }
+    chart.line(share, boundary, "#000", 0, true);
+  }
+  if (!scale.ideal_share.empty()) chart.legend(share, {{"ideal split (dashed)", "#000"}});
+  if (scale.warmup > 0) chart.shade(0, std::min(double(scale.warmup), double(n - 1)), "warm-up");
+  chart.write(path);
+}
+
+void write_comparison_svg(const std::string& path, const std::string& title,
+                          const std::vector<ComparisonBar>& bars) {
+  const double W = 900, left = 250, right = 90, bar_h = 16, gap = 6, head = 34;
+  const double plot_w = W - left - right;
+  struct Metric {
+    const char* name;
+    double ComparisonBar::*value;
+    double print_scale;  // the printed value is value * print_scale
+    const char* format;
+  };
+  const Metric metrics[] = {
+      {"efficiency (higher is better)", &ComparisonBar::efficiency, 1.0, "{:.3f}"},
+      {"imbalance (lower is better)", &ComparisonBar::imbalance, 100.0, "{:.1f}%"},
+      {"mean frame time, ms", &ComparisonBar::frame_ms, 1.0, "{:.1f}"}};
+  const double block = head + double(bars.size()) * (bar_h + gap) + 16;
   std::string svg = fmt::format(
       "<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' font-family='sans-serif' "
       "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n"
-      "<text x='{}' y='20' font-size='15'>{}</text>\n",
-      W, H, left, title);
-  // Axes and grid of the time plot.
-  for (int k = 0; k <= 4; ++k) {
-    const double y = top_y + top_h * (1 - k / 4.0);
-    svg += fmt::format(
-        "<line x1='{}' y1='{}' x2='{}' y2='{}' stroke='#ddd'/>"
-        "<text x='{}' y='{}' text-anchor='end'>{:.0f}</text>\n",
-        left, y, left + plot_w, y, left - 5, y + 4, t_max * k / 4.0);
-  }
-  svg += fmt::format("<text x='15' y='{}' transform='rotate(-90 15 {})'>device time (ms)</text>\n",
-                     top_y + top_h / 2, top_y + top_h / 2);
-  for (size_t d = 0; d < devices; ++d) {
-    std::string pts;
-    for (size_t i = 0; i < n; ++i)
-      if (d < frames[i].devices.size())
-        pts += fmt::format("{:.1f},{:.1f} ", x_of(double(i)),
-                           top_y + top_h * (1 - frames[i].devices[d].time_ms / t_max));
-    svg += fmt::format("<polyline fill='none' stroke='{}' stroke-width='1.5' points='{}'/>\n",
-                       device_colour(d), pts);
-    svg += fmt::format(
-        "<rect x='{}' y='{}' width='10' height='10' fill='{}'/><text x='{}' y='{}'>{}</text>\n",
-        left + 10, top_y + 8 + 16 * double(d), device_colour(d), left + 25,
-        top_y + 17 + 16 * double(d), labels[d]);
-  }
-  // Stacked work shares.
-  const double by = top_y + top_h + gap;
-  svg += fmt::format("<text x='15' y='{}' transform='rotate(-90 15 {})'>work share</text>\n",
-                     by + bottom_h / 2, by + bottom_h / 2);
-  for (size_t d = 0; d < devices; ++d) {
-    std::string upper, lower;
-    for (size_t i = 0; i < n; ++i) {
-      double below = 0;
-      for (size_t e = 0; e < d && e < frames[i].devices.size(); ++e)
-        below += frames[i].devices[e].work_share;
-      const double here = d < frames[i].devices.size() ? frames[i].devices[d].work_share : 0;
-      upper += fmt::format("{:.1f},{:.1f} ", x_of(double(i)), by + bottom_h * (1 - below - here));
-      lower = fmt::format("{:.1f},{:.1f} ", x_of(double(i)), by + bottom_h * (1 - below)) + lower;
+      "<text x='20' y='22' font-size='15'>{}</text>\n",
+      W, 40 + 3 * block, xml_escape(title));
+  for (size_t m = 0; m < 3; ++m) {
+    const double top = 40 + double(m) * block;
+    double max_value = 0;
+    for (const ComparisonBar& b : bars) max_value = std::max(max_value, b.*metrics[m].value);
+    const double scale = nice_ceiling(max_value);
+    svg += fmt::format("<text x='20' y='{}' font-weight='bold'>{}</text>\n", top + 18,
+                       metrics[m].name);
+    for (size_t k = 0; k < bars.size(); ++k) {
+      const double y = top + head + double(k) * (bar_h + gap), v = bars[k].*metrics[m].value;
+      const double w = std::isfinite(v) && v > 0 ? plot_w * v / scale : 0;
+      svg += fmt::format(
+          "<text x='{}' y='{}' text-anchor='end'>{}</text><rect x='{}' y='{}' width='{:.1f}' "
+          "height='{}' fill='{}'/><text x='{:.1f}' y='{}'>{}</text>\n",
+          left - 8, y + 12, xml_escape(bars[k].name), left, y, w, bar_h, series_colour(k),
+          left + w + 5, y + 12,
+          std::isfinite(v)
+              ? fmt::format(fmt::runtime(metrics[m].format), v * metrics[m].print_scale)
+              : "-");
     }
-    svg += fmt::format("<polygon fill='{}' fill-opacity='0.8' points='{}{}'/>\n", device_colour(d),
-                       upper, lower);
   }
-  svg += fmt::format("<rect x='{}' y='{}' width='{}' height='{}' fill='none' stroke='black'/>\n",
-                     left, by, plot_w, bottom_h);
-  svg += fmt::format("<text x='{}' y='{}' text-anchor='middle'>frame (0..{})</text>\n",
-                     left + plot_w / 2, by + bottom_h + 30, n - 1);
   svg += "</svg>\n";
   write_file_atomically(path, svg);
 }

@@ -5,15 +5,40 @@
 #include <vector>
 
 #include "balance/plan.h"
+#include "engine/bench_harness.h"
 #include "engine/frame_record.h"
 
 namespace multiray::app {
 
-// Per-device time per frame (lines, top) and work shares stacked beneath (bottom).
-// `labels` name the devices (emulated ones should say so).
+// What a run's timelines share: the time axis of every balancer of the run reaches at
+// least `time_max_ms` (so they compare at a glance), the warm-up frames are shaded, and
+// `ideal_share[frame][device]` (each device's speed alone over their sum; empty: none) is
+// drawn over the stacked shares.
+struct TimelineScale {
+  double time_max_ms = 0;
+  int warmup = 0;
+  std::vector<std::vector<double>> ideal_share;
+};
+
+// The scale of every timeline of a bench run: the longest device time of any lane after
+// the warm-up, the warm-up, and per frame the ideal shares from the devices timed alone
+// (interpolated linearly in speed between the timed frames, clamped at the ends).
+TimelineScale timeline_scale(const BenchResult& result, int warmup, size_t frames);
+
+// Per-device time per frame (lines, top) and work shares stacked beneath (bottom), on the
+// frame axis with numbered ticks. `labels` name the devices (emulated ones should say so).
 void write_timeline_svg(const std::string& path, const std::string& title,
                         const std::vector<FrameRecord>& frames,
-                        const std::vector<std::string>& labels);
+                        const std::vector<std::string>& labels, const TimelineScale& scale = {});
+
+// One bar per balancer of a run, in three groups with their values printed: efficiency,
+// imbalance (as a fraction) and mean frame time.
+struct ComparisonBar {
+  std::string name;
+  double efficiency = 0, imbalance = 0, frame_ms = 0;
+};
+void write_comparison_svg(const std::string& path, const std::string& title,
+                          const std::vector<ComparisonBar>& bars);
 
 // View 0 of a frame with each pixel coloured by the device that rendered it; item borders
 // darkened so tiles and strips are visible.

@@ -131,16 +131,58 @@ void SvgChart::legend(int panel, const std::vector<std::pair<std::string, const 
         p.top + 17 + 16 * double(i), xml_escape(entries[i].first));
 }
 
+void SvgChart::stacked(int panel, const std::vector<std::vector<double>>& layers,
+                       const std::vector<const char*>& colours) {
+  const Panel& p = panels_.at(size_t(panel));
+  std::vector<double> base(frames_, 0.0);
+  for (size_t k = 0; k < layers.size(); ++k) {
+    std::string upper, lower;
+    for (size_t i = 0; i < frames_ && i < layers[k].size(); ++i) {
+      const double h = std::isfinite(layers[k][i]) ? layers[k][i] : 0.0;
+      upper += fmt::format("{:.1f},{:.1f} ", x_of(double(i)), y_of(p, base[i] + h));
+      lower = fmt::format("{:.1f},{:.1f} ", x_of(double(i)), y_of(p, base[i])) + lower;
+      base[i] += h;
+    }
+    body_ += fmt::format("<polygon fill='{}' fill-opacity='0.8' points='{}{}'/>\n",
+                         colours.at(k % colours.size()), upper, lower);
+  }
+}
+
+void SvgChart::shade(double first, double last, const std::string& label) {
+  if (panels_.empty() || last < first) return;
+  const double x0 = x_of(first), x1 = x_of(last);
+  for (const Panel& p : panels_)
+    body_ += fmt::format(
+        "<rect x='{:.1f}' y='{}' width='{:.1f}' height='{}' fill='#000' fill-opacity='0.07'/>\n",
+        x0, p.top, std::max(x1 - x0, 1.0), p.height);
+  body_ += fmt::format("<text x='{:.1f}' y='{}' fill='#666'>{}</text>\n", x0 + 3,
+                       panels_.front().top - 4, xml_escape(label));
+}
+
+std::string SvgChart::frame_axis() const {
+  if (panels_.empty() || frames_ == 0) return {};
+  const Panel& last = panels_.back();
+  const double step = nice_ceiling(std::max(1.0, double(frames_ - 1) / 8));
+  std::string out;
+  for (double f = 0; f <= double(frames_ - 1) + 1e-9; f += step)
+    out += fmt::format(
+        "<line x1='{0:.1f}' y1='{1}' x2='{0:.1f}' y2='{2}' stroke='#333'/>"
+        "<text x='{0:.1f}' y='{3}' text-anchor='middle'>{4:g}</text>\n",
+        x_of(f), last.top + last.height, last.top + last.height + 4, last.top + last.height + 16,
+        f);
+  return out;
+}
+
 std::string SvgChart::svg() const {
   const double height =
-      panels_.empty() ? 80 : panels_.back().top + panels_.back().height + bottom_;
+      panels_.empty() ? 80 : panels_.back().top + panels_.back().height + bottom_ + 12;
   return fmt::format(
       "<svg xmlns='http://www.w3.org/2000/svg' width='{0}' height='{1}' font-family='sans-serif' "
       "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n"
-      "<text x='{2}' y='20' font-size='15'>{3}</text>\n{4}"
-      "<text x='{5}' y='{6}' text-anchor='middle'>frame (0..{7})</text>\n</svg>\n",
-      width_, height, left_, xml_escape(title_), body_, left_ + (width_ - left_ - right_) / 2,
-      height - 10, frames_ > 0 ? frames_ - 1 : 0);
+      "<text x='{2}' y='20' font-size='15'>{3}</text>\n{4}{5}"
+      "<text x='{6}' y='{7}' text-anchor='middle'>frame</text>\n</svg>\n",
+      width_, height, left_, xml_escape(title_), body_, frame_axis(),
+      left_ + (width_ - left_ - right_) / 2, height - 8);
 }
 
 void SvgChart::write(const std::string& path) const { write_file_atomically(path, svg()); }

@@ -37,6 +37,13 @@ class SvgChart {
   void mark(double frame, const std::string& label);
   // Coloured boxes with names, in the top-left corner of `panel`.
   void legend(int panel, const std::vector<std::pair<std::string, const char*>>& entries);
+  // Layers stacked from 0 upwards in `panel`: layers[k][i] is layer k's height at frame i
+  // (heights, not tops), filled with colours[k].
+  void stacked(int panel, const std::vector<std::vector<double>>& layers,
+               const std::vector<const char*>& colours);
+  // A grey band through every panel over frames [first, last], labelled at its top (e.g.
+  // the warm-up that summaries leave out).
+  void shade(double first, double last, const std::string& label);
 
   std::string svg() const;
   // Writes svg() atomically; throws IoError.
@@ -48,6 +55,9 @@ class SvgChart {
   };
   double x_of(double frame) const;
   double y_of(const Panel& p, double y) const;
+
+  // Frame numbers under the last panel: ticks every 1, 2 or 5 times a power of ten.
+  std::string frame_axis() const;
 
   std::string title_;
   size_t frames_;
