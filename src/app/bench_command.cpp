@@ -211,8 +211,13 @@ Runner add_bench_command(CLI::App& app) {
         trace.close();
       }
       if (!b->report_dir.empty()) {
-        write_partition_png(fmt::format("{}/{}_partition.png", b->report_dir, name), s.res.width,
-                            s.res.height, lane.partition);
+        const std::string png = fmt::format("{}_partition.png", name);
+        write_partition_png(b->report_dir + "/" + png, s.res.width, s.res.height, lane.partition,
+                            &lane.partition_image);
+        write_partition_svg(fmt::format("{}/{}_partition.svg", b->report_dir, name), png,
+                            fmt::format("frame {}, view 0, who rendered what — {}",
+                                        config.partition_frame, lane.spec),
+                            s.res.width, s.res.height, labels);
         write_timeline_svg(fmt::format("{}/{}_timeline.svg", b->report_dir, name),
                            fmt::format("{} — {} ({}x{}, {} spp)", lane.spec, s.scene->name,
                                        s.res.width, s.res.height, s.settings.spp),

@@ -142,11 +142,16 @@ void write_comparison_svg(const std::string& path, const std::string& title,
 }
 
 void write_partition_png(const std::string& path, int width, int height,
-                         const std::vector<std::vector<balance::WorkItem>>& rendered) {
-  std::vector<uint8_t> rgb(size_t(width) * size_t(height) * 3, 255);
+                         const std::vector<std::vector<balance::WorkItem>>& rendered,
+                         const Framebuffer* frame) {
+  const bool over = frame && frame->width == width && frame->height == height;
+  std::vector<uint8_t> rgb =
+      over ? to_srgb8(*frame) : std::vector<uint8_t>(size_t(width) * size_t(height) * 3, 255);
+  const float keep = over ? 0.55f : 0.0f;  // share of the picture under the colours
   for (size_t d = 0; d < rendered.size(); ++d) {
     unsigned r, g, b;
     std::sscanf(device_colour(d), "#%02x%02x%02x", &r, &g, &b);
+    const float c[3] = {float(r), float(g), float(b)};
     for (const auto& item : rendered[d]) {
       if (item.view != 0) continue;
       const auto& q = item.rect;
@@ -155,11 +160,37 @@ void write_partition_png(const std::string& path, int width, int height,
           const bool border = x == q.x0 || y == q.y0;
           const float k = border && q.width() > 2 && q.height() > 2 ? 0.6f : 1.0f;
           uint8_t* p = &rgb[(size_t(y) * size_t(width) + size_t(x)) * 3];
-          p[0] = uint8_t(float(r) * k), p[1] = uint8_t(float(g) * k), p[2] = uint8_t(float(b) * k);
+          for (int ch = 0; ch < 3; ++ch)
+            p[ch] =
+                uint8_t(std::clamp(keep * float(p[ch]) + (1 - keep) * c[ch] * k, 0.0f, 255.0f));
         }
     }
   }
   write_png_rgb8(path, width, height, rgb);
+}
+
+void write_partition_svg(const std::string& path, const std::string& png_name,
+                         const std::string& title, int width, int height,
+                         const std::vector<std::string>& labels) {
+  const double shown_w = std::max(640.0, double(width)), scale = shown_w / std::max(width, 1);
+  const double shown_h = double(height) * scale, top = 34, legend_top = top + shown_h + 14;
+  std::string svg = fmt::format(
+      "<svg xmlns='http://www.w3.org/2000/svg' xmlns:xlink='http://www.w3.org/1999/xlink' "
+      "width='{}' height='{}' font-family='sans-serif' font-size='12'>\n"
+      "<rect width='100%' height='100%' fill='white'/>\n"
+      "<text x='10' y='22' font-size='15'>{}</text>\n"
+      "<image x='10' y='{}' width='{:.0f}' height='{:.0f}' href='{}' xlink:href='{}' "
+      "style='image-rendering:pixelated'/>\n",
+      shown_w + 20, legend_top + 18 * double(labels.size()) + 10, xml_escape(title), top, shown_w,
+      shown_h, xml_escape(png_name), xml_escape(png_name));
+  for (size_t d = 0; d < labels.size(); ++d)
+    svg += fmt::format(
+        "<rect x='10' y='{:.0f}' width='12' height='12' fill='{}'/><text x='28' y='{:.0f}'>{}"
+        "</text>\n",
+        legend_top + 18 * double(d), device_colour(d), legend_top + 10 + 18 * double(d),
+        xml_escape(labels[d]));
+  svg += "</svg>\n";
+  write_file_atomically(path, svg);
 }
 
 void write_scaling_svg(const std::string& path, const std::string& title,

@@ -41,9 +41,17 @@ void write_comparison_svg(const std::string& path, const std::string& title,
                           const std::vector<ComparisonBar>& bars);
 
 // View 0 of a frame with each pixel coloured by the device that rendered it; item borders
-// darkened so tiles and strips are visible.
+// darkened so tiles and strips are visible. Given the frame as rendered (same size), the
+// colours are laid over it at 45% so the picture shows through.
 void write_partition_png(const std::string& path, int width, int height,
-                         const std::vector<std::vector<balance::WorkItem>>& rendered);
+                         const std::vector<std::vector<balance::WorkItem>>& rendered,
+                         const Framebuffer* frame = nullptr);
+
+// An SVG page around that PNG (referred to by its file name `png_name`, in the same
+// folder): `title` above it (balancer and frame) and the device colours with `labels`.
+void write_partition_svg(const std::string& path, const std::string& png_name,
+                         const std::string& title, int width, int height,
+                         const std::vector<std::string>& labels);
 
 // One line of a scaling plot: (device count, efficiency) points.
 struct ScalingSeries {

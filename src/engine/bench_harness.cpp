@@ -102,7 +102,10 @@ class BenchObserver : public FrameObserver {
       lane.error_vs_lane0.push_back(hash == result_.lanes[0].image_hashes.back()
                                         ? ImageError{0, std::numeric_limits<double>::infinity(), 1}
                                         : image_error(r->images.at(0), reference_->images.at(0)));
-    if (r->frame == config_.partition_frame) lane.partition = r->rendered;
+    if (r->frame == config_.partition_frame) {
+      lane.partition = r->rendered;
+      if (!r->images.empty()) lane.partition_image = r->images[0];
+    }
     if (config_.keep_stats) lane.stats.push_back(r->stats);
   }
 

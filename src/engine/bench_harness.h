@@ -35,7 +35,8 @@ struct BenchLane {
   std::vector<FrameRecord> records;
   std::vector<uint64_t> image_hashes;                     // per frame, over every view
   std::vector<std::vector<balance::WorkItem>> partition;  // at partition_frame
-  std::vector<balance::FrameStats> stats;                 // per frame, with keep_stats
+  Framebuffer partition_image;             // view 0 as rendered at partition_frame (empty: none)
+  std::vector<balance::FrameStats> stats;  // per frame, with keep_stats
   // Per frame, view 0 against lane 0's image of the frame when lane 0 rendered it at full
   // quality (the fine reference of frame-time targeting); 0 error at equal quality.
   std::vector<ImageError> error_vs_lane0;
