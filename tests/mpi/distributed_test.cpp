@@ -25,10 +25,10 @@ CliResult single(const std::string& args) {
   return multiray::testing::run_cli(MULTIRAY_BIN, args);
 }
 CliResult distributed(int ranks, const std::string& args, const std::string& mpi_flags = "",
-                      const std::string& env = "") {
+                      const std::string& env = "", int timeout_s = 120) {
   return multiray::testing::run_cli(
       kMpirun + " -np " + std::to_string(ranks) + " " + mpi_flags + " " + MULTIRAY_BIN,
-      args + " --distributed", env);
+      args + " --distributed", env, timeout_s);
 }
 
 std::string out_dir(const std::string& name) {
@@ -131,7 +131,12 @@ TEST(Distributed, AKilledWorkerCostsNoPixel) {
         distributed(3,
                     frames + "--devices cpu:threads=1 --worker-timeout 1 --balancer " + balancer +
                         " --out " + dir,
-                    "--enable-recovery -x MULTIRAY_TEST_KILL", "MULTIRAY_TEST_KILL=2:1");
+                    "--enable-recovery -x MULTIRAY_TEST_KILL", "MULTIRAY_TEST_KILL=2:1",
+                    // The run takes ~2 s; after a rank was killed, Open MPI's recovery mode
+                    // sometimes keeps mpiexec from exiting once everything is written (3 of
+                    // 6 runs on 2026-12-01, with this commit's binary and an older one
+                    // alike), so do not wait the default 120 s for it.
+                    30);
     ASSERT_TRUE(std::filesystem::exists(dir + "/stats.json")) << balancer << ": " << r.out;
     EXPECT_THAT(r.out, ::testing::HasSubstr("rank 2: no answer"));
     EXPECT_EQ(hashes(dir), hashes(ref)) << balancer;

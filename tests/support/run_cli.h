@@ -17,8 +17,9 @@ struct CliResult {
 // Runs `binary args` with `env` (shell assignments, may be empty) in front, under a 120 s
 // timeout so a hang fails the test instead of the suite.
 inline CliResult run_cli(const std::string& binary, const std::string& args,
-                         const std::string& env = "") {
-  const std::string cmd = env + " timeout 120 " + binary + " " + args + " 2>&1";
+                         const std::string& env = "", int timeout_s = 120) {
+  const std::string cmd =
+      env + " timeout " + std::to_string(timeout_s) + " " + binary + " " + args + " 2>&1";
   CliResult r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
