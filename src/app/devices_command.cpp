@@ -46,10 +46,14 @@ int report_scene_memory(const std::string& scene_path, const std::string& device
                format_bytes(small.total()),
                double(full.total()) / double(std::max<size_t>(1, small.total())));
   }
-  fmt::print("{:<44} {:<16} {:>11} {:>18}\n", "device", "representation", "scene", "memory limit");
-  for (const auto& d : create_devices(devices, cache)) {
+  const auto built = create_devices(devices, cache);
+  size_t name_width = 6;  // "device"; the column fits the longest name
+  for (const auto& d : built) name_width = std::max(name_width, d->info().name.size());
+  fmt::print("{:<{}} {:<16} {:>11} {:>20}\n", "device", name_width, "representation", "scene",
+             "memory limit");
+  for (const auto& d : built) {
     const DeviceInfo& i = d->info();
-    fmt::print("{:<44} {:<16} {:>11} {:>18}\n", i.name, i.representation,
+    fmt::print("{:<{}} {:<16} {:>11} {:>20}\n", i.name, name_width, i.representation,
                i.scene_bytes ? format_bytes(i.scene_bytes) : "-",
                i.memory_limit ? format_bytes(i.memory_limit) + " (emulated)" : "-");
   }
