@@ -233,6 +233,7 @@ MemoryEstimate estimate_memory(const CommonOptions& o, int views, int width, int
   const double pixels = double(views) * width * height;
   const double per_pixel = sizeof(Vec3) * (2.0 * lanes + 2)        // results, engine, quilt
                            + (o.sampling == "adaptive" ? 32 : 0)   // G-buffer, maps
+                           + (o.sampling == "reproject" ? 24 : 0)  // G-buffer, maps, depths
                            + (o.sampling == "foveated" ? 80 : 0);  // neighbours, weights
   m.frame_bytes = pixels * per_pixel;
   return m;
@@ -300,13 +301,16 @@ void fill_setup(Setup& s, const CommonOptions& o, int lanes,
     throw InputError("--ao-distance must be a finite number >= 0 (0: 0.3 of the scene size)");
   s.settings.ao_rays = o.ao_rays;
   s.settings.ao_distance = o.ao_distance;
-  if (o.sampling != "uniform" && o.sampling != "adaptive" && o.sampling != "foveated")
-    throw InputError("--sampling '" + o.sampling + "' must be uniform, adaptive or foveated");
+  if (o.sampling != "uniform" && o.sampling != "adaptive" && o.sampling != "foveated" &&
+      o.sampling != "reproject")
+    throw InputError("--sampling '" + o.sampling +
+                     "' must be uniform, adaptive, foveated or reproject");
   if (o.edge_spp < 1 || o.edge_spp > 255) throw InputError("--edge-spp must be in 1..255");
   SamplingSetup sampling;
-  sampling.mode = o.sampling == "adaptive"   ? Sampling::Adaptive
-                  : o.sampling == "foveated" ? Sampling::Foveated
-                                             : Sampling::Uniform;
+  sampling.mode = o.sampling == "adaptive"    ? Sampling::Adaptive
+                  : o.sampling == "foveated"  ? Sampling::Foveated
+                  : o.sampling == "reproject" ? Sampling::Reprojected
+                                              : Sampling::Uniform;
   sampling.edge_spp = o.edge_spp;
   sampling.gaze = parse_gaze(o.gaze, o.gaze_path);
   if (!(o.foveation.fovea_spp > 0 && o.foveation.fovea_spp <= 64))
@@ -318,6 +322,13 @@ void fill_setup(Setup& s, const CommonOptions& o, int lanes,
     throw InputError("--periphery-spp must be in [1/4096, --fovea-spp] samples per pixel");
   s.settings.spp = o.spp > 0 ? o.spp : volume_input ? 1 : o.mesh_spp;
   s.settings.max_bounces = o.bounces;
+  if (sampling.mode == Sampling::Reprojected) {
+    if (rig.view_count() < 2)
+      throw InputError("--sampling reproject needs several views (--views KxL or --stereo)");
+    if (s.settings.spp > 255)
+      throw InputError("--sampling reproject takes at most 255 samples per pixel (--spp)");
+    sampling.reproject_spp = s.settings.spp;
+  }
   s.settings.seed = parse_seed(o.seed);
   std::optional<Camera> cli_camera;
   if (!o.camera.empty()) cli_camera = parse_camera(o.camera);
@@ -401,8 +412,12 @@ void fill_setup(Setup& s, const CommonOptions& o, int lanes,
   }
   if (!s.cluster || !s.cluster->master() || o.distributed.master_renders)
     for (const DeviceSpec& d : specs) s.devices.push_back(create_device(d, *s.scenes));
-  // The adaptive edge pass runs on the host, on the CPU representation.
-  const RenderScene* host = sampling.mode == Sampling::Adaptive ? &s.scenes->embree() : nullptr;
+  // The G-buffer passes (adaptive edges, reprojection) run on the host, on the CPU
+  // representation.
+  const RenderScene* host =
+      sampling.mode == Sampling::Adaptive || sampling.mode == Sampling::Reprojected
+          ? &s.scenes->embree()
+          : nullptr;
   s.views =
       std::make_unique<FrameViews>(rig, s.res.width, s.res.height, std::move(sampling), host);
 }

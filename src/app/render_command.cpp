@@ -113,7 +113,9 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                  "uniform (--spp everywhere), adaptive (a first pass finds geometric edges; "
                  "edge pixels get --edge-spp samples, the others 1) or foveated (a fixed pattern "
                  "of samples, dense at the --gaze point and sparse around it; each pixel "
-                 "interpolates its 8 nearest samples)")
+                 "interpolates its 8 nearest samples) or reproject (with several views: the "
+                 "centre view is path-traced and moved into the others by its depth; only "
+                 "what it cannot see there, the holes, is path-traced; Leria et al. 6.3)")
       ->capture_default_str();
   cmd.add_option("--edge-spp", o.edge_spp, "Samples of edge pixels with --sampling adaptive")
       ->capture_default_str();

@@ -29,7 +29,7 @@ constexpr double kMinEmulatedSpeed = 0.01;
 // of --sampling, and of the scene representations in SceneCache.
 struct DeviceCapabilities {
   std::vector<std::string> kernels;
-  std::vector<std::string> sampling;  // "uniform", "adaptive", "foveated"
+  std::vector<std::string> sampling;  // "uniform", "adaptive", "foveated", "reproject"
   std::string representation;         // the scene representation this device renders
 };
 

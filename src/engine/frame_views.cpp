@@ -18,8 +18,11 @@ Vec2 GazePath::at(int frame) const {
 FrameViews::FrameViews(CameraRig rig, int width, int height, SamplingSetup sampling,
                        const RenderScene* host)
     : rig_(rig), width_(width), height_(height), sampling_(std::move(sampling)), host_(host) {
-  if (sampling_.mode == Sampling::Adaptive && !host_)
-    throw std::invalid_argument("adaptive sampling needs the scene for its edge pass");
+  if ((sampling_.mode == Sampling::Adaptive || sampling_.mode == Sampling::Reprojected) && !host_)
+    throw std::invalid_argument("adaptive and reprojected sampling need the scene on the host");
+  if (sampling_.mode == Sampling::Reprojected &&
+      (sampling_.reproject_spp < 1 || sampling_.reproject_spp > 255))
+    throw std::invalid_argument("reprojected sampling takes 1..255 samples per pixel");
   if (sampling_.mode == Sampling::Foveated && !sampling_.pattern)
     throw std::invalid_argument("foveated sampling needs a sample pattern");
 }
@@ -41,6 +44,8 @@ FrameInput FrameViews::make(int frame, const Camera& camera) const {
       in.maps.push_back(
           edge_sample_map(detect_edges(render_gbuffer(*host_, v)), sampling_.edge_spp, 1));
     for (size_t i = 0; i < in.views.size(); ++i) in.views[i].spp_map = &in.maps[i];
+  } else if (sampling_.mode == Sampling::Reprojected) {
+    reproject(in);
   } else if (sampling_.mode == Sampling::Foveated) {
     // One set-up serves every view: they share the image size and the gaze.
     const Vec2 g = sampling_.gaze.at(frame);
@@ -50,6 +55,24 @@ FrameInput FrameViews::make(int frame, const Camera& camera) const {
   }
   if (sampling_.mode != Sampling::Uniform) in.sampling_ms = clock.elapsed_ms();
   return in;
+}
+
+void FrameViews::reproject(FrameInput& in) const {
+  auto frame = std::make_shared<ReprojectedFrame>();
+  frame->reference = uint32_t(rig_.centre_view());
+  const ViewSetup& ref = in.views[frame->reference];
+  const GBuffer depth = render_gbuffer(*host_, ref);
+  for (const ViewSetup& v : in.views) {
+    if (v.view == frame->reference) {
+      frame->maps.emplace_back();
+      in.maps.emplace_back(size_t(v.width) * size_t(v.height), uint8_t(sampling_.reproject_spp));
+    } else {
+      frame->maps.push_back(reproject_view(depth, ref, v));
+      in.maps.push_back(hole_sample_map(frame->maps.back(), sampling_.reproject_spp));
+    }
+  }
+  for (size_t i = 0; i < in.views.size(); ++i) in.views[i].spp_map = &in.maps[i];
+  in.reprojection = std::move(frame);
 }
 
 }  // namespace multiray

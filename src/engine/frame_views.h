@@ -12,6 +12,7 @@
 #include "render/foveated_pattern.h"
 #include "render/foveation_frame.h"
 #include "render/render_types.h"
+#include "render/reprojection.h"
 #include "scene/camera_rig.h"
 
 namespace multiray {
@@ -26,12 +27,15 @@ struct GazePath {
   Vec2 at(int frame) const;
 };
 
-enum class Sampling { Uniform, Adaptive, Foveated };
+// Reprojected: the centre view is path-traced and reprojected into the others, which
+// path-trace only their holes (render/reprojection.h).
+enum class Sampling { Uniform, Adaptive, Foveated, Reprojected };
 
 struct SamplingSetup {
   Sampling mode = Sampling::Uniform;
-  int edge_spp = 5;  // adaptive: samples of edge pixels (the others get 1)
-  GazePath gaze;     // foveated
+  int edge_spp = 5;       // adaptive: samples of edge pixels (the others get 1)
+  int reproject_spp = 1;  // reprojected: samples of the centre view and of holes, 1..255
+  GazePath gaze;          // foveated
   std::shared_ptr<const FoveationPattern> pattern;  // foveated: made once per run
 };
 
@@ -39,15 +43,22 @@ struct SamplingSetup {
 // alive while the frame renders.
 struct FrameInput {
   std::vector<std::vector<uint8_t>> maps;
-  std::shared_ptr<const FoveationFrame> foveation;  // shared by all views of the frame
+  std::shared_ptr<const FoveationFrame> foveation;       // shared by all views of the frame
+  std::shared_ptr<const ReprojectedFrame> reprojection;  // reprojected sampling only
   std::vector<ViewSetup> views;
-  double sampling_ms = 0;  // host time of the edge pass or foveation set-up, ms
+  double sampling_ms = 0;  // host time of the edge pass, foveation or reprojection set-up, ms
+
+  // What the frame's rendered images still need: reprojected sampling fills every view
+  // but the centre from the centre's image. Call after the devices rendered `images`.
+  void finish(std::vector<Framebuffer>& images) const {
+    if (reprojection) reprojection->fill(images);
+  }
 };
 
 class FrameViews {
  public:
-  // `host` (adaptive sampling's G-buffer pass) must outlive this object; it may be null
-  // for uniform and foveated sampling.
+  // `host` (the G-buffer pass of adaptive and reprojected sampling) must outlive this
+  // object; it may be null for uniform and foveated sampling.
   FrameViews(CameraRig rig, int width, int height, SamplingSetup sampling,
              const RenderScene* host = nullptr);
 
@@ -60,6 +71,9 @@ class FrameViews {
   const SamplingSetup& sampling() const { return sampling_; }
 
  private:
+  // Reprojected sampling: the centre's G-buffer, every other view's map and sample map.
+  void reproject(FrameInput& in) const;
+
   CameraRig rig_;
   int width_, height_;
   SamplingSetup sampling_;

@@ -61,6 +61,7 @@ int Session::run(int first, int count, FrameObserver& observer) {
       out->frame = frame;
       out->sampling_ms = input.sampling_ms;
       out->record = engine.render_frame(frame, input.views, settings_, out->images);
+      input.finish(out->images);
       out->plan = engine.last_plan();
       out->rendered = engine.last_rendered();
       out->stats = engine.last_stats();

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 #include "render/path_tracer.h"
 
 namespace multiray {
@@ -13,7 +15,8 @@ GBuffer render_gbuffer(const RenderScene& rs, const ViewSetup& view) {
   g.depth.assign(n, INFINITY);
   g.normal.assign(n, Vec3(0.0f));
   const PinholeCamera camera(view.camera, view.width, view.height);
-  for (int y = 0; y < view.height; ++y)
+  // Rows in parallel: each pixel is written by one task and depends on nothing else.
+  tbb::parallel_for(0, view.height, [&](int y) {
     for (int x = 0; x < view.width; ++x) {
       const Ray r = camera.ray(float(x) + 0.5f, float(y) + 0.5f);
       Hit hit;
@@ -23,6 +26,7 @@ GBuffer render_gbuffer(const RenderScene& rs, const ViewSetup& view) {
       const Vec3 nrm = normalize(hit.ng);
       g.normal[i] = dot(nrm, r.dir) > 0 ? -nrm : nrm;
     }
+  });
   return g;
 }
 

@@ -17,7 +17,7 @@ struct GBuffer {
   std::vector<Vec3> normal;  // unit geometric normal facing the camera (0 on a miss)
 };
 
-// One ray per pixel centre, on the calling thread.
+// One ray per pixel centre, rows spread over the calling thread's TBB arena.
 GBuffer render_gbuffer(const RenderScene& rs, const ViewSetup& view);
 
 struct EdgeOptions {

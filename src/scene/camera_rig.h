@@ -19,6 +19,9 @@ struct CameraRig {
   static CameraRig grid(int columns, int rows, float spacing) { return {columns, rows, spacing}; }
 
   int view_count() const { return columns * rows; }
+  // The view at the grid's centre (the middle one of odd grids; of even grids the one right
+  // of and below the centre): the reference of spatial reprojection.
+  int centre_view() const { return (rows / 2) * columns + columns / 2; }
   // The views in row-major order (top row first, left to right), centred on `center`,
   // all looking in its direction (parallel, not converging).
   std::vector<Camera> views(const Camera& center) const;

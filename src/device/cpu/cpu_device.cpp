@@ -138,7 +138,7 @@ CpuDevice::~CpuDevice() = default;
 DeviceCapabilities CpuDevice::capabilities() {
   DeviceCapabilities caps;
   for (const KernelEntry& e : cpu_kernels()) caps.kernels.push_back(e.name);
-  caps.sampling = {"uniform", "adaptive", "foveated"};
+  caps.sampling = {"uniform", "adaptive", "foveated", "reproject"};
   caps.representation = "embree";
   return caps;
 }

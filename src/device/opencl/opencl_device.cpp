@@ -60,7 +60,7 @@ struct OpenClDevice::Impl {
 DeviceCapabilities OpenClDevice::capabilities() {
   DeviceCapabilities caps;
   caps.kernels = {"path", "volume"};
-  caps.sampling = {"uniform", "adaptive"};  // per-pixel sample maps; no foveated patterns
+  caps.sampling = {"uniform", "adaptive", "reproject"};  // sample maps; no foveation
   // A device's own info() names the one it built.
   caps.representation = "opencl-flat-bvh, opencl-compact or opencl-volume";
   return caps;

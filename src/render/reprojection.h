@@ -1,0 +1,70 @@
+// Spatial reprojection for light-field grids (Leria et al., §6.3 and Tables 1-2): the
+// reference view (the grid's centre) is path-traced; every other view takes the colour of
+// each pixel whose surface the reference also sees, found by moving the reference's
+// pixels to that view by their depth (forward warping with a depth test, the nearest
+// surface winning). What no reference pixel reaches is a disocclusion, a *hole*. The paper
+// leaves holes unfilled; we path-trace them (hole_sample_map gives them the frame's samples
+// and every other pixel none), so they are balanced across devices like any other work and
+// come out as in a full render of that view.
+//
+// One-pixel cracks, where a surface seen at a slant in the target view spreads over more
+// pixels than in the reference, are closed when both neighbours (left and right, or above
+// and below) came from one surface and the reference, looked up at the depth between
+// them, sees that surface there; anything else unreached is a hole.
+//
+// Limits (docs/multiview.md): colours are the reference's, so view-dependent shading
+// (glossy highlights, reflections) is the centre view's; a surface the target sees in
+// front of one the reference sees, but which is hidden from the reference, is not
+// detected (forward warping shares this with the paper).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/image.h"
+#include "render/gbuffer.h"
+#include "render/render_types.h"
+
+namespace multiray {
+
+struct ReprojectionOptions {
+  // Two depths belong to one surface when they differ by at most this fraction of the
+  // nearer: used to close cracks and to check the reference at a crack.
+  float depth_tolerance = 0.03f;
+};
+
+// For each pixel of a target view (row-major), the reference pixel whose colour it takes,
+// or kHole.
+struct ReprojectionMap {
+  static constexpr int32_t kHole = -1;
+  int width = 0, height = 0;
+  std::vector<int32_t> source;
+  size_t holes() const;
+};
+
+// Where the reference's pixels land in `target` (same image size as `reference`).
+// `reference_depth` is the reference's G-buffer (view-space depth at pixel centres,
+// infinity where the ray leaves the scene: such pixels are never moved, so the sky a
+// target sees is a hole, one cheap ray each). Pure function.
+ReprojectionMap reproject_view(const GBuffer& reference_depth, const ViewSetup& reference,
+                               const ViewSetup& target, const ReprojectionOptions& o = {});
+
+// `spp` samples for every hole, 0 elsewhere (ViewSetup::spp_map). spp in 1..255.
+std::vector<uint8_t> hole_sample_map(const ReprojectionMap& map, int spp);
+
+// Copies the reference's colour into every pixel of `target` that is not a hole.
+void fill_reprojected(const Framebuffer& reference, const ReprojectionMap& map,
+                      Framebuffer& target);
+
+// A frame's reprojection: which view is the reference and each view's map (empty for the
+// reference itself).
+struct ReprojectedFrame {
+  uint32_t reference = 0;
+  std::vector<ReprojectionMap> maps;
+  // Fills every view but the reference from the reference's image (images[reference]).
+  void fill(std::vector<Framebuffer>& images) const;
+  // Holes over the pixels of the views that are not the reference, in [0, 1].
+  double hole_fraction() const;
+};
+
+}  // namespace multiray
