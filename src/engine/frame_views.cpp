@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <tbb/parallel_for.h>
+
 #include "core/clock.h"
 #include "render/gbuffer.h"
 
@@ -62,15 +64,19 @@ void FrameViews::reproject(FrameInput& in) const {
   frame->reference = uint32_t(rig_.centre_view());
   const ViewSetup& ref = in.views[frame->reference];
   const GBuffer depth = render_gbuffer(*host_, ref);
-  for (const ViewSetup& v : in.views) {
-    if (v.view == frame->reference) {
-      frame->maps.emplace_back();
-      in.maps.emplace_back(size_t(v.width) * size_t(v.height), uint8_t(sampling_.reproject_spp));
+  const size_t n = in.views.size();
+  frame->maps.resize(n);
+  in.maps.resize(n);
+  // Views in parallel: each writes only its own map.
+  tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    const ViewSetup& v = in.views[i];
+    if (i == frame->reference) {
+      in.maps[i].assign(size_t(v.width) * size_t(v.height), uint8_t(sampling_.reproject_spp));
     } else {
-      frame->maps.push_back(reproject_view(depth, ref, v));
-      in.maps.push_back(hole_sample_map(frame->maps.back(), sampling_.reproject_spp));
+      frame->maps[i] = reproject_view(depth, ref, v);
+      in.maps[i] = hole_sample_map(frame->maps[i], sampling_.reproject_spp);
     }
-  }
+  });
   for (size_t i = 0; i < in.views.size(); ++i) in.views[i].spp_map = &in.maps[i];
   in.reprojection = std::move(frame);
 }

@@ -46,36 +46,46 @@ bool same_surface(float a, float b, float tolerance) {
   return std::isfinite(a) && std::isfinite(b) && std::abs(a - b) <= tolerance * std::min(a, b);
 }
 
-// Forward warp: every reference pixel with a hit goes to the target pixel its surface
-// point projects into; the nearest wins. Fills `depth` (target view space) and `source`.
-void splat(const GBuffer& g, const Projector& ref, const Projector& tgt, std::vector<float>& depth,
-           std::vector<int32_t>& source) {
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x) {
-      const size_t i = size_t(y) * size_t(g.width) + size_t(x);
-      if (!std::isfinite(g.depth[i])) continue;
-      const Vec3 p = ref.point(float(x) + 0.5f, float(y) + 0.5f, g.depth[i]);
-      float px, py, z;
-      if (!tgt.project(p, px, py, z)) continue;
-      const int64_t t = tgt.pixel(px, py);
-      if (t < 0 || !(z < depth[size_t(t)])) continue;
-      depth[size_t(t)] = z;
-      source[size_t(t)] = int32_t(i);
-    }
-}
+// Where a reference pixel's surface point lands in the target: image position, target
+// view-space depth; ok false for misses and points behind the target.
+struct Landing {
+  float x = 0, y = 0, z = INFINITY;
+  bool ok = false;
+};
 
-// The reference pixel a crack at target pixel (x, y), between neighbours `a` and `b` of
-// the forward warp, takes: the one seen at the depth between them, if the reference sees
-// that surface there. ReprojectionMap::kHole otherwise.
-int32_t close_crack(const GBuffer& g, const Projector& ref, const Projector& tgt, int x, int y,
-                    float za, float zb, float tolerance) {
-  if (!same_surface(za, zb, tolerance)) return ReprojectionMap::kHole;
-  const Vec3 p = tgt.point(float(x) + 0.5f, float(y) + 0.5f, 0.5f * (za + zb));
-  float px, py, z;
-  if (!ref.project(p, px, py, z)) return ReprojectionMap::kHole;
-  const int64_t r = ref.pixel(px, py);
-  if (r < 0 || !same_surface(g.depth[size_t(r)], z, tolerance)) return ReprojectionMap::kHole;
-  return int32_t(r);
+// The target's depth buffer and sources as the warp fills them: the nearest wins.
+struct Warp {
+  int width, height;
+  std::vector<float> depth;
+  std::vector<int32_t>& source;
+  void offer(int64_t pixel, float z, int32_t from) {
+    if (pixel < 0 || !(z < depth[size_t(pixel)])) return;
+    depth[size_t(pixel)] = z;
+    source[size_t(pixel)] = from;
+  }
+};
+
+// The target pixels whose centres lie between the landings of neighbouring reference
+// pixels a and b on one surface, along x (`along_x`) or y: what a surface seen at a slant
+// spreads over in the target beyond its pixels' own landings. Each takes the nearer end's
+// source and the interpolated depth. Spans longer than kMaxSpan pixels are left as holes
+// (on one surface, adjacent pixels' disparities differ by the depth tolerance at most).
+void fill_span(const Landing& a, int32_t ia, const Landing& b, int32_t ib, bool along_x, Warp& w) {
+  constexpr float kMaxSpan = 4.0f;
+  const float a0 = along_x ? a.x : a.y, b0 = along_x ? b.x : b.y;
+  // The row (along x) or column (along y) both must land in.
+  const float line = std::floor(along_x ? a.y : a.x);
+  if (line != std::floor(along_x ? b.y : b.x) || !(std::abs(b0 - a0) <= kMaxSpan)) return;
+  if (line < 0 || line >= float(along_x ? w.height : w.width)) return;
+  const float lo = std::min(a0, b0), hi = std::max(a0, b0);
+  const int limit = along_x ? w.width : w.height;
+  for (int c = std::max(0, int(std::ceil(lo - 0.5f))); c < limit && float(c) + 0.5f <= hi; ++c) {
+    const float t = (float(c) + 0.5f - a0) / (b0 - a0);
+    const float z = a.z + t * (b.z - a.z);
+    const int64_t pixel =
+        along_x ? int64_t(line) * w.width + c : int64_t(c) * w.width + int64_t(line);
+    w.offer(pixel, z, t < 0.5f ? ia : ib);
+  }
 }
 
 }  // namespace
@@ -90,25 +100,33 @@ ReprojectionMap reproject_view(const GBuffer& reference_depth, const ViewSetup& 
       reference_depth.width != reference.width || reference_depth.height != reference.height)
     throw std::invalid_argument("reproject_view: the views and the G-buffer differ in size");
   const Projector ref(reference), tgt(target);
-  const size_t w = size_t(target.width), n = w * size_t(target.height);
-  std::vector<float> depth(n, INFINITY);
+  const GBuffer& g = reference_depth;
+  const size_t w = size_t(g.width), n = w * size_t(g.height);
   ReprojectionMap m;
   m.width = target.width, m.height = target.height;
   m.source.assign(n, ReprojectionMap::kHole);
-  splat(reference_depth, ref, tgt, depth, m.source);
+  Warp warp{target.width, target.height, std::vector<float>(n, INFINITY), m.source};
 
-  // Cracks are judged on the warp alone (`depth` is not updated), so the order of the
-  // scan does not matter.
-  for (int y = 0; y < target.height; ++y)
-    for (int x = 0; x < target.width; ++x) {
+  std::vector<Landing> land(n);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
       const size_t i = size_t(y) * w + size_t(x);
-      if (m.source[i] != ReprojectionMap::kHole) continue;
-      if (x > 0 && x + 1 < target.width)
-        m.source[i] = close_crack(reference_depth, ref, tgt, x, y, depth[i - 1], depth[i + 1],
-                                  o.depth_tolerance);
-      if (m.source[i] == ReprojectionMap::kHole && y > 0 && y + 1 < target.height)
-        m.source[i] = close_crack(reference_depth, ref, tgt, x, y, depth[i - w], depth[i + w],
-                                  o.depth_tolerance);
+      if (!std::isfinite(g.depth[i])) continue;
+      Landing& l = land[i];
+      l.ok = tgt.project(ref.point(float(x) + 0.5f, float(y) + 0.5f, g.depth[i]), l.x, l.y, l.z);
+      if (l.ok) warp.offer(tgt.pixel(l.x, l.y), l.z, int32_t(i));
+    }
+  // Spans between neighbours on one surface: right and lower neighbours, along x and y.
+  const auto joined = [&](size_t i, size_t j) {
+    return land[i].ok && land[j].ok && same_surface(g.depth[i], g.depth[j], o.depth_tolerance);
+  };
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const size_t i = size_t(y) * w + size_t(x);
+      if (x + 1 < g.width && joined(i, i + 1))
+        fill_span(land[i], int32_t(i), land[i + 1], int32_t(i + 1), true, warp);
+      if (y + 1 < g.height && joined(i, i + w))
+        fill_span(land[i], int32_t(i), land[i + w], int32_t(i + w), false, warp);
     }
   return m;
 }

@@ -7,10 +7,11 @@
 // and every other pixel none), so they are balanced across devices like any other work and
 // come out as in a full render of that view.
 //
-// One-pixel cracks, where a surface seen at a slant in the target view spreads over more
-// pixels than in the reference, are closed when both neighbours (left and right, or above
-// and below) came from one surface and the reference, looked up at the depth between
-// them, sees that surface there; anything else unreached is a hole.
+// A surface seen at a slant in the target spreads over more pixels than in the reference,
+// and point landings alone would leave gaps in it. So neighbouring reference pixels on one
+// surface (depths within a tolerance) also fill the target pixels between their landings,
+// along rows and along columns, with interpolated depth: the reference's depth map is
+// warped as a surface, not as points. Anything else unreached is a hole.
 //
 // Limits (docs/multiview.md): colours are the reference's, so view-dependent shading
 // (glossy highlights, reflections) is the centre view's; a surface the target sees in
@@ -28,8 +29,8 @@
 namespace multiray {
 
 struct ReprojectionOptions {
-  // Two depths belong to one surface when they differ by at most this fraction of the
-  // nearer: used to close cracks and to check the reference at a crack.
+  // Neighbouring reference pixels lie on one surface when their depths differ by at most
+  // this fraction of the nearer; the target pixels between their landings are then filled.
   float depth_tolerance = 0.03f;
 };
 

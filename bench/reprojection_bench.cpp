@@ -1,0 +1,256 @@
+// Spatial reprojection with hole filling (issue 13; Leria et al. §6.3, Tables 1-2) against
+// full path tracing of every view. For each grid it renders the same frames of a camera
+// path three times on the same devices and balancer: every view path-traced (seed 0),
+// again with seed 1 (how far two correct renders are apart: the noise floor), and
+// reprojected (the centre view and the holes path-traced, seed 0). Also once: the centre
+// view alone (what "a grid costs little more than one view" compares with).
+//
+// Frame time is the engine's (devices started -> all finished, steady_clock on the host
+// around the devices' work); host set-up (the centre's G-buffer and the reprojection) is
+// reported apart and added in `total`. Image error is the mean over the frames and the
+// views other than the centre of image_error() (MSE and PSNR over clamped linear RGB).
+// Exit 1 when a hole or the centre differs in any bit from the full render's pixel.
+//
+//   reprojection_bench SCENE [--res 320x180] [--spp 1] [--bounces 8] [--spacing 0.2]
+//       [--grids 3x3,5x5,9x9] [--frames 10] [--camera-path FILE] [--devices SPEC]
+//       [--balancer dlb] [--json FILE] [--images DIR]
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "app/options.h"
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/image_metrics.h"
+#include "engine/session.h"
+
+namespace multiray {
+namespace {
+
+// What one run of a grid kept: per frame the images and times.
+struct Run {
+  std::vector<std::vector<Framebuffer>> images;  // [frame][view]
+  std::vector<std::shared_ptr<const ReprojectedFrame>> reprojection;
+  std::vector<double> frame_ms, host_ms;
+  double mean(const std::vector<double>& v) const {
+    double s = 0;
+    for (double x : v) s += x;
+    return v.empty() ? 0 : s / double(v.size());
+  }
+};
+
+class Keeper : public FrameObserver {
+ public:
+  explicit Keeper(Run& run) : run_(run) {}
+  void before_frame(int, const FrameInput& in) override {
+    run_.reprojection.push_back(in.reprojection);
+  }
+  void on_frame(const std::shared_ptr<const FrameResult>& r) override {
+    run_.images.push_back(r->images);
+    run_.frame_ms.push_back(r->record.frame_ms);
+    run_.host_ms.push_back(r->sampling_ms);
+  }
+
+ private:
+  Run& run_;
+};
+
+struct Config {
+  std::string scene, res = "320x180", grids = "3x3,5x5,9x9", camera_path = "fixed";
+  std::string devices = "cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.5";
+  std::string balancer = "dlb", json, images;
+  int spp = 1, bounces = 8, frames = 10;
+  float spacing = 0.2f;
+};
+
+Run run_grid(const app::Setup& s, const Config& c, CameraRig rig, Sampling mode, uint64_t seed) {
+  SamplingSetup sampling;
+  sampling.mode = mode;
+  sampling.reproject_spp = c.spp;
+  FrameViews views(rig, s.res.width, s.res.height, sampling, &s.scenes->embree());
+  RenderSettings settings = s.settings;
+  settings.seed = seed;
+  std::vector<std::unique_ptr<balance::Balancer>> lanes;
+  lanes.push_back(balance::make_balancer(c.balancer, int(s.devices.size())));
+  Session session(s.device_ptrs(), std::move(lanes), std::move(views), s.path, settings);
+  Run run;
+  Keeper keeper(run);
+  session.run(0, c.frames, keeper);
+  return run;
+}
+
+// Bits of the holes and the centre that differ from the full render (must be none).
+size_t mismatches(const Run& full, const Run& r) {
+  size_t bad = 0;
+  for (size_t f = 0; f < r.images.size(); ++f) {
+    const ReprojectedFrame& rf = *r.reprojection[f];
+    for (size_t v = 0; v < r.images[f].size(); ++v)
+      for (size_t i = 0; i < r.images[f][v].pixels.size(); ++i) {
+        const bool traced = v == rf.reference || rf.maps[v].source[i] == ReprojectionMap::kHole;
+        bad += traced && std::memcmp(&r.images[f][v].pixels[i], &full.images[f][v].pixels[i],
+                                     sizeof(Vec3)) != 0;
+      }
+  }
+  return bad;
+}
+
+// Mean image error of `r` against `full` over the frames and the non-centre views.
+ImageError error(const Run& full, const Run& r, uint32_t centre) {
+  ImageError e{0, 0, 0};
+  int n = 0;
+  for (size_t f = 0; f < r.images.size(); ++f)
+    for (size_t v = 0; v < r.images[f].size(); ++v) {
+      if (v == centre) continue;
+      const ImageError one = image_error(r.images[f][v], full.images[f][v]);
+      e.mse += one.mse, e.psnr_db += one.psnr_db, e.ssim += one.ssim, ++n;
+    }
+  e.mse /= n, e.psnr_db /= n, e.ssim /= n;
+  return e;
+}
+
+// Mean squared error (clamped linear RGB, as image_error) of `r` and of `other` against
+// `full` over the pixels that `moved` took from the centre, in every frame and view: the
+// error of reprojected pixels against that of a full render with another seed there.
+std::pair<double, double> moved_pixel_mse(const Run& full, const Run& other, const Run& moved) {
+  const auto sq = [](const Vec3& a, const Vec3& b) {
+    double e = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double d = std::clamp(double(a[c]), 0.0, 1.0) - std::clamp(double(b[c]), 0.0, 1.0);
+      e += d * d;
+    }
+    return e / 3;
+  };
+  double e_moved = 0, e_other = 0;
+  size_t n = 0;
+  for (size_t f = 0; f < moved.images.size(); ++f) {
+    const ReprojectedFrame& rf = *moved.reprojection[f];
+    for (size_t v = 0; v < moved.images[f].size(); ++v) {
+      if (v == rf.reference) continue;
+      for (size_t i = 0; i < rf.maps[v].source.size(); ++i) {
+        if (rf.maps[v].source[i] == ReprojectionMap::kHole) continue;
+        const Vec3& ref = full.images[f][v].pixels[i];
+        e_moved += sq(moved.images[f][v].pixels[i], ref);
+        e_other += sq(other.images[f][v].pixels[i], ref);
+        ++n;
+      }
+    }
+  }
+  return {n ? e_moved / double(n) : 0, n ? e_other / double(n) : 0};
+}
+
+// The last frame's view 0 full, reprojected, and with its holes in red.
+void write_images(const std::string& dir, const std::string& grid, const Run& full, const Run& r) {
+  const Framebuffer& a = full.images.back()[0];
+  Framebuffer holes = r.images.back()[0];
+  const ReprojectionMap& m = r.reprojection.back()->maps[0];
+  for (size_t i = 0; i < m.source.size(); ++i)
+    if (m.source[i] == ReprojectionMap::kHole) holes.pixels[i] = Vec3(1, 0, 0);
+  write_png(dir + "/" + grid + "_view0_full.png", a);
+  write_png(dir + "/" + grid + "_view0_reprojected.png", r.images.back()[0]);
+  write_png(dir + "/" + grid + "_view0_holes.png", holes);
+}
+
+int run(const Config& c) {
+  app::CommonOptions o;
+  o.scene_path = c.scene;
+  o.resolution = c.res;
+  o.spp = c.spp;
+  o.bounces = c.bounces;
+  o.frames = c.frames;
+  o.camera_path = c.camera_path;
+  o.devices = c.devices;
+  const app::Setup s = app::make_setup(o);
+  for (const auto& d : s.devices) fmt::print("device {}\n", d->info().name);
+  const Run alone =
+      run_grid(s, c, CameraRig::single(), Sampling::Uniform, s.settings.seed);  // one view
+  fmt::print("one view: {:.1f} ms a frame\n", alone.mean(alone.frame_ms));
+  fmt::print("{:>5} {:>10} {:>10} {:>9} {:>8} {:>8} {:>7} {:>9} {:>9} {:>10}\n", "grid", "full ms",
+             "reproj ms", "host ms", "speedup", "holes", "x view", "PSNR dB", "seed dB",
+             "moved/seed");
+  nlohmann::json out = {{"scene", s.scene->name}, {"res", c.res},
+                        {"spp", c.spp},           {"bounces", c.bounces},
+                        {"frames", c.frames},     {"devices", c.devices},
+                        {"balancer", c.balancer}, {"one_view_ms", alone.mean(alone.frame_ms)}};
+  int status = 0;
+  for (const std::string& grid : app::split(c.grids, ',')) {
+    int columns = 0, rows = 0;
+    if (std::sscanf(grid.c_str(), "%dx%d", &columns, &rows) != 2 || columns < 1 || rows < 1 ||
+        columns * rows < 2 || columns > 64 || rows > 64)
+      throw InputError("--grids: '" + grid + "' must be KxL with 2..4096 views");
+    const CameraRig rig = CameraRig::grid(columns, rows, c.spacing);
+    const Run full = run_grid(s, c, rig, Sampling::Uniform, s.settings.seed);
+    const Run other = run_grid(s, c, rig, Sampling::Uniform, s.settings.seed + 1);
+    const Run r = run_grid(s, c, rig, Sampling::Reprojected, s.settings.seed);
+    const uint32_t centre = uint32_t(rig.centre_view());
+    const ImageError e = error(full, r, centre), floor = error(full, other, centre);
+    double holes = 0;
+    for (const auto& rf : r.reprojection) holes += rf->hole_fraction() / double(c.frames);
+    const double full_ms = full.mean(full.frame_ms), r_ms = r.mean(r.frame_ms),
+                 host_ms = r.mean(r.host_ms), total = r_ms + host_ms;
+    const size_t bad = mismatches(full, r);
+    const auto [mse_moved, mse_moved_seed] = moved_pixel_mse(full, other, r);
+    fmt::print(
+        "{:>5} {:>10.1f} {:>10.1f} {:>9.1f} {:>7.2f}x {:>7.1f}% {:>6.2f}x {:>9.2f} {:>9.2f} "
+        "{:>9.2f}x{}\n",
+        grid, full_ms, r_ms, host_ms, full_ms / total, 100 * holes,
+        total / alone.mean(alone.frame_ms), e.psnr_db, floor.psnr_db, mse_moved / mse_moved_seed,
+        bad ? fmt::format("  {} traced pixels differ from the full render!", bad) : "");
+    out["grids"].push_back({{"grid", grid},
+                            {"full_ms", full_ms},
+                            {"reprojected_ms", r_ms},
+                            {"host_ms", host_ms},
+                            {"speedup", full_ms / total},
+                            {"hole_fraction", holes},
+                            {"cost_in_views", total / alone.mean(alone.frame_ms)},
+                            {"mse", e.mse},
+                            {"psnr_db", e.psnr_db},
+                            {"ssim", e.ssim},
+                            {"seed_mse", floor.mse},
+                            {"seed_psnr_db", floor.psnr_db},
+                            {"seed_ssim", floor.ssim},
+                            {"moved_mse", mse_moved},
+                            {"moved_seed_mse", mse_moved_seed},
+                            {"traced_mismatches", bad}});
+    if (!c.images.empty()) write_images(c.images, grid, full, r);
+    if (bad) status = 1;
+  }
+  if (!c.json.empty()) write_file_atomically(c.json, out.dump(2) + "\n");
+  return status;
+}
+
+}  // namespace
+}  // namespace multiray
+
+int main(int argc, char** argv) {
+  multiray::Config c;
+  CLI::App app{"Spatial reprojection with hole filling against full path tracing of every view"};
+  app.add_option("scene", c.scene, "Scene file (omitted: the Cornell box)");
+  app.add_option("--res", c.res, "Image size of every view")->capture_default_str();
+  app.add_option("--spp", c.spp, "Samples per pixel (1..255)")->capture_default_str();
+  app.add_option("--bounces", c.bounces, "Bounces per path")->capture_default_str();
+  app.add_option("--spacing", c.spacing, "Distance between views")->capture_default_str();
+  app.add_option("--grids", c.grids, "Grids to measure, KxL,...")->capture_default_str();
+  app.add_option("--frames", c.frames, "Frames per run")->capture_default_str();
+  app.add_option("--camera-path", c.camera_path, "fixed | orbit | FILE.json")
+      ->capture_default_str();
+  app.add_option("--devices", c.devices, "Devices (as multiray's --devices)")
+      ->capture_default_str();
+  app.add_option("--balancer", c.balancer, "Balancer spec")->capture_default_str();
+  app.add_option("--json", c.json, "Write the results here");
+  app.add_option("--images", c.images, "Write the last frame's view 0 here (existing folder)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (c.spp < 1 || c.spp > 255) throw multiray::InputError("--spp must be in 1..255");
+    if (c.frames < 1 || c.frames > 100000) throw multiray::InputError("--frames: 1..100000");
+    return multiray::run(c);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "reprojection_bench: %s\n", e.what());
+    return 2;
+  }
+}
