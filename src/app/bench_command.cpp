@@ -189,6 +189,9 @@ Runner add_bench_command(CLI::App& app) {
       for (size_t f = 0; f < lane.records.size(); ++f) {
         frames.push_back(frame_to_json(lane.records[f]));
         frames.back()["sampling_ms"] = result.sampling_ms[f];
+        if (f < result.hole_fraction.size())
+          frames.back()["reprojection"] = reprojection_to_json(
+              uint32_t(s.views->rig().centre_view()), result.hole_fraction[f]);
         frames.back()["image_hash"] = fmt::format("{:016x}", lane.image_hashes[f]);
       }
       std::string name = session->engine(k).balancer().name();

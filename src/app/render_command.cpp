@@ -176,14 +176,21 @@ class RenderOutput : public FrameObserver {
             ? fmt::format("  predicted {:7.1f} ms  step x{:.2f}  image x{:.2f}", rec.predicted_ms,
                           rec.quality.step_scale, rec.quality.image_scale)
             : "";
+    // Reprojected sampling: the share of the other views' pixels path-traced as holes.
+    const std::string holes =
+        r->reprojection ? fmt::format("  holes {:4.1f}%", 100.0 * r->reprojection->hole_fraction())
+                        : "";
     if (!quiet_)
       fmt::print(
-          "frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%{}  -> "
-          "{}.png\n",
+          "frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%{}{}  "
+          "-> {}.png\n",
           r->frame, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
-          100.0 * rec.imbalance, adapted, base + (images.size() > 1 ? "_quilt" : ""));
+          100.0 * rec.imbalance, adapted, holes, base + (images.size() > 1 ? "_quilt" : ""));
     json_.push_back(frame_to_json(rec));
     json_.back()["sampling_ms"] = r->sampling_ms;
+    if (r->reprojection)
+      json_.back()["reprojection"] =
+          reprojection_to_json(r->reprojection->reference, r->reprojection->hole_fraction());
     uint64_t hash = 0xcbf29ce484222325ull;
     for (const Framebuffer& img : images) hash = image_hash(img, hash);
     json_.back()["image_hash"] = fmt::format("{:016x}", hash);

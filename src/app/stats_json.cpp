@@ -58,6 +58,10 @@ nlohmann::json settings_to_json(const CommonOptions& o, const Setup& s,
       {"distributed", distributed_to_json(s)}};
 }
 
+nlohmann::json reprojection_to_json(uint32_t reference_view, double hole_fraction) {
+  return {{"reference_view", reference_view}, {"hole_fraction", hole_fraction}};
+}
+
 nlohmann::json frame_to_json(const FrameRecord& rec) {
   nlohmann::json device_ms = nlohmann::json::array(), busy_ms = nlohmann::json::array(),
                  share = nlohmann::json::array(), planned = nlohmann::json::array(),

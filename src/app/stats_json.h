@@ -20,6 +20,8 @@ struct CommonOptions;
 struct Setup;
 
 nlohmann::json frame_to_json(const FrameRecord& rec);
+// A reprojected frame's summary: {"reference_view", "hole_fraction"}.
+nlohmann::json reprojection_to_json(uint32_t reference_view, double hole_fraction);
 // The settings a run was made with, so that stats.json alone says how to repeat it: the
 // command line, version, scene, resolution, spp, bounces, frames, kernel, sampling, seed,
 // camera (where it came from and the one used), up axis, camera path, environment, views

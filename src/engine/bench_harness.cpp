@@ -71,6 +71,7 @@ class BenchObserver : public FrameObserver {
   void before_frame(int frame, const FrameInput& in) override {
     if (on_frame_) on_frame_(frame);
     result_.sampling_ms.push_back(in.sampling_ms);
+    if (in.reprojection) result_.hole_fraction.push_back(in.reprojection->hole_fraction());
     if (std::find(result_.sampled.begin(), result_.sampled.end(), frame) != result_.sampled.end())
       result_.ideal.push_back(measure_ideal(devices_, speeds_at(perturbations_, speeds_, frame),
                                             in, settings_, frame));

@@ -46,6 +46,9 @@ struct BenchResult {
   std::vector<int> sampled;  // frames whose ideal was measured, increasing
   std::vector<IdealSample> ideal;
   std::vector<double> sampling_ms;  // per frame: host set-up of irregular sampling
+  // Per frame with reprojected sampling: the fraction of non-reference pixels path-traced
+  // as holes (empty otherwise).
+  std::vector<double> hole_fraction;
   std::vector<BenchLane> lanes;
   // Per lane, frames whose images differ from those of an earlier lane rendered at the same
   // quality (should be none).

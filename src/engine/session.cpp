@@ -60,6 +60,7 @@ int Session::run(int first, int count, FrameObserver& observer) {
       out->lane = lane;
       out->frame = frame;
       out->sampling_ms = input.sampling_ms;
+      out->reprojection = input.reprojection;
       out->record = engine.render_frame(frame, input.views, settings_, out->images);
       input.finish(out->images);
       out->plan = engine.last_plan();

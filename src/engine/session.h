@@ -35,6 +35,8 @@ struct FrameResult {
   std::vector<std::vector<balance::WorkItem>> rendered;
   balance::FrameStats stats;  // per-item measurements, as the balancer was told
   double sampling_ms = 0;     // host set-up of the frame's views (outside the frame time)
+  // Reprojected sampling: the reference view and every view's map (null otherwise).
+  std::shared_ptr<const ReprojectedFrame> reprojection;
 };
 
 class FrameObserver {

@@ -104,6 +104,27 @@ TEST(Cli, FoveatedSamplingRendersAndChecksItsOptions) {
   expect_input_error("render --sampling sparse", "--sampling");
 }
 
+TEST(Cli, ReprojectedSamplingRendersEveryViewAndChecksItsOptions) {
+  const std::string dir = ::testing::TempDir() + "/cli_reproject";
+  std::filesystem::remove_all(dir);
+  const Result r =
+      run("render --res 32x24 --spp 2 --views 3x3 --view-spacing 0.3 --sampling reproject "
+          "--devices cpu,cpu --balancer dlb --out " +
+          dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/frame_0000_view08.png"));
+  std::ifstream stats(dir + "/stats.json");
+  const nlohmann::json j = nlohmann::json::parse(stats);
+  const nlohmann::json& frame = j["frames"][0];
+  ASSERT_TRUE(frame.contains("reprojection")) << frame.dump();
+  EXPECT_EQ(frame["reprojection"]["reference_view"], 4);
+  const double holes = frame["reprojection"]["hole_fraction"];
+  EXPECT_GT(holes, 0.0);
+  EXPECT_LT(holes, 1.0);
+  expect_input_error("render --sampling reproject", "several views");
+  expect_input_error("render --views 3x3 --sampling reproject --spp 300", "255");
+}
+
 TEST(Cli, UpExposureAndToneAreChecked) {
   expect_input_error("render --res 8x8 --up w", "--up");
   expect_input_error("render --res 8x8 --up yz", "--up");
