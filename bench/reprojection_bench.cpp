@@ -15,6 +15,7 @@
 //       [--grids 3x3,5x5,9x9] [--frames 10] [--camera-path FILE] [--devices SPEC]
 //       [--balancer dlb] [--json FILE] [--images DIR]
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -29,6 +30,8 @@
 #include "core/file_io.h"
 #include "core/image_metrics.h"
 #include "engine/session.h"
+#include "render/gbuffer.h"
+#include "render/path_tracer.h"
 
 namespace multiray {
 namespace {
@@ -66,6 +69,7 @@ struct Config {
   std::string devices = "cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.5";
   std::string balancer = "dlb", json, images;
   int spp = 1, bounces = 8, frames = 10;
+  bool holes_only = false;
   float spacing = 0.2f;
 };
 
@@ -156,6 +160,60 @@ void write_images(const std::string& dir, const std::string& grid, const Run& fu
   write_png(dir + "/" + grid + "_view0_holes.png", holes);
 }
 
+// One entry of --grids, "KxL".
+CameraRig parse_grid(const std::string& grid, float spacing) {
+  int columns = 0, rows = 0;
+  char end = 0;
+  if (std::sscanf(grid.c_str(), "%dx%d%c", &columns, &rows, &end) != 2 || columns < 1 ||
+      rows < 1 || columns * rows < 2 || columns > 64 || rows > 64)
+    throw InputError("--grids: '" + grid + "' must be KxL with 2..4096 views");
+  return CameraRig::grid(columns, rows, spacing);
+}
+
+// --holes-only: per grid, the hole fraction and what the holes see, from each target
+// view's own G-buffer: no surface (sky: one ray each), a surface outside the centre view's
+// image (the border), or a surface the centre does not see (a disocclusion). No path tracing.
+void measure_holes(const app::Setup& s, const Config& c, CameraRig rig) {
+  SamplingSetup sampling;
+  sampling.mode = Sampling::Reprojected;
+  sampling.reproject_spp = c.spp;
+  const FrameViews views(rig, s.res.width, s.res.height, sampling, &s.scenes->embree());
+  double holes = 0, sky = 0, border = 0, pixels = 0;
+  for (int f = 0; f < c.frames; ++f) {
+    const FrameInput in = views.make(f, s.path.at(f));
+    const ViewSetup& centre = in.views[in.reprojection->reference];
+    for (size_t v = 0; v < in.views.size(); ++v) {
+      if (v == in.reprojection->reference) continue;
+      const ViewSetup& view = in.views[v];
+      const GBuffer g = render_gbuffer(s.scenes->embree(), view);
+      const PinholeCamera cam(view.camera, view.width, view.height);
+      const ReprojectionMap& m = in.reprojection->maps[v];
+      for (size_t i = 0; i < m.source.size(); ++i) {
+        if (m.source[i] != ReprojectionMap::kHole) continue;
+        holes += 1;
+        if (!std::isfinite(g.depth[i])) {
+          sky += 1;
+          continue;
+        }
+        const float x = float(i % size_t(view.width)) + 0.5f,
+                    y = float(i / size_t(view.width)) + 0.5f;
+        const Ray r = cam.ray(x, y);
+        float px, py;
+        const Vec3 p = r.org + r.dir * (g.depth[i] / dot(r.dir, cam.forward));
+        border += !project_to_image(centre, p, px, py) || px < 0 || py < 0 ||
+                  px >= float(view.width) || py >= float(view.height);
+      }
+      pixels += double(m.source.size());
+    }
+  }
+  const double other = std::max(1.0, holes);
+  fmt::print(
+      "{:>5}  holes {:5.1f}% of the other views' pixels: sky {:4.1f}%, outside the centre's "
+      "image {:4.1f}%, disoccluded {:4.1f}%\n",
+      fmt::format("{}x{}", rig.columns, rig.rows), 100 * holes / pixels, 100 * sky / other,
+      100 * border / other, 100 * (holes - sky - border) / other);
+}
+
 int run(const Config& c) {
   app::CommonOptions o;
   o.scene_path = c.scene;
@@ -166,6 +224,12 @@ int run(const Config& c) {
   o.camera_path = c.camera_path;
   o.devices = c.devices;
   const app::Setup s = app::make_setup(o);
+  if (c.holes_only) {
+    for (const std::string& grid : app::split(c.grids, ',')) {
+      measure_holes(s, c, parse_grid(grid, c.spacing));
+    }
+    return 0;
+  }
   for (const auto& d : s.devices) fmt::print("device {}\n", d->info().name);
   const Run alone =
       run_grid(s, c, CameraRig::single(), Sampling::Uniform, s.settings.seed);  // one view
@@ -179,11 +243,7 @@ int run(const Config& c) {
                         {"balancer", c.balancer}, {"one_view_ms", alone.mean(alone.frame_ms)}};
   int status = 0;
   for (const std::string& grid : app::split(c.grids, ',')) {
-    int columns = 0, rows = 0;
-    if (std::sscanf(grid.c_str(), "%dx%d", &columns, &rows) != 2 || columns < 1 || rows < 1 ||
-        columns * rows < 2 || columns > 64 || rows > 64)
-      throw InputError("--grids: '" + grid + "' must be KxL with 2..4096 views");
-    const CameraRig rig = CameraRig::grid(columns, rows, c.spacing);
+    const CameraRig rig = parse_grid(grid, c.spacing);
     const Run full = run_grid(s, c, rig, Sampling::Uniform, s.settings.seed);
     const Run other = run_grid(s, c, rig, Sampling::Uniform, s.settings.seed + 1);
     const Run r = run_grid(s, c, rig, Sampling::Reprojected, s.settings.seed);
@@ -244,6 +304,8 @@ int main(int argc, char** argv) {
   app.add_option("--balancer", c.balancer, "Balancer spec")->capture_default_str();
   app.add_option("--json", c.json, "Write the results here");
   app.add_option("--images", c.images, "Write the last frame's view 0 here (existing folder)");
+  app.add_flag("--holes-only", c.holes_only,
+               "Only count holes (and the share that is sky) per grid; no path tracing");
   CLI11_PARSE(app, argc, argv);
   try {
     if (c.spp < 1 || c.spp > 255) throw multiray::InputError("--spp must be in 1..255");

@@ -42,6 +42,9 @@ struct Projector {
   int width, height;
 };
 
+// Cosine above which two neighbours' normals are one plane's (about 5.7 degrees).
+constexpr float kSameNormal = 0.995f;
+
 bool same_surface(float a, float b, float tolerance) {
   return std::isfinite(a) && std::isfinite(b) && std::abs(a - b) <= tolerance * std::min(a, b);
 }
@@ -90,6 +93,11 @@ void fill_span(const Landing& a, int32_t ia, const Landing& b, int32_t ib, bool 
 
 }  // namespace
 
+bool project_to_image(const ViewSetup& view, const Vec3& p, float& px, float& py) {
+  float depth;
+  return Projector(view).project(p, px, py, depth);
+}
+
 size_t ReprojectionMap::holes() const {
   return size_t(std::count(source.begin(), source.end(), kHole));
 }
@@ -108,17 +116,26 @@ ReprojectionMap reproject_view(const GBuffer& reference_depth, const ViewSetup& 
   Warp warp{target.width, target.height, std::vector<float>(n, INFINITY), m.source};
 
   std::vector<Landing> land(n);
+  std::vector<Vec3> point(n);  // each reference pixel's surface point, world space
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
       const size_t i = size_t(y) * w + size_t(x);
       if (!std::isfinite(g.depth[i])) continue;
+      point[i] = ref.point(float(x) + 0.5f, float(y) + 0.5f, g.depth[i]);
       Landing& l = land[i];
-      l.ok = tgt.project(ref.point(float(x) + 0.5f, float(y) + 0.5f, g.depth[i]), l.x, l.y, l.z);
+      l.ok = tgt.project(point[i], l.x, l.y, l.z);
       if (l.ok) warp.offer(tgt.pixel(l.x, l.y), l.z, int32_t(i));
     }
   // Spans between neighbours on one surface: right and lower neighbours, along x and y.
+  // One surface: depths within the tolerance, or (for planes seen at a grazing angle, whose
+  // depth changes fast from pixel to pixel) the same normal and the step between the two
+  // points lying in the plane, its height over it at most the tolerance of its length.
   const auto joined = [&](size_t i, size_t j) {
-    return land[i].ok && land[j].ok && same_surface(g.depth[i], g.depth[j], o.depth_tolerance);
+    if (!land[i].ok || !land[j].ok) return false;
+    if (same_surface(g.depth[i], g.depth[j], o.depth_tolerance)) return true;
+    const Vec3 step = point[j] - point[i];
+    return dot(g.normal[i], g.normal[j]) >= kSameNormal &&
+           std::abs(dot(step, g.normal[i])) <= o.depth_tolerance * length(step);
   };
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {

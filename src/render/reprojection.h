@@ -50,6 +50,10 @@ struct ReprojectionMap {
 ReprojectionMap reproject_view(const GBuffer& reference_depth, const ViewSetup& reference,
                                const ViewSetup& target, const ReprojectionOptions& o = {});
 
+// Where world point `p` appears in `view`: image position in pixels (x right, y down; may
+// lie outside the image). False when the point is not in front of the camera.
+bool project_to_image(const ViewSetup& view, const Vec3& p, float& px, float& py);
+
 // `spp` samples for every hole, 0 elsewhere (ViewSetup::spp_map). spp in 1..255.
 std::vector<uint8_t> hole_sample_map(const ReprojectionMap& map, int spp);
 
