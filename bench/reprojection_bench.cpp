@@ -1,19 +1,23 @@
 // Spatial reprojection with hole filling (issue 13; Leria et al. §6.3, Tables 1-2) against
 // full path tracing of every view. For each grid it renders the same frames of a camera
-// path three times on the same devices and balancer: every view path-traced (seed 0),
-// again with seed 1 (how far two correct renders are apart: the noise floor), and
-// reprojected (the centre view and the holes path-traced, seed 0). Also once: the centre
-// view alone (what "a grid costs little more than one view" compares with).
+// path on the same devices and balancer: every view path-traced (seed 0), again with seed 1
+// (how far two correct renders are apart: the noise floor), and reprojected once per
+// reference spacing (0: the centre view alone, as the paper; K: every K-th view from the
+// centre; the references and the holes path-traced, seed 0). Also once: the centre view
+// alone (what "a grid costs little more than one view" compares with).
 //
 // Frame time is the engine's (devices started -> all finished, steady_clock on the host
-// around the devices' work); host set-up (the centre's G-buffer and the reprojection) is
-// reported apart and added in `total`. Image error is the mean over the frames and the
-// views other than the centre of image_error() (MSE and PSNR over clamped linear RGB).
-// Exit 1 when a hole or the centre differs in any bit from the full render's pixel.
+// around the devices' work); host set-up (the references' G-buffers and the reprojection)
+// is reported apart and added in `total`. Image error is the mean over the frames and the
+// views that are not references of image_error() (MSE and PSNR over clamped linear RGB);
+// moved/seed compares the squared error over the reprojected pixels alone with the other
+// seed's over the same pixels. Exit 1 when a hole or a reference differs in any bit from
+// the full render's pixel.
 //
 //   reprojection_bench SCENE [--res 320x180] [--spp 1] [--bounces 8] [--spacing 0.2]
-//       [--grids 3x3,5x5,9x9] [--frames 10] [--camera-path FILE] [--devices SPEC]
-//       [--balancer dlb] [--json FILE] [--images DIR]
+//       [--grids 3x3,5x5,9x9] [--reference-spacings 0,3] [--frames 10]
+//       [--camera-path FILE] [--devices SPEC] [--balancer dlb] [--json FILE] [--images DIR]
+//       [--holes-only]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -68,15 +72,18 @@ struct Config {
   std::string scene, res = "320x180", grids = "3x3,5x5,9x9", camera_path = "fixed";
   std::string devices = "cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.5";
   std::string balancer = "dlb", json, images;
+  std::string reference_spacings = "0";
   int spp = 1, bounces = 8, frames = 10;
   bool holes_only = false;
   float spacing = 0.2f;
 };
 
-Run run_grid(const app::Setup& s, const Config& c, CameraRig rig, Sampling mode, uint64_t seed) {
+Run run_grid(const app::Setup& s, const Config& c, CameraRig rig, Sampling mode, uint64_t seed,
+             int reference_spacing = 0) {
   SamplingSetup sampling;
   sampling.mode = mode;
   sampling.reproject_spp = c.spp;
+  sampling.reference_spacing = reference_spacing;
   FrameViews views(rig, s.res.width, s.res.height, sampling, &s.scenes->embree());
   RenderSettings settings = s.settings;
   settings.seed = seed;
@@ -96,7 +103,7 @@ size_t mismatches(const Run& full, const Run& r) {
     const ReprojectedFrame& rf = *r.reprojection[f];
     for (size_t v = 0; v < r.images[f].size(); ++v)
       for (size_t i = 0; i < r.images[f][v].pixels.size(); ++i) {
-        const bool traced = v == rf.reference || rf.maps[v].source[i] == ReprojectionMap::kHole;
+        const bool traced = rf.is_reference(v) || rf.maps[v].source[i] == ReprojectionMap::kHole;
         bad += traced && std::memcmp(&r.images[f][v].pixels[i], &full.images[f][v].pixels[i],
                                      sizeof(Vec3)) != 0;
       }
@@ -104,14 +111,15 @@ size_t mismatches(const Run& full, const Run& r) {
   return bad;
 }
 
-// Mean image error of `r` against `full` over the frames and the non-centre views.
-ImageError error(const Run& full, const Run& r, uint32_t centre) {
+// Mean image error of `x` against `full` over the frames and the views that `r` did not
+// path-trace in full (its references are excluded for every x alike).
+ImageError error(const Run& full, const Run& x, const Run& r) {
   ImageError e{0, 0, 0};
   int n = 0;
-  for (size_t f = 0; f < r.images.size(); ++f)
-    for (size_t v = 0; v < r.images[f].size(); ++v) {
-      if (v == centre) continue;
-      const ImageError one = image_error(r.images[f][v], full.images[f][v]);
+  for (size_t f = 0; f < x.images.size(); ++f)
+    for (size_t v = 0; v < x.images[f].size(); ++v) {
+      if (r.reprojection[f]->is_reference(v)) continue;
+      const ImageError one = image_error(x.images[f][v], full.images[f][v]);
       e.mse += one.mse, e.psnr_db += one.psnr_db, e.ssim += one.ssim, ++n;
     }
   e.mse /= n, e.psnr_db /= n, e.ssim /= n;
@@ -135,7 +143,7 @@ std::pair<double, double> moved_pixel_mse(const Run& full, const Run& other, con
   for (size_t f = 0; f < moved.images.size(); ++f) {
     const ReprojectedFrame& rf = *moved.reprojection[f];
     for (size_t v = 0; v < moved.images[f].size(); ++v) {
-      if (v == rf.reference) continue;
+      if (rf.is_reference(v)) continue;
       for (size_t i = 0; i < rf.maps[v].source.size(); ++i) {
         if (rf.maps[v].source[i] == ReprojectionMap::kHole) continue;
         const Vec3& ref = full.images[f][v].pixels[i];
@@ -170,20 +178,29 @@ CameraRig parse_grid(const std::string& grid, float spacing) {
   return CameraRig::grid(columns, rows, spacing);
 }
 
+// One entry of --reference-spacings: 0..64.
+int parse_spacing(const std::string& text) {
+  const double k = app::to_number(text, "--reference-spacings");
+  if (k < 0 || k > 64 || k != std::floor(k))
+    throw InputError("--reference-spacings: '" + text + "' must be a whole number in 0..64");
+  return int(k);
+}
+
 // --holes-only: per grid, the hole fraction and what the holes see, from each target
-// view's own G-buffer: no surface (sky: one ray each), a surface outside the centre view's
-// image (the border), or a surface the centre does not see (a disocclusion). No path tracing.
-void measure_holes(const app::Setup& s, const Config& c, CameraRig rig) {
+// view's own G-buffer: no surface (sky: one ray each), a surface outside every reference's
+// image (the border), or a surface no reference sees (a disocclusion). No path tracing.
+void measure_holes(const app::Setup& s, const Config& c, CameraRig rig, int reference_spacing) {
   SamplingSetup sampling;
   sampling.mode = Sampling::Reprojected;
   sampling.reproject_spp = c.spp;
+  sampling.reference_spacing = reference_spacing;
   const FrameViews views(rig, s.res.width, s.res.height, sampling, &s.scenes->embree());
   double holes = 0, sky = 0, border = 0, pixels = 0;
   for (int f = 0; f < c.frames; ++f) {
     const FrameInput in = views.make(f, s.path.at(f));
-    const ViewSetup& centre = in.views[in.reprojection->reference];
+    const ReprojectedFrame& rf = *in.reprojection;
     for (size_t v = 0; v < in.views.size(); ++v) {
-      if (v == in.reprojection->reference) continue;
+      if (rf.is_reference(v)) continue;
       const ViewSetup& view = in.views[v];
       const GBuffer g = render_gbuffer(s.scenes->embree(), view);
       const PinholeCamera cam(view.camera, view.width, view.height);
@@ -200,18 +217,55 @@ void measure_holes(const app::Setup& s, const Config& c, CameraRig rig) {
         const Ray r = cam.ray(x, y);
         float px, py;
         const Vec3 p = r.org + r.dir * (g.depth[i] / dot(r.dir, cam.forward));
-        border += !project_to_image(centre, p, px, py) || px < 0 || py < 0 ||
-                  px >= float(view.width) || py >= float(view.height);
+        bool seen = false;  // inside some reference's image
+        for (uint32_t k : rf.references)
+          seen |= project_to_image(in.views[k], p, px, py) && px >= 0 && py >= 0 &&
+                  px < float(view.width) && py < float(view.height);
+        border += !seen;
       }
       pixels += double(m.source.size());
     }
   }
   const double other = std::max(1.0, holes);
   fmt::print(
-      "{:>5}  holes {:5.1f}% of the other views' pixels: sky {:4.1f}%, outside the centre's "
-      "image {:4.1f}%, disoccluded {:4.1f}%\n",
-      fmt::format("{}x{}", rig.columns, rig.rows), 100 * holes / pixels, 100 * sky / other,
-      100 * border / other, 100 * (holes - sky - border) / other);
+      "{:>5} refs every {}: holes {:5.1f}% of the other views' pixels: sky {:4.1f}%, outside "
+      "the references' images {:4.1f}%, disoccluded {:4.1f}%\n",
+      fmt::format("{}x{}", rig.columns, rig.rows), reference_spacing, 100 * holes / pixels,
+      100 * sky / other, 100 * border / other, 100 * (holes - sky - border) / other);
+}
+
+// One row of the table: `r` against the full render and the other seed's.
+nlohmann::json compare(const std::string& label, const Run& full, const Run& other, const Run& r,
+                       double one_view_ms) {
+  const ImageError e = error(full, r, r), floor = error(full, other, r);
+  double holes = 0;
+  for (const auto& rf : r.reprojection) holes += rf->hole_fraction() / double(r.images.size());
+  const double full_ms = full.mean(full.frame_ms), r_ms = r.mean(r.frame_ms),
+               host_ms = r.mean(r.host_ms), total = r_ms + host_ms;
+  const size_t bad = mismatches(full, r);
+  const auto [mse_moved, mse_moved_seed] = moved_pixel_mse(full, other, r);
+  fmt::print(
+      "{:>16} {:>10.1f} {:>10.1f} {:>9.1f} {:>7.2f}x {:>7.1f}% {:>6.2f}x {:>9.2f} {:>9.2f} "
+      "{:>9.2f}x{}\n",
+      label, full_ms, r_ms, host_ms, full_ms / total, 100 * holes, total / one_view_ms, e.psnr_db,
+      floor.psnr_db, mse_moved / mse_moved_seed,
+      bad ? fmt::format("  {} traced pixels differ from the full render!", bad) : "");
+  return {{"grid", label},
+          {"full_ms", full_ms},
+          {"reprojected_ms", r_ms},
+          {"host_ms", host_ms},
+          {"speedup", full_ms / total},
+          {"hole_fraction", holes},
+          {"cost_in_views", total / one_view_ms},
+          {"mse", e.mse},
+          {"psnr_db", e.psnr_db},
+          {"ssim", e.ssim},
+          {"seed_mse", floor.mse},
+          {"seed_psnr_db", floor.psnr_db},
+          {"seed_ssim", floor.ssim},
+          {"moved_mse", mse_moved},
+          {"moved_seed_mse", mse_moved_seed},
+          {"traced_mismatches", bad}};
 }
 
 int run(const Config& c) {
@@ -225,17 +279,17 @@ int run(const Config& c) {
   o.devices = c.devices;
   const app::Setup s = app::make_setup(o);
   if (c.holes_only) {
-    for (const std::string& grid : app::split(c.grids, ',')) {
-      measure_holes(s, c, parse_grid(grid, c.spacing));
-    }
+    for (const std::string& grid : app::split(c.grids, ','))
+      for (const std::string& k : app::split(c.reference_spacings, ','))
+        measure_holes(s, c, parse_grid(grid, c.spacing), parse_spacing(k));
     return 0;
   }
   for (const auto& d : s.devices) fmt::print("device {}\n", d->info().name);
   const Run alone =
       run_grid(s, c, CameraRig::single(), Sampling::Uniform, s.settings.seed);  // one view
   fmt::print("one view: {:.1f} ms a frame\n", alone.mean(alone.frame_ms));
-  fmt::print("{:>5} {:>10} {:>10} {:>9} {:>8} {:>8} {:>7} {:>9} {:>9} {:>10}\n", "grid", "full ms",
-             "reproj ms", "host ms", "speedup", "holes", "x view", "PSNR dB", "seed dB",
+  fmt::print("{:>16} {:>10} {:>10} {:>9} {:>8} {:>8} {:>7} {:>9} {:>9} {:>10}\n", "grid",
+             "full ms", "reproj ms", "host ms", "speedup", "holes", "x view", "PSNR dB", "seed dB",
              "moved/seed");
   nlohmann::json out = {{"scene", s.scene->name}, {"res", c.res},
                         {"spp", c.spp},           {"bounces", c.bounces},
@@ -246,39 +300,16 @@ int run(const Config& c) {
     const CameraRig rig = parse_grid(grid, c.spacing);
     const Run full = run_grid(s, c, rig, Sampling::Uniform, s.settings.seed);
     const Run other = run_grid(s, c, rig, Sampling::Uniform, s.settings.seed + 1);
-    const Run r = run_grid(s, c, rig, Sampling::Reprojected, s.settings.seed);
-    const uint32_t centre = uint32_t(rig.centre_view());
-    const ImageError e = error(full, r, centre), floor = error(full, other, centre);
-    double holes = 0;
-    for (const auto& rf : r.reprojection) holes += rf->hole_fraction() / double(c.frames);
-    const double full_ms = full.mean(full.frame_ms), r_ms = r.mean(r.frame_ms),
-                 host_ms = r.mean(r.host_ms), total = r_ms + host_ms;
-    const size_t bad = mismatches(full, r);
-    const auto [mse_moved, mse_moved_seed] = moved_pixel_mse(full, other, r);
-    fmt::print(
-        "{:>5} {:>10.1f} {:>10.1f} {:>9.1f} {:>7.2f}x {:>7.1f}% {:>6.2f}x {:>9.2f} {:>9.2f} "
-        "{:>9.2f}x{}\n",
-        grid, full_ms, r_ms, host_ms, full_ms / total, 100 * holes,
-        total / alone.mean(alone.frame_ms), e.psnr_db, floor.psnr_db, mse_moved / mse_moved_seed,
-        bad ? fmt::format("  {} traced pixels differ from the full render!", bad) : "");
-    out["grids"].push_back({{"grid", grid},
-                            {"full_ms", full_ms},
-                            {"reprojected_ms", r_ms},
-                            {"host_ms", host_ms},
-                            {"speedup", full_ms / total},
-                            {"hole_fraction", holes},
-                            {"cost_in_views", total / alone.mean(alone.frame_ms)},
-                            {"mse", e.mse},
-                            {"psnr_db", e.psnr_db},
-                            {"ssim", e.ssim},
-                            {"seed_mse", floor.mse},
-                            {"seed_psnr_db", floor.psnr_db},
-                            {"seed_ssim", floor.ssim},
-                            {"moved_mse", mse_moved},
-                            {"moved_seed_mse", mse_moved_seed},
-                            {"traced_mismatches", bad}});
-    if (!c.images.empty()) write_images(c.images, grid, full, r);
-    if (bad) status = 1;
+    for (const std::string& spacing : app::split(c.reference_spacings, ',')) {
+      const int k = parse_spacing(spacing);
+      const Run r = run_grid(s, c, rig, Sampling::Reprojected, s.settings.seed, k);
+      const std::string label = k ? fmt::format("{} refs every {}", grid, k) : grid;
+      out["grids"].push_back(compare(label, full, other, r, alone.mean(alone.frame_ms)));
+      out["grids"].back()["reference_spacing"] = k;
+      out["grids"].back()["references"] = r.reprojection[0]->references.size();
+      if (!c.images.empty()) write_images(c.images, k ? grid + "_every" + spacing : grid, full, r);
+      if (out["grids"].back()["traced_mismatches"] != 0) status = 1;
+    }
   }
   if (!c.json.empty()) write_file_atomically(c.json, out.dump(2) + "\n");
   return status;
@@ -304,6 +335,9 @@ int main(int argc, char** argv) {
   app.add_option("--balancer", c.balancer, "Balancer spec")->capture_default_str();
   app.add_option("--json", c.json, "Write the results here");
   app.add_option("--images", c.images, "Write the last frame's view 0 here (existing folder)");
+  app.add_option("--reference-spacings", c.reference_spacings,
+                 "Reference spacings to measure, K,... (0: the centre view alone)")
+      ->capture_default_str();
   app.add_flag("--holes-only", c.holes_only,
                "Only count holes (and the share that is sky) per grid; no path tracing");
   CLI11_PARSE(app, argc, argv);

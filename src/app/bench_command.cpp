@@ -182,6 +182,9 @@ Runner add_bench_command(CLI::App& app) {
         timeline_scale(result, warmup, result.lanes.empty() ? 0 : result.lanes[0].records.size());
     std::vector<ComparisonBar> bars;
     nlohmann::json runs_json = nlohmann::json::array();
+    std::vector<uint32_t> reference_views;  // reprojected sampling's, the same every frame
+    for (int v : s.views->rig().reference_views(s.views->sampling().reference_spacing))
+      reference_views.push_back(uint32_t(v));
     for (size_t k = 0; k < result.lanes.size(); ++k) {
       const BenchLane& lane = result.lanes[k];
       const std::vector<int>& mismatched = result.mismatched_frames[k];
@@ -190,8 +193,8 @@ Runner add_bench_command(CLI::App& app) {
         frames.push_back(frame_to_json(lane.records[f]));
         frames.back()["sampling_ms"] = result.sampling_ms[f];
         if (f < result.hole_fraction.size())
-          frames.back()["reprojection"] = reprojection_to_json(
-              uint32_t(s.views->rig().centre_view()), result.hole_fraction[f]);
+          frames.back()["reprojection"] =
+              reprojection_to_json(reference_views, result.hole_fraction[f]);
         frames.back()["image_hash"] = fmt::format("{:016x}", lane.image_hashes[f]);
       }
       std::string name = session->engine(k).balancer().name();

@@ -328,6 +328,9 @@ void fill_setup(Setup& s, const CommonOptions& o, int lanes,
     if (s.settings.spp > 255)
       throw InputError("--sampling reproject takes at most 255 samples per pixel (--spp)");
     sampling.reproject_spp = s.settings.spp;
+    if (o.reference_spacing < 0 || o.reference_spacing > 64)
+      throw InputError("--reference-spacing must be in 0..64 (0: the centre view alone)");
+    sampling.reference_spacing = o.reference_spacing;
   }
   s.settings.seed = parse_seed(o.seed);
   std::optional<Camera> cli_camera;

@@ -47,6 +47,7 @@ struct CommonOptions {
   float ao_distance = 0.0f;          // 0: 0.3 of the scene size
   std::string sampling = "uniform";  // uniform | adaptive | foveated
   int edge_spp = 5;                  // adaptive: samples of edge pixels (others get 1)
+  int reference_spacing = 0;         // reproject: references every K views; 0: the centre
   std::string gaze = "0.5,0.5";      // foveated: gaze point X,Y, normalised, (0,0) top left
   std::string gaze_path = "fixed";   // foveated: fixed | orbit | orbit:PERIOD
   FoveationParams foveation;         // foveated: --fovea-spp, --fovea-radius, --periphery-spp

@@ -119,6 +119,11 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
       ->capture_default_str();
   cmd.add_option("--edge-spp", o.edge_spp, "Samples of edge pixels with --sampling adaptive")
       ->capture_default_str();
+  cmd.add_option("--reference-spacing", o.reference_spacing,
+                 "With --sampling reproject: path-trace every K-th view from the centre, across "
+                 "and down, in full and reproject from all of them (ours; fewer holes in large "
+                 "grids); 0: the centre view alone (Leria et al.)")
+      ->capture_default_str();
   cmd.add_option("--gaze", o.gaze,
                  "Foveated: gaze point X,Y in normalised screen coordinates, 0,0 top left")
       ->capture_default_str();
@@ -190,7 +195,7 @@ class RenderOutput : public FrameObserver {
     json_.back()["sampling_ms"] = r->sampling_ms;
     if (r->reprojection)
       json_.back()["reprojection"] =
-          reprojection_to_json(r->reprojection->reference, r->reprojection->hole_fraction());
+          reprojection_to_json(r->reprojection->references, r->reprojection->hole_fraction());
     uint64_t hash = 0xcbf29ce484222325ull;
     for (const Framebuffer& img : images) hash = image_hash(img, hash);
     json_.back()["image_hash"] = fmt::format("{:016x}", hash);

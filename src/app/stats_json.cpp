@@ -58,8 +58,9 @@ nlohmann::json settings_to_json(const CommonOptions& o, const Setup& s,
       {"distributed", distributed_to_json(s)}};
 }
 
-nlohmann::json reprojection_to_json(uint32_t reference_view, double hole_fraction) {
-  return {{"reference_view", reference_view}, {"hole_fraction", hole_fraction}};
+nlohmann::json reprojection_to_json(const std::vector<uint32_t>& reference_views,
+                                    double hole_fraction) {
+  return {{"reference_views", reference_views}, {"hole_fraction", hole_fraction}};
 }
 
 nlohmann::json frame_to_json(const FrameRecord& rec) {

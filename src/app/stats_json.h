@@ -20,8 +20,9 @@ struct CommonOptions;
 struct Setup;
 
 nlohmann::json frame_to_json(const FrameRecord& rec);
-// A reprojected frame's summary: {"reference_view", "hole_fraction"}.
-nlohmann::json reprojection_to_json(uint32_t reference_view, double hole_fraction);
+// A reprojected frame's summary: {"reference_views", "hole_fraction"}.
+nlohmann::json reprojection_to_json(const std::vector<uint32_t>& reference_views,
+                                    double hole_fraction);
 // The settings a run was made with, so that stats.json alone says how to repeat it: the
 // command line, version, scene, resolution, spp, bounces, frames, kernel, sampling, seed,
 // camera (where it came from and the one used), up axis, camera path, environment, views

@@ -61,23 +61,41 @@ FrameInput FrameViews::make(int frame, const Camera& camera) const {
 
 void FrameViews::reproject(FrameInput& in) const {
   auto frame = std::make_shared<ReprojectedFrame>();
-  frame->reference = uint32_t(rig_.centre_view());
-  const ViewSetup& ref = in.views[frame->reference];
-  const GBuffer depth = render_gbuffer(*host_, ref);
-  const size_t n = in.views.size();
+  for (int r : rig_.reference_views(sampling_.reference_spacing))
+    frame->references.push_back(uint32_t(r));
+  const size_t n = in.views.size(), refs = frame->references.size();
+  std::vector<GBuffer> depth(refs);
+  for (size_t k = 0; k < refs; ++k)
+    depth[k] = render_gbuffer(*host_, in.views[frame->references[k]]);
   frame->maps.resize(n);
   in.maps.resize(n);
   // Views in parallel: each writes only its own map.
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     const ViewSetup& v = in.views[i];
-    if (i == frame->reference) {
+    if (frame->is_reference(i)) {
       in.maps[i].assign(size_t(v.width) * size_t(v.height), uint8_t(sampling_.reproject_spp));
-    } else {
-      frame->maps[i] = reproject_view(depth, ref, v);
-      in.maps[i] = hole_sample_map(frame->maps[i], sampling_.reproject_spp);
+      return;
     }
+    // References nearest to this view first (a surface several of them see keeps the
+    // nearest one's colour); the sources are renumbered to frame->references' order below.
+    std::vector<size_t> order(refs);
+    for (size_t k = 0; k < refs; ++k) order[k] = k;
+    const auto distance = [&](size_t k) {
+      return length(in.views[frame->references[k]].camera.eye - v.camera.eye);
+    };
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return distance(a) < distance(b); });
+    std::vector<ReprojectionReference> by_distance;
+    for (size_t k : order) by_distance.push_back({&in.views[frame->references[k]], &depth[k]});
+    ReprojectionMap m = reproject_view(by_distance, v);
+    // Sources are numbered by position in by_distance; renumber to frame->references.
+    const size_t pixels = m.source.size();
+    for (int32_t& s : m.source)
+      if (s != ReprojectionMap::kHole)
+        s = int32_t(order[size_t(s) / pixels] * pixels + size_t(s) % pixels);
+    frame->maps[i] = std::move(m);
+    in.maps[i] = hole_sample_map(frame->maps[i], sampling_.reproject_spp);
   });
-  for (size_t i = 0; i < in.views.size(); ++i) in.views[i].spp_map = &in.maps[i];
   in.reprojection = std::move(frame);
 }
 

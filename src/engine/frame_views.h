@@ -35,7 +35,10 @@ struct SamplingSetup {
   Sampling mode = Sampling::Uniform;
   int edge_spp = 5;       // adaptive: samples of edge pixels (the others get 1)
   int reproject_spp = 1;  // reprojected: samples of the centre view and of holes, 1..255
-  GazePath gaze;          // foveated
+  // Reprojected: references every this many views from the centre (CameraRig::
+  // reference_views); 0: the centre view alone, as Leria et al.
+  int reference_spacing = 0;
+  GazePath gaze;                                    // foveated
   std::shared_ptr<const FoveationPattern> pattern;  // foveated: made once per run
 };
 

@@ -1,6 +1,7 @@
 #include "render/reprojection.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <stdexcept>
 
@@ -56,13 +57,17 @@ struct Landing {
   bool ok = false;
 };
 
-// The target's depth buffer and sources as the warp fills them: the nearest wins.
+// The target's depth buffer and sources as the warp fills them: the nearest wins. After
+// the first reference, a pixel changes hands only to a surface nearer by more than
+// `margin` (a fraction of its depth): the same surface seen by a farther reference keeps
+// the nearer reference's colour (view-dependent shading is closer to the target's).
 struct Warp {
   int width, height;
   std::vector<float> depth;
   std::vector<int32_t>& source;
+  float margin = 0;
   void offer(int64_t pixel, float z, int32_t from) {
-    if (pixel < 0 || !(z < depth[size_t(pixel)])) return;
+    if (pixel < 0 || !(z < depth[size_t(pixel)] * (1.0f - margin))) return;
     depth[size_t(pixel)] = z;
     source[size_t(pixel)] = from;
   }
@@ -102,19 +107,13 @@ size_t ReprojectionMap::holes() const {
   return size_t(std::count(source.begin(), source.end(), kHole));
 }
 
-ReprojectionMap reproject_view(const GBuffer& reference_depth, const ViewSetup& reference,
-                               const ViewSetup& target, const ReprojectionOptions& o) {
-  if (reference.width != target.width || reference.height != target.height ||
-      reference_depth.width != reference.width || reference_depth.height != reference.height)
-    throw std::invalid_argument("reproject_view: the views and the G-buffer differ in size");
-  const Projector ref(reference), tgt(target);
-  const GBuffer& g = reference_depth;
+namespace {
+// Warps one reference into `warp`; its pixel i is source `offset + i`.
+void warp_reference(const ReprojectionReference& r, const Projector& tgt, int32_t offset,
+                    const ReprojectionOptions& o, Warp& warp) {
+  const GBuffer& g = *r.depth;
+  const Projector ref(*r.view);
   const size_t w = size_t(g.width), n = w * size_t(g.height);
-  ReprojectionMap m;
-  m.width = target.width, m.height = target.height;
-  m.source.assign(n, ReprojectionMap::kHole);
-  Warp warp{target.width, target.height, std::vector<float>(n, INFINITY), m.source};
-
   std::vector<Landing> land(n);
   std::vector<Vec3> point(n);  // each reference pixel's surface point, world space
   for (int y = 0; y < g.height; ++y)
@@ -124,7 +123,7 @@ ReprojectionMap reproject_view(const GBuffer& reference_depth, const ViewSetup& 
       point[i] = ref.point(float(x) + 0.5f, float(y) + 0.5f, g.depth[i]);
       Landing& l = land[i];
       l.ok = tgt.project(point[i], l.x, l.y, l.z);
-      if (l.ok) warp.offer(tgt.pixel(l.x, l.y), l.z, int32_t(i));
+      if (l.ok) warp.offer(tgt.pixel(l.x, l.y), l.z, offset + int32_t(i));
     }
   // Spans between neighbours on one surface: right and lower neighbours, along x and y.
   // One surface: depths within the tolerance, or (for planes seen at a grazing angle, whose
@@ -140,12 +139,39 @@ ReprojectionMap reproject_view(const GBuffer& reference_depth, const ViewSetup& 
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
       const size_t i = size_t(y) * w + size_t(x);
+      const int32_t si = offset + int32_t(i);
       if (x + 1 < g.width && joined(i, i + 1))
-        fill_span(land[i], int32_t(i), land[i + 1], int32_t(i + 1), true, warp);
+        fill_span(land[i], si, land[i + 1], si + 1, true, warp);
       if (y + 1 < g.height && joined(i, i + w))
-        fill_span(land[i], int32_t(i), land[i + w], int32_t(i + w), false, warp);
+        fill_span(land[i], si, land[i + w], si + int32_t(w), false, warp);
     }
+}
+}  // namespace
+
+ReprojectionMap reproject_view(const std::vector<ReprojectionReference>& references,
+                               const ViewSetup& target, const ReprojectionOptions& o) {
+  const size_t n = size_t(target.width) * size_t(target.height);
+  if (references.empty() || n * references.size() > size_t(INT32_MAX))
+    throw std::invalid_argument("reproject_view: 1 reference or more, 2^31 pixels at most");
+  for (const ReprojectionReference& r : references)
+    if (r.view->width != target.width || r.view->height != target.height ||
+        r.depth->width != target.width || r.depth->height != target.height)
+      throw std::invalid_argument("reproject_view: the views and the G-buffers differ in size");
+  ReprojectionMap m;
+  m.width = target.width, m.height = target.height;
+  m.source.assign(n, ReprojectionMap::kHole);
+  Warp warp{target.width, target.height, std::vector<float>(n, INFINITY), m.source};
+  const Projector tgt(target);
+  for (size_t k = 0; k < references.size(); ++k) {
+    warp.margin = k == 0 ? 0.0f : o.depth_tolerance;
+    warp_reference(references[k], tgt, int32_t(k * n), o, warp);
+  }
   return m;
+}
+
+ReprojectionMap reproject_view(const GBuffer& reference_depth, const ViewSetup& reference,
+                               const ViewSetup& target, const ReprojectionOptions& o) {
+  return reproject_view({{&reference, &reference_depth}}, target, o);
 }
 
 std::vector<uint8_t> hole_sample_map(const ReprojectionMap& map, int spp) {
@@ -156,27 +182,43 @@ std::vector<uint8_t> hole_sample_map(const ReprojectionMap& map, int spp) {
   return out;
 }
 
-void fill_reprojected(const Framebuffer& reference, const ReprojectionMap& map,
-                      Framebuffer& target) {
-  if (reference.width != map.width || reference.height != map.height ||
-      target.width != map.width || target.height != map.height)
+void fill_reprojected(const std::vector<const Framebuffer*>& references,
+                      const ReprojectionMap& map, Framebuffer& target) {
+  const size_t n = map.source.size();
+  for (const Framebuffer* r : references)
+    if (r->width != map.width || r->height != map.height)
+      throw std::invalid_argument("fill_reprojected: the images and the map differ in size");
+  if (target.width != map.width || target.height != map.height)
     throw std::invalid_argument("fill_reprojected: the images and the map differ in size");
-  for (size_t i = 0; i < map.source.size(); ++i)
-    if (map.source[i] != ReprojectionMap::kHole)
-      target.pixels[i] = reference.pixels[size_t(map.source[i])];
+  for (size_t i = 0; i < n; ++i) {
+    const int32_t s = map.source[i];
+    if (s == ReprojectionMap::kHole) continue;
+    if (size_t(s) / n >= references.size())
+      throw std::invalid_argument("fill_reprojected: a source names a missing reference");
+    target.pixels[i] = references[size_t(s) / n]->pixels[size_t(s) % n];
+  }
+}
+
+bool ReprojectedFrame::is_reference(size_t view) const {
+  return std::find(references.begin(), references.end(), uint32_t(view)) != references.end();
 }
 
 void ReprojectedFrame::fill(std::vector<Framebuffer>& images) const {
-  if (images.size() != maps.size() || reference >= images.size())
+  if (images.size() != maps.size())
     throw std::invalid_argument("ReprojectedFrame::fill: one image per view expected");
+  std::vector<const Framebuffer*> refs;
+  for (uint32_t r : references) {
+    if (r >= images.size()) throw std::invalid_argument("ReprojectedFrame::fill: no such view");
+    refs.push_back(&images[r]);
+  }
   for (size_t v = 0; v < images.size(); ++v)
-    if (v != reference) fill_reprojected(images[reference], maps[v], images[v]);
+    if (!is_reference(v)) fill_reprojected(refs, maps[v], images[v]);
 }
 
 double ReprojectedFrame::hole_fraction() const {
   size_t holes = 0, pixels = 0;
   for (size_t v = 0; v < maps.size(); ++v)
-    if (v != reference) holes += maps[v].holes(), pixels += maps[v].source.size();
+    if (!is_reference(v)) holes += maps[v].holes(), pixels += maps[v].source.size();
   return pixels ? double(holes) / double(pixels) : 0.0;
 }
 

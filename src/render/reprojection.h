@@ -34,8 +34,8 @@ struct ReprojectionOptions {
   float depth_tolerance = 0.03f;
 };
 
-// For each pixel of a target view (row-major), the reference pixel whose colour it takes,
-// or kHole.
+// For each pixel of a target view (row-major), the reference pixel whose colour it takes
+// (reference k's pixel i is k * width * height + i), or kHole.
 struct ReprojectionMap {
   static constexpr int32_t kHole = -1;
   int width = 0, height = 0;
@@ -50,6 +50,17 @@ struct ReprojectionMap {
 ReprojectionMap reproject_view(const GBuffer& reference_depth, const ViewSetup& reference,
                                const ViewSetup& target, const ReprojectionOptions& o = {});
 
+// One of several references: its view and its G-buffer (both outlive the call).
+struct ReprojectionReference {
+  const ViewSetup* view;
+  const GBuffer* depth;
+};
+// The same from several references, warped in the order given (nearest to the target
+// first): a pixel the first reached keeps its source unless a later one brings a surface
+// nearer by more than the depth tolerance. At most 2^31 reference pixels in all.
+ReprojectionMap reproject_view(const std::vector<ReprojectionReference>& references,
+                               const ViewSetup& target, const ReprojectionOptions& o = {});
+
 // Where world point `p` appears in `view`: image position in pixels (x right, y down; may
 // lie outside the image). False when the point is not in front of the camera.
 bool project_to_image(const ViewSetup& view, const Vec3& p, float& px, float& py);
@@ -57,18 +68,21 @@ bool project_to_image(const ViewSetup& view, const Vec3& p, float& px, float& py
 // `spp` samples for every hole, 0 elsewhere (ViewSetup::spp_map). spp in 1..255.
 std::vector<uint8_t> hole_sample_map(const ReprojectionMap& map, int spp);
 
-// Copies the reference's colour into every pixel of `target` that is not a hole.
-void fill_reprojected(const Framebuffer& reference, const ReprojectionMap& map,
-                      Framebuffer& target);
+// Copies the references' colours (in the order the map was made with) into every pixel
+// of `target` that is not a hole.
+void fill_reprojected(const std::vector<const Framebuffer*>& references,
+                      const ReprojectionMap& map, Framebuffer& target);
 
-// A frame's reprojection: which view is the reference and each view's map (empty for the
-// reference itself).
+// A frame's reprojection: which views are references (path-traced in full) and each
+// view's map (empty for the references). Every map's sources name references by their
+// position in `references`.
 struct ReprojectedFrame {
-  uint32_t reference = 0;
+  std::vector<uint32_t> references;
   std::vector<ReprojectionMap> maps;
-  // Fills every view but the reference from the reference's image (images[reference]).
+  bool is_reference(size_t view) const;
+  // Fills every view but the references from the references' images.
   void fill(std::vector<Framebuffer>& images) const;
-  // Holes over the pixels of the views that are not the reference, in [0, 1].
+  // Holes over the pixels of the views that are not references, in [0, 1].
   double hole_fraction() const;
 };
 

@@ -21,4 +21,17 @@ std::vector<Camera> CameraRig::views(const Camera& c) const {
   return out;
 }
 
+std::vector<int> CameraRig::reference_views(int spacing) const {
+  if (spacing <= 0) return {centre_view()};
+  const auto picks = [&](int count) {
+    std::vector<int> out;
+    for (int i = (count / 2) % spacing; i < count; i += spacing) out.push_back(i);
+    return out;
+  };
+  std::vector<int> views;
+  for (int r : picks(rows))
+    for (int k : picks(columns)) views.push_back(r * columns + k);
+  return views;
+}
+
 }  // namespace multiray

@@ -22,6 +22,9 @@ struct CameraRig {
   // The view at the grid's centre (the middle one of odd grids; of even grids the one right
   // of and below the centre): the reference of spatial reprojection.
   int centre_view() const { return (rows / 2) * columns + columns / 2; }
+  // The views of the grid every `spacing` columns and rows from the centre view (the centre
+  // included), row-major; spacing 0: the centre view alone. Reprojection's references.
+  std::vector<int> reference_views(int spacing) const;
   // The views in row-major order (top row first, left to right), centred on `center`,
   // all looking in its direction (parallel, not converging).
   std::vector<Camera> views(const Camera& center) const;

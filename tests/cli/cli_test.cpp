@@ -117,12 +117,14 @@ TEST(Cli, ReprojectedSamplingRendersEveryViewAndChecksItsOptions) {
   const nlohmann::json j = nlohmann::json::parse(stats);
   const nlohmann::json& frame = j["frames"][0];
   ASSERT_TRUE(frame.contains("reprojection")) << frame.dump();
-  EXPECT_EQ(frame["reprojection"]["reference_view"], 4);
+  EXPECT_EQ(frame["reprojection"]["reference_views"], nlohmann::json::array({4}));
   const double holes = frame["reprojection"]["hole_fraction"];
   EXPECT_GT(holes, 0.0);
   EXPECT_LT(holes, 1.0);
   expect_input_error("render --sampling reproject", "several views");
   expect_input_error("render --views 3x3 --sampling reproject --spp 300", "255");
+  expect_input_error("render --views 3x3 --sampling reproject --reference-spacing 65",
+                     "--reference-spacing");
 }
 
 TEST(Cli, UpExposureAndToneAreChecked) {

@@ -4,6 +4,7 @@
 // render as two full renders with different seeds are to each other.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 #include "balance/balancer.h"
@@ -22,14 +23,16 @@ const CameraRig kRig = CameraRig::grid(3, 3, 0.25f);
 struct Rendered {
   std::vector<Framebuffer> images;
   std::shared_ptr<const ReprojectedFrame> reprojection;
+  std::vector<ViewSetup> views;
 };
 
 Rendered render(SceneCache& scenes, Sampling mode, const std::string& balancer, int devices,
-                int spp, uint64_t seed = 0) {
+                int spp, uint64_t seed = 0, CameraRig rig = kRig, int reference_spacing = 0) {
   SamplingSetup sampling;
   sampling.mode = mode;
   sampling.reproject_spp = spp;
-  const FrameViews views(kRig, kW, kH, sampling, &scenes.embree());
+  sampling.reference_spacing = reference_spacing;
+  const FrameViews views(rig, kW, kH, sampling, &scenes.embree());
   std::vector<std::unique_ptr<CpuDevice>> owned;
   std::vector<Device*> ptrs;
   for (int i = 0; i < devices; ++i) {
@@ -42,11 +45,38 @@ Rendered render(SceneCache& scenes, Sampling mode, const std::string& balancer, 
   engine.render_frame(3, in.views, RenderSettings{.spp = spp, .seed = seed}, out.images);
   in.finish(out.images);
   out.reprojection = in.reprojection;
+  out.views = in.views;
   return out;
 }
 
 bool same(const Framebuffer& a, const Framebuffer& b) {
   return std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Vec3)) == 0;
+}
+
+// Every reference and every hole is the full render's pixel; every other pixel is its
+// source reference's pixel. Returns the holes and the moved pixels counted.
+std::pair<size_t, size_t> expect_traced_or_moved(const Rendered& r, const Rendered& full) {
+  size_t holes = 0, moved = 0;
+  const ReprojectedFrame& rf = *r.reprojection;
+  for (size_t v = 0; v < r.images.size(); ++v) {
+    if (rf.is_reference(v)) {
+      EXPECT_TRUE(same(r.images[v], full.images[v])) << "reference view " << v;
+      continue;
+    }
+    const ReprojectionMap& m = rf.maps[v];
+    const size_t n = m.source.size();
+    for (size_t i = 0; i < n; ++i) {
+      const int32_t s = m.source[i];
+      const bool hole = s == ReprojectionMap::kHole;
+      const Vec3 expected =
+          hole ? full.images[v].pixels[i]
+               : full.images[rf.references.at(size_t(s) / n)].pixels[size_t(s) % n];
+      EXPECT_EQ(std::memcmp(&r.images[v].pixels[i], &expected, sizeof(Vec3)), 0)
+          << "view " << v << " pixel " << i << (hole ? " (hole)" : "");
+      (hole ? holes : moved)++;
+    }
+  }
+  return {holes, moved};
 }
 
 TEST(ReprojectedSampling, HolesAndTheCentreAreTheFullRendersPixelsTheRestTheCentres) {
@@ -55,26 +85,46 @@ TEST(ReprojectedSampling, HolesAndTheCentreAreTheFullRendersPixelsTheRestTheCent
   const Rendered full = render(scenes, Sampling::Uniform, "uniform", 1, 4);
   const Rendered r = render(scenes, Sampling::Reprojected, "uniform", 1, 4);
   ASSERT_TRUE(r.reprojection);
-  const uint32_t centre = r.reprojection->reference;
-  EXPECT_EQ(centre, 4u);
-  EXPECT_TRUE(same(r.images[centre], full.images[centre]));
-  size_t holes = 0, moved = 0;
-  for (size_t v = 0; v < r.images.size(); ++v) {
-    if (v == centre) continue;
-    const ReprojectionMap& m = r.reprojection->maps[v];
-    for (size_t i = 0; i < m.source.size(); ++i) {
-      const bool hole = m.source[i] == ReprojectionMap::kHole;
-      const Vec3 expected =
-          hole ? full.images[v].pixels[i] : full.images[centre].pixels[size_t(m.source[i])];
-      ASSERT_EQ(std::memcmp(&r.images[v].pixels[i], &expected, sizeof(Vec3)), 0)
-          << "view " << v << " pixel " << i << (hole ? " (hole)" : "");
-      (hole ? holes : moved)++;
-    }
-  }
+  ASSERT_EQ(r.reprojection->references, std::vector<uint32_t>{4});
+  const auto [holes, moved] = expect_traced_or_moved(r, full);
   // The views moved by a quarter of a unit see most of the box the centre sees (the holes
   // are mostly the black outside the box, one ray each, and the walls seen more frontally).
   EXPECT_GT(moved, holes);
   EXPECT_GT(holes, 0u);
+}
+
+TEST(ReprojectedSampling, MoreReferencesLeaveFewerHolesAndAllOfThemGiveTheFullImage) {
+  const Scene scene = make_cornell_box();
+  SceneCache scenes(scene);
+  const CameraRig rig = CameraRig::grid(5, 5, 0.2f);
+  const Rendered full = render(scenes, Sampling::Uniform, "uniform", 2, 2, 0, rig);
+  const Rendered centre = render(scenes, Sampling::Reprojected, "dlb", 2, 2, 0, rig, 0);
+  const Rendered nine = render(scenes, Sampling::Reprojected, "dlb", 2, 2, 0, rig, 2);
+  EXPECT_EQ(nine.reprojection->references,
+            (std::vector<uint32_t>{0, 2, 4, 10, 12, 14, 20, 22, 24}));
+  expect_traced_or_moved(centre, full);
+  expect_traced_or_moved(nine, full);
+  // Holes that see the box (the black outside it is a hole for any number of references),
+  // as a share of the pixels of the views that are not references.
+  const auto surface_holes = [&](const Rendered& r) {
+    double holes = 0, pixels = 0;
+    for (size_t v = 0; v < r.views.size(); ++v) {
+      if (r.reprojection->is_reference(v)) continue;
+      const GBuffer g = render_gbuffer(scenes.embree(), r.views[v]);
+      for (size_t i = 0; i < g.depth.size(); ++i)
+        holes += std::isfinite(g.depth[i]) &&
+                 r.reprojection->maps[v].source[i] == ReprojectionMap::kHole;
+      pixels += double(g.depth.size());
+    }
+    return holes / pixels;
+  };
+  const double share_centre = surface_holes(centre), share_nine = surface_holes(nine);
+  std::printf("holes on the box: centre alone %.1f%%, nine references %.1f%%\n",
+              100 * share_centre, 100 * share_nine);
+  EXPECT_LT(3 * share_nine, share_centre);
+  // Every view a reference: the full render itself.
+  const Rendered all = render(scenes, Sampling::Reprojected, "dlb", 2, 2, 0, rig, 1);
+  for (size_t v = 0; v < all.images.size(); ++v) EXPECT_TRUE(same(all.images[v], full.images[v]));
 }
 
 TEST(ReprojectedSampling, ImagesDoNotDependOnTheSplit) {
@@ -101,7 +151,7 @@ TEST(ReprojectedSampling, ErrorAgainstAFullRenderIsThatOfAnotherSeed) {
   const Rendered r = render(scenes, Sampling::Reprojected, "uniform", 2, 16);
   double mse_reprojected = 0, mse_seed = 0;
   for (size_t v = 0; v < r.images.size(); ++v) {
-    if (v == r.reprojection->reference) continue;
+    if (r.reprojection->is_reference(v)) continue;
     mse_reprojected += image_error(r.images[v], full.images[v]).mse;
     mse_seed += image_error(other_seed.images[v], full.images[v]).mse;
   }

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "render/reprojection.h"
+#include "scene/camera_rig.h"
 
 namespace multiray {
 namespace {
@@ -123,6 +124,25 @@ TEST(Reprojection, GapsOfASlantedWallAreFilledAndStepsAreNot) {
   EXPECT_EQ(s.source[size_t(at(27, 5))], ReprojectionMap::kHole);
 }
 
+TEST(Reprojection, ASecondReferenceFillsWhatTheFirstCannotSee) {
+  // The square in front of the wall as before, seen by reference A at x = 0 and by B at
+  // x = 1, where the square lies 16 px left, over [8, 24). The target at x = 0.5 lies
+  // between them: what A cannot see (right of the square, and the right border) B does.
+  const auto square_at = [](int x0) {
+    return depths(
+        [=](int x, int y) { return x >= x0 && x < x0 + 16 && y >= 24 && y < 40 ? 2.0f : 4.0f; });
+  };
+  const GBuffer ga = square_at(24), gb = square_at(8);
+  const ViewSetup a = view_at({0, 0, 0}), b = view_at({1.0f, 0, 0}), t = view_at({0.5f, 0, 0});
+  const ReprojectionMap m = reproject_view({{&a, &ga}, {&b, &gb}}, t);
+  EXPECT_EQ(m.holes(), 0u);
+  const int32_t n = kW * kH;
+  EXPECT_EQ(m.source[size_t(at(33, 30))], n + at(29, 30));          // B's wall, disoccluded in A
+  EXPECT_EQ(m.source[size_t(at(kW - 1, 30))], n + at(kW - 5, 30));  // A's right border
+  EXPECT_EQ(m.source[size_t(at(10, 30))], at(14, 30));  // both see it: the first keeps it
+  EXPECT_EQ(m.source[size_t(at(20, 30))], at(28, 30));  // the square, from A
+}
+
 TEST(Reprojection, TheSkyIsNeverMovedAndBehindTheCameraIsIgnored) {
   const GBuffer g = depths([](int x, int) { return x < 32 ? INFINITY : 4.0f; });
   const ReprojectionMap m = reproject_view(g, view_at({0, 0, 0}), view_at({0.5f, 0, 0}));
@@ -136,7 +156,7 @@ TEST(Reprojection, TheSkyIsNeverMovedAndBehindTheCameraIsIgnored) {
 TEST(Reprojection, FillCopiesTheSourcesAndTheSampleMapMarksHoles) {
   const GBuffer g = depths([](int, int) { return 4.0f; });
   ReprojectedFrame frame;
-  frame.reference = 1;
+  frame.references = {1};
   frame.maps.push_back(reproject_view(g, view_at({0, 0, 0}), view_at({0.5f, 0, 0})));
   frame.maps.emplace_back();
   std::vector<Framebuffer> images(2, Framebuffer(kW, kH));
@@ -153,6 +173,14 @@ TEST(Reprojection, FillCopiesTheSourcesAndTheSampleMapMarksHoles) {
   EXPECT_THROW(hole_sample_map(frame.maps[0], 256), std::invalid_argument);
   images.pop_back();
   EXPECT_THROW(frame.fill(images), std::invalid_argument);
+  // References of a grid: every K-th view from the centre, across and down.
+  EXPECT_EQ(CameraRig::grid(9, 9, 0.2f).reference_views(0), std::vector<int>{40});
+  EXPECT_EQ(CameraRig::grid(9, 9, 0.2f).reference_views(3),
+            (std::vector<int>{10, 13, 16, 37, 40, 43, 64, 67, 70}));
+  EXPECT_EQ(CameraRig::grid(9, 9, 0.2f).reference_views(4),
+            (std::vector<int>{0, 4, 8, 36, 40, 44, 72, 76, 80}));
+  EXPECT_EQ(CameraRig::grid(2, 1, 0.2f).reference_views(0), std::vector<int>{1});
+  EXPECT_EQ(CameraRig::grid(3, 3, 0.2f).reference_views(5), std::vector<int>{4});
 }
 
 }  // namespace
