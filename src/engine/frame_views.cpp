@@ -59,6 +59,12 @@ FrameInput FrameViews::make(int frame, const Camera& camera) const {
   return in;
 }
 
+namespace {
+// Each view is warped from this many references at most, the nearest: farther ones rarely
+// add a pixel (a nearer one sees nearly all they see), and each costs a warp of the view.
+constexpr size_t kNearestReferences = 4;
+}  // namespace
+
 void FrameViews::reproject(FrameInput& in) const {
   auto frame = std::make_shared<ReprojectedFrame>();
   for (int r : rig_.reference_views(sampling_.reference_spacing))
@@ -85,6 +91,7 @@ void FrameViews::reproject(FrameInput& in) const {
     };
     std::stable_sort(order.begin(), order.end(),
                      [&](size_t a, size_t b) { return distance(a) < distance(b); });
+    order.resize(std::min(order.size(), kNearestReferences));
     std::vector<ReprojectionReference> by_distance;
     for (size_t k : order) by_distance.push_back({&in.views[frame->references[k]], &depth[k]});
     ReprojectionMap m = reproject_view(by_distance, v);
@@ -96,6 +103,7 @@ void FrameViews::reproject(FrameInput& in) const {
     frame->maps[i] = std::move(m);
     in.maps[i] = hole_sample_map(frame->maps[i], sampling_.reproject_spp);
   });
+  for (size_t i = 0; i < n; ++i) in.views[i].spp_map = &in.maps[i];
   in.reprojection = std::move(frame);
 }
 

@@ -24,6 +24,8 @@ struct Rendered {
   std::vector<Framebuffer> images;
   std::shared_ptr<const ReprojectedFrame> reprojection;
   std::vector<ViewSetup> views;
+  uint64_t samples = 0;  // camera paths the devices traced
+  size_t samples_per_pixel = 0;
 };
 
 Rendered render(SceneCache& scenes, Sampling mode, const std::string& balancer, int devices,
@@ -42,7 +44,10 @@ Rendered render(SceneCache& scenes, Sampling mode, const std::string& balancer, 
   Engine engine(ptrs, balance::make_balancer(balancer, devices));
   const FrameInput in = views.make(3, scenes.scene().cameras[0]);
   Rendered out;
-  engine.render_frame(3, in.views, RenderSettings{.spp = spp, .seed = seed}, out.images);
+  const FrameRecord rec =
+      engine.render_frame(3, in.views, RenderSettings{.spp = spp, .seed = seed}, out.images);
+  for (const auto& d : rec.devices) out.samples += d.samples;
+  out.samples_per_pixel = size_t(spp);
   in.finish(out.images);
   out.reprojection = in.reprojection;
   out.views = in.views;
@@ -76,6 +81,9 @@ std::pair<size_t, size_t> expect_traced_or_moved(const Rendered& r, const Render
       (hole ? holes : moved)++;
     }
   }
+  // Only the references and the holes were path-traced.
+  const size_t pixels = size_t(kW) * kH;
+  EXPECT_EQ(r.samples, (rf.references.size() * pixels + holes) * r.samples_per_pixel);
   return {holes, moved};
 }
 
