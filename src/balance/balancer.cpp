@@ -48,9 +48,10 @@ std::unique_ptr<Balancer> build(Spec& spec, int n) {
     int bits = -1;  // "auto": from the least pixels per strip (dlb.h)
     if (spec.get_string("bits", "auto", {}) != "auto") bits = spec.get_int("bits", -1, 0, 24);
     const int strip = spec.get_int("strip", 32, 1, 65536);
+    const int items = spec.get_int("items", 16384, 1, 1 << 24);
     const std::string layout = spec.get_string("layout", "strips", {"strips", "views"});
     return std::make_unique<DlbBalancer>(n, interval, band, slow, bits, layout_from_string(layout),
-                                         strip);
+                                         strip, items);
   }
   if (name == "hybrid") {
     HybridBalancer::Options o;

@@ -11,7 +11,7 @@
 namespace multiray::balance {
 
 DlbBalancer::DlbBalancer(int device_count, int interval, double band, double slow, int bits,
-                         Layout layout, int min_strip)
+                         Layout layout, int min_strip, int max_items)
     : BalancerBase(device_count),
       layout_(layout),
       interval_(interval),
@@ -19,6 +19,7 @@ DlbBalancer::DlbBalancer(int device_count, int interval, double band, double slo
       slow_(slow),
       bits_(bits),
       min_strip_(min_strip),
+      max_items_(max_items),
       ratios_(even()),
       time_sum_(size_t(device_count), 0.0),
       task_sum_(size_t(device_count), 0.0),
@@ -29,7 +30,7 @@ std::string DlbBalancer::spec() const {
   std::ostringstream s;
   s << "dlb:interval=" << interval_ << ":band=" << band_ << ":slow=" << slow_
     << ":bits=" << (bits_ < 0 ? std::string("auto") : std::to_string(bits_))
-    << ":strip=" << min_strip_ << ":layout=" << to_string(layout_);
+    << ":strip=" << min_strip_ << ":items=" << max_items_ << ":layout=" << to_string(layout_);
   return s.str();
 }
 
@@ -38,8 +39,15 @@ void DlbBalancer::on_drop(int /*index*/) { ratios_ = sanitize(ratios_, even()); 
 Plan DlbBalancer::plan(const FrameShape& shape, int /*frame*/) {
   validate_shape(shape);
   if (alive_count() == 0) return empty_plan();
-  const int bits = bits_ >= 0 ? bits_ : strip_bits_for(shape.pixels_per_view(), min_strip_);
-  return plan_from_ratios(shape, ratios_, layout_, bits);
+  return plan_from_ratios(shape, ratios_, layout_, strip_bits(shape));
+}
+
+int DlbBalancer::strip_bits(const FrameShape& shape) const {
+  if (bits_ >= 0) return bits_;
+  int bits = strip_bits_for(shape.pixels_per_view(), min_strip_);
+  const int64_t per_view = std::max<int64_t>(1, int64_t(max_items_) / std::max(1, shape.views));
+  while (bits > 0 && (int64_t(1) << bits) > per_view) --bits;
+  return bits;
 }
 
 void DlbBalancer::update(const FrameStats& stats) {

@@ -24,6 +24,7 @@
 // | slow      | 0.75    | weight of a slow device's local mean, [0, 1]        |
 // | bits      | auto    | log2 strips per view; auto: from `strip`            |
 // | strip     | 32      | least pixels per strip when bits=auto (1–65536)     |
+// | items     | 16384   | most strips per frame, all views, when bits=auto    |
 // | layout    | strips  | strips as in the paper, or views: whole views per    |
 // |           |         | device (multiray's own mapping, not the paper's)    |
 //
@@ -34,7 +35,11 @@
 // frame was ~66 ms with strips of 225 or 56 px, ~80 ms with 14 px, ~106 ms with 3.5 px
 // and ~130 ms with the paper's 1.8 px (docs/balancers.md). So the default follows the
 // paper's rule, the most strips, down to 32 px per strip; `strip=128` is multiray's
-// earlier 128–256 px.
+// earlier 128–256 px. And since the count is per view, many views multiply it: 81 views
+// of 1,024 strips were 82,944 items a frame, whose cost made dlb slower than uniform on a
+// 9x9 grid (docs/benchmarks.md). So `items` caps the strips of a frame (all views): 2^b
+// per view with 2^b · views <= items, which leaves one view at 1280x720 (2^14) and a 3x3
+// grid at 320x180 (9 x 2^10) as they were and gives 9x9 at 320x180 2^7 strips a view.
 #pragma once
 
 #include "balance/balancer_base.h"
@@ -48,7 +53,8 @@ class DlbBalancer final : public BalancerBase {
   // `layout` Strips (shuffled strips of every view, as in the paper) or Views (whole views
   // per device: multiray's own mapping, see layout.h).
   DlbBalancer(int device_count, int interval = 5, double band = 0.1, double slow = 0.75,
-              int bits = -1, Layout layout = Layout::Strips, int min_strip = 32);
+              int bits = -1, Layout layout = Layout::Strips, int min_strip = 32,
+              int max_items = 16384);
 
   std::string name() const override { return "dlb"; }
   std::string spec() const override;
@@ -62,12 +68,16 @@ class DlbBalancer final : public BalancerBase {
  private:
   void on_drop(int index) override;
   void check();
+  // log2 strips per view: bits_, or the most with >= min_strip_ pixels each and at most
+  // max_items_ strips over the frame's views.
+  int strip_bits(const FrameShape& shape) const;
 
   Layout layout_;
   int interval_;
   double band_, slow_;
   int bits_;
   int min_strip_;  // least pixels per strip when bits_ < 0
+  int max_items_;  // most strips per frame over all views when bits_ < 0
   std::vector<double> ratios_;
   // The current window: per device, sums of time and tasks over frames with a usable
   // measurement, how many there were, and the latest time.

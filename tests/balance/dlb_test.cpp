@@ -2,6 +2,7 @@
 // tolerance, the `slow` weighting, shuffled strips over all views.
 #include <gtest/gtest.h>
 
+#include "balance/balancer.h"
 #include "balance/dlb.h"
 #include "partition/shuffled_strips.h"
 #include "sim_harness.h"
@@ -59,6 +60,26 @@ TEST(Dlb, EveryViewGetsTheSameShareOfShuffledStrips) {
       if (it.view == v) px += it.rect.area();
     EXPECT_NEAR(double(px) / (160 * 90), 0.5, double(strip) / (160 * 90)) << v;
   }
+}
+
+TEST(Dlb, StripsPerFrameAreCappedOverAllViews) {
+  // 320x180 views: 2^10 strips of 56 px each by the strip size; a 3x3 grid keeps them,
+  // 9x9 is cut to 2^7 a view (81 x 128 = 10,368 <= 16,384), `items` moves the cap. A
+  // strip becomes one to three rectangles (it may cross rows), hence the ranges.
+  const auto strips_in = [](const std::string& spec, int views, size_t strips) {
+    auto b = make_balancer(spec, 2);
+    FrameShape shape;
+    shape.width = 320, shape.height = 180, shape.views = views;
+    const Plan p = b->plan(shape, 0);
+    const size_t items = p.assigned[0].size() + p.assigned[1].size();
+    EXPECT_GE(items, strips) << spec << " on " << views << " views";
+    EXPECT_LE(items, 3 * strips) << spec << " on " << views << " views";
+  };
+  strips_in("dlb", 9, 9 * 1024);
+  strips_in("dlb", 81, 81 * 128);
+  strips_in("dlb:items=1000000", 81, 81 * 1024);
+  strips_in("dlb:items=1", 81, 81);  // one strip a view at least
+  strips_in("dlb:bits=3", 81, 81 * 8);
 }
 
 }  // namespace
