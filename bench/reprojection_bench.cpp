@@ -156,16 +156,20 @@ std::pair<double, double> moved_pixel_mse(const Run& full, const Run& other, con
   return {n ? e_moved / double(n) : 0, n ? e_other / double(n) : 0};
 }
 
-// The last frame's view 0 full, reprojected, and with its holes in red.
+// The last frame's first view that is not a reference: full, reprojected, and with its
+// holes in red (files GRID_viewV_*.png).
 void write_images(const std::string& dir, const std::string& grid, const Run& full, const Run& r) {
-  const Framebuffer& a = full.images.back()[0];
-  Framebuffer holes = r.images.back()[0];
-  const ReprojectionMap& m = r.reprojection.back()->maps[0];
+  const ReprojectedFrame& rf = *r.reprojection.back();
+  size_t v = 0;
+  while (rf.is_reference(v)) ++v;
+  Framebuffer holes = r.images.back()[v];
+  const ReprojectionMap& m = rf.maps[v];
   for (size_t i = 0; i < m.source.size(); ++i)
     if (m.source[i] == ReprojectionMap::kHole) holes.pixels[i] = Vec3(1, 0, 0);
-  write_png(dir + "/" + grid + "_view0_full.png", a);
-  write_png(dir + "/" + grid + "_view0_reprojected.png", r.images.back()[0]);
-  write_png(dir + "/" + grid + "_view0_holes.png", holes);
+  const std::string base = fmt::format("{}/{}_view{}", dir, grid, v);
+  write_png(base + "_full.png", full.images.back()[v]);
+  write_png(base + "_reprojected.png", r.images.back()[v]);
+  write_png(base + "_holes.png", holes);
 }
 
 // One entry of --grids, "KxL".

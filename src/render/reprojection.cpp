@@ -75,20 +75,24 @@ struct Warp {
 
 // The target pixels whose centres lie between the landings of neighbouring reference
 // pixels a and b on one surface, along x (`along_x`) or y: what a surface seen at a slant
-// spreads over in the target beyond its pixels' own landings. Each takes the nearer end's
-// source and the interpolated depth. Spans longer than kMaxSpan pixels are left as holes
-// (on one surface, adjacent pixels' disparities differ by the depth tolerance at most).
+// spreads over in the target beyond its pixels' own landings. The segment from a to b is
+// walked one pixel centre at a time along its axis; across it, each step takes the row
+// (or column) the segment crosses there, so pairs that drift into the next row, as in
+// diagonal views, still fill. Each pixel takes the nearer end's source and the
+// interpolated depth. Spans longer than kMaxSpan pixels, or drifting more than one pixel
+// across, are left as holes (on one surface, adjacent pixels' disparities differ by the
+// depth tolerance at most).
 void fill_span(const Landing& a, int32_t ia, const Landing& b, int32_t ib, bool along_x, Warp& w) {
   constexpr float kMaxSpan = 4.0f;
   const float a0 = along_x ? a.x : a.y, b0 = along_x ? b.x : b.y;
-  // The row (along x) or column (along y) both must land in.
-  const float line = std::floor(along_x ? a.y : a.x);
-  if (line != std::floor(along_x ? b.y : b.x) || !(std::abs(b0 - a0) <= kMaxSpan)) return;
-  if (line < 0 || line >= float(along_x ? w.height : w.width)) return;
+  const float a1 = along_x ? a.y : a.x, b1 = along_x ? b.y : b.x;
+  if (!(std::abs(b0 - a0) <= kMaxSpan) || !(std::abs(b1 - a1) <= 1.0f)) return;
   const float lo = std::min(a0, b0), hi = std::max(a0, b0);
-  const int limit = along_x ? w.width : w.height;
+  const int limit = along_x ? w.width : w.height, across_limit = along_x ? w.height : w.width;
   for (int c = std::max(0, int(std::ceil(lo - 0.5f))); c < limit && float(c) + 0.5f <= hi; ++c) {
-    const float t = (float(c) + 0.5f - a0) / (b0 - a0);
+    const float t = b0 != a0 ? (float(c) + 0.5f - a0) / (b0 - a0) : 0.0f;
+    const float line = std::floor(a1 + t * (b1 - a1));
+    if (line < 0 || line >= float(across_limit)) continue;
     const float z = a.z + t * (b.z - a.z);
     const int64_t pixel =
         along_x ? int64_t(line) * w.width + c : int64_t(c) * w.width + int64_t(line);
