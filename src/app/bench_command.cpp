@@ -111,7 +111,7 @@ Runner add_bench_command(CLI::App& app) {
                           o->foveation.fovea_spp, o->foveation.periphery_spp,
                           sampling.pattern->offsets.size(), o->gaze_path)
         : sampling.mode == Sampling::Reprojected
-            ? fmt::format("{} spp on the centre view and on holes", s.settings.spp)
+            ? fmt::format("{} spp on the references and on holes", s.settings.spp)
             : std::to_string(s.settings.spp) + " spp",
         o->frames, o->camera_path);
     for (const auto& l : labels) fmt::print("  device {}\n", l);

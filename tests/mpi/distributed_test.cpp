@@ -106,7 +106,7 @@ TEST(Distributed, FourRanksSeoStrategiesAndHaradaHierarchyGiveTheSinglePixels) {
   }
 }
 
-TEST(Distributed, MultiviewAndAdaptiveSamplingGiveTheSinglePixels) {
+TEST(Distributed, MultiviewAdaptiveAndReprojectedSamplingGiveTheSinglePixels) {
   const std::string extra = "--views 2x1 --sampling adaptive ";
   const std::vector<std::string> want = reference(extra);
   const std::string dir = out_dir("views");
@@ -114,6 +114,15 @@ TEST(Distributed, MultiviewAndAdaptiveSamplingGiveTheSinglePixels) {
       3, kScene + extra + "--devices cpu:threads=1 --balancer dlb --mapping strips --out " + dir);
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_EQ(hashes(dir), want);
+  // Reprojection: the holes' sample maps travel to the workers, the master fills the rest.
+  const std::string reproject = "--views 3x1 --sampling reproject ";
+  const std::vector<std::string> want_reprojected = reference(reproject);
+  const std::string dir2 = out_dir("reprojected");
+  const CliResult r2 = distributed(
+      3, kScene + reproject + "--devices cpu:threads=1 --balancer semi-static --out " + dir2);
+  ASSERT_EQ(r2.code, 0) << r2.out;
+  EXPECT_EQ(hashes(dir2), want_reprojected);
+  EXPECT_NE(want_reprojected, reference("--views 3x1 "));  // it did reproject
 }
 
 // A worker that vanishes (SIGKILL at frame 1) is given up on after --worker-timeout; what

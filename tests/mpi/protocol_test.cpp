@@ -64,8 +64,16 @@ TEST(Protocol, MessagesSurviveARoundTrip) {
   EXPECT_DOUBLE_EQ(r.local[1].time_ms, 2.5);
 
   HelloMessage h;
-  h.devices.push_back(DeviceInfo{
-      "cpu", "cpu (1 thread)", "cpu:threads=1", 1, 0.5, 0, {{"path"}, {"uniform"}, "embree"}});
+  h.devices.push_back(DeviceInfo{"cpu",
+                                 "cpu (1 thread)",
+                                 "cpu:threads=1",
+                                 1,
+                                 0.5,
+                                 0,
+                                 {{"path"}, {"uniform"}, "embree"},
+                                 "embree",
+                                 0,
+                                 0});
   const HelloMessage h2 = decode_hello(encode(h));
   ASSERT_EQ(h2.devices.size(), 1u);
   EXPECT_EQ(h2.devices[0].caps.kernels, std::vector<std::string>{"path"});

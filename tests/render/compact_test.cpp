@@ -104,7 +104,9 @@ TEST(CompactQuantize, EveryNormalCodeDecodesToAUnitVectorThatEncodesBack) {
     const Vec3 d = decode_normal(uint16_t(c));
     ASSERT_NEAR(length(d), 1.0f, 1e-5f) << c;
     const uint16_t again = encode_normal(d);
-    if (d.z > 1e-3f) EXPECT_EQ(again, c) << c;
+    if (d.z > 1e-3f) {
+      EXPECT_EQ(again, c) << c;
+    }
     EXPECT_LT(angle_deg(decode_normal(again), d), kNormalErrorDegrees) << c;
     EXPECT_EQ(encode_normal(decode_normal(again)), again) << c;
   }

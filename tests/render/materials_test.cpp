@@ -106,7 +106,7 @@ TEST(EmissionTexture, SeenDirectlyPerTexel) {
 TEST(EmissionTexture, LightsTheSceneAsItsTexels) {
   auto scene_with = [](bool textured) {
     Scene s = make_lit_plane(0.5f, 0.0f);
-    for (const Vec3& p : s.positions) s.uvs.push_back({0.5f, 0.5f});
+    s.uvs.assign(s.positions.size(), {0.5f, 0.5f});
     const float* srgb = texel_decoding_table(TexelCoding::srgb);
     const uint32_t light =
         add_material(s, Material{.name = "light",
