@@ -70,9 +70,11 @@ void FrameViews::reproject(FrameInput& in) const {
   for (int r : rig_.reference_views(sampling_.reference_spacing))
     frame->references.push_back(uint32_t(r));
   const size_t n = in.views.size(), refs = frame->references.size();
-  std::vector<GBuffer> depth(refs);
-  for (size_t k = 0; k < refs; ++k)
-    depth[k] = render_gbuffer(*host_, in.views[frame->references[k]]);
+  std::vector<ReferenceSurface> surfaces(refs);
+  for (size_t k = 0; k < refs; ++k) {
+    const ViewSetup& ref = in.views[frame->references[k]];
+    surfaces[k] = prepare_reference(render_gbuffer(*host_, ref), ref);
+  }
   frame->maps.resize(n);
   in.maps.resize(n);
   // Views in parallel: each writes only its own map.
@@ -92,8 +94,8 @@ void FrameViews::reproject(FrameInput& in) const {
     std::stable_sort(order.begin(), order.end(),
                      [&](size_t a, size_t b) { return distance(a) < distance(b); });
     order.resize(std::min(order.size(), kNearestReferences));
-    std::vector<ReprojectionReference> by_distance;
-    for (size_t k : order) by_distance.push_back({&in.views[frame->references[k]], &depth[k]});
+    std::vector<const ReferenceSurface*> by_distance;
+    for (size_t k : order) by_distance.push_back(&surfaces[k]);
     ReprojectionMap m = reproject_view(by_distance, v);
     // Sources are numbered by position in by_distance; renumber to frame->references.
     const size_t pixels = m.source.size();

@@ -111,56 +111,75 @@ size_t ReprojectionMap::holes() const {
   return size_t(std::count(source.begin(), source.end(), kHole));
 }
 
-namespace {
-// Warps one reference into `warp`; its pixel i is source `offset + i`.
-void warp_reference(const ReprojectionReference& r, const Projector& tgt, int32_t offset,
-                    const ReprojectionOptions& o, Warp& warp) {
-  const GBuffer& g = *r.depth;
-  const Projector ref(*r.view);
+ReferenceSurface prepare_reference(const GBuffer& depth, const ViewSetup& view,
+                                   const ReprojectionOptions& o) {
+  if (depth.width != view.width || depth.height != view.height)
+    throw std::invalid_argument("prepare_reference: the view and its G-buffer differ in size");
+  ReferenceSurface r;
+  r.view = &view;
+  const GBuffer& g = depth;
+  const Projector ref(view);
   const size_t w = size_t(g.width), n = w * size_t(g.height);
-  std::vector<Landing> land(n);
-  std::vector<Vec3> point(n);  // each reference pixel's surface point, world space
+  r.point.resize(n);
+  r.flags.assign(n, 0);
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
       const size_t i = size_t(y) * w + size_t(x);
       if (!std::isfinite(g.depth[i])) continue;
-      point[i] = ref.point(float(x) + 0.5f, float(y) + 0.5f, g.depth[i]);
-      Landing& l = land[i];
-      l.ok = tgt.project(point[i], l.x, l.y, l.z);
-      if (l.ok) warp.offer(tgt.pixel(l.x, l.y), l.z, offset + int32_t(i));
+      r.point[i] = ref.point(float(x) + 0.5f, float(y) + 0.5f, g.depth[i]);
+      r.flags[i] = ReferenceSurface::kHit;
     }
-  // Spans between neighbours on one surface: right and lower neighbours, along x and y.
   // One surface: depths within the tolerance, or (for planes seen at a grazing angle, whose
   // depth changes fast from pixel to pixel) the same normal and the step between the two
   // points lying in the plane, its height over it at most the tolerance of its length.
   const auto joined = [&](size_t i, size_t j) {
-    if (!land[i].ok || !land[j].ok) return false;
+    if (!(r.flags[i] & r.flags[j] & ReferenceSurface::kHit)) return false;
     if (same_surface(g.depth[i], g.depth[j], o.depth_tolerance)) return true;
-    const Vec3 step = point[j] - point[i];
+    const Vec3 step = r.point[j] - r.point[i];
     return dot(g.normal[i], g.normal[j]) >= kSameNormal &&
            std::abs(dot(step, g.normal[i])) <= o.depth_tolerance * length(step);
   };
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
       const size_t i = size_t(y) * w + size_t(x);
-      const int32_t si = offset + int32_t(i);
-      if (x + 1 < g.width && joined(i, i + 1))
-        fill_span(land[i], si, land[i + 1], si + 1, true, warp);
-      if (y + 1 < g.height && joined(i, i + w))
-        fill_span(land[i], si, land[i + w], si + int32_t(w), false, warp);
+      if (x + 1 < g.width && joined(i, i + 1)) r.flags[i] |= ReferenceSurface::kJoinedRight;
+      if (y + 1 < g.height && joined(i, i + w)) r.flags[i] |= ReferenceSurface::kJoinedBelow;
     }
+  return r;
+}
+
+namespace {
+// Warps one reference into `warp`: every surface point to the pixel it lands in, then the
+// spans between neighbours on one surface. Its pixel i is source `offset + i`.
+void warp_reference(const ReferenceSurface& r, const Projector& tgt, int32_t offset, Warp& warp) {
+  const int width = r.view->width, height = r.view->height;
+  const size_t w = size_t(width), n = w * size_t(height);
+  std::vector<Landing> land(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (!(r.flags[i] & ReferenceSurface::kHit)) continue;
+    Landing& l = land[i];
+    l.ok = tgt.project(r.point[i], l.x, l.y, l.z);
+    if (l.ok) warp.offer(tgt.pixel(l.x, l.y), l.z, offset + int32_t(i));
+  }
+  for (size_t i = 0; i < n; ++i) {
+    if (!land[i].ok) continue;
+    const int32_t si = offset + int32_t(i);
+    if ((r.flags[i] & ReferenceSurface::kJoinedRight) && land[i + 1].ok)
+      fill_span(land[i], si, land[i + 1], si + 1, true, warp);
+    if ((r.flags[i] & ReferenceSurface::kJoinedBelow) && land[i + w].ok)
+      fill_span(land[i], si, land[i + w], si + int32_t(w), false, warp);
+  }
 }
 }  // namespace
 
-ReprojectionMap reproject_view(const std::vector<ReprojectionReference>& references,
+ReprojectionMap reproject_view(const std::vector<const ReferenceSurface*>& references,
                                const ViewSetup& target, const ReprojectionOptions& o) {
   const size_t n = size_t(target.width) * size_t(target.height);
   if (references.empty() || n * references.size() > size_t(INT32_MAX))
     throw std::invalid_argument("reproject_view: 1 reference or more, 2^31 pixels at most");
-  for (const ReprojectionReference& r : references)
-    if (r.view->width != target.width || r.view->height != target.height ||
-        r.depth->width != target.width || r.depth->height != target.height)
-      throw std::invalid_argument("reproject_view: the views and the G-buffers differ in size");
+  for (const ReferenceSurface* r : references)
+    if (r->view->width != target.width || r->view->height != target.height)
+      throw std::invalid_argument("reproject_view: the views differ in size");
   ReprojectionMap m;
   m.width = target.width, m.height = target.height;
   m.source.assign(n, ReprojectionMap::kHole);
@@ -168,14 +187,15 @@ ReprojectionMap reproject_view(const std::vector<ReprojectionReference>& referen
   const Projector tgt(target);
   for (size_t k = 0; k < references.size(); ++k) {
     warp.margin = k == 0 ? 0.0f : o.depth_tolerance;
-    warp_reference(references[k], tgt, int32_t(k * n), o, warp);
+    warp_reference(*references[k], tgt, int32_t(k * n), warp);
   }
   return m;
 }
 
 ReprojectionMap reproject_view(const GBuffer& reference_depth, const ViewSetup& reference,
                                const ViewSetup& target, const ReprojectionOptions& o) {
-  return reproject_view({{&reference, &reference_depth}}, target, o);
+  const ReferenceSurface r = prepare_reference(reference_depth, reference, o);
+  return reproject_view({&r}, target, o);
 }
 
 std::vector<uint8_t> hole_sample_map(const ReprojectionMap& map, int spp) {

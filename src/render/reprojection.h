@@ -50,15 +50,24 @@ struct ReprojectionMap {
 ReprojectionMap reproject_view(const GBuffer& reference_depth, const ViewSetup& reference,
                                const ViewSetup& target, const ReprojectionOptions& o = {});
 
-// One of several references: its view and its G-buffer (both outlive the call).
-struct ReprojectionReference {
-  const ViewSetup* view;
-  const GBuffer* depth;
+// A reference prepared once a frame for all the views warped from it: each pixel's
+// surface point (world space) and which neighbours lie on one surface with it (depths
+// within the tolerance, or one plane: the same normal and the step between them in it).
+// Keeps a pointer to `view`, which must outlive it.
+struct ReferenceSurface {
+  static constexpr uint8_t kHit = 1, kJoinedRight = 2, kJoinedBelow = 4;
+  const ViewSetup* view = nullptr;
+  std::vector<Vec3> point;     // valid where flags has kHit
+  std::vector<uint8_t> flags;  // per pixel, row-major
 };
-// The same from several references, warped in the order given (nearest to the target
-// first): a pixel the first reached keeps its source unless a later one brings a surface
-// nearer by more than the depth tolerance. At most 2^31 reference pixels in all.
-ReprojectionMap reproject_view(const std::vector<ReprojectionReference>& references,
+ReferenceSurface prepare_reference(const GBuffer& depth, const ViewSetup& view,
+                                   const ReprojectionOptions& o = {});
+
+// The same from several references (same image size), warped in the order given (nearest
+// to the target first): a pixel the first reached keeps its source unless a later one
+// brings a surface nearer by more than the depth tolerance. At most 2^31 reference pixels
+// in all. `o` must be the options the references were prepared with.
+ReprojectionMap reproject_view(const std::vector<const ReferenceSurface*>& references,
                                const ViewSetup& target, const ReprojectionOptions& o = {});
 
 // Where world point `p` appears in `view`: image position in pixels (x right, y down; may

@@ -134,7 +134,8 @@ TEST(Reprojection, ASecondReferenceFillsWhatTheFirstCannotSee) {
   };
   const GBuffer ga = square_at(24), gb = square_at(8);
   const ViewSetup a = view_at({0, 0, 0}), b = view_at({1.0f, 0, 0}), t = view_at({0.5f, 0, 0});
-  const ReprojectionMap m = reproject_view({{&a, &ga}, {&b, &gb}}, t);
+  const ReferenceSurface ra = prepare_reference(ga, a), rb = prepare_reference(gb, b);
+  const ReprojectionMap m = reproject_view({&ra, &rb}, t);
   EXPECT_EQ(m.holes(), 0u);
   const int32_t n = kW * kH;
   EXPECT_EQ(m.source[size_t(at(33, 30))], n + at(29, 30));          // B's wall, disoccluded in A
