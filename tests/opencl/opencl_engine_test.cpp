@@ -6,6 +6,7 @@
 
 #include "balance/balancer.h"
 #include "engine/engine.h"
+#include "engine/frame_views.h"
 #include "opencl_helpers.h"
 #include "scene/builders.h"
 
@@ -50,6 +51,45 @@ TEST(OpenClEngine, MixedCpuAndOpenClMatchesCpuStatistically) {
   EXPECT_LE(beyond4, 0.01);
   EXPECT_NEAR(mean_z, 0.0, 0.1);
   std::printf("mixed: %.3f%% of channels beyond |z| = 4, mean z %.4f\n", 100 * beyond4, mean_z);
+}
+
+// Reprojected sampling on two OpenCL devices: the centre view and the holes are the pixels
+// of a full OpenCL render of every view, bit for bit, every other pixel is its source's,
+// and only the centre and the holes are path-traced (through the devices' sample maps).
+TEST(OpenClEngine, ReprojectedSamplingTracesOnlyTheCentreAndTheHoles) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  const Scene scene = make_cornell_box();
+  SceneCache rs(scene);
+  OpenClDevice a(rs, {}, "opencl:0"), b(rs, {}, "opencl:0");
+  const CameraRig rig = CameraRig::grid(3, 3, 0.25f);
+  const RenderSettings s{.spp = 2, .max_bounces = 4};
+  const FrameInput all = FrameViews(rig, kW, kH, SamplingSetup{}).make(0, scene.cameras[0]);
+  Engine full({&a, &b}, balance::make_balancer("queue:tile=8", 2));
+  full.render_frame(0, all.views, s);
+
+  SamplingSetup sampling;
+  sampling.mode = Sampling::Reprojected;
+  sampling.reproject_spp = s.spp;
+  const FrameInput in = FrameViews(rig, kW, kH, sampling, &rs.embree()).make(0, scene.cameras[0]);
+  Engine engine({&a, &b}, balance::make_balancer("dlb", 2));
+  std::vector<Framebuffer> images;
+  const FrameRecord rec = engine.render_frame(0, in.views, s, images);
+  in.finish(images);
+  const ReprojectedFrame& rf = *in.reprojection;
+  const size_t n = size_t(kW) * kH;
+  size_t holes = 0;
+  for (size_t v = 0; v < images.size(); ++v)
+    for (size_t i = 0; i < n; ++i) {
+      const int32_t src = rf.is_reference(v) ? -2 : rf.maps[v].source[i];
+      holes += src == ReprojectionMap::kHole;
+      const Vec3& want =
+          src < 0 ? full.images()[v].pixels[i]
+                  : full.images()[rf.references.at(size_t(src) / n)].pixels[size_t(src) % n];
+      ASSERT_EQ(std::memcmp(&images[v].pixels[i], &want, sizeof(Vec3)), 0)
+          << "view " << v << " pixel " << i;
+    }
+  EXPECT_GT(holes, 0u);
+  EXPECT_EQ(rec.devices[0].samples + rec.devices[1].samples, (n + holes) * size_t(s.spp));
 }
 
 // An OpenCL device told to fail after one unit fails when it pulls its second (in frame 0
