@@ -2,8 +2,11 @@
 
 #include <stb_image_write.h>
 
-#include <ImfArray.h>
-#include <ImfRgbaFile.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
 
 #include <algorithm>
 #include <cmath>
@@ -101,21 +104,57 @@ void write_png(const std::string& path, const Framebuffer& fb, const Display& d)
 
 void write_exr(const std::string& path, const Framebuffer& fb) {
   try {
-    Imf::Array2D<Imf::Rgba> px(fb.height, fb.width);
-    for (int y = 0; y < fb.height; ++y)
-      for (int x = 0; x < fb.width; ++x) {
-        const Vec3 c = fb.at(x, y);
-        px[y][x] = Imf::Rgba(c.x, c.y, c.z, 1.0f);
-      }
     replace_file_atomically(path, [&](const std::string& temp) {
-      Imf::RgbaOutputFile file(temp.c_str(), fb.width, fb.height, Imf::WRITE_RGBA);
-      file.setFrameBuffer(&px[0][0], 1, size_t(fb.width));
+      Imf::Header header(fb.width, fb.height);
+      header.compression() = Imf::ZIP_COMPRESSION;
+      Imf::FrameBuffer slices;
+      // Pixels are Vec3 of floats, row-major: one slice per channel over the same array.
+      char* base = const_cast<char*>(reinterpret_cast<const char*>(fb.pixels.data()));
+      const size_t xs = sizeof(Vec3), ys = sizeof(Vec3) * size_t(fb.width);
+      const char* names[3] = {"R", "G", "B"};
+      for (int c = 0; c < 3; ++c) {
+        header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
+        slices.insert(names[c], Imf::Slice(Imf::FLOAT, base + size_t(c) * sizeof(float), xs, ys));
+      }
+      Imf::OutputFile file(temp.c_str(), header);
+      file.setFrameBuffer(slices);
       file.writePixels(fb.height);
     });
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
     throw InputError("cannot write EXR '" + path + "': " + e.what());
+  }
+}
+
+Framebuffer read_exr(const std::string& path) {
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i box = file.header().dataWindow();
+    const int64_t w = int64_t(box.max.x) - box.min.x + 1, h = int64_t(box.max.y) - box.min.y + 1;
+    if (w < 1 || h < 1 || w * h > (int64_t(1) << 28))
+      throw InputError("EXR '" + path + "': an image of " + std::to_string(w) + "x" +
+                       std::to_string(h) + " pixels is out of range");
+    const char* names[3] = {"R", "G", "B"};
+    for (const char* n : names)
+      if (!file.header().channels().findChannel(n))
+        throw InputError("EXR '" + path + "' has no channel " + n);
+    Framebuffer fb{int(w), int(h)};
+    Imf::FrameBuffer slices;
+    const size_t xs = sizeof(Vec3), ys = sizeof(Vec3) * size_t(w);
+    // OpenEXR addresses slices by absolute pixel coordinates: shift the base by the
+    // data window's origin.
+    char* base = reinterpret_cast<char*>(fb.pixels.data()) - int64_t(box.min.x) * int64_t(xs) -
+                 int64_t(box.min.y) * int64_t(ys);
+    for (int c = 0; c < 3; ++c)
+      slices.insert(names[c], Imf::Slice(Imf::FLOAT, base + size_t(c) * sizeof(float), xs, ys));
+    file.setFrameBuffer(slices);
+    file.readPixels(box.min.y, box.max.y);
+    return fb;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError("cannot read EXR '" + path + "': " + e.what());
   }
 }
 

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "render/compact_accel.h"
+#include "render/embree_device.h"
 #include "render/surface.h"
 
 namespace multiray {
@@ -75,7 +76,7 @@ Accel::Accel(const Scene& scene, const CompactScene* compact) : compact_(compact
     if (any_cutout) cutouts_ = &scene;
     return;
   }
-  device_ = rtcNewDevice(nullptr);
+  device_ = new_embree_device();
   if (!device_) throw DeviceError("Embree: cannot create a device");
   // Embree reports every allocation of this device (the BVH and its vertex copies).
   rtcSetDeviceMemoryMonitorFunction(

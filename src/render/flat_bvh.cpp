@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "render/embree_device.h"
 
 namespace multiray {
 
@@ -112,7 +113,7 @@ FlatBvh build_flat_bvh(const Scene& scene) {
     throw DeviceError("OpenCL BVH: more than " + std::to_string(kMaxFlatTriangles) +
                       " triangles, the kernel's limit");
 
-  std::unique_ptr<RTCDeviceTy, void (*)(RTCDevice)> device(rtcNewDevice(nullptr),
+  std::unique_ptr<RTCDeviceTy, void (*)(RTCDevice)> device(new_embree_device(),
                                                            rtcReleaseDevice);
   if (!device) throw DeviceError("OpenCL BVH: cannot create an Embree device");
   std::unique_ptr<RTCBVHTy, void (*)(RTCBVH)> bvh(rtcNewBVH(device.get()), rtcReleaseBVH);
