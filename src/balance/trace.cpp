@@ -47,7 +47,10 @@ class LineReader {
   }
   int integer(int lo, int hi) {
     const double v = number(lo, hi);
-    if (v != std::floor(v)) fail("'" + num(v) + "' is not a whole number");
+    // Appended, not "'" + num(v): GCC 12 warns (-Wrestrict, a known false positive) on
+    // operator+(const char*, std::string&&) once it is inlined here.
+    if (v != std::floor(v))
+      fail(std::string(1, '\'').append(num(v)).append("' is not a whole number"));
     return int(v);
   }
   std::string rest() {

@@ -158,7 +158,8 @@ Mat4 MitsubaContext::transform(const XmlElement* t) const {
           look_at(point("origin", nullptr), point("target", nullptr), point("up", "0, 1, 0"), &ok);
       if (!ok) fail(e, "<lookat> needs target != origin and up not along the view direction");
     } else {
-      fail(e, "<" + std::string(e->Name()) + "> is not a transform step");
+      // Appended, not "<" + std::string(...): GCC 12's -Wrestrict false positive.
+      fail(e, std::string(1, '<').append(e->Name()).append("> is not a transform step"));
     }
     m = step * m;
   }

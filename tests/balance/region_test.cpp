@@ -84,7 +84,9 @@ TEST(Region, TransposedSplitOfOneViewCoversItsBandInColumns) {
         ASSERT_EQ(it.view, 1) << spec;
         ASSERT_GE(it.rect.y0, 16) << spec;
         ASSERT_LE(it.rect.y1, 40) << spec;
-        if (spec == "uniform") EXPECT_EQ(it.rect.height(), 24) << spec << ": not a column";
+        if (spec == "uniform") {
+          EXPECT_EQ(it.rect.height(), 24) << spec << ": not a column";
+        }
         it.view = 0;
         it.rect = Rect{it.rect.x0, it.rect.y0 - 16, it.rect.x1, it.rect.y1 - 16};
         local.push_back(it);

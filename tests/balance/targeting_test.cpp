@@ -132,7 +132,9 @@ TEST(Targeting, CalibrationIsTheQuantileOfRecentRatios) {
   // Ratios 1.0 ... 1.9 (predicted 10 ms at full quality, measured 10..19 ms).
   for (int f = 0; f < 10; ++f) {
     EXPECT_EQ(t.next([](double x) { return 10 * x; }), 1.0);
-    if (f < int(FrameTimeTargeting::kMinRatios)) EXPECT_EQ(t.calibration(), 1.0);
+    if (f < int(FrameTimeTargeting::kMinRatios)) {
+      EXPECT_EQ(t.calibration(), 1.0);
+    }
     t.measured(10 + f);
   }
   EXPECT_NEAR(t.calibration(), 1.7, 1e-12);  // the 8th of 10 sorted ratios
