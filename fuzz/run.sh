@@ -73,11 +73,15 @@ export MULTIRAY_FUZZ_SCRATCH
 trap 'rm -rf "$MULTIRAY_FUZZ_SCRATCH"' EXIT
 export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$root/cmake/lsan.supp}"
 
-failed=""
-for t in $targets; do
+# One target: its run, then one line (and the finding's lines) in $build/logs/$1.result;
+# the file $build/logs/$1.failed marks a finding.
+run_target() {
+  t=$1
   bin="$build/fuzz/fuzz_$t"
   mkdir -p "$crashes/$t" "$build/logs"
   log="$build/logs/$t-$mode.log"
+  result="$build/logs/$t.result"
+  rm -f "$build/logs/$t.failed"
   if [ "$mode" = smoke ]; then
     work="$build/smoke-corpus/$t"
     rm -rf "$work"
@@ -103,18 +107,36 @@ for t in $targets; do
     status=ok
   else
     status=FAILED
-    failed="$failed $t"
+    touch "$build/logs/$t.failed"
   fi
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 | cut -d' ' -f2)
-  line="fuzz_$t: ${runs:-?} runs in ${seconds} s, coverage ${cov:-?} edges, $status"
-  echo "$line"
+  echo "fuzz_$t: ${runs:-?} runs in ${seconds} s, coverage ${cov:-?} edges, $status" > "$result"
   if [ $status = FAILED ]; then
     grep -E "^(==[0-9]+==ERROR|SUMMARY|multiray fuzz:)|runtime error|Test unit written|^ +#[0-9] " \
-      "$log" | head -n 30
-    echo "  log: $log"
-    echo "  reproduce: $bin $crashes/$t/<crash file>"
+      "$log" | head -n 30 >> "$result"
+    echo "  log: $log" >> "$result"
+    echo "  reproduce: $bin $crashes/$t/<crash file>" >> "$result"
   fi
+}
+
+# JOBS targets at a time (each libFuzzer run is one process on one core), reported in
+# the order of $targets.
+lanes=${JOBS:-$(nproc)}
+running=0
+for t in $targets; do
+  run_target "$t" &
+  running=$((running + 1))
+  if [ "$running" -ge "$lanes" ]; then
+    wait
+    running=0
+  fi
+done
+wait
+failed=""
+for t in $targets; do
+  cat "$build/logs/$t.result"
+  if [ -f "$build/logs/$t.failed" ]; then failed="$failed $t"; fi
 done
 end=$(date +%s)
 echo "fuzz: $mode run of $(echo " $targets" | wc -w | tr -d ' ') targets:" \

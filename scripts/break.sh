@@ -61,7 +61,7 @@ for name in $names; do
     echo "$name: MISSED (no test in '$tests' failed; $log)"
     missed=1
   else
-    failed=$(sed -n 's/^ *[0-9]* - \([^ ]*\) .*/\1/p' "$log" | tr '\n' ' ')
+    failed=$(sed -n 's/^[[:space:]]*[0-9]* - \([^ ]*\) .*/\1/p' "$log" | tr '\n' ' ')
     echo "$name: caught by $failed"
   fi
   restore

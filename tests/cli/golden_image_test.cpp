@@ -82,11 +82,11 @@ void check(const std::string& name) {
   int run = 0;
   for (const std::string& dev : kDevices)
     for (const std::string& bal : kBalancers) {
-      CaseRender r =
-          render(c, "--devices " + dev + " --balancer " + bal, std::to_string(run++));
+      CaseRender r = render(c, "--devices " + dev + " --balancer " + bal, std::to_string(run++));
       ASSERT_EQ(r.cli.code, 0) << r.cli.out;
       ASSERT_EQ(r.hashes.size(), 2u) << c.name;
-      if (first.hashes.empty()) first = std::move(r);
+      if (first.hashes.empty())
+        first = std::move(r);
       else
         EXPECT_EQ(r.hashes, first.hashes) << c.name << ": devices " << dev << ", balancer " << bal;
     }

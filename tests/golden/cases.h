@@ -15,13 +15,15 @@ struct GoldenCase {
 
 inline const std::vector<GoldenCase>& golden_cases() {
   static const std::vector<GoldenCase> cases = {
-      {"default", "", "--res 64x40 --spp 4 --frames 2 --camera-path orbit:8"},
-      {"ao", "", "--res 48x32 --frames 2 --camera-path orbit:8 --integrator ao --sampling adaptive"},
-      {"views", "", "--res 32x20 --spp 2 --frames 2 --views 2x2 --camera-path orbit:8"},
+      {"default", "", "--res 64x40 --spp 16 --frames 2 --camera-path orbit:8"},
+      {"ao", "",
+       "--res 48x32 --frames 2 --camera-path orbit:8 --integrator ao --sampling adaptive"},
+      {"views", "", "--res 32x20 --spp 16 --frames 2 --views 2x2 --camera-path orbit:8"},
       {"foveated", "",
-       "--res 48x32 --frames 2 --camera-path orbit:8 --integrator ao --sampling foveated"},
+       "--res 64x40 --frames 2 --camera-path orbit:8 --integrator ao --sampling foveated "
+       "--fovea-spp 16 --periphery-spp 0.5"},
       {"sponza", "meshes/dabrovic_sponza/sponza.obj",
-       "--res 64x40 --spp 2 --frames 2 --camera-path orbit:8"},
+       "--res 64x40 --spp 8 --frames 2 --camera-path orbit:8"},
   };
   return cases;
 }

@@ -7,9 +7,9 @@
 //   golden_record [--renders K] [--check H] [CASE ...]     (default: every case)
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <string>
@@ -27,7 +27,7 @@ namespace mt = multiray::testing;
 
 namespace {
 
-constexpr uint64_t kFirstSeed = 1000;   // recorded seeds: kFirstSeed, kFirstSeed + 1, ...
+constexpr uint64_t kFirstSeed = 1000;    // recorded seeds: kFirstSeed, kFirstSeed + 1, ...
 constexpr uint64_t kFirstCheck = 90000;  // checked seeds, never recorded
 
 // Renders seeds [first, first + n) of `c`, two processes at a time, in seed order.
@@ -36,9 +36,9 @@ std::vector<mt::CaseRender> render_seeds(const mt::GoldenCase& c, uint64_t first
   std::vector<mt::CaseRender> out(static_cast<size_t>(n));
   auto work = [&](int lane) {
     for (int i = lane; i < n; i += 2) {
-      out[size_t(i)] = mt::render_golden_case(
-          MULTIRAY_BIN, c, MULTIRAY_SHARED_DATA_DIR, fmt::format("--seed {}", first + i),
-          fmt::format("{}/{}_{}", scratch, c.name, lane));
+      out[size_t(i)] = mt::render_golden_case(MULTIRAY_BIN, c, MULTIRAY_SHARED_DATA_DIR,
+                                              fmt::format("--seed {}", first + i),
+                                              fmt::format("{}/{}_{}", scratch, c.name, lane));
       if (out[size_t(i)].cli.code != 0) {
         std::fprintf(stderr, "golden_record: %s seed %llu failed:\n%s\n", c.name.c_str(),
                      (unsigned long long)(first + i), out[size_t(i)].cli.out.c_str());

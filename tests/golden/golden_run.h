@@ -18,7 +18,7 @@ namespace multiray::testing {
 
 struct CaseRender {
   CliResult cli;
-  std::vector<std::string> hashes;           // per frame
+  std::vector<std::string> hashes;            // per frame
   std::map<std::string, Framebuffer> images;  // by file stem: frame_0000, frame_0001_view02
 };
 

@@ -2,6 +2,8 @@
 // radii, and the reconstruction of pixels from samples.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <random>
 #include <set>
@@ -118,6 +120,36 @@ TEST(FoveatedReconstruction, LinearGradientStaysWithinBound) {
   EXPECT_LT(sum / (w * h), 0.5 * grad);
   ASSERT_GT(fovea_n, 50);
   EXPECT_LT(fovea_sum / fovea_n, 0.15 * grad);
+}
+
+// Shepard's interpolation, recomputed here from the positions alone: every pixel is the
+// mean of its k nearest samples (found by brute force) weighted by inverse squared
+// distance, for arbitrary sample values. (A reconstruction that skipped a neighbour kept
+// constants exact and gradients within bound; this does not let it pass.)
+TEST(FoveatedReconstruction, EachPixelIsTheShepardMeanOfItsKNearestSamples) {
+  const int w = 40, h = 24;
+  const FoveationFrame f = prepare_foveation_frame(make_foveation_pattern(w, h, {}), 0.35f, 0.55f);
+  ASSERT_GT(f.k, 2);
+  std::vector<Vec3> values(f.size());
+  for (size_t s = 0; s < f.size(); ++s) values[s] = Vec3(float((s * 7919) % 101) / 10.0f);
+  Framebuffer fb(w, h);
+  reconstruct_rect(f, values.data(), {0, 0, w, h}, fb);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double qx = x + 0.5, qy = y + 0.5;
+      std::vector<std::pair<double, size_t>> by_distance;
+      for (size_t s = 0; s < f.size(); ++s)
+        by_distance.push_back(
+            {std::pow(f.position[s].x - qx, 2) + std::pow(f.position[s].y - qy, 2), s});
+      std::sort(by_distance.begin(), by_distance.end());
+      double sum = 0, weights = 0;
+      for (int j = 0; j < f.k && j < int(by_distance.size()); ++j) {
+        const double wj = 1.0 / std::max(by_distance[size_t(j)].first, 1e-12);
+        sum += wj * values[by_distance[size_t(j)].second].x;
+        weights += wj;
+      }
+      ASSERT_NEAR(fb.at(x, y).x, sum / weights, 1e-3 * (1.0 + sum / weights)) << x << "," << y;
+    }
 }
 
 // No holes: every pixel has a neighbour and gets a finite value, at tiny and odd sizes and

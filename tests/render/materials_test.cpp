@@ -46,6 +46,19 @@ double mean_red(const Framebuffer& fb) {
   return sum / double(fb.pixels.size());
 }
 
+// Texture rows follow v and columns u: texel row 0 is at v = 0 (glTF's convention; the OBJ
+// loader turns OBJ's v = 0 at the bottom into it), so a texture can never be read upside
+// down or mirrored without this failing (a flipped v once went unseen by every image test).
+TEST(Texture, RowZeroIsVZeroAndColumnZeroIsUZero) {
+  const unsigned char px[2 * 2 * 4] = {255, 255, 255, 255, 0,   0,   0,   255,   // white | black
+                                       0,   0,   0,   255, 255, 255, 255, 255};  // black | white
+  const Texture t = Texture::from_pixels(px, 2, 2, 4);
+  EXPECT_NEAR(t.sample({0.25f, 0.25f}).x, 1.0f, 1e-5f);  // texel (0, 0): white
+  EXPECT_NEAR(t.sample({0.75f, 0.25f}).x, 0.0f, 1e-5f);  // texel (1, 0)
+  EXPECT_NEAR(t.sample({0.25f, 0.75f}).x, 0.0f, 1e-5f);  // texel (0, 1)
+  EXPECT_NEAR(t.sample({0.75f, 0.75f}).x, 1.0f, 1e-5f);  // texel (1, 1): white
+}
+
 // A flat normal map (128, 128, 255) leaves the image exactly as without one.
 TEST(NormalMap, FlatMapEqualsThePlainPlane) {
   Scene plain = sunlit_plane({1, 2, 0.5f}), mapped = plain;

@@ -45,7 +45,7 @@ std::vector<double> block_z(const Framebuffer& x, const GoldenReference& ref, in
       }
   std::vector<double> z(diff.size());
   for (size_t k = 0; k < z.size(); ++k)
-    z[k] = var[k] > 0 ? diff[k] / std::sqrt(var[k])
+    z[k] = var[k] > 0                                           ? diff[k] / std::sqrt(var[k])
            : std::abs(diff[k]) <= 1e-5 * std::max(1.0, size[k]) ? 0.0
                                                                 : std::copysign(kClip, diff[k]);
   return z;
@@ -73,9 +73,9 @@ GoldenVerdict compare_to_golden(const Framebuffer& image, const GoldenReference&
   GoldenVerdict v;
   if (image.width != ref.mean.width || image.height != ref.mean.height ||
       ref.var.width != ref.mean.width || ref.var.height != ref.mean.height || ref.renders < 2) {
-    v.problem = fmt::format("image {}x{} against a reference of {}x{} from {} renders",
-                            image.width, image.height, ref.mean.width, ref.mean.height,
-                            ref.renders);
+    v.problem =
+        fmt::format("image {}x{} against a reference of {}x{} from {} renders", image.width,
+                    image.height, ref.mean.width, ref.mean.height, ref.renders);
     return v;
   }
   for (const Vec3& p : image.pixels)

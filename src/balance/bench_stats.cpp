@@ -1,0 +1,122 @@
+#include "balance/bench_stats.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+namespace multiray::balance {
+
+namespace {
+
+std::vector<double> finite(const std::vector<double>& v) {
+  std::vector<double> out;
+  for (double x : v)
+    if (std::isfinite(x)) out.push_back(x);
+  return out;
+}
+
+double median_of(std::vector<double>& v) {
+  const size_t n = v.size(), mid = n / 2;
+  std::nth_element(v.begin(), v.begin() + long(mid), v.end());
+  if (n % 2) return v[mid];
+  const double upper = v[mid];
+  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + long(mid)));
+}
+
+// The q-quantile of sorted `v` (linear between order statistics).
+double quantile(const std::vector<double>& v, double q) {
+  const double pos = q * double(v.size() - 1);
+  const size_t i = size_t(pos);
+  if (i + 1 >= v.size()) return v.back();
+  return v[i] + (pos - double(i)) * (v[i + 1] - v[i]);
+}
+
+std::string fmt_ratio(const Interval& r) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.2fx [%.2f, %.2f]", r.median, r.lo, r.hi);
+  return buf;
+}
+
+}  // namespace
+
+Interval bootstrap_median(const Blocks& values, const BootstrapOptions& o) {
+  Blocks blocks;
+  std::vector<double> all;
+  for (const auto& b : values) {
+    std::vector<double> f = finite(b);
+    if (f.empty()) continue;
+    all.insert(all.end(), f.begin(), f.end());
+    blocks.push_back(std::move(f));
+  }
+  Interval out;
+  if (all.empty()) return out;
+  out.valid = true;
+  out.median = median_of(all);
+  std::mt19937_64 rng(o.seed);
+  std::vector<double> medians, draw;
+  medians.reserve(size_t(o.resamples));
+  for (int r = 0; r < o.resamples; ++r) {
+    draw.clear();
+    for (size_t k = 0; k < blocks.size(); ++k) {
+      const auto& b = blocks[std::uniform_int_distribution<size_t>(0, blocks.size() - 1)(rng)];
+      std::uniform_int_distribution<size_t> pick(0, b.size() - 1);
+      for (size_t i = 0; i < b.size(); ++i) draw.push_back(b[pick(rng)]);
+    }
+    medians.push_back(median_of(draw));
+  }
+  std::sort(medians.begin(), medians.end());
+  const double tail = 0.5 * (1.0 - o.confidence);
+  out.lo = std::min(out.median, quantile(medians, tail));
+  out.hi = std::max(out.median, quantile(medians, 1.0 - tail));
+  return out;
+}
+
+Blocks paired_ratios(const Blocks& a, const Blocks& b) {
+  Blocks out(std::min(a.size(), b.size()));
+  for (size_t k = 0; k < out.size(); ++k)
+    for (size_t f = 0; f < std::min(a[k].size(), b[k].size()); ++f)
+      if (b[k][f] > 0 && std::isfinite(a[k][f])) out[k].push_back(a[k][f] / b[k][f]);
+  return out;
+}
+
+bool separated(const Interval& a, const Interval& b) {
+  return a.valid && b.valid && (a.hi < b.lo || b.hi < a.lo);
+}
+
+Verdict verdict(const std::vector<std::string>& names, const std::vector<Blocks>& lanes,
+                const BootstrapOptions& o) {
+  Verdict v;
+  for (const Blocks& b : lanes) v.medians.push_back(bootstrap_median(b, o));
+  for (size_t i = 0; i < v.medians.size(); ++i)
+    if (v.medians[i].valid &&
+        (v.best < 0 || v.medians[i].median < v.medians[size_t(v.best)].median))
+      v.best = int(i);
+  v.ratios.assign(lanes.size(), Interval{});
+  if (v.best < 0) {
+    v.text = "no lane has a figure";
+    return v;
+  }
+  const std::string best = names[size_t(v.best)];
+  std::string slower;
+  for (size_t i = 0; i < lanes.size(); ++i) {
+    if (int(i) == v.best) continue;
+    v.ratios[i] = bootstrap_median(paired_ratios(lanes[i], lanes[size_t(v.best)]), o);
+    if (!v.ratios[i].valid) continue;
+    if (v.ratios[i].lo <= 1.0)
+      v.tied.push_back(int(i));
+    else
+      slower += (slower.empty() ? "" : ", ") + names[i] + " " + fmt_ratio(v.ratios[i]);
+  }
+  if (v.tied.empty()) {
+    v.text = best + " is fastest";
+  } else {
+    v.text = best;
+    for (int t : v.tied) v.text += ", " + names[size_t(t)];
+    v.text += " are tied (their ratio's interval to " + best + " includes 1)";
+  }
+  if (!slower.empty()) v.text += "; slower: " + slower;
+  return v;
+}
+
+}  // namespace multiray::balance
