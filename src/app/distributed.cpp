@@ -118,7 +118,9 @@ Cluster::Cluster(const DistributedOptions& o) : options_(o), link_(remote::parse
 
 Cluster::~Cluster() {
   if (!transport_ || !master()) return;
-  for (int r = 1; r < size(); ++r) transport_->send(r, remote::kQuit, std::vector<uint8_t>{});
+  const auto quit = std::make_shared<const std::vector<uint8_t>>(
+      remote::encode_quit(transport_->gave_up_on_anyone()));
+  for (int r = 1; r < size(); ++r) transport_->send(r, remote::kQuit, quit);
 }
 
 int Cluster::rank() const { return transport_->rank(); }
@@ -134,7 +136,10 @@ Scene Cluster::receive_scene() {
     std::optional<remote::Message> m =
         transport_->receive(0, remote::Transport::Clock::now() + std::chrono::seconds(1));
     if (!m) continue;
-    if (m->tag == remote::kQuit) throw QuietExit{2};  // the master could not start
+    if (m->tag == remote::kQuit) {  // the master could not start
+      obey_quit(*transport_, *m);
+      throw QuietExit{2};
+    }
     if (m->tag == remote::kScene) {
       try {
         return remote::decode_scene(m->bytes);
@@ -160,7 +165,8 @@ void Cluster::say_cannot_start(const std::string& why) {
   // master off before it printed why: wait until the master says quit (it does once it has).
   const auto until = remote::Transport::Clock::now() + std::chrono::seconds(30);
   while (remote::Transport::Clock::now() < until)
-    if (auto m = transport_->receive(0, until); m && m->tag == remote::kQuit) return;
+    if (auto m = transport_->receive(0, until); m && m->tag == remote::kQuit)
+      return obey_quit(*transport_, *m);
 }
 
 std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {

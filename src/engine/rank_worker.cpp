@@ -9,6 +9,15 @@ namespace multiray {
 
 using namespace remote;
 
+void obey_quit(Transport& transport, const Message& quit) {
+  bool rank_lost = true;
+  try {
+    rank_lost = decode_quit(quit.bytes);
+  } catch (const WireError&) {
+  }
+  if (rank_lost) transport.forgo_finalize();
+}
+
 RankWorker::RankWorker(Transport& transport, std::vector<Device*> local, RenderSettings base,
                        RankWorkerOptions options)
     : transport_(transport),
@@ -29,6 +38,7 @@ int RankWorker::serve() {
     try {
       switch (m->tag) {
         case kQuit:
+          obey_quit(transport_, *m);
           return 0;
         case kFrame:
           start_frame(decode_frame(m->bytes));

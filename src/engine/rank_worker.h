@@ -30,6 +30,11 @@ struct RankWorkerOptions {
   int kill_at_frame = -1;                // testing aid: SIGKILL itself when asked for it
 };
 
+// Ends this worker's part in MPI as the master's Quit says: when the master gave up on
+// a rank (or the message does not parse), MPI must not be finalised here, since
+// MPI_Finalize would wait for that rank forever (transport.h).
+void obey_quit(remote::Transport& transport, const remote::Message& quit);
+
 class RankWorker {
  public:
   // `local` must outlive the worker. `base` gives what the master does not send (the

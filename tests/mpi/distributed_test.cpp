@@ -141,11 +141,11 @@ TEST(Distributed, AKilledWorkerCostsNoPixel) {
                     frames + "--devices cpu:threads=1 --worker-timeout 1 --balancer " + balancer +
                         " --out " + dir,
                     "--enable-recovery -x MULTIRAY_TEST_KILL", "MULTIRAY_TEST_KILL=2:1",
-                    // The run takes ~2 s; after a rank was killed, Open MPI's recovery mode
-                    // sometimes keeps mpiexec from exiting once everything is written (3 of
-                    // 6 runs on 2026-12-01, with this commit's binary and an older one
-                    // alike), so do not wait the default 120 s for it.
+                    // The run takes ~3 s. Every rank must end: a surviving worker that
+                    // called MPI_Finalize waited there for the dead rank forever (the
+                    // master's Quit now tells it not to), and timeout's 124 fails below.
                     30);
+    EXPECT_EQ(r.code, 0) << balancer << ": " << r.out;
     ASSERT_TRUE(std::filesystem::exists(dir + "/stats.json")) << balancer << ": " << r.out;
     EXPECT_THAT(r.out, ::testing::HasSubstr("rank 2: no answer"));
     EXPECT_EQ(hashes(dir), hashes(ref)) << balancer;

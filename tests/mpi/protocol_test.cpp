@@ -80,6 +80,8 @@ TEST(Protocol, MessagesSurviveARoundTrip) {
   EXPECT_DOUBLE_EQ(h2.devices[0].emulated_speed, 0.5);
   EXPECT_EQ(decode_failure(encode(FailureMessage{2, "lost"})).error, "lost");
   EXPECT_DOUBLE_EQ(decode_speed(encode_speed(0.25)), 0.25);
+  EXPECT_TRUE(decode_quit(encode_quit(true)));
+  EXPECT_FALSE(decode_quit(encode_quit(false)));
 }
 
 TEST(Protocol, EveryTruncationIsRefused) {
@@ -106,6 +108,8 @@ TEST(Protocol, ImpossibleValuesAreRefused) {
   WorkMessage w{1, false, {1}, {WorkItem{Rect{3, 0, 2, 2}, 0}}};  // x1 < x0
   EXPECT_THROW(decode_work(encode(w)), WireError);
   EXPECT_THROW(decode_speed(encode_speed(0)), WireError);
+  EXPECT_THROW(decode_quit({}), WireError);
+  EXPECT_THROW(decode_quit({2}), WireError);
   // A count far beyond the message's length must not allocate.
   ByteWriter big;
   big.put(uint32_t(1)), big.put(uint64_t(1) << 60);

@@ -195,4 +195,17 @@ double decode_speed(const std::vector<uint8_t>& bytes) {
   return s;
 }
 
+std::vector<uint8_t> encode_quit(bool rank_lost) {
+  ByteWriter w;
+  w.put(uint8_t(rank_lost));
+  return w.take();
+}
+
+bool decode_quit(const std::vector<uint8_t>& bytes) {
+  ByteReader r(bytes);
+  const uint8_t lost = r.get<uint8_t>();
+  if (lost > 1) throw WireError("quit: rank_lost is neither 0 nor 1");
+  return lost == 1;
+}
+
 }  // namespace multiray::remote

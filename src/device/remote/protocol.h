@@ -10,7 +10,9 @@
 //
 // Scene (master → worker, first, only with --scene-from master: scene_codec.h) carries
 // the scene. Hello (worker → master, once, before any frame) says what the worker offers or why it
-// could not start; Speed sets the emulated speed of its devices (--perturb); Quit ends it.
+// could not start; Speed sets the emulated speed of its devices (--perturb); Quit ends it,
+// saying whether the master gave up on a rank (then the worker must not call MPI_Finalize,
+// which waits for every rank of the job: transport.h).
 // `epoch` numbers the master's requests to that worker, so results of a frame the master
 // gave up on are recognised and dropped. (Heartbeats belong to the transport.)
 #pragma once
@@ -78,6 +80,7 @@ std::vector<uint8_t> encode(const WorkMessage& m);
 std::vector<uint8_t> encode(const ResultMessage& m);
 std::vector<uint8_t> encode(const FailureMessage& m);
 std::vector<uint8_t> encode_speed(double speed);
+std::vector<uint8_t> encode_quit(bool rank_lost);
 
 // Each throws WireError for a message that does not parse or holds impossible values.
 HelloMessage decode_hello(const std::vector<uint8_t>& bytes);
@@ -86,5 +89,7 @@ WorkMessage decode_work(const std::vector<uint8_t>& bytes);
 ResultMessage decode_result(const std::vector<uint8_t>& bytes);
 FailureMessage decode_failure(const std::vector<uint8_t>& bytes);
 double decode_speed(const std::vector<uint8_t>& bytes);
+// True when the master gave up on a rank.
+bool decode_quit(const std::vector<uint8_t>& bytes);
 
 }  // namespace multiray::remote

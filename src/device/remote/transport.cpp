@@ -51,7 +51,7 @@ Transport::~Transport() {
   }
   arrived_.notify_all();
   thread_.join();
-  if (!gave_up_on_anyone()) MPI_Finalize();
+  if (!gave_up_on_anyone() && !forgo_finalize_) MPI_Finalize();
 }
 
 void Transport::send(int to, int tag, std::vector<uint8_t> bytes) {

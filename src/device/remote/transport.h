@@ -46,8 +46,10 @@ class Transport {
   // transport's thread. Throws DeviceError when MPI cannot start or lacks thread support.
   // `link` is emulated on rank 0 only.
   explicit Transport(LinkSpec link = {});
-  // Stops the thread and finalises MPI, unless a peer was given up on (finalising would
-  // wait for it forever): then MPI is left as is and the process must end by _exit.
+  // Stops the thread and finalises MPI, unless a rank was given up on here or elsewhere
+  // (forgo_finalize): MPI_Finalize waits for every rank of the job, a dead one forever.
+  // MPI is then left as is and the process ends without it (mpiexec --enable-recovery
+  // lets it).
   ~Transport();
   Transport(const Transport&) = delete;
   Transport& operator=(const Transport&) = delete;
@@ -69,6 +71,9 @@ class Transport {
   // Marks `peer` as given up on: its messages are dropped from now on.
   void give_up(int peer);
   bool gave_up_on_anyone() const;
+  // Another rank gave up on one (a worker told so by the master): this rank must not
+  // finalise MPI either, although every peer it talks to still answers.
+  void forgo_finalize() { forgo_finalize_ = true; }
   // Sends a heartbeat to rank 0 every `period` (workers), so the master tells a busy
   // worker from a dead one. Zero: none.
   void set_heartbeat(std::chrono::milliseconds period) { heartbeat_ms_ = period.count(); }
@@ -104,6 +109,7 @@ class Transport {
   std::vector<std::unique_ptr<InFlight>> in_flight_;  // transport thread only
   TransportStats stats_;
   bool stop_ = false;
+  std::atomic<bool> forgo_finalize_{false};
   std::thread thread_;
 };
 
