@@ -38,6 +38,16 @@ TEST(Trace, RoundTripsExactly) {
   EXPECT_EQ(back.devices[1].speed, 0.5);
   EXPECT_EQ(back.frames[2].devices[1].items.size(), t.frames[2].devices[1].items.size());
   EXPECT_EQ(back.frames[2].devices[1].time_ms, t.frames[2].devices[1].time_ms);
+  // A device's frame totals are not written: the reader sums them from its items, and
+  // the balancers' update() reads them (work_done).
+  for (size_t f = 0; f < t.frames.size(); ++f)
+    for (size_t d = 0; d < t.devices.size(); ++d) {
+      const DeviceFrameStats &want = t.frames[f].devices[d], &got = back.frames[f].devices[d];
+      ASSERT_GT(want.samples, 0) << f << " " << d;
+      EXPECT_EQ(got.samples, want.samples) << "frame " << f << " device " << d;
+      EXPECT_EQ(got.pixels, want.pixels) << "frame " << f << " device " << d;
+      EXPECT_EQ(got.alive, want.alive) << "frame " << f << " device " << d;
+    }
 }
 
 TEST(Trace, MalformedTracesAreRefusedWithTheLine) {
