@@ -206,5 +206,41 @@ TEST(VolumeAdvisor, TwoPassRendersASecondPassOnlyWhenTheFirstLeftTime) {
   }
 }
 
+// The predicted frame time is the frame's work at the chosen step (the per-pixel work the
+// balancer is given: samples at that step plus the step-free work) over the devices'
+// predicted rates together (sum of 1/sigma): at full quality and at a 4x coarser step.
+TEST(VolumeAdvisor, PredictedTimeIsTheWorkAtTheChosenStepOverTheDevicesRates) {
+  Ball b;
+  ThreeLanes lanes(b);
+  Session& session = *lanes.session;
+  session.set_advisors([&](size_t lane) -> std::unique_ptr<FrameAdvisor> {
+    VolumeAdvisorConfig c;
+    c.targeting.target_ms = 1e-3;  // unreachable: predict mode takes the coarsest step
+    c.targeting.mode = lane == 2 ? balance::AdaptMode::predict : balance::AdaptMode::none;
+    c.targeting.min_cost = 0.25;
+    return std::make_unique<VolumeAdvisor>(volume_scene(*b.cache), 2, c);
+  });
+  Keep keep;
+  ASSERT_EQ(session.run(0, 4, keep), 4);
+  int coarse = 0;
+  for (const auto& r : keep.results) {
+    if (r->frame == 0) continue;  // nothing learnt yet: no prediction
+    const FrameRecord& rec = r->record;
+    ASSERT_EQ(rec.quality.image_scale, 1);  // ray space: only the step changes
+    if (rec.quality.step_scale == 4) ++coarse;
+    double work = 0, rate = 0;
+    for (float w : r->stats.shape.pixel_weight) work += w;
+    ASSERT_EQ(rec.predicted_cost.size(), 2u);
+    for (double sigma : rec.predicted_cost) {
+      ASSERT_GT(sigma, 0);
+      rate += 1 / sigma;
+    }
+    ASSERT_GT(work, 0);
+    EXPECT_NEAR(rec.predicted_ms, work / rate, 1e-4 * work / rate)
+        << "lane " << r->lane << " frame " << r->frame << " step " << rec.quality.step_scale;
+  }
+  EXPECT_GE(coarse, 1);  // the coarse step was predicted and rendered at least once
+}
+
 }  // namespace
 }  // namespace multiray
