@@ -26,12 +26,12 @@ run: build
 	$(MULTIRAY) render --res 640x360 --spp 16 --out out
 	@echo "multiray: wrote out/frame_0000.png and out/stats.json"
 
-check-format:
+check-format: deps
 	@scripts/check-format.sh
 
 # Every test, then a 5-second smoke run of each fuzz target (its -O0 clang build takes
 # about 3 minutes the first time; fuzz/README.md).
-test: build check-format
+test: check-format build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) --timeout 600
 	@JOBS=$(JOBS) fuzz/run.sh smoke
 

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/adapt_summary.h"
+#include "app/bench_repeats.h"
 #include "app/bench_summary.h"
 #include "app/commands.h"
 #include "app/interrupt.h"
@@ -34,6 +35,7 @@ struct BenchOptions {
   std::string trace_prefix;
   int warmup = 0;  // used when --warmup is given; default_warmup(frames) otherwise
   int ideal_frames = 20;
+  int repeats = 3;
 };
 
 }  // namespace
@@ -68,7 +70,21 @@ Runner add_bench_command(CLI::App& app) {
                   "efficiency = sum of ideal times (interpolated between those frames) / sum of "
                   "actual frame times, over the frames after --warmup")
       ->capture_default_str();
+  cmd->add_option("--repeats", b->repeats,
+                  "Repeat blocks: the whole run K times, each a fresh start of every balancer "
+                  "over the same frames; frame time and efficiency are then reported as medians "
+                  "with 95% intervals, and a balancer is named faster only where the intervals "
+                  "of its per-frame ratios separate (1: one block, no intervals)")
+      ->capture_default_str();
+  CLI::Option* repeats_option = cmd->get_option("--repeats");
   return [=]() -> int {
+    if (b->repeats < 1 || b->repeats > 100) throw InputError("--repeats must be in 1..100");
+    // A distributed run's workers serve one session; repeating it is not built yet.
+    if (o->distributed.enabled && b->repeats > 1) {
+      if (repeats_option->count() > 0)
+        throw InputError("--repeats above 1 does not work with --distributed yet");
+      b->repeats = 1;
+    }
     const auto specs = balance::split_spec_list(b->balancers);
     if (specs.empty()) throw InputError("--balancers is empty");
     const int warmup = warmup_option->count() > 0 ? b->warmup : default_warmup(o->frames);
@@ -122,22 +138,32 @@ Runner add_bench_command(CLI::App& app) {
     config.ideal_frames = b->ideal_frames;
     config.partition_frame = b->report_dir.empty() ? -1 : o->frames / 2;
     config.keep_stats = !b->trace_prefix.empty();
+    // Block 0 gives the per-frame outputs (table, JSON frames, plots, traces); every block
+    // adds its per-frame figures to the repeat statistics.
     BenchResult result;
-    {
+    std::vector<RepeatLane> repeat_lanes;
+    for (int block = 0; block < b->repeats; ++block) {
+      if (block > 0) session = s.make_session(mapped, "--balancers");
+      BenchResult r;
       InterruptWatch watch(*session);
-      result = run_bench(*session, s.device_ptrs(), initial, s.perturbations, session->settings(),
-                         config, [&](int f) {
-                           if (stderr_is_tty())
-                             fmt::print(stderr, "\rframe {}/{} ", f + 1, o->frames);
-                         });
+      r = run_bench(*session, s.device_ptrs(), initial, s.perturbations, session->settings(),
+                    config, [&](int f) {
+                      if (stderr_is_tty())
+                        fmt::print(stderr, "\rblock {}/{}  frame {}/{} ", block + 1, b->repeats,
+                                   f + 1, o->frames);
+                    });
       if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
       if (watch.signal()) {
         // A summary of a cut-short run would mislead; nothing is written.
-        fmt::print(stderr, "multiray: bench interrupted by {} after {} of {} frames; no output\n",
-                   watch.signal_name(), result.lanes.empty() ? 0 : result.lanes[0].records.size(),
-                   o->frames);
+        fmt::print(stderr,
+                   "multiray: bench interrupted by {} in block {} of {}, after {} of {} frames; "
+                   "no output\n",
+                   watch.signal_name(), block + 1, b->repeats,
+                   r.lanes.empty() ? 0 : r.lanes[0].records.size(), o->frames);
         return 128 + watch.signal();
       }
+      add_block(repeat_lanes, lanes, r, warmup);
+      if (block == 0) result = std::move(r);
     }
     for (const BenchLane& lane : result.lanes)
       for (const FrameRecord& rec : lane.records)
@@ -162,6 +188,11 @@ Runner add_bench_command(CLI::App& app) {
     for (const BenchLane& lane : result.lanes)
       summaries.push_back(summarize(lane.records, warmup, result.sampled, ideal, perturb_frame));
     add_speedups(lanes, summaries);
+    if (b->repeats > 1)
+      fmt::print(
+          "block 1 of {} (its frames give the table below, the plots and the JSON "
+          "frames; the repeat statistics follow):\n",
+          b->repeats);
     print_table(lanes, summaries);
     // Bit-identical images are promised per device type; with several types the split
     // decides which pixels carry which type's last-bit rounding, so hashes are not compared.
@@ -281,8 +312,11 @@ Runner add_bench_command(CLI::App& app) {
     if (emulated || !s.perturbations.empty())
       fmt::print(
           "(device speeds below 1 are emulated: the device idles after each piece of work)\n");
+    const RepeatSummary repeats = summarize_repeats(repeat_lanes);
+    if (b->repeats > 1) print_repeats(repeats);
     if (!b->json_path.empty()) {
       nlohmann::json doc{
+          {"repeats", repeats_to_json(repeats)},
           {"scene", s.scene->name},
           {"resolution", {s.res.width, s.res.height}},
           {"views", s.views->rig().view_count()},

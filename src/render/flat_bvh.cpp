@@ -113,8 +113,7 @@ FlatBvh build_flat_bvh(const Scene& scene) {
     throw DeviceError("OpenCL BVH: more than " + std::to_string(kMaxFlatTriangles) +
                       " triangles, the kernel's limit");
 
-  std::unique_ptr<RTCDeviceTy, void (*)(RTCDevice)> device(new_embree_device(),
-                                                           rtcReleaseDevice);
+  std::unique_ptr<RTCDeviceTy, void (*)(RTCDevice)> device(new_embree_device(), rtcReleaseDevice);
   if (!device) throw DeviceError("OpenCL BVH: cannot create an Embree device");
   std::unique_ptr<RTCBVHTy, void (*)(RTCBVH)> bvh(rtcNewBVH(device.get()), rtcReleaseBVH);
 

@@ -11,7 +11,7 @@
 #include "balance/simulate.h"
 
 namespace multiray::balance {
-namespace {
+namespace bench_stats_test {
 
 // Frame times (ms) of `frames` frames of `spec` on two noisy devices (3:1, each frame's
 // speed off by up to 30%, each item's cost by up to 20%), from `seed`.

@@ -14,7 +14,7 @@
 #include "sim_harness.h"
 
 namespace multiray::balance {
-namespace {
+namespace bruder_test {
 
 using testing::constant;
 using testing::devices_with_speeds;

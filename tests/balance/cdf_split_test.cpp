@@ -14,7 +14,7 @@
 #include "partition_cases.h"
 
 namespace multiray::balance {
-namespace {
+namespace cdf_split_test {
 
 double sum(const std::vector<double>& w, int64_t a, int64_t b) {
   return std::accumulate(w.begin() + a, w.begin() + b, 0.0);

@@ -12,7 +12,7 @@
 #include "sim_harness.h"
 
 namespace multiray::balance {
-namespace {
+namespace contract_test {
 
 using testing::constant;
 using testing::flat_cost;

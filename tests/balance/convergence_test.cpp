@@ -9,7 +9,7 @@
 #include "sim_harness.h"
 
 namespace multiray::balance {
-namespace {
+namespace convergence_test {
 
 using namespace testing;
 

@@ -10,7 +10,7 @@
 #include "partition/coverage.h"
 
 namespace multiray::balance {
-namespace {
+namespace dispatcher_test {
 
 WorkItem row(int y, int width = 10) { return WorkItem{Rect{0, y, width, y + 1}, 0}; }
 

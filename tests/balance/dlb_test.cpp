@@ -8,7 +8,7 @@
 #include "sim_harness.h"
 
 namespace multiray::balance {
-namespace {
+namespace dlb_test {
 
 using namespace testing;
 

@@ -14,7 +14,7 @@
 #include "sim_harness.h"
 
 namespace multiray::balance {
-namespace {
+namespace hybrid_test {
 
 using namespace testing;
 

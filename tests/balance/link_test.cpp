@@ -6,7 +6,7 @@
 #include "sim_harness.h"
 
 namespace multiray::balance {
-namespace {
+namespace link_test {
 
 const FrameShape kShape{64, 32, 1, {}};
 

@@ -17,7 +17,7 @@
 #include "partition_cases.h"
 
 namespace multiray::balance {
-namespace {
+namespace partition_test {
 
 TEST(Apportion, SumsExactlyAndStaysWithinOneOfQuota) {
   std::mt19937_64 rng(7);

@@ -16,7 +16,7 @@
 #include "sim_harness.h"
 
 namespace multiray::balance {
-namespace {
+namespace peers_test {
 
 using namespace testing;
 

@@ -8,7 +8,7 @@
 #include "sim_harness.h"
 
 namespace multiray::balance {
-namespace {
+namespace region_test {
 
 TEST(Region, CropShapeKeepsTheRegionsWeights) {
   FrameShape s{4, 3, 2, {}};

@@ -12,7 +12,7 @@
 #include "partition_cases.h"
 
 namespace multiray::balance {
-namespace {
+namespace shuffled_strips_test {
 
 TEST(ShuffledStrips, StripsHold128To256Pixels) {
   for (int64_t pixels : {256, 1000, 640 * 360, 641 * 359, 1920 * 1080, 123457}) {

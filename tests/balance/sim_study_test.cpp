@@ -6,7 +6,7 @@
 #include "sim_harness.h"
 
 namespace multiray::balance {
-namespace {
+namespace sim_study_test {
 
 // A trace of `frames` frames whose cost is 1 µs per pixel, recorded on one device.
 Trace flat_trace(int frames) {

@@ -7,7 +7,7 @@
 #include "partition/coverage.h"
 
 namespace multiray::balance {
-namespace {
+namespace simulate_test {
 
 const FrameShape kShape{10, 10, 1, {}};
 

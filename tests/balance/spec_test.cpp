@@ -9,7 +9,7 @@
 #include "balance/spec.h"
 
 namespace multiray::balance {
-namespace {
+namespace spec_test {
 
 TEST(Spec, EveryNameBuildsAndSpecRoundTrips) {
   for (const std::string& name : balancer_names()) {

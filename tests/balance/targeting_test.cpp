@@ -7,7 +7,7 @@
 #include "balance/targeting.h"
 
 namespace multiray::balance {
-namespace {
+namespace targeting_test {
 
 TargetingConfig config(AdaptMode mode, double target = 50) {
   TargetingConfig c;

@@ -8,7 +8,7 @@
 #include "sim_harness.h"
 
 namespace multiray::balance {
-namespace {
+namespace trace_test {
 
 // A run of `spec` on the simulator, recorded as a trace.
 Trace record(const std::string& spec, const std::vector<double>& speeds, int frames) {

@@ -9,7 +9,7 @@
 
 #include "support/run_cli.h"
 
-namespace {
+namespace assimp_cli_test {
 
 TEST(AssimpCli, RendersADaeFileNotBlack) {
 #ifndef MULTIRAY_HAS_ASSIMP

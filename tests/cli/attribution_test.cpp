@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace {
+namespace attribution_test {
 
 namespace fs = std::filesystem;
 

@@ -12,7 +12,7 @@
 
 #include "support/cli_expect.h"
 
-namespace {
+namespace bench_cli_test {
 
 using Result = multiray::testing::CliResult;
 
@@ -83,6 +83,41 @@ TEST(BenchCli, PrintedIdealIsTheOneEfficiencyUses) {
     EXPECT_NEAR(s.at("efficiency").get<double>(), ideal / s.at("mean_frame_ms").get<double>(),
                 1e-9)
         << lane.at("lane");
+  }
+}
+
+// --repeats K: K blocks, each lane's frame time and efficiency as a median inside its 95%
+// interval, the best lane's ratio absent and every other lane's present, a verdict line
+// that the JSON repeats; the per-frame JSON is block 1's (frames, not frames x K).
+TEST(BenchCli, RepeatsGiveIntervalsAndAVerdict) {
+  const std::string json = ::testing::TempDir() + "/bench_repeats.json";
+  const Result r =
+      run(std::string(kSmall) +
+          "--frames 6 --warmup 1 --repeats 3 --balancers uniform,queue --json " + json);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("3 repeat blocks"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("verdict: "));
+  const nlohmann::json doc = read_json(json);
+  const auto& rep = doc.at("repeats");
+  EXPECT_EQ(rep.at("blocks"), 3);
+  ASSERT_EQ(rep.at("lanes").size(), 2u);
+  int with_ratio = 0;
+  for (const auto& lane : rep.at("lanes")) {
+    const auto& t = lane.at("frame_ms");
+    EXPECT_LE(t.at("lo").get<double>(), t.at("median").get<double>()) << lane;
+    EXPECT_GE(t.at("hi").get<double>(), t.at("median").get<double>()) << lane;
+    EXPECT_GT(t.at("lo").get<double>(), 0.0) << lane;
+    with_ratio += !lane.at("ratio_to_best").is_null();
+  }
+  EXPECT_EQ(with_ratio, 1);
+  EXPECT_THAT(r.out, ::testing::HasSubstr("verdict: " + rep.at("verdict").get<std::string>()));
+  for (const auto& lane : doc.at("runs")) EXPECT_EQ(lane.at("frames").size(), 6u);
+  for (const char* bad : {"0", "101", "x"}) {
+    const std::string args =
+        std::string(kSmall) + "--frames 2 --balancers uniform --repeats " + bad;
+    const Result e = run(args);
+    EXPECT_NE(e.code, 0) << args;
+    EXPECT_THAT(e.out, ::testing::HasSubstr("--repeats")) << args;
   }
 }
 

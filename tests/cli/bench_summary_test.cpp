@@ -5,7 +5,7 @@
 #include "app/bench_summary.h"
 
 namespace multiray::app {
-namespace {
+namespace bench_summary_test {
 
 std::vector<FrameRecord> frames(const std::vector<double>& ms,
                                 const std::vector<double>& imbalance) {

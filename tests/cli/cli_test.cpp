@@ -15,7 +15,7 @@
 
 #include "support/cli_expect.h"
 
-namespace {
+namespace cli_test {
 
 using Result = multiray::testing::CliResult;
 using multiray::testing::temp_file;
@@ -229,7 +229,7 @@ TEST(Cli, BadSceneFiles) {
 
 }  // namespace
 
-namespace {
+namespace cli_test {
 
 // --trace writes every item once: per frame, the items' areas add up to the image.
 TEST(Cli, TraceRecordsEveryItemOfEveryFrame) {
@@ -270,7 +270,7 @@ TEST(Cli, DepthKernelRunsAndUnknownKernelsAreRefused) {
 
 }  // namespace
 
-namespace {
+namespace cli_test {
 
 // A trace recorded by render, replayed by simulate on more devices behind a link.
 TEST(Cli, SimulateReplaysARecordedTrace) {

@@ -13,7 +13,7 @@
 
 #include "support/run_cli.h"
 
-namespace {
+namespace gallery_test {
 
 using multiray::testing::run_cli;
 

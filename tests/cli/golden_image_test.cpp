@@ -20,7 +20,7 @@
 #include "support/golden.h"
 
 namespace multiray::testing {
-namespace {
+namespace golden_image_test {
 
 const std::vector<std::string> kBalancers = {"uniform",     "static", "queue:tile=16",
                                              "semi-static", "dlb",    "hybrid"};

@@ -19,7 +19,7 @@
 
 #include "support/run_cli.h"
 
-namespace {
+namespace robustness_cli_test {
 
 namespace fs = std::filesystem;
 using multiray::testing::run_cli;

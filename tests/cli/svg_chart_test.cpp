@@ -10,7 +10,7 @@
 #include "app/svg_chart.h"
 
 namespace multiray::app {
-namespace {
+namespace svg_chart_test {
 
 size_t count(const std::string& text, const std::string& what) {
   size_t n = 0;
@@ -56,7 +56,7 @@ TEST(SvgChart, ValuesOutsideThePanelAreDrawnAtItsEdge) {
 }  // namespace multiray::app
 
 namespace multiray::app {
-namespace {
+namespace svg_chart_test {
 
 // Frame numbers under the chart fall on round steps; the warm-up is shaded and labelled;
 // stacked layers are one polygon each.

@@ -13,7 +13,7 @@
 
 #include "support/cli_expect.h"
 
-namespace {
+namespace volume_cli_test {
 
 using Result = multiray::testing::CliResult;
 using multiray::testing::temp_file;

@@ -14,7 +14,7 @@
 #include "core/file_io.h"
 
 namespace multiray {
-namespace {
+namespace file_io_test {
 
 namespace fs = std::filesystem;
 

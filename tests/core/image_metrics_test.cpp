@@ -6,7 +6,7 @@
 #include "core/image_metrics.h"
 
 namespace multiray {
-namespace {
+namespace image_metrics_test {
 
 Framebuffer gradient(int w, int h) {
   Framebuffer fb(w, h);

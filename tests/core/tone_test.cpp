@@ -7,7 +7,7 @@
 #include "core/image.h"
 
 namespace multiray {
-namespace {
+namespace tone_test {
 
 TEST(ToneCurve, FilmicIsMonotoneFromZeroAndSaturates) {
   EXPECT_EQ(tone_filmic(0.0f), 0.0f);

@@ -9,7 +9,7 @@
 #include "scene/camera_rig.h"
 
 namespace multiray {
-namespace {
+namespace bench_harness_test {
 
 constexpr int kW = 24, kH = 16;
 

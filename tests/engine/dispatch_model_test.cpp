@@ -17,7 +17,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace dispatch_model_test {
 
 constexpr int kW = 64, kH = 40;
 

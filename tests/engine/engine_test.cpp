@@ -15,7 +15,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace engine_test {
 
 constexpr int kW = 53, kH = 31;
 
@@ -159,7 +159,7 @@ TEST(Engine, FailedDeviceIsDroppedAndItsWorkRedone) {
 }  // namespace multiray
 
 namespace multiray {
-namespace {
+namespace engine_test {
 
 // Progress counts the pixels handed to devices: all of them once a frame is done.
 TEST(Engine, ProgressReachesOneAtTheEndOfAFrame) {
@@ -176,7 +176,7 @@ TEST(Engine, ProgressReachesOneAtTheEndOfAFrame) {
 }  // namespace multiray
 
 namespace multiray {
-namespace {
+namespace engine_test {
 
 // A device that fails at any point of a frame — before its first item, in the middle, at
 // its last — loses no pixel: what it took and did not finish is rendered by the other.

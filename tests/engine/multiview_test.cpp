@@ -11,7 +11,7 @@
 #include "scene/camera_rig.h"
 
 namespace multiray {
-namespace {
+namespace multiview_test {
 
 constexpr int kW = 37, kH = 23;
 

@@ -16,7 +16,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace reprojection_test {
 
 constexpr int kW = 64, kH = 48;
 const CameraRig kRig = CameraRig::grid(3, 3, 0.25f);

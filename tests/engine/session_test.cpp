@@ -11,7 +11,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace session_test {
 
 constexpr int kW = 40, kH = 30;
 

@@ -16,7 +16,7 @@
 #include "render/volume_prepass.h"
 
 namespace multiray {
-namespace {
+namespace volume_prediction_test {
 
 // A 40^3 volume holding a ball of value 100 (radius 12) in zeros, and a camera on it.
 struct Ball {

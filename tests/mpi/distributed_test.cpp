@@ -14,7 +14,7 @@
 
 #include "support/run_cli.h"
 
-namespace {
+namespace distributed_test {
 
 using multiray::testing::CliResult;
 

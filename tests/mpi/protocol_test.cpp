@@ -10,7 +10,7 @@
 #include "device/remote/wire.h"
 
 namespace multiray::remote {
-namespace {
+namespace protocol_test {
 
 FrameMessage sample_frame() {
   FrameMessage m;

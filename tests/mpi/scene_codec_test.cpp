@@ -9,7 +9,7 @@
 #include "volume/volume.h"
 
 namespace multiray::remote {
-namespace {
+namespace scene_codec_test {
 
 Scene rich_scene() {
   Scene s = make_cornell_box();

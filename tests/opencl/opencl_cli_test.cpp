@@ -10,7 +10,7 @@
 #include "support/run_cli.h"
 
 namespace multiray {
-namespace {
+namespace opencl_cli_test {
 
 #ifdef MULTIRAY_BIN
 using Result = multiray::testing::CliResult;

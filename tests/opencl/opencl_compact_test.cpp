@@ -13,7 +13,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace opencl_compact_test {
 
 using testing::render_on;
 using testing::render_whole;

@@ -11,7 +11,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace opencl_engine_test {
 
 using testing::PixelStats;
 using testing::render_whole;

@@ -12,7 +12,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace opencl_feature_match_test {
 
 using testing::expect_matches_cpu;
 using testing::expect_test_sees_feature;

@@ -24,7 +24,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace opencl_match_test {
 
 using testing::batches;
 using testing::expect_matches_cpu;

@@ -15,7 +15,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace opencl_material_match_test {
 
 using testing::expect_matches_cpu;
 using testing::expect_test_sees_feature;

@@ -15,7 +15,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace opencl_render_test {
 
 using testing::render_on;
 using testing::render_whole;

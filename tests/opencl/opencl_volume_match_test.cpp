@@ -26,7 +26,7 @@
 #include "support/run_cli.h"
 
 namespace multiray {
-namespace {
+namespace opencl_volume_match_test {
 
 using testing::ball_case;
 using testing::render_whole;

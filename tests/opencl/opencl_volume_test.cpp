@@ -14,7 +14,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace opencl_volume_test {
 
 using testing::ball_case;
 using testing::render_on;

@@ -7,7 +7,7 @@
 #include "scene/camera_path.h"
 
 namespace multiray {
-namespace {
+namespace camera_path_test {
 
 TEST(CameraPath, OrbitKeepsDistanceAndReturnsAfterOnePeriod) {
   const Camera base{{0, 1, 4}, {0, 1, 0}, {0, 1, 0}, 40};

@@ -13,7 +13,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace compact_kdtree_test {
 
 // Boxes turned about y, spheres of several sizes (one inside a box, one crossing a wall)
 // and a quad laid twice on the floor (coplanar triangles: ties), in a Cornell box.

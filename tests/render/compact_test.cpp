@@ -17,7 +17,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace compact_test {
 
 float angle_deg(Vec3 a, Vec3 b) {
   return std::acos(std::clamp(dot(normalize(a), normalize(b)), -1.0f, 1.0f)) * 57.29578f;

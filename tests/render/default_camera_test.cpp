@@ -13,7 +13,7 @@
 #include "scene/camera_path.h"
 
 namespace multiray {
-namespace {
+namespace default_camera_test {
 
 // A box-shaped scene spanning lo..hi (one material, twelve triangles).
 Scene box_scene(Vec3 lo, Vec3 hi) {

@@ -14,7 +14,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace foveated_split_test {
 
 constexpr int kW = 61, kH = 37;
 

@@ -12,7 +12,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace foveated_test {
 
 // Renders `rect` of a foveated view of `scene` with the kernel, on the calling thread.
 Framebuffer render_foveated(const Scene& scene, const FoveationFrame& f, RenderSettings s,

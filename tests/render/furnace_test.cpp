@@ -7,7 +7,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace furnace_test {
 
 // White furnace: inside a closed sphere with albedo rho and emission Le, the radiance is
 // Le / (1 - rho) everywhere. Russian roulette is off and bounces are many, so the

@@ -11,7 +11,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace irregular_test {
 
 Framebuffer render_ao(const Scene& scene, int w, int h, RenderSettings s,
                       const std::vector<uint8_t>* map = nullptr, Rect rect = {}) {

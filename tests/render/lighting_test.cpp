@@ -11,7 +11,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace lighting_test {
 
 constexpr int kW = 16, kH = 16;
 

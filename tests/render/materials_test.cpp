@@ -9,7 +9,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace materials_test {
 
 constexpr int kW = 16, kH = 16;
 constexpr float kE = 3.0f;  // sun irradiance at normal incidence

@@ -19,7 +19,7 @@
 #include "scene/loaders.h"
 
 namespace multiray {
-namespace {
+namespace mitsuba_reference_test {
 
 constexpr int kBlocks = 10;  // per side
 

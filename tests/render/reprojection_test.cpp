@@ -10,7 +10,7 @@
 #include "scene/camera_rig.h"
 
 namespace multiray {
-namespace {
+namespace reprojection_test {
 
 constexpr int kW = 64, kH = 64;
 

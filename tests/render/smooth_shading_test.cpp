@@ -9,7 +9,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace smooth_shading_test {
 
 struct ShadingError {
   double rms = 0;  // over the pixels well inside the silhouette

@@ -7,7 +7,7 @@
 #include "scene/builders.h"
 
 namespace multiray {
-namespace {
+namespace split_test {
 
 bool bit_identical(const Framebuffer& a, const Framebuffer& b) {
   return a.pixels.size() == b.pixels.size() &&

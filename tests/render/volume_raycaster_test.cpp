@@ -13,7 +13,7 @@
 #include "render_helpers.h"
 
 namespace multiray {
-namespace {
+namespace volume_raycaster_test {
 
 // nx x ny x nz voxels of `fill(x, y, z)`, spacing 1, centred on the origin.
 template <class Fill>

@@ -14,7 +14,7 @@
 #include "scene/loaders.h"
 
 namespace multiray {
-namespace {
+namespace assimp_input_test {
 
 namespace fs = std::filesystem;
 using test::expect_input_error;

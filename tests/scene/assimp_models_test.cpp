@@ -13,7 +13,7 @@
 #include "scene/loaders.h"
 
 namespace multiray {
-namespace {
+namespace assimp_models_test {
 
 std::string model(const std::string& rel) {
   return std::string(MULTIRAY_ASSIMP_MODELS_DIR) + "/" + rel;

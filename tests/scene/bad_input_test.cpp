@@ -13,7 +13,7 @@
 #include "scene/loaders.h"
 
 namespace multiray {
-namespace {
+namespace bad_input_test {
 
 namespace fs = std::filesystem;
 

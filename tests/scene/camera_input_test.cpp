@@ -16,7 +16,7 @@
 #include "scene/camera_path.h"
 
 namespace multiray {
-namespace {
+namespace camera_input_test {
 
 namespace fs = std::filesystem;
 

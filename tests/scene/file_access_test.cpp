@@ -18,7 +18,7 @@
 #include "scene/loaders.h"
 
 namespace multiray {
-namespace {
+namespace file_access_test {
 
 namespace fs = std::filesystem;
 using test::expect_input_error;

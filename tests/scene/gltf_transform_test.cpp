@@ -13,7 +13,7 @@
 #include "scene/loaders.h"
 
 namespace multiray {
-namespace {
+namespace gltf_transform_test {
 
 namespace fs = std::filesystem;
 

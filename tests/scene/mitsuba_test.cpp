@@ -15,7 +15,7 @@
 #include "scene/loaders.h"
 
 namespace multiray {
-namespace {
+namespace mitsuba_test {
 
 namespace fs = std::filesystem;
 

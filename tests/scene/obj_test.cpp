@@ -10,7 +10,7 @@
 #include "scene/loaders.h"
 
 namespace multiray {
-namespace {
+namespace obj_test {
 
 namespace fs = std::filesystem;
 

@@ -11,7 +11,7 @@
 #include "scene/loaders.h"
 
 namespace multiray {
-namespace {
+namespace real_models_test {
 
 std::string assimp_model(const std::string& rel) {
   return std::string(MULTIRAY_ASSIMP_MODELS_DIR) + "/" + rel;

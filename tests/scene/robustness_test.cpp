@@ -14,7 +14,7 @@
 #include "scene/loaders.h"
 
 namespace multiray {
-namespace {
+namespace robustness_test {
 
 namespace fs = std::filesystem;
 

@@ -17,7 +17,7 @@
 #include "scene/loaders.h"
 
 namespace multiray {
-namespace {
+namespace scene_limits_test {
 
 namespace fs = std::filesystem;
 using test::expect_input_error;

@@ -10,7 +10,7 @@
 #include "support/run_cli.h"
 #include "viewer_process.h"
 
-namespace {
+namespace browser_test {
 
 std::string chromium() {
   for (const char* p : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})

@@ -7,7 +7,7 @@
 #include "core/error.h"
 
 namespace multiray::app::viewer {
-namespace {
+namespace view_control_test {
 
 TEST(ViewControl, GoodMessagesParse) {
   Command c = parse_command(R"({"type":"orbit","dx":10,"dy":-5})", 1);

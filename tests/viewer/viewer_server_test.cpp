@@ -16,7 +16,7 @@
 
 #include "viewer_process.h"
 
-namespace {
+namespace viewer_server_test {
 
 using namespace std::chrono_literals;
 

@@ -11,7 +11,7 @@
 #include "volume/volume_test_files.h"
 
 namespace multiray {
-namespace {
+namespace bad_volume_test {
 
 using test::expect_input_error;
 using test::nrrd_header;

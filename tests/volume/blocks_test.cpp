@@ -10,7 +10,7 @@
 #include "volume/blocks.h"
 
 namespace multiray {
-namespace {
+namespace blocks_test {
 
 // nx x ny x nz voxels with values f(x, y, z).
 template <class F>

@@ -10,7 +10,7 @@
 #include "volume/volume_test_files.h"
 
 namespace multiray {
-namespace {
+namespace nrrd_test {
 
 using test::bytes16;
 using test::nrrd_header;

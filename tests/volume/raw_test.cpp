@@ -8,7 +8,7 @@
 #include "volume/volume_test_files.h"
 
 namespace multiray {
-namespace {
+namespace raw_test {
 
 using test::bytes16;
 using test::expect_input_error;

@@ -11,7 +11,7 @@
 #include "volume/volume_test_files.h"
 
 namespace multiray {
-namespace {
+namespace real_volumes_test {
 
 using test::shared_volume;
 
