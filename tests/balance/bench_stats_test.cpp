@@ -102,5 +102,5 @@ TEST(BenchStats, EmptyAndNonFiniteValuesAreIgnored) {
   EXPECT_TRUE(paired_ratios({{1, 2}}, {{0, 4}})[0] == std::vector<double>{0.5});
 }
 
-}  // namespace
+}  // namespace bench_stats_test
 }  // namespace multiray::balance

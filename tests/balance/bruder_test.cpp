@@ -329,5 +329,5 @@ TEST(Bruder, SpecRoundTripsAndBadOptionsThrow) {
     EXPECT_THROW(make_balancer(bad, 2), std::invalid_argument) << bad;
 }
 
-}  // namespace
+}  // namespace bruder_test
 }  // namespace multiray::balance

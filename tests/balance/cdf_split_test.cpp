@@ -99,5 +99,5 @@ TEST(CdfSplit, PixelSplitIsWithinOnePixelOfTarget) {
   EXPECT_EQ(coverage_error(all, w, h, 1), "");
 }
 
-}  // namespace
+}  // namespace cdf_split_test
 }  // namespace multiray::balance

@@ -187,5 +187,5 @@ INSTANTIATE_TEST_SUITE_P(AllBalancers, Contract, ::testing::ValuesIn(kSpecs),
                            return n;
                          });
 
-}  // namespace
+}  // namespace contract_test
 }  // namespace multiray::balance

@@ -198,5 +198,5 @@ TEST(Queue, EverythingIsSharedInTilesAndBatches) {
   EXPECT_EQ(p.shared[6].view, 1);
 }
 
-}  // namespace
+}  // namespace convergence_test
 }  // namespace multiray::balance

@@ -135,5 +135,5 @@ TEST(Dispatcher, SimulatorReportsTheDispatcherNumbering) {
   EXPECT_EQ(n, all.size());
 }
 
-}  // namespace
+}  // namespace dispatcher_test
 }  // namespace multiray::balance

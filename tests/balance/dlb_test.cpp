@@ -82,5 +82,5 @@ TEST(Dlb, StripsPerFrameAreCappedOverAllViews) {
   strips_in("dlb:bits=3", 81, 81 * 8);
 }
 
-}  // namespace
+}  // namespace dlb_test
 }  // namespace multiray::balance

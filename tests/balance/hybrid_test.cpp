@@ -311,5 +311,5 @@ TEST(Hybrid, FixedCostFitSurvivesGarbage) {
   EXPECT_NEAR(b.overheads()[1], before[1], 0.1);
 }
 
-}  // namespace
+}  // namespace hybrid_test
 }  // namespace multiray::balance

@@ -58,5 +58,5 @@ TEST(Link, PresetsAreTheIssuesFigures) {
   EXPECT_EQ(SimLink::wifi().mbit_per_s, 200);
 }
 
-}  // namespace
+}  // namespace link_test
 }  // namespace multiray::balance

@@ -161,7 +161,7 @@ TEST(Coverage, ReportsOverlapGapsAndOutOfBounds) {
   EXPECT_EQ(coverage_error({{Rect{0, 0, 2, 2}, 0}, {Rect{5, 5, 5, 9}, 0}}, 2, 2, 1), "");
 }
 
-}  // namespace
+}  // namespace partition_test
 }  // namespace multiray::balance
 
 // Whole views per device (multiray's own view mapping; Leria et al. split every view over

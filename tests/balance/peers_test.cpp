@@ -375,5 +375,5 @@ TEST(Peers, SpecsListEveryParameter) {
     EXPECT_THROW(make_balancer(bad, 2), std::invalid_argument) << bad;
 }
 
-}  // namespace
+}  // namespace peers_test
 }  // namespace multiray::balance

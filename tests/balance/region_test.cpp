@@ -97,5 +97,5 @@ TEST(Region, TransposedSplitOfOneViewCoversItsBandInColumns) {
   }
 }
 
-}  // namespace
+}  // namespace region_test
 }  // namespace multiray::balance

@@ -141,5 +141,5 @@ TEST(SemiStatic, DeviationWithIrregularSamples) {
   EXPECT_GT(paper, ours);
 }
 
-}  // namespace
+}  // namespace semi_static_test
 }  // namespace multiray::balance

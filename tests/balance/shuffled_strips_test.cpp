@@ -103,5 +103,5 @@ TEST(ShuffledStrips, ExplicitBitsAreClampedForTinyImages) {
   EXPECT_EQ(coverage_error(all, 3, 2, 1), "");
 }
 
-}  // namespace
+}  // namespace shuffled_strips_test
 }  // namespace multiray::balance

@@ -70,5 +70,5 @@ TEST(SimStudy, ASlowLinkCostsEfficiencyAndSlowerDevicesHideIt) {
   EXPECT_THROW(run_study(t, "uniform", c), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace sim_study_test
 }  // namespace multiray::balance

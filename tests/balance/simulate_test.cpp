@@ -111,5 +111,5 @@ TEST(Simulate, RejectsMismatchedDevices) {
                std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace simulate_test
 }  // namespace multiray::balance

@@ -158,5 +158,5 @@ TEST(Spec, ListSplitsAtEveryComma) {
   EXPECT_EQ(split_spec_list("a,"), (std::vector<std::string>{"a", ""}));
 }
 
-}  // namespace
+}  // namespace spec_test
 }  // namespace multiray::balance

@@ -170,5 +170,5 @@ TEST(Targeting, BadConfigurationsAndNamesAreRefused) {
   EXPECT_EQ(parse_adapt_space("hybrid"), AdaptSpace::hybrid);
 }
 
-}  // namespace
+}  // namespace targeting_test
 }  // namespace multiray::balance

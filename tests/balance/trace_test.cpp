@@ -110,5 +110,5 @@ TEST(Trace, CostOfOtherItemsFollowsTheRecordedDensity) {
   EXPECT_NEAR(whole, recorded, 1e-3 * recorded);
 }
 
-}  // namespace
+}  // namespace trace_test
 }  // namespace multiray::balance

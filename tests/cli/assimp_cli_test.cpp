@@ -38,4 +38,4 @@ TEST(AssimpCli, RendersADaeFileNotBlack) {
   EXPECT_GT(lit, w * h / 4) << "pixels above near-black";
 }
 
-}  // namespace
+}  // namespace assimp_cli_test

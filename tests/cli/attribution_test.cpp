@@ -55,4 +55,4 @@ TEST(Attribution, WholeViewsPerDeviceAreNotCreditedToLeria) {
   EXPECT_THAT(lines_matching(credit), ::testing::IsEmpty());
 }
 
-}  // namespace
+}  // namespace attribution_test

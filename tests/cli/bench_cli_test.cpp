@@ -131,4 +131,4 @@ TEST(BenchCli, BadBalancersEntryIsNamedAsSuch) {
   }
 }
 
-}  // namespace
+}  // namespace bench_cli_test

@@ -108,5 +108,5 @@ TEST(BenchSummary, EfficiencyLeavesOutFramesBelowFullQuality) {
   EXPECT_EQ(summarize(recs, 0, {0, 3}, {10, 10}, -1).efficiency, 0);  // none at full quality
 }
 
-}  // namespace
+}  // namespace bench_summary_test
 }  // namespace multiray::app

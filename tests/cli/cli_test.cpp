@@ -227,7 +227,7 @@ TEST(Cli, BadSceneFiles) {
       "broken.gltf");
 }
 
-}  // namespace
+}  // namespace cli_test
 
 namespace cli_test {
 
@@ -268,7 +268,7 @@ TEST(Cli, DepthKernelRunsAndUnknownKernelsAreRefused) {
   expect_input_error("render --integrator nothing", "--integrator");
 }
 
-}  // namespace
+}  // namespace cli_test
 
 namespace cli_test {
 
@@ -302,4 +302,4 @@ TEST(Cli, SimulateReplaysARecordedTrace) {
                      "line 2");
 }
 
-}  // namespace
+}  // namespace cli_test

@@ -137,4 +137,4 @@ TEST(LightingCli, BadValuesAreOneLineErrors) {
   EXPECT_NE(r.out.find("gallery_fake.exr"), std::string::npos) << r.out;
 }
 
-}  // namespace
+}  // namespace gallery_test

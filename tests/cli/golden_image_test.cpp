@@ -130,5 +130,5 @@ TEST(GoldenImages, HoldOnAnotherMachinesCodePaths) {
   }
 }
 
-}  // namespace
+}  // namespace golden_image_test
 }  // namespace multiray::testing

@@ -128,4 +128,4 @@ TEST(Hostile, SigintKeepsTheFramesDoneAndTheirStats) {
   EXPECT_EQ(others, 1u);    // stats.json; no temporary file left
 }
 
-}  // namespace
+}  // namespace robustness_cli_test

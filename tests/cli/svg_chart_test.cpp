@@ -52,7 +52,7 @@ TEST(SvgChart, ValuesOutsideThePanelAreDrawnAtItsEdge) {
   EXPECT_NE(chart.svg().find(",40.0 "), std::string::npos);
 }
 
-}  // namespace
+}  // namespace svg_chart_test
 }  // namespace multiray::app
 
 namespace multiray::app {
@@ -96,5 +96,5 @@ TEST(Report, TimelineScaleInterpolatesIdealSharesAndSkipsTheWarmup) {
   EXPECT_NEAR(s.ideal_share[11][1], 0.5, 1e-12);         // clamped after the last
 }
 
-}  // namespace
+}  // namespace svg_chart_test
 }  // namespace multiray::app

@@ -114,4 +114,4 @@ TEST(VolumeCli, BenchComparesAdaptationModesOnASequence) {
   EXPECT_GT(std::filesystem::file_size(report + "/targeting.svg"), 500u);
 }
 
-}  // namespace
+}  // namespace volume_cli_test

@@ -114,5 +114,5 @@ TEST_F(FileIo, ReplaceRenamesTheWritersFileOrRemovesItWhenTheWriterFails) {
   EXPECT_TRUE(leftovers().empty());
 }
 
-}  // namespace
+}  // namespace file_io_test
 }  // namespace multiray

@@ -55,5 +55,5 @@ TEST(ImageError, ValuesAreClampedAndSizesChecked) {
   EXPECT_THROW(image_error(Framebuffer(), Framebuffer()), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace image_metrics_test
 }  // namespace multiray

@@ -68,5 +68,5 @@ TEST(ToneCurve, PngBytesUnderClampAndFilmic) {
   EXPECT_EQ(brighter[3], filmic[6]);  // 0.5 at +1 EV is 1 at 0 EV
 }
 
-}  // namespace
+}  // namespace tone_test
 }  // namespace multiray

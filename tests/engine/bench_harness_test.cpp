@@ -83,5 +83,5 @@ TEST(BenchHarness, UntamperedLanesAgreeOnEveryFrame) {
     EXPECT_EQ(r.lanes[2].image_hashes[size_t(f)], r.lanes[0].image_hashes[size_t(f)]) << f;
 }
 
-}  // namespace
+}  // namespace bench_harness_test
 }  // namespace multiray

@@ -207,5 +207,5 @@ TEST(DispatchModel, BatchPullsAndPrefetchLoseNothing) {
   }
 }
 
-}  // namespace
+}  // namespace dispatch_model_test
 }  // namespace multiray

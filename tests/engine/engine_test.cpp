@@ -155,7 +155,7 @@ TEST(Engine, FailedDeviceIsDroppedAndItsWorkRedone) {
   EXPECT_EQ(next.devices[0].pixels, uint64_t(kW) * kH);
 }
 
-}  // namespace
+}  // namespace engine_test
 }  // namespace multiray
 
 namespace multiray {
@@ -172,7 +172,7 @@ TEST(Engine, ProgressReachesOneAtTheEndOfAFrame) {
   EXPECT_DOUBLE_EQ(engine.progress(), 1.0);
 }
 
-}  // namespace
+}  // namespace engine_test
 }  // namespace multiray
 
 namespace multiray {
@@ -224,5 +224,5 @@ TEST(SlowdownEmulator, SleepsToBusyOverSpeed) {
   EXPECT_GT(SlowdownEmulator::thread_cpu_ms() - cpu0, 0.0);
 }
 
-}  // namespace
+}  // namespace engine_test
 }  // namespace multiray

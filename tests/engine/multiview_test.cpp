@@ -84,5 +84,5 @@ TEST(CameraRig, GridViewsAreParallelAndSpaced) {
   EXPECT_NEAR(stereo[1].eye.x - stereo[0].eye.x, 0.064f, 1e-6f);
 }
 
-}  // namespace
+}  // namespace multiview_test
 }  // namespace multiray

@@ -189,5 +189,5 @@ TEST(ReprojectedSampling, MovedPixelsAreAsFarFromAFullRenderAsAnotherSeeds) {
   EXPECT_LT(moved, 1.35 * seed);
 }
 
-}  // namespace
+}  // namespace reprojection_test
 }  // namespace multiray

@@ -193,5 +193,5 @@ TEST(Engine, AppliesThePlansQuality) {
   EXPECT_NE(balance::check_plan(bad, {kW, kH, 1, {}}, 1), "");
 }
 
-}  // namespace
+}  // namespace session_test
 }  // namespace multiray

@@ -242,5 +242,5 @@ TEST(VolumeAdvisor, PredictedTimeIsTheWorkAtTheChosenStepOverTheDevicesRates) {
   EXPECT_GE(coarse, 1);  // the coarse step was predicted and rendered at least once
 }
 
-}  // namespace
+}  // namespace volume_prediction_test
 }  // namespace multiray

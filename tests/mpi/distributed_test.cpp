@@ -199,4 +199,4 @@ TEST(Distributed, TheMasterSendsTheScene) {
   EXPECT_THAT(shared.out, ::testing::ContainsRegex("rank [12]: /nonexistent/scene.gltf"));
 }
 
-}  // namespace
+}  // namespace distributed_test

@@ -153,5 +153,5 @@ TEST(Link, SharedMasterLinkSerialisesMessagesAndAddsLatency) {
   EXPECT_EQ(none.deliver_at(0, 1 << 20, t0), t0);
 }
 
-}  // namespace
+}  // namespace protocol_test
 }  // namespace multiray::remote

@@ -84,5 +84,5 @@ TEST(SceneCodec, DamagedBytesAreRefused) {
   EXPECT_THROW(decode_scene(encode_scene(missing)), WireError);
 }
 
-}  // namespace
+}  // namespace scene_codec_test
 }  // namespace multiray::remote

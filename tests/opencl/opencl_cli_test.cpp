@@ -47,5 +47,5 @@ TEST(OpenClCli, TwoPoclBasicDevicesRenderConcurrently) {
 }
 #endif
 
-}  // namespace
+}  // namespace opencl_cli_test
 }  // namespace multiray

@@ -174,5 +174,5 @@ TEST(OpenClCompact, MemoryLimitRefusesWhatDoesNotFit) {
                InputError);
 }
 
-}  // namespace
+}  // namespace opencl_compact_test
 }  // namespace multiray

@@ -123,5 +123,5 @@ TEST(OpenClEngine, InjectedFailureIsRecoveredBitExactly) {
   EXPECT_EQ(next.devices[0].pixels, uint64_t(kW * kH));
 }
 
-}  // namespace
+}  // namespace opencl_engine_test
 }  // namespace multiray

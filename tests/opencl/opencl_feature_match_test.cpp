@@ -118,5 +118,5 @@ TEST(OpenClFeatureMatch, SameSeedUnderConstantSkyInTheBoxGivesNearlyTheCpuImage)
   EXPECT_GE(same_seed_agreement(scene, false), 0.9);
 }
 
-}  // namespace
+}  // namespace opencl_feature_match_test
 }  // namespace multiray

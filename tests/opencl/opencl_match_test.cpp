@@ -132,5 +132,5 @@ TEST(OpenClMatch, SampleMapGivesNearlyTheCpuImage) {
   EXPECT_GE(double(close) / double(3 * a.pixels.size()), 0.9);
 }
 
-}  // namespace
+}  // namespace opencl_match_test
 }  // namespace multiray

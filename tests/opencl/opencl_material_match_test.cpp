@@ -189,5 +189,5 @@ TEST(OpenClMaterialMatch, SameSeedWithEveryMaterialFeatureGivesNearlyTheCpuImage
     EXPECT_GE(testing::same_seed_agreement(one), 0.9);
 }
 
-}  // namespace
+}  // namespace opencl_material_match_test
 }  // namespace multiray

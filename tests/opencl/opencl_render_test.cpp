@@ -223,5 +223,5 @@ TEST(FlatBvh, SingleLeafBecomesARootHoldingItTwice) {
   EXPECT_EQ(bvh.nodes[0].child[0], bvh.nodes[0].child[1]);
 }
 
-}  // namespace
+}  // namespace opencl_render_test
 }  // namespace multiray

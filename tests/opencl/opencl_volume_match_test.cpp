@@ -145,5 +145,5 @@ TEST(OpenClVolumeCli, RendersARealVolumeOnCpuPlusOpenClAndTwoPoclDevices) {
 }
 #endif
 
-}  // namespace
+}  // namespace opencl_volume_match_test
 }  // namespace multiray

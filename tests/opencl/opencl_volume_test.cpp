@@ -165,5 +165,5 @@ TEST(OpenClVolume, MemoryCheckSaysWhatIsNeeded) {
   EXPECT_NE(cl_volume_memory_problem(need, need.values, need.total - 1), "");
 }
 
-}  // namespace
+}  // namespace opencl_volume_test
 }  // namespace multiray

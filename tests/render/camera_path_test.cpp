@@ -51,5 +51,5 @@ TEST(CameraPath, JsonFileAndItsErrors) {
   EXPECT_THROW(CameraPath::from_json_file("/nonexistent/path.json"), InputError);
 }
 
-}  // namespace
+}  // namespace camera_path_test
 }  // namespace multiray

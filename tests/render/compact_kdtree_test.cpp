@@ -250,5 +250,5 @@ TEST(CompactKdTree, DegenerateScenesDoNotBreakIt) {
   EXPECT_GT(hits, 100);
 }
 
-}  // namespace
+}  // namespace compact_kdtree_test
 }  // namespace multiray

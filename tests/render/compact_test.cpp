@@ -270,5 +270,5 @@ TEST(CompactScene, MemoryLimitRefusesWhatDoesNotFitUnlessCompactFits) {
   EXPECT_LE(d.info().scene_bytes, limit);
 }
 
-}  // namespace
+}  // namespace compact_test
 }  // namespace multiray

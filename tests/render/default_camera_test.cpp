@@ -195,5 +195,5 @@ TEST(DefaultCamera, OrbitsTurnAboutTheUpAxis) {
   }
 }
 
-}  // namespace
+}  // namespace default_camera_test
 }  // namespace multiray

@@ -161,5 +161,5 @@ TEST(FoveatedSampling, SemiStaticSplitsBySamplesNotArea) {
   EXPECT_NEAR(samples[0], samples[1], 0.02 * double(f.used_samples));
 }
 
-}  // namespace
+}  // namespace foveated_split_test
 }  // namespace multiray

@@ -200,5 +200,5 @@ TEST(FoveatedFrame, RectSelectionHoldsEveryNeighbourOfItsPixels) {
   EXPECT_EQ(select_samples(f, {0, 0, w, h}).size(), f.used_samples);
 }
 
-}  // namespace
+}  // namespace foveated_test
 }  // namespace multiray

@@ -89,5 +89,5 @@ TEST(CornellBox, RendersFiniteImageWithVisibleLight) {
   EXPECT_GT(top, 5.0f);  // emission ~12 luminance
 }
 
-}  // namespace
+}  // namespace furnace_test
 }  // namespace multiray

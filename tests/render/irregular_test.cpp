@@ -115,5 +115,5 @@ TEST(AdaptiveSampling, SampleMapIsHonouredAndSplitIndependent) {
   EXPECT_EQ(ks.samples, uint64_t(30 * 40 - edges + 5 * edges));
 }
 
-}  // namespace
+}  // namespace irregular_test
 }  // namespace multiray

@@ -176,5 +176,5 @@ TEST(ConstantSky, RoughMetalKeepsItsMeanWithNextEventEstimation) {
   EXPECT_LT(with.variance, 1.2 * without.variance);
 }
 
-}  // namespace
+}  // namespace lighting_test
 }  // namespace multiray

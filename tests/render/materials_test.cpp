@@ -178,5 +178,5 @@ TEST(AlphaModes, MaskDropsAndBlendHalvesTheShadow) {
   EXPECT_NEAR(blend, expected, 0.03 * expected);
 }
 
-}  // namespace
+}  // namespace materials_test
 }  // namespace multiray

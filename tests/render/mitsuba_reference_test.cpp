@@ -142,5 +142,5 @@ TEST(MitsubaReference, CornellBoxMatchesMitsubasRender) {
       framed_like_reference(blocks(render_display(far, kSize).data(), kSize, kSize), ref));
 }
 
-}  // namespace
+}  // namespace mitsuba_reference_test
 }  // namespace multiray

@@ -184,5 +184,5 @@ TEST(Reprojection, FillCopiesTheSourcesAndTheSampleMapMarksHoles) {
   EXPECT_EQ(CameraRig::grid(3, 3, 0.2f).reference_views(5), std::vector<int>{4});
 }
 
-}  // namespace
+}  // namespace reprojection_test
 }  // namespace multiray

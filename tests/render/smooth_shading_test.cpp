@@ -67,5 +67,5 @@ TEST(SmoothShading, VertexNormalsGiveTheAnalyticCosineBetterThanFacets) {
   EXPECT_LT(smooth.rms, 0.05 * 0.8 / kPi);  // 5% of the peak radiance
 }
 
-}  // namespace
+}  // namespace smooth_shading_test
 }  // namespace multiray

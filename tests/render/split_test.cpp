@@ -46,5 +46,5 @@ TEST_F(SplitIndependence, DifferentFrameGivesDifferentImage) {
   EXPECT_FALSE(bit_identical(reference_, fb));
 }
 
-}  // namespace
+}  // namespace split_test
 }  // namespace multiray

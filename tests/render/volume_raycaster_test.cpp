@@ -198,5 +198,5 @@ TEST(VolumeRaycaster, RefusesAFrameWithoutTransferFunction) {
   EXPECT_THROW(k.render_rect(view, RenderSettings{}, Rect{0, 0, 4, 4}, fb), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace volume_raycaster_test
 }  // namespace multiray

@@ -132,5 +132,5 @@ TEST(AssimpDispatch, BuildWithoutAssimpRefusesItsFormats) {
 }
 #endif
 
-}  // namespace
+}  // namespace assimp_input_test
 }  // namespace multiray

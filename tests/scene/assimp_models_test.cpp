@@ -199,5 +199,5 @@ TEST(AssimpModels, PhongMaterials) {
   EXPECT_NEAR(b.materials[0].opacity, 0.5f, 1e-6f);
 }
 
-}  // namespace
+}  // namespace assimp_models_test
 }  // namespace multiray

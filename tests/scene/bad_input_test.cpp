@@ -180,5 +180,5 @@ TEST_F(BadInput, GlbCutShort) {
   expect_error(write("cut.glb", glb), "malformed glTF");
 }
 
-}  // namespace
+}  // namespace bad_input_test
 }  // namespace multiray

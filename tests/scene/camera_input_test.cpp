@@ -122,5 +122,5 @@ TEST(CameraInput, OrbitTurnsTheUpVectorWithTheEye) {
   }
 }
 
-}  // namespace
+}  // namespace camera_input_test
 }  // namespace multiray

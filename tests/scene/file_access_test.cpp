@@ -188,5 +188,5 @@ TEST_F(FileAccess, ObjMaterialLibraryAndTextureRefusalsAreWarnings) {
   EXPECT_FLOAT_EQ(scene_.materials[0].base_color.y, 1.0f);
 }
 
-}  // namespace
+}  // namespace file_access_test
 }  // namespace multiray

@@ -165,5 +165,5 @@ TEST_F(GltfTransform, AttributeTypesMaterialsAndCamera) {
   EXPECT_NEAR(s.cameras[0].fov_y_deg, 0.5f * 180.0f / kPi, 1e-4f);
 }
 
-}  // namespace
+}  // namespace gltf_transform_test
 }  // namespace multiray

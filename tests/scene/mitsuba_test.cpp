@@ -183,5 +183,5 @@ TEST_F(Mitsuba, MeshesThroughPathsStayInsideTheFolderUnlessAllowed) {
   EXPECT_EQ(load_scene(outside, options_).triangle_count(), 1u);
 }
 
-}  // namespace
+}  // namespace mitsuba_test
 }  // namespace multiray

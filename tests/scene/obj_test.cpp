@@ -89,5 +89,5 @@ TEST_F(Obj, LoadSceneDispatchIgnoresExtensionCase) {
             "upper.OBJ");
 }
 
-}  // namespace
+}  // namespace obj_test
 }  // namespace multiray

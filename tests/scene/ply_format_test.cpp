@@ -122,5 +122,5 @@ TEST(PlyFormat, AsciiAndBothBinaryByteOrdersAgree) {
   }
 }
 
-}  // namespace
+}  // namespace ply_format_test
 }  // namespace multiray

@@ -171,5 +171,5 @@ TEST(RealModels, CornellBoxHasItsAreaLight) {
   EXPECT_EQ(std::count(s.material_ids.begin(), s.material_ids.end(), id), 2);  // one quad
 }
 
-}  // namespace
+}  // namespace real_models_test
 }  // namespace multiray

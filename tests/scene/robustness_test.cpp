@@ -121,5 +121,5 @@ TEST_F(Damaged, Glb) {
         40, 200);
 }
 
-}  // namespace
+}  // namespace robustness_test
 }  // namespace multiray

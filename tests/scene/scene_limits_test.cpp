@@ -206,5 +206,5 @@ TEST_F(SceneLimits, SharedSubtreesWithinTheLimitsLoad) {
       {"cycle"});
 }
 
-}  // namespace
+}  // namespace scene_limits_test
 }  // namespace multiray

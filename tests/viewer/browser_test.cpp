@@ -44,4 +44,4 @@ TEST(ViewerBrowser, PageLoadsStreamsAndResponds) {
   EXPECT_EQ(viewer.stop(), 128 + SIGINT);
 }
 
-}  // namespace
+}  // namespace browser_test

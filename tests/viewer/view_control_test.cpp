@@ -64,5 +64,5 @@ TEST(ViewControl, OrbitKeepsTheDistanceAndPanMovesTheTarget) {
   EXPECT_NEAR(length(cam.camera().eye - base.eye), 0, 1e-4);
 }
 
-}  // namespace
+}  // namespace view_control_test
 }  // namespace multiray::app::viewer

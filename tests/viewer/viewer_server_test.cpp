@@ -198,4 +198,4 @@ TEST(ViewerServer, VolumeTransferFunctionsAndTarget) {
   EXPECT_EQ(error["message"].get<std::string>().find("targeting"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace viewer_server_test

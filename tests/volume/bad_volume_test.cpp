@@ -154,5 +154,5 @@ TEST_F(BadVolume, TeemErrorsAreOneLine) {
   expect_input_error(load("vol/n.nhdr"), {"no 'data file:' line"});
 }
 
-}  // namespace
+}  // namespace bad_volume_test
 }  // namespace multiray

@@ -141,5 +141,5 @@ TEST(Blocks, ConstantVolume) {
   EXPECT_EQ(block_opacity(b, tf, v).max_opacity[0], 0.5f);
 }
 
-}  // namespace
+}  // namespace blocks_test
 }  // namespace multiray

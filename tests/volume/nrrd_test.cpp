@@ -128,5 +128,5 @@ TEST_F(NrrdRead, OutsideDataFileReadWhenAllowed) {
   EXPECT_EQ(load_volume(h, o).values[3], 9);
 }
 
-}  // namespace
+}  // namespace nrrd_test
 }  // namespace multiray

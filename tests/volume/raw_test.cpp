@@ -98,5 +98,5 @@ TEST_F(RawRead, FifoAndMemoryLimitAreRefused) {
   expect_input_error(within_10s([&] { load_raw_volume(p, bad); }), {"-5x10x10", "negative"});
 }
 
-}  // namespace
+}  // namespace raw_test
 }  // namespace multiray

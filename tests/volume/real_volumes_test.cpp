@@ -84,5 +84,5 @@ TEST(RealVolumes, AneurismBlocksAreMostlyEmptyForAngio) {
   EXPECT_LT(empty, b.count());
 }
 
-}  // namespace
+}  // namespace real_volumes_test
 }  // namespace multiray

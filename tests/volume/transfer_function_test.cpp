@@ -166,5 +166,5 @@ TEST(TransferTable, OpacityCorrection) {
   EXPECT_EQ(corrected_alpha(NAN, 1), 0);
 }
 
-}  // namespace
+}  // namespace transfer_function_test
 }  // namespace multiray
