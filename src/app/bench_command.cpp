@@ -21,6 +21,7 @@
 #include "balance/spec.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/machine_load.h"
 #include "engine/bench_harness.h"
 
 namespace multiray::app {
@@ -36,6 +37,7 @@ struct BenchOptions {
   int warmup = 0;  // used when --warmup is given; default_warmup(frames) otherwise
   int ideal_frames = 20;
   int repeats = 3;
+  int probe_ms = 200;
 };
 
 }  // namespace
@@ -77,8 +79,15 @@ Runner add_bench_command(CLI::App& app) {
                   "of its per-frame ratios separate (1: one block, no intervals)")
       ->capture_default_str();
   CLI::Option* repeats_option = cmd->get_option("--repeats");
+  cmd->add_option("--probe-ms", b->probe_ms,
+                  "Contention probe before and after the run: busy loops for this long on one "
+                  "core, then on every core; with the hypervisor's steal time and the spread "
+                  "between repeat blocks it decides whether the figures are trustworthy (a "
+                  "warning and \"trustworthy\": false in the JSON when not); 0: no probe")
+      ->capture_default_str();
   return [=]() -> int {
     if (b->repeats < 1 || b->repeats > 100) throw InputError("--repeats must be in 1..100");
+    if (b->probe_ms < 0 || b->probe_ms > 10000) throw InputError("--probe-ms must be in 0..10000");
     // A distributed run's workers serve one session; repeating it is not built yet.
     if (o->distributed.enabled && b->repeats > 1) {
       if (repeats_option->count() > 0)
@@ -142,6 +151,10 @@ Runner add_bench_command(CLI::App& app) {
     // adds its per-frame figures to the repeat statistics.
     BenchResult result;
     std::vector<RepeatLane> repeat_lanes;
+    const int perturb_frame = s.perturbations.empty() ? -1 : s.perturbations.front().frame;
+    balance::NoiseReadings noise;
+    noise.probe_before = b->probe_ms > 0 ? contention_probe(b->probe_ms) : NAN;
+    const CpuTimes cpu_before = read_cpu_times();
     for (int block = 0; block < b->repeats; ++block) {
       if (block > 0) session = s.make_session(mapped, "--balancers");
       BenchResult r;
@@ -162,38 +175,38 @@ Runner add_bench_command(CLI::App& app) {
                    r.lanes.empty() ? 0 : r.lanes[0].records.size(), o->frames);
         return 128 + watch.signal();
       }
-      add_block(repeat_lanes, lanes, r, warmup);
+      add_block(repeat_lanes, lanes, r, warmup, perturb_frame);
       if (block == 0) result = std::move(r);
     }
+    noise.steal = steal_fraction(cpu_before, read_cpu_times());
+    noise.probe_after = b->probe_ms > 0 ? contention_probe(b->probe_ms) : NAN;
     for (const BenchLane& lane : result.lanes)
       for (const FrameRecord& rec : lane.records)
         for (const auto& m : rec.messages) fmt::print(stderr, "multiray: warning: {}\n", m);
-    std::vector<double> ideal;
     nlohmann::json ideal_detail = nlohmann::json::array();
     for (const IdealSample& i : result.ideal) {
-      ideal.push_back(i.ideal_ms);
       ideal_detail.push_back(
           {{"frame", i.frame}, {"device_alone_ms", i.device_alone_ms}, {"ideal_ms", i.ideal_ms}});
     }
     // The ideal efficiency compares against: each frame's, interpolated between the timed
     // ones, averaged over the summarised frames.
-    const double ideal_mean = mean_ideal_ms(result.sampled, ideal, warmup, o->frames);
+    const double ideal_mean = mean_ideal_ms(result.ideal, warmup, o->frames);
     fmt::print(
         "ideal frame time {:.1f} ms (mean over frames {}-{}, interpolated between {} frames "
         "on which each device was timed alone)\n",
-        ideal_mean, warmup, o->frames - 1, ideal.size());
+        ideal_mean, warmup, o->frames - 1, result.ideal.size());
 
-    const int perturb_frame = s.perturbations.empty() ? -1 : s.perturbations.front().frame;
     std::vector<RunSummary> summaries;
     for (const BenchLane& lane : result.lanes)
-      summaries.push_back(summarize(lane.records, warmup, result.sampled, ideal, perturb_frame));
+      summaries.push_back(summarize(lane.records, warmup, result.ideal, perturb_frame));
     add_speedups(lanes, summaries);
     if (b->repeats > 1)
       fmt::print(
           "block 1 of {} (its frames give the table below, the plots and the JSON "
           "frames; the repeat statistics follow):\n",
           b->repeats);
-    print_table(lanes, summaries);
+    print_table(lanes, summaries, perturb_frame >= 0);
+    print_breakdown(lanes, summaries);
     // Bit-identical images are promised per device type; with several types the split
     // decides which pixels carry which type's last-bit rounding, so hashes are not compared.
     bool mixed_types = false;
@@ -211,7 +224,6 @@ Runner add_bench_command(CLI::App& app) {
           "rendered it at the same quality)\n");
     const TimelineScale timeline =
         timeline_scale(result, warmup, result.lanes.empty() ? 0 : result.lanes[0].records.size());
-    std::vector<ComparisonBar> bars;
     nlohmann::json runs_json = nlohmann::json::array();
     std::vector<uint32_t> reference_views;  // reprojected sampling's, the same every frame
     for (int v : s.views->rig().reference_views(s.views->sampling().reference_spacing))
@@ -261,8 +273,6 @@ Runner add_bench_command(CLI::App& app) {
                            fmt::format("{} — {} ({}x{}, {} spp)", lane.spec, s.scene->name,
                                        s.res.width, s.res.height, s.settings.spp),
                            lane.records, labels, timeline);
-        bars.push_back(ComparisonBar{lanes[k], summaries[k].efficiency,
-                                     summaries[k].mean_imbalance, summaries[k].mean_frame_ms});
       }
     }
     if (s.volume) {
@@ -301,22 +311,29 @@ Runner add_bench_command(CLI::App& app) {
             lanes, records, cost_lane, labels, switches);
       }
     }
-    if (!b->report_dir.empty() && !bars.empty())
+    const RepeatSummary repeats = summarize_repeats(repeat_lanes, perturb_frame >= 0);
+    if (!b->report_dir.empty())
       write_comparison_svg(
           b->report_dir + "/comparison.svg",
-          fmt::format("balancers compared — {} ({}x{}, frames {}-{})", s.scene->name, s.res.width,
-                      s.res.height, warmup, o->frames - 1),
-          bars);
+          fmt::format("balancers compared — {} ({}x{}, frames {}-{}, {})", s.scene->name,
+                      s.res.width, s.res.height, warmup, o->frames - 1,
+                      b->repeats > 1
+                          ? fmt::format("medians of {} blocks, 95% intervals", b->repeats)
+                          : std::string("means of one block")),
+          comparison_bars(repeats, summaries));
     bool emulated = false;
     for (double v : initial) emulated |= v < 1;
     if (emulated || !s.perturbations.empty())
       fmt::print(
           "(device speeds below 1 are emulated: the device idles after each piece of work)\n");
-    const RepeatSummary repeats = summarize_repeats(repeat_lanes);
     if (b->repeats > 1) print_repeats(repeats);
+    const balance::NoiseVerdict verdict = judge_noise(noise, repeat_lanes);
+    print_noise(noise, verdict);
     if (!b->json_path.empty()) {
       nlohmann::json doc{
           {"repeats", repeats_to_json(repeats)},
+          {"trustworthy", verdict.trustworthy},
+          {"noise", noise_to_json(noise, verdict)},
           {"scene", s.scene->name},
           {"resolution", {s.res.width, s.res.height}},
           {"views", s.views->rig().view_count()},

@@ -1,37 +1,49 @@
 #include "app/bench_repeats.h"
 
+#include <cmath>
+
 #include <fmt/core.h>
 
 #include "app/bench_summary.h"
+#include "balance/stats.h"
 
 namespace multiray::app {
 
 void add_block(std::vector<RepeatLane>& lanes, const std::vector<std::string>& labels,
-               const BenchResult& r, int warmup) {
+               const BenchResult& r, int warmup, int perturb_frame) {
   if (lanes.empty())
-    for (const std::string& l : labels) lanes.push_back(RepeatLane{l, {}, {}});
-  std::vector<double> ideal;
-  for (const IdealSample& i : r.ideal) ideal.push_back(i.ideal_ms);
+    for (const std::string& l : labels) lanes.push_back(RepeatLane{l, {}, {}, {}, {}, {}});
   for (size_t k = 0; k < lanes.size() && k < r.lanes.size(); ++k) {
-    std::vector<double> ms, eff;
+    std::vector<double> ms, eff, imbalance, deviation, lambda;
     const auto& recs = r.lanes[k].records;
+    for (const FrameRecord& rec : recs) lambda.push_back(rec.imbalance);
     for (size_t f = size_t(std::max(warmup, 0)); f < recs.size(); ++f) {
-      ms.push_back(recs[f].frame_ms);
-      eff.push_back(ideal.empty() || !(recs[f].frame_ms > 0)
-                        ? NAN
-                        : interpolate_ideal(r.sampled, ideal, int(f)) / recs[f].frame_ms);
+      ms.push_back(frame_total_ms(recs[f]));
+      imbalance.push_back(recs[f].imbalance);
+      deviation.push_back(recs[f].deviation);
+      if (full_quality(recs[f])) eff.push_back(frame_breakdown(recs[f], r.ideal).efficiency());
     }
-    lanes[k].frame_ms.push_back(std::move(ms));
-    lanes[k].efficiency.push_back(std::move(eff));
+    RepeatLane& lane = lanes[k];
+    lane.frame_ms.push_back(std::move(ms));
+    lane.efficiency.push_back(std::move(eff));
+    lane.imbalance.push_back(std::move(imbalance));
+    lane.deviation.push_back(std::move(deviation));
+    const int recovered = perturb_frame >= 0 ? balance::recovered_from(lambda, perturb_frame) : -1;
+    lane.recovery.push_back(
+        {perturb_frame >= 0 && recovered >= 0 ? double(recovered - perturb_frame) : NAN});
   }
 }
 
-RepeatSummary summarize_repeats(const std::vector<RepeatLane>& lanes) {
+RepeatSummary summarize_repeats(const std::vector<RepeatLane>& lanes, bool perturbed) {
   RepeatSummary s;
+  s.perturbed = perturbed;
   std::vector<balance::Blocks> times;
   for (const RepeatLane& l : lanes) {
     s.labels.push_back(l.label);
     s.efficiency.push_back(balance::bootstrap_median(l.efficiency));
+    s.imbalance.push_back(balance::bootstrap_median(l.imbalance));
+    s.deviation.push_back(balance::bootstrap_median(l.deviation));
+    s.recovery.push_back(balance::bootstrap_median(l.recovery));
     times.push_back(l.frame_ms);
     s.blocks = std::max(s.blocks, int(l.frame_ms.size()));
   }
@@ -50,24 +62,39 @@ std::string interval(const balance::Interval& i, const char* format) {
 void print_repeats(const RepeatSummary& s) {
   size_t width = 8;
   for (const std::string& l : s.labels) width = std::max(width, l.size());
+  const bool recovery = s.perturbed;
+  bool deviation = false;
+  for (size_t k = 0; k < s.labels.size(); ++k) {
+    deviation |= s.deviation[k].valid && s.imbalance[k].valid &&
+                 std::abs(s.deviation[k].median - s.imbalance[k].median) > 5e-4;
+  }
   fmt::print(
       "\n{} repeat blocks: medians over frames with 95% intervals (bootstrap over "
       "blocks and frames)\n",
       s.blocks);
-  fmt::print("{:<{}}  {:>26}  {:>22}  {:>22}\n", "balancer", width, "frame ms", "efficiency",
-             "x best (per frame)");
+  fmt::print("{:<{}}  {:>24}  {:>22}  {:>22}{}{}  {:>22}\n", "balancer", width, "frame ms",
+             "efficiency", "imbalance %", deviation ? fmt::format("  {:>22}", "deviation %") : "",
+             recovery ? fmt::format("  {:>16}", "recovery") : "", "x best (per frame)");
+  auto percent = [](balance::Interval i) {
+    i.median *= 100, i.lo *= 100, i.hi *= 100;
+    return interval(i, "{:.1f}");
+  };
   for (size_t k = 0; k < s.labels.size(); ++k)
-    fmt::print("{:<{}}  {:>26}  {:>22}  {:>22}\n", s.labels[k], width,
-               interval(s.time.medians[k], "{:.2f}"), interval(s.efficiency[k], "{:.3f}"),
-               int(k) == s.time.best ? std::string("best") : interval(s.time.ratios[k], "{:.3f}"));
+    fmt::print(
+        "{:<{}}  {:>24}  {:>22}  {:>22}{}{}  {:>22}\n", s.labels[k], width,
+        interval(s.time.medians[k], "{:.2f}"), interval(s.efficiency[k], "{:.3f}"),
+        percent(s.imbalance[k]), deviation ? fmt::format("  {:>22}", percent(s.deviation[k])) : "",
+        recovery ? fmt::format("  {:>16}", s.recovery[k].valid ? interval(s.recovery[k], "{:.0f}")
+                                                               : std::string("never"))
+                 : "",
+        int(k) == s.time.best ? std::string("best") : interval(s.time.ratios[k], "{:.3f}"));
   fmt::print("verdict: {}\n", s.time.text);
   for (size_t k = 0; k < s.labels.size(); ++k)
     if (s.efficiency[k].valid && s.efficiency[k].median > 1.0)
       fmt::print(
-          "note: {}'s efficiency is above 1: the ideal comes from each device timed alone on "
-          "sampled frames, so it is only as good as that measurement; a device that ran "
-          "faster in the run than when it was timed (less load, a warmer cache) makes the "
-          "ideal too slow\n",
+          "note: {}'s median efficiency is above 1: in most frames the devices worked faster "
+          "than when each was timed alone (a negative overhead in the breakdown), so the ideal "
+          "is too slow by at least that much\n",
           s.labels[k]);
 }
 
@@ -81,6 +108,9 @@ nlohmann::json repeats_to_json(const RepeatSummary& s) {
     lanes.push_back({{"lane", s.labels[k]},
                      {"frame_ms", j(s.time.medians[k])},
                      {"efficiency", j(s.efficiency[k])},
+                     {"imbalance", j(s.imbalance[k])},
+                     {"deviation", j(s.deviation[k])},
+                     {"recovery_frames", j(s.recovery[k])},
                      {"ratio_to_best", j(s.time.ratios[k])}});
   nlohmann::json tied = nlohmann::json::array();
   for (int t : s.time.tied) tied.push_back(s.labels[size_t(t)]);
@@ -95,6 +125,65 @@ nlohmann::json repeats_to_json(const RepeatSummary& s) {
            s.time.best >= 0 ? nlohmann::json(s.labels[size_t(s.time.best)]) : nlohmann::json()},
           {"tied_with_best", tied},
           {"verdict", s.time.text}};
+}
+
+std::vector<ComparisonBar> comparison_bars(const RepeatSummary& repeats,
+                                           const std::vector<RunSummary>& block0) {
+  // Efficiency 0 means "not measured"; an imbalance of 0 is a value.
+  auto point = [](double v, bool zero_is_value) {
+    return balance::Interval{v, v, v, std::isfinite(v) && (v > 0 || (zero_is_value && v == 0))};
+  };
+  std::vector<ComparisonBar> bars;
+  for (size_t k = 0; k < block0.size(); ++k) {
+    if (repeats.blocks > 1 && k < repeats.labels.size())
+      bars.push_back(ComparisonBar{repeats.labels[k], repeats.efficiency[k], repeats.imbalance[k],
+                                   repeats.time.medians[k]});
+    else
+      bars.push_back(ComparisonBar{
+          k < repeats.labels.size() ? repeats.labels[k] : "", point(block0[k].efficiency, false),
+          point(block0[k].mean_imbalance, true), point(block0[k].mean_frame_ms, false)});
+  }
+  return bars;
+}
+
+balance::NoiseVerdict judge_noise(balance::NoiseReadings& readings,
+                                  const std::vector<RepeatLane>& lanes) {
+  readings.lane_frame_ms.clear();
+  for (const RepeatLane& l : lanes) readings.lane_frame_ms.push_back(l.frame_ms);
+  return balance::noise_gate(readings);
+}
+
+namespace {
+std::string probe_text(double p) { return std::isnan(p) ? "not run" : fmt::format("{:.2f}", p); }
+}  // namespace
+
+void print_noise(const balance::NoiseReadings& readings, const balance::NoiseVerdict& verdict) {
+  if (!verdict.trustworthy) {
+    fmt::print(stderr, "multiray: warning: these figures are not trustworthy: {}\n",
+               verdict.reason);
+    return;
+  }
+  fmt::print(
+      "machine: contention probe {} before, {} after (1 = no other load); hypervisor steal "
+      "{:.1f}%; block spread {:.0f}%: quiet enough to trust\n",
+      probe_text(readings.probe_before), probe_text(readings.probe_after), 100 * readings.steal,
+      100 * verdict.spread);
+}
+
+nlohmann::json noise_to_json(const balance::NoiseReadings& readings,
+                             const balance::NoiseVerdict& verdict) {
+  auto number = [](double x) { return std::isnan(x) ? nlohmann::json() : nlohmann::json(x); };
+  const balance::NoiseLimits limits;
+  return {{"contention_probe_before", number(readings.probe_before)},
+          {"contention_probe_after", number(readings.probe_after)},
+          {"steal_fraction", readings.steal},
+          {"block_spread", verdict.spread},
+          {"limits",
+           {{"min_probe", limits.min_probe},
+            {"max_steal", limits.max_steal},
+            {"max_spread", limits.max_spread}}},
+          {"trustworthy", verdict.trustworthy},
+          {"reason", verdict.reason}};
 }
 
 }  // namespace multiray::app

@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/bench_summary.h"
+#include "app/report_plots.h"
 #include "balance/bench_stats.h"
 #include "engine/bench_harness.h"
 
@@ -16,28 +18,45 @@ namespace multiray::app {
 
 struct RepeatLane {
   std::string label;
-  balance::Blocks frame_ms;    // per block, per frame >= warm-up
-  balance::Blocks efficiency;  // per block, per frame: the frame's ideal / its time
+  balance::Blocks frame_ms;              // per block, per frame >= warm-up: frame_total_ms()
+  balance::Blocks efficiency;            // per block, per full-quality frame: its ideal / its time
+  balance::Blocks imbalance, deviation;  // per block, per frame >= warm-up
+  balance::Blocks recovery;              // per block, one value: frames (none: never)
 };
 
 struct RepeatSummary {
   int blocks = 0;
   std::vector<std::string> labels;
-  std::vector<balance::Interval> efficiency;  // per lane
-  balance::Verdict time;                      // frame time: medians, ratios, winner or ties
+  // Per lane; recovery only when perturbed (invalid otherwise, or when no block recovered).
+  std::vector<balance::Interval> efficiency, imbalance, deviation, recovery;
+  bool perturbed = false;  // recovery is shown ("never" where no block recovered)
+  balance::Verdict time;   // frame time: medians, ratios, winner or ties
 };
 
 // Appends one block's figures of every lane of `r` (frames [warmup, end)); `lanes` is
-// sized from `labels` on the first call.
+// sized from `labels` on the first call. `perturb_frame` < 0: none.
 void add_block(std::vector<RepeatLane>& lanes, const std::vector<std::string>& labels,
-               const BenchResult& r, int warmup);
+               const BenchResult& r, int warmup, int perturb_frame);
 
-RepeatSummary summarize_repeats(const std::vector<RepeatLane>& lanes);
+RepeatSummary summarize_repeats(const std::vector<RepeatLane>& lanes, bool perturbed);
 
-// The table (median [95% interval] of frame time, efficiency and the ratio to the best)
-// and the verdict line.
+// The table (median [95% interval] of frame time, efficiency, imbalance, recovery when
+// perturbed, and the ratio to the best) and the verdict line.
 void print_repeats(const RepeatSummary& s);
 
 nlohmann::json repeats_to_json(const RepeatSummary& s);
+
+// The bars of comparison.svg: with several blocks the repeat medians and intervals, with
+// one the block's means (no intervals).
+std::vector<ComparisonBar> comparison_bars(const RepeatSummary& repeats,
+                                           const std::vector<RunSummary>& block0);
+
+// The noise gate over the run (balance::noise_gate): one line on stdout when the machine
+// was quiet enough, one warning line on stderr when it was not.
+balance::NoiseVerdict judge_noise(balance::NoiseReadings& readings,
+                                  const std::vector<RepeatLane>& lanes);
+void print_noise(const balance::NoiseReadings& readings, const balance::NoiseVerdict& verdict);
+nlohmann::json noise_to_json(const balance::NoiseReadings& readings,
+                             const balance::NoiseVerdict& verdict);
 
 }  // namespace multiray::app

@@ -99,18 +99,18 @@ void write_timeline_svg(const std::string& path, const std::string& title,
 
 void write_comparison_svg(const std::string& path, const std::string& title,
                           const std::vector<ComparisonBar>& bars) {
-  const double W = 900, left = 250, right = 90, bar_h = 16, gap = 6, head = 34;
+  const double W = 980, left = 250, right = 170, bar_h = 16, gap = 6, head = 34;
   const double plot_w = W - left - right;
   struct Metric {
     const char* name;
-    double ComparisonBar::*value;
+    balance::Interval ComparisonBar::*value;
     double print_scale;  // the printed value is value * print_scale
     const char* format;
   };
   const Metric metrics[] = {
       {"efficiency (higher is better)", &ComparisonBar::efficiency, 1.0, "{:.3f}"},
-      {"imbalance (lower is better)", &ComparisonBar::imbalance, 100.0, "{:.1f}%"},
-      {"mean frame time, ms", &ComparisonBar::frame_ms, 1.0, "{:.1f}"}};
+      {"imbalance, % (lower is better)", &ComparisonBar::imbalance, 100.0, "{:.1f}"},
+      {"frame time, ms (lower is better)", &ComparisonBar::frame_ms, 1.0, "{:.2f}"}};
   const double block = head + double(bars.size()) * (bar_h + gap) + 16;
   std::string svg = fmt::format(
       "<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' font-family='sans-serif' "
@@ -120,21 +120,39 @@ void write_comparison_svg(const std::string& path, const std::string& title,
   for (size_t m = 0; m < 3; ++m) {
     const double top = 40 + double(m) * block;
     double max_value = 0;
-    for (const ComparisonBar& b : bars) max_value = std::max(max_value, b.*metrics[m].value);
+    for (const ComparisonBar& b : bars) {
+      const balance::Interval& i = b.*metrics[m].value;
+      if (i.valid) max_value = std::max({max_value, i.median, i.hi});
+    }
     const double scale = nice_ceiling(max_value);
     svg += fmt::format("<text x='20' y='{}' font-weight='bold'>{}</text>\n", top + 18,
                        metrics[m].name);
     for (size_t k = 0; k < bars.size(); ++k) {
-      const double y = top + head + double(k) * (bar_h + gap), v = bars[k].*metrics[m].value;
-      const double w = std::isfinite(v) && v > 0 ? plot_w * v / scale : 0;
+      const double y = top + head + double(k) * (bar_h + gap);
+      const balance::Interval& i = bars[k].*metrics[m].value;
+      const bool shown = i.valid && std::isfinite(i.median) && i.median >= 0;
+      const double w = shown && scale > 0 ? plot_w * i.median / scale : 0;
+      const bool whiskers =
+          shown && scale > 0 && i.hi > i.lo && std::isfinite(i.lo) && std::isfinite(i.hi);
+      const auto value = [&](double v) {
+        return fmt::format(fmt::runtime(metrics[m].format), v * metrics[m].print_scale);
+      };
+      std::string label = shown ? value(i.median) : "-";
+      if (whiskers) label += " [" + value(i.lo) + ", " + value(i.hi) + "]";
+      double text_x = left + w + 5;
       svg += fmt::format(
           "<text x='{}' y='{}' text-anchor='end'>{}</text><rect x='{}' y='{}' width='{:.1f}' "
-          "height='{}' fill='{}'/><text x='{:.1f}' y='{}'>{}</text>\n",
-          left - 8, y + 12, xml_escape(bars[k].name), left, y, w, bar_h, series_colour(k),
-          left + w + 5, y + 12,
-          std::isfinite(v)
-              ? fmt::format(fmt::runtime(metrics[m].format), v * metrics[m].print_scale)
-              : "-");
+          "height='{}' fill='{}'/>",
+          left - 8, y + 12, xml_escape(bars[k].name), left, y, w, bar_h, series_colour(k));
+      if (whiskers) {
+        const double x0 = left + plot_w * i.lo / scale, x1 = left + plot_w * i.hi / scale;
+        svg += fmt::format(
+            "<path d='M{0:.1f} {2:.1f}H{1:.1f}M{0:.1f} {3:.1f}V{4:.1f}M{1:.1f} {3:.1f}V{4:.1f}' "
+            "stroke='black' stroke-width='1.5'/>",
+            x0, x1, y + bar_h / 2, y + 3, y + bar_h - 3);
+        text_x = std::max(text_x, x1 + 5);
+      }
+      svg += fmt::format("<text x='{:.1f}' y='{}'>{}</text>\n", text_x, y + 12, label);
     }
   }
   svg += "</svg>\n";

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "balance/bench_stats.h"
 #include "balance/plan.h"
 #include "engine/bench_harness.h"
 #include "engine/frame_record.h"
@@ -32,10 +33,12 @@ void write_timeline_svg(const std::string& path, const std::string& title,
                         const std::vector<std::string>& labels, const TimelineScale& scale = {});
 
 // One bar per balancer of a run, in three groups with their values printed: efficiency,
-// imbalance (as a fraction) and mean frame time.
+// imbalance (as a fraction) and frame time, each with its 95% interval as whiskers.
 struct ComparisonBar {
   std::string name;
-  double efficiency = 0, imbalance = 0, frame_ms = 0;
+  // Each a value (median) with its 95% interval; an interval with lo == hi (one block) is
+  // drawn without whiskers, an invalid one as "-".
+  balance::Interval efficiency, imbalance, frame_ms;
 };
 void write_comparison_svg(const std::string& path, const std::string& title,
                           const std::vector<ComparisonBar>& bars);

@@ -119,4 +119,45 @@ Verdict verdict(const std::vector<std::string>& names, const std::vector<Blocks>
   return v;
 }
 
+NoiseVerdict noise_gate(const NoiseReadings& r, const NoiseLimits& limits) {
+  NoiseVerdict v;
+  for (const Blocks& lane : r.lane_frame_ms) {
+    std::vector<double> medians;
+    for (const std::vector<double>& block : lane) {
+      std::vector<double> f = finite(block);
+      if (!f.empty()) medians.push_back(median_of(f));
+    }
+    if (medians.size() < 2) continue;
+    const auto [lo, hi] = std::minmax_element(medians.begin(), medians.end());
+    const double range = *hi - *lo;  // before median_of reorders `medians`
+    const double mid = median_of(medians);
+    if (mid > 0) v.spread = std::max(v.spread, range / mid);
+  }
+  char buf[160];
+  auto add = [&](const char* text) {
+    v.reason += (v.reason.empty() ? "" : "; ") + std::string(text);
+    v.trustworthy = false;
+  };
+  const double probe = std::fmin(r.probe_before, r.probe_after);  // fmin skips a NaN
+  if (probe < limits.min_probe) {
+    std::snprintf(buf, sizeof buf,
+                  "contention probe %.2f before, %.2f after the run (1 = no other load; "
+                  "needs >= %.2f)",
+                  r.probe_before, r.probe_after, limits.min_probe);
+    add(buf);
+  }
+  if (r.steal > limits.max_steal) {
+    std::snprintf(buf, sizeof buf, "the hypervisor stole %.1f%% of CPU time (limit %.1f%%)",
+                  100 * r.steal, 100 * limits.max_steal);
+    add(buf);
+  }
+  if (v.spread > limits.max_spread) {
+    std::snprintf(buf, sizeof buf,
+                  "a balancer's frame time differs by %.0f%% between repeat blocks (limit %.0f%%)",
+                  100 * v.spread, 100 * limits.max_spread);
+    add(buf);
+  }
+  return v;
+}
+
 }  // namespace multiray::balance

@@ -54,4 +54,26 @@ struct Verdict {
 Verdict verdict(const std::vector<std::string>& names, const std::vector<Blocks>& lanes,
                 const BootstrapOptions& o = {});
 
+// Whether the machine was quiet enough for a bench's figures to be trusted: what was
+// measured around the run, and the limits it is held to.
+struct NoiseReadings {
+  // contention_probe() before and after the run: 1 when nothing else ran; NaN: not measured.
+  double probe_before = 1, probe_after = 1;
+  double steal = 0;                   // the hypervisor's share of all CPU time during the run
+  std::vector<Blocks> lane_frame_ms;  // per lane, per block, per frame: for the spread
+};
+struct NoiseLimits {
+  double min_probe = 0.85;   // below: other programs took a core's time
+  double max_steal = 0.02;   // above: the hypervisor took more than 2%
+  double max_spread = 0.10;  // above: a lane's block medians differ by more than 10%
+};
+struct NoiseVerdict {
+  // The largest over lanes of (max - min) / median of the lane's block medians of frame
+  // time; 0 with one block.
+  double spread = 0;
+  bool trustworthy = true;
+  std::string reason;  // "" when trustworthy; otherwise every limit exceeded, in one line
+};
+NoiseVerdict noise_gate(const NoiseReadings& r, const NoiseLimits& limits = {});
+
 }  // namespace multiray::balance

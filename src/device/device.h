@@ -4,6 +4,7 @@
 // (DeviceCapabilities) so the CLI refuses an impossible job before any work starts.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -87,6 +88,13 @@ struct FrameJob {
 struct DeviceReport {
   double time_ms = 0;  // start of frame to last item finished (includes emulated idle)
   double busy_ms = 0;  // time spent rendering
+  // Time the device's rendering threads were runnable but not running (their wall time
+  // minus their CPU time while rendering, averaged over the threads): taken by other
+  // processes or the hypervisor. Only where stolen_measured (the CPU device without a
+  // quota; a driver's threads are out of sight, and a quota's throttling is the
+  // device's emulated speed, not theft).
+  double stolen_ms = 0;
+  bool stolen_measured = false;
   uint64_t samples = 0, rays = 0, pixels = 0;
   std::vector<ItemReport> items;  // in the order rendered
   bool failed = false;
@@ -126,6 +134,20 @@ class Device {
 // thread spent on it: then time the thread was preempted by other processes is not
 // multiplied by 1/speed (at speed 0.1 a 10-ms preemption would otherwise cost 100 ms),
 // so many emulated devices sharing a few cores keep their speeds.
+// Adds the calling thread's wall time minus its CPU time over this object's life to
+// `*stolen_ns` (nothing when null): time the thread was runnable but did not run.
+class ThreadTimes {
+ public:
+  explicit ThreadTimes(std::atomic<int64_t>* stolen_ns);
+  ~ThreadTimes();
+  ThreadTimes(const ThreadTimes&) = delete;
+  ThreadTimes& operator=(const ThreadTimes&) = delete;
+
+ private:
+  std::atomic<int64_t>* stolen_ns_;
+  int64_t wall_ns_ = 0, cpu_ns_ = 0;
+};
+
 class SlowdownEmulator {
  public:
   explicit SlowdownEmulator(double speed);

@@ -19,6 +19,27 @@ void SlowdownEmulator::after_unit(double busy_ms) {
   std::this_thread::sleep_until(deadline);
 }
 
+namespace {
+int64_t clock_ns(clockid_t id) {
+  timespec t{};
+  if (clock_gettime(id, &t) != 0) return 0;
+  return int64_t(t.tv_sec) * 1000000000 + int64_t(t.tv_nsec);
+}
+}  // namespace
+
+ThreadTimes::ThreadTimes(std::atomic<int64_t>* stolen_ns) : stolen_ns_(stolen_ns) {
+  if (!stolen_ns_) return;
+  wall_ns_ = clock_ns(CLOCK_MONOTONIC);
+  cpu_ns_ = clock_ns(CLOCK_THREAD_CPUTIME_ID);
+}
+
+ThreadTimes::~ThreadTimes() {
+  if (!stolen_ns_) return;
+  const int64_t cpu = clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu_ns_;
+  const int64_t wall = clock_ns(CLOCK_MONOTONIC) - wall_ns_;
+  if (wall > cpu) *stolen_ns_ += wall - cpu;
+}
+
 double SlowdownEmulator::thread_cpu_ms() {
   timespec t{};
   if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t) != 0) return 0;

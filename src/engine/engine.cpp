@@ -89,6 +89,7 @@ void Engine::apply_perturbations(int frame) {
 FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
                                  const RenderSettings& settings,
                                  std::vector<Framebuffer>& images) {
+  const Stopwatch wall;
   FrameRecord rec;
   rec.frame = frame;
   apply_perturbations(frame);
@@ -125,6 +126,7 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
     rec.learn_ms = clock.elapsed_ms();
     advisor_->annotate(rec);
   }
+  rec.wall_ms = wall.elapsed_ms();
   return rec;
 }
 
@@ -234,6 +236,7 @@ void Engine::recover_failures(const FrameJob& job, DispatchSource& source,
     r.items.insert(r.items.end(), extra.items.begin(), extra.items.end());
     r.samples += extra.samples, r.pixels += extra.pixels, r.rays += extra.rays;
     r.busy_ms += extra.busy_ms, r.time_ms += extra.time_ms;
+    r.stolen_ms += extra.stolen_ms;
   }
 }
 

@@ -28,6 +28,9 @@ struct FrameRecord {
   // Per device, the advisor's cost per unit of work predicted before the frame and measured
   // after it (volumes: ms per sample; 0 where unknown). Empty without an advisor.
   std::vector<double> predicted_cost, measured_cost;
+  // Engine::render_frame from entry to return: what the parts above add up to, up to the
+  // engine's own bookkeeping (how well they do is printed by the bench).
+  double wall_ms = 0;
   int stolen = 0;                     // items taken by stealing
   std::vector<DeviceReport> devices;  // per device, with the engine's alive/share fields
   balance::Quality quality;           // the plan's quality, as rendered

@@ -102,5 +102,43 @@ TEST(BenchStats, EmptyAndNonFiniteValuesAreIgnored) {
   EXPECT_TRUE(paired_ratios({{1, 2}}, {{0, 4}})[0] == std::vector<double>{0.5});
 }
 
+// The noise gate: a quiet run passes; a low probe, steal or a spread between blocks each
+// fail it with their number in the one-line reason; an unmeasured probe (NaN) is skipped.
+TEST(BenchStats, NoiseGateNamesEveryLimitExceeded) {
+  NoiseReadings quiet;
+  quiet.probe_before = 0.98, quiet.probe_after = 0.97;
+  quiet.lane_frame_ms = {Blocks{{10, 10.2, 9.9}, {10.1, 10.3}, {9.8, 10}}};
+  const NoiseVerdict ok = noise_gate(quiet);
+  EXPECT_TRUE(ok.trustworthy);
+  EXPECT_EQ(ok.reason, "");
+  EXPECT_NEAR(ok.spread, (10.2 - 9.9) / 10.0, 1e-12);  // block medians 10, 10.2, 9.9
+
+  NoiseReadings busy = quiet;
+  busy.probe_after = 0.61;
+  NoiseVerdict v = noise_gate(busy);
+  EXPECT_FALSE(v.trustworthy);
+  EXPECT_NE(v.reason.find("0.61 after"), std::string::npos) << v.reason;
+
+  busy = quiet;
+  busy.steal = 0.05;
+  v = noise_gate(busy);
+  EXPECT_FALSE(v.trustworthy);
+  EXPECT_NE(v.reason.find("stole 5.0%"), std::string::npos) << v.reason;
+
+  busy = quiet;
+  busy.lane_frame_ms.push_back(Blocks{{20, 20}, {26, 26}});
+  v = noise_gate(busy);
+  EXPECT_FALSE(v.trustworthy);
+  EXPECT_NEAR(v.spread, 6.0 / 23.0, 1e-12);
+  EXPECT_NE(v.reason.find("26%"), std::string::npos) << v.reason;
+  EXPECT_EQ(v.reason.find(';'), std::string::npos) << v.reason;  // one cause, one clause
+
+  NoiseReadings unprobed = quiet;
+  unprobed.probe_before = unprobed.probe_after = std::nan("");
+  EXPECT_TRUE(noise_gate(unprobed).trustworthy);
+  unprobed.lane_frame_ms = {Blocks{{10, 10}}};  // one block: no spread
+  EXPECT_EQ(noise_gate(unprobed).spread, 0);
+}
+
 }  // namespace bench_stats_test
 }  // namespace multiray::balance

@@ -121,6 +121,47 @@ TEST(BenchCli, RepeatsGiveIntervalsAndAVerdict) {
   }
 }
 
+// Where the time goes: per balancer the parts add up to the frame time (which is the
+// table's), efficiency is the ideal over it; the run is judged by the noise gate, with the
+// probe's numbers in the JSON; with two devices Harada's deviation is said to equal the
+// imbalance rather than shown as a second identical column.
+TEST(BenchCli, BreakdownAddsUpAndTheRunIsJudged) {
+  const std::string json = ::testing::TempDir() + "/bench_breakdown.json";
+  const Result r =
+      run(std::string(kSmall) +
+          "--frames 6 --warmup 1 --repeats 2 --balancers uniform,queue --json " + json);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("where the time goes"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("deviation, max |time - mean| / mean, equals the"));
+  EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("recovery")));  // not perturbed
+  const nlohmann::json doc = read_json(json);
+  for (const auto& lane : doc.at("runs")) {
+    const auto& s = lane.at("summary");
+    const auto& b = s.at("breakdown");
+    const double frame = b.at("frame_ms").get<double>();
+    const double parts = b.at("ideal_ms").get<double>() + b.at("balance_loss_ms").get<double>() +
+                         b.at("overhead_ms").get<double>() + b.at("stolen_ms").get<double>() +
+                         b.at("host_ms").get<double>();
+    EXPECT_NEAR(parts, frame, 1e-9 * frame) << lane.at("lane");
+    EXPECT_NEAR(frame, s.at("mean_frame_ms").get<double>(), 1e-9 * frame) << lane.at("lane");
+    EXPECT_NEAR(s.at("efficiency").get<double>(), b.at("ideal_ms").get<double>() / frame, 1e-12);
+    EXPECT_GE(b.at("balance_loss_ms").get<double>(), 0);
+    EXPECT_GT(b.at("engine_wall_ms").get<double>(), 0);
+    EXPECT_EQ(b.at("stolen_measured"), true);  // single-threaded CPU devices
+  }
+  const auto& noise = doc.at("noise");
+  EXPECT_TRUE(doc.at("trustworthy").is_boolean());
+  EXPECT_EQ(doc.at("trustworthy"), noise.at("trustworthy"));
+  for (const char* probe : {"contention_probe_before", "contention_probe_after"})
+    EXPECT_GT(noise.at(probe).get<double>(), 0) << probe;
+  EXPECT_EQ(noise.at("trustworthy").get<bool>(), noise.at("reason").get<std::string>().empty());
+  for (const auto& lane : doc.at("repeats").at("lanes"))
+    EXPECT_FALSE(lane.at("imbalance").is_null());
+  const Result bad = run(std::string(kSmall) + "--frames 2 --balancers uniform --probe-ms -1");
+  EXPECT_NE(bad.code, 0);
+  EXPECT_THAT(bad.out, ::testing::HasSubstr("--probe-ms"));
+}
+
 TEST(BenchCli, BadBalancersEntryIsNamedAsSuch) {
   for (const std::string mapping : {"", "--mapping strips "}) {
     const std::string args = std::string(kSmall) + "--frames 2 --warmup 0 " + mapping +

@@ -20,6 +20,13 @@ std::vector<FrameRecord> frames(const std::vector<double>& ms,
   return out;
 }
 
+// One device timed alone on `frames`, taking `ms` there: the ideal is `ms`.
+std::vector<IdealSample> timed(const std::vector<int>& frames, const std::vector<double>& ms) {
+  std::vector<IdealSample> out;
+  for (size_t k = 0; k < frames.size(); ++k) out.push_back(IdealSample{frames[k], {ms[k]}, ms[k]});
+  return out;
+}
+
 // A rebalance is a frame whose planned shares differ from the previous frame's.
 TEST(BenchSummary, CountsFramesWhoseSharesChanged) {
   auto recs = frames({1, 1, 1, 1, 1, 1}, {0, 0, 0, 0, 0, 0});
@@ -30,7 +37,7 @@ TEST(BenchSummary, CountsFramesWhoseSharesChanged) {
     recs[f].devices[1].planned_share = 1 - shares[f];
   }
   EXPECT_EQ(count_rebalances(recs), 2);  // frames 2 and 5
-  EXPECT_EQ(summarize(recs, 0, {}, {}, -1).rebalances, 2);
+  EXPECT_EQ(summarize(recs, 0, {}, -1).rebalances, 2);
   recs[3].devices[1].planned_share += 1e-12;  // rounding is not a rebalance
   EXPECT_EQ(count_rebalances(recs), 2);
   EXPECT_EQ(count_rebalances({}), 0);
@@ -48,10 +55,10 @@ TEST(BenchSummary, PrintedIdealIsTheOneEfficiencyUses) {
   // mean of the timed frames (25 ms) is not what efficiency compares against: 32.5 ms is.
   const std::vector<int> sampled{2, 3};
   const std::vector<double> ideal{10, 40};
-  EXPECT_DOUBLE_EQ(mean_ideal_ms(sampled, ideal, 2, 6), 32.5);
-  EXPECT_DOUBLE_EQ(mean_ideal_ms(sampled, ideal, 2, 2), 0);  // no frames
+  EXPECT_DOUBLE_EQ(mean_ideal_ms(timed(sampled, ideal), 2, 6), 32.5);
+  EXPECT_DOUBLE_EQ(mean_ideal_ms(timed(sampled, ideal), 2, 2), 0);  // no frames
   const auto recs = frames({100, 100, 65, 65, 65, 65}, {0, 0, 0, 0, 0, 0});
-  const RunSummary s = summarize(recs, 2, sampled, ideal, -1);
+  const RunSummary s = summarize(recs, 2, timed(sampled, ideal), -1);
   EXPECT_DOUBLE_EQ(s.ideal_ms, 32.5);
   EXPECT_DOUBLE_EQ(s.efficiency, 0.5);
   EXPECT_DOUBLE_EQ(s.efficiency, s.ideal_ms / s.mean_frame_ms);
@@ -75,7 +82,7 @@ TEST(BenchSummary, MismatchNamesEachLaneWhoseImagesDiffered) {
 TEST(BenchSummary, EfficiencyRecoveryAndSpeedup) {
   // Frames 0-1 are warm-up; the ideal is 10 ms everywhere; actual 20 ms then 10 ms.
   const auto recs = frames({100, 100, 20, 20, 10, 10}, {0.5, 0.5, 0.2, 0.1, 0.04, 0.0});
-  const RunSummary s = summarize(recs, 2, {2, 5}, {10, 10}, 3);
+  const RunSummary s = summarize(recs, 2, timed({2, 5}, {10, 10}), 3);
   EXPECT_DOUBLE_EQ(s.mean_frame_ms, 15);
   EXPECT_DOUBLE_EQ(s.efficiency, 40.0 / 60.0);
   EXPECT_EQ(s.recovery_frames, 1);  // frame 4 is the first under 5% after frame 3
@@ -90,11 +97,11 @@ TEST(BenchSummary, RecoveryIsWhereImbalanceStaysUnder5PercentToTheEnd) {
   // Perturbation at frame 1: frame 2 dips under 5% but frame 3 is back above it, so the
   // run recovers at frame 4 (3 frames), not at the first frame under 5%.
   const auto recs = frames({10, 10, 10, 10, 10, 10}, {0.01, 0.3, 0.03, 0.2, 0.04, 0.01});
-  EXPECT_EQ(summarize(recs, 0, {0}, {10}, 1).recovery_frames, 3);
+  EXPECT_EQ(summarize(recs, 0, timed({0}, {10}), 1).recovery_frames, 3);
   // Over 5% in the last frame: not recovered, whatever came before.
   const auto late = frames({10, 10, 10, 10}, {0.01, 0.3, 0.01, 0.06});
-  EXPECT_EQ(summarize(late, 0, {0}, {10}, 1).recovery_frames, -1);
-  EXPECT_EQ(summarize(late, 0, {0}, {10}, -1).recovery_frames, -1);  // no perturbation
+  EXPECT_EQ(summarize(late, 0, timed({0}, {10}), 1).recovery_frames, -1);
+  EXPECT_EQ(summarize(late, 0, timed({0}, {10}), -1).recovery_frames, -1);  // no perturbation
 }
 
 TEST(BenchSummary, EfficiencyLeavesOutFramesBelowFullQuality) {
@@ -103,9 +110,10 @@ TEST(BenchSummary, EfficiencyLeavesOutFramesBelowFullQuality) {
   auto recs = frames({20, 20, 5, 5}, {0, 0, 0, 0});
   recs[2].quality.step_scale = 4;
   recs[3].first_pass_ms = 1;
-  EXPECT_DOUBLE_EQ(summarize(recs, 0, {0, 3}, {10, 10}, -1).efficiency, 0.5);
+  EXPECT_DOUBLE_EQ(summarize(recs, 0, timed({0, 3}, {10, 10}), -1).efficiency, 0.5);
   recs[0].quality.image_scale = recs[1].quality.image_scale = 0.5;
-  EXPECT_EQ(summarize(recs, 0, {0, 3}, {10, 10}, -1).efficiency, 0);  // none at full quality
+  EXPECT_EQ(summarize(recs, 0, timed({0, 3}, {10, 10}), -1).efficiency,
+            0);  // none at full quality
 }
 
 }  // namespace bench_summary_test

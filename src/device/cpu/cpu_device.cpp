@@ -160,6 +160,12 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
   const Stopwatch frame_clock;
   ++impl_->render_calls;
   const int tile = std::max(1, impl_->opts.tile);
+  // Stolen time (DeviceReport::stolen_ms): with one thread, per item on this thread; with
+  // several, per chunk on each arena thread, averaged over the threads. A quota's
+  // throttling is this device's emulated speed, and foveated units are not measured.
+  const bool one_thread = impl_->opts.threads == 1;
+  report.stolen_measured = !impl_->quota;
+  std::atomic<int64_t> stolen_ns{0};  // multi-threaded: summed over the arena's threads
   try {
     SlowdownEmulator slowdown(impl_->speed.load());
     const Kernel& kernel = impl_->kernel(job.settings.kernel);
@@ -171,7 +177,6 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
       const Stopwatch item_clock;
       // With one thread the arena runs the item on this thread: its CPU time is the
       // device's own work (see SlowdownEmulator).
-      const bool one_thread = impl_->opts.threads == 1;
       const double cpu_start = one_thread ? SlowdownEmulator::thread_cpu_ms() : 0;
       const WorkItem& item = source.item(id);
       const ViewSetup& view = job.views.at(size_t(item.view));
@@ -179,10 +184,14 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
       std::atomic<uint64_t> samples{0}, rays{0};
       const Rect r = item.rect;
       impl_->arena.execute([&] {
-        if (view.foveation) return render_foveated(job, kernel, view, r, out, samples, rays);
+        if (view.foveation) {
+          report.stolen_measured &= one_thread;
+          return render_foveated(job, kernel, view, r, out, samples, rays);
+        }
         oneapi::tbb::parallel_for(
             oneapi::tbb::blocked_range2d<int>(r.y0, r.y1, tile, r.x0, r.x1, tile),
             [&](const oneapi::tbb::blocked_range2d<int>& b) {
+              const ThreadTimes chunk(one_thread ? nullptr : &stolen_ns);
               const Rect sub{b.cols().begin(), b.rows().begin(), b.cols().end(), b.rows().end()};
               const KernelStats ks = kernel.render_rect(view, job.settings, sub, out);
               samples += ks.samples;
@@ -190,7 +199,9 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
             });
       });
       const double busy = item_clock.elapsed_ms();
-      slowdown.after_unit(one_thread ? SlowdownEmulator::thread_cpu_ms() - cpu_start : busy);
+      const double cpu = one_thread ? SlowdownEmulator::thread_cpu_ms() - cpu_start : busy;
+      if (one_thread) report.stolen_ms += std::max(0.0, busy - cpu);
+      slowdown.after_unit(cpu);
       report.add(ItemReport{item, item_clock.elapsed_ms(), double(samples.load()), busy, id},
                  rays);
     }
@@ -198,6 +209,7 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
     report.failed = true;
     report.error = e.what();
   }
+  if (!one_thread) report.stolen_ms = double(stolen_ns.load()) * 1e-6 / impl_->opts.threads;
   report.time_ms = frame_clock.elapsed_ms();
   return report;
 }
