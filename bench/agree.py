@@ -47,7 +47,7 @@ def main():
     print()
     for k, d in enumerate(docs):
         z = d["noise"]
-        print("run %d: %d blocks; contention probe %s before, %s after; steal %.1f%%; block "
+        print("run %d: %d blocks; contention probe %.2f before, %.2f after; steal %.1f%%; block "
               "spread %.0f%%; trustworthy: %s; verdict: %s" % (
                   k + 1, d["repeats"]["blocks"], z["contention_probe_before"],
                   z["contention_probe_after"], 100 * z["steal_fraction"],

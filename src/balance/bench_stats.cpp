@@ -138,12 +138,14 @@ NoiseVerdict noise_gate(const NoiseReadings& r, const NoiseLimits& limits) {
     v.reason += (v.reason.empty() ? "" : "; ") + std::string(text);
     v.trustworthy = false;
   };
-  const double probe = std::fmin(r.probe_before, r.probe_after);  // fmin skips a NaN
-  if (probe < limits.min_probe) {
+  // fmin and fmax skip a NaN (a probe not run).
+  const double low = std::fmin(r.probe_before, r.probe_after);
+  const double high = std::fmax(r.probe_before, r.probe_after);
+  if (low < limits.min_probe || high > limits.max_probe) {
     std::snprintf(buf, sizeof buf,
                   "contention probe %.2f before, %.2f after the run (1 = no other load; "
-                  "needs >= %.2f)",
-                  r.probe_before, r.probe_after, limits.min_probe);
+                  "needs %.2f..%.2f)",
+                  r.probe_before, r.probe_after, limits.min_probe, limits.max_probe);
     add(buf);
   }
   if (r.steal > limits.max_steal) {

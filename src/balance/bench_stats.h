@@ -64,6 +64,7 @@ struct NoiseReadings {
 };
 struct NoiseLimits {
   double min_probe = 0.85;   // below: other programs took a core's time
+  double max_probe = 1.18;   // above: the solo loop was the one slowed (the machine is unsteady)
   double max_steal = 0.02;   // above: the hypervisor took more than 2%
   double max_spread = 0.10;  // above: a lane's block medians differ by more than 10%
 };

@@ -120,6 +120,12 @@ TEST(BenchStats, NoiseGateNamesEveryLimitExceeded) {
   EXPECT_NE(v.reason.find("0.61 after"), std::string::npos) << v.reason;
 
   busy = quiet;
+  busy.probe_before = 1.55;  // the solo loop slowed: as unsteady as a slow pair
+  v = noise_gate(busy);
+  EXPECT_FALSE(v.trustworthy);
+  EXPECT_NE(v.reason.find("1.55 before"), std::string::npos) << v.reason;
+
+  busy = quiet;
   busy.steal = 0.05;
   v = noise_gate(busy);
   EXPECT_FALSE(v.trustworthy);
