@@ -44,6 +44,10 @@ RepeatSummary summarize_repeats(const std::vector<RepeatLane>& lanes, bool pertu
     s.imbalance.push_back(balance::bootstrap_median(l.imbalance));
     s.deviation.push_back(balance::bootstrap_median(l.deviation));
     s.recovery.push_back(balance::bootstrap_median(l.recovery));
+    std::vector<double> medians;
+    for (const std::vector<double>& block : l.frame_ms)
+      medians.push_back(balance::bootstrap_median({block}, {.resamples = 0}).median);
+    s.block_medians.push_back(std::move(medians));
     times.push_back(l.frame_ms);
     s.blocks = std::max(s.blocks, int(l.frame_ms.size()));
   }
@@ -111,7 +115,8 @@ nlohmann::json repeats_to_json(const RepeatSummary& s) {
                      {"imbalance", j(s.imbalance[k])},
                      {"deviation", j(s.deviation[k])},
                      {"recovery_frames", j(s.recovery[k])},
-                     {"ratio_to_best", j(s.time.ratios[k])}});
+                     {"ratio_to_best", j(s.time.ratios[k])},
+                     {"block_median_frame_ms", s.block_medians[k]}});
   nlohmann::json tied = nlohmann::json::array();
   for (int t : s.time.tied) tied.push_back(s.labels[size_t(t)]);
   return {{"blocks", s.blocks},
@@ -149,7 +154,11 @@ std::vector<ComparisonBar> comparison_bars(const RepeatSummary& repeats,
 balance::NoiseVerdict judge_noise(balance::NoiseReadings& readings,
                                   const std::vector<RepeatLane>& lanes) {
   readings.lane_frame_ms.clear();
-  for (const RepeatLane& l : lanes) readings.lane_frame_ms.push_back(l.frame_ms);
+  readings.lane_names.clear();
+  for (const RepeatLane& l : lanes) {
+    readings.lane_frame_ms.push_back(l.frame_ms);
+    readings.lane_names.push_back(l.label);
+  }
   return balance::noise_gate(readings);
 }
 

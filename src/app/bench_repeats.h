@@ -30,7 +30,8 @@ struct RepeatSummary {
   // Per lane; recovery only when perturbed (invalid otherwise, or when no block recovered).
   std::vector<balance::Interval> efficiency, imbalance, deviation, recovery;
   bool perturbed = false;  // recovery is shown ("never" where no block recovered)
-  balance::Verdict time;   // frame time: medians, ratios, winner or ties
+  std::vector<std::vector<double>> block_medians;  // per lane, per block: frame time
+  balance::Verdict time;                           // frame time: medians, ratios, winner or ties
 };
 
 // Appends one block's figures of every lane of `r` (frames [warmup, end)); `lanes` is

@@ -65,6 +65,10 @@ Interval bootstrap_median(const Blocks& values, const BootstrapOptions& o) {
     }
     medians.push_back(median_of(draw));
   }
+  if (medians.empty()) {  // no resampling asked for: the median alone
+    out.lo = out.hi = out.median;
+    return out;
+  }
   std::sort(medians.begin(), medians.end());
   const double tail = 0.5 * (1.0 - o.confidence);
   out.lo = std::min(out.median, quantile(medians, tail));
@@ -121,7 +125,8 @@ Verdict verdict(const std::vector<std::string>& names, const std::vector<Blocks>
 
 NoiseVerdict noise_gate(const NoiseReadings& r, const NoiseLimits& limits) {
   NoiseVerdict v;
-  for (const Blocks& lane : r.lane_frame_ms) {
+  for (size_t l = 0; l < r.lane_frame_ms.size(); ++l) {
+    const Blocks& lane = r.lane_frame_ms[l];
     std::vector<double> medians;
     for (const std::vector<double>& block : lane) {
       std::vector<double> f = finite(block);
@@ -131,7 +136,7 @@ NoiseVerdict noise_gate(const NoiseReadings& r, const NoiseLimits& limits) {
     const auto [lo, hi] = std::minmax_element(medians.begin(), medians.end());
     const double range = *hi - *lo;  // before median_of reorders `medians`
     const double mid = median_of(medians);
-    if (mid > 0) v.spread = std::max(v.spread, range / mid);
+    if (mid > 0 && range / mid > v.spread) v.spread = range / mid, v.spread_lane = int(l);
   }
   char buf[160];
   auto add = [&](const char* text) {
@@ -154,9 +159,11 @@ NoiseVerdict noise_gate(const NoiseReadings& r, const NoiseLimits& limits) {
     add(buf);
   }
   if (v.spread > limits.max_spread) {
+    const size_t l = size_t(v.spread_lane);
     std::snprintf(buf, sizeof buf,
-                  "a balancer's frame time differs by %.0f%% between repeat blocks (limit %.0f%%)",
-                  100 * v.spread, 100 * limits.max_spread);
+                  "%s's frame time differs by %.0f%% between repeat blocks (limit %.0f%%)",
+                  l < r.lane_names.size() ? r.lane_names[l].c_str() : "a balancer", 100 * v.spread,
+                  100 * limits.max_spread);
     add(buf);
   }
   return v;

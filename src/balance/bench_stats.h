@@ -25,7 +25,7 @@ struct Interval {
 using Blocks = std::vector<std::vector<double>>;
 
 struct BootstrapOptions {
-  int resamples = 2000;
+  int resamples = 2000;  // 0: the median alone (lo = hi = median)
   double confidence = 0.95;
   uint64_t seed = 0x6d756c7469726179ull;  // "multiray"
 };
@@ -59,8 +59,9 @@ Verdict verdict(const std::vector<std::string>& names, const std::vector<Blocks>
 struct NoiseReadings {
   // contention_probe() before and after the run: 1 when nothing else ran; NaN: not measured.
   double probe_before = 1, probe_after = 1;
-  double steal = 0;                   // the hypervisor's share of all CPU time during the run
-  std::vector<Blocks> lane_frame_ms;  // per lane, per block, per frame: for the spread
+  double steal = 0;                     // the hypervisor's share of all CPU time during the run
+  std::vector<Blocks> lane_frame_ms;    // per lane, per block, per frame: for the spread
+  std::vector<std::string> lane_names;  // for the reason (may be empty)
 };
 struct NoiseLimits {
   double min_probe = 0.85;   // below: other programs took a core's time
@@ -72,6 +73,7 @@ struct NoiseVerdict {
   // The largest over lanes of (max - min) / median of the lane's block medians of frame
   // time; 0 with one block.
   double spread = 0;
+  int spread_lane = -1;  // the lane with that spread (-1: none)
   bool trustworthy = true;
   std::string reason;  // "" when trustworthy; otherwise every limit exceeded, in one line
 };

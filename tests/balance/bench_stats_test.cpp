@@ -133,7 +133,10 @@ TEST(BenchStats, NoiseGateNamesEveryLimitExceeded) {
 
   busy = quiet;
   busy.lane_frame_ms.push_back(Blocks{{20, 20}, {26, 26}});
+  busy.lane_names = {"queue", "hybrid"};
   v = noise_gate(busy);
+  EXPECT_EQ(v.spread_lane, 1);
+  EXPECT_NE(v.reason.find("hybrid's frame time differs by 26%"), std::string::npos) << v.reason;
   EXPECT_FALSE(v.trustworthy);
   EXPECT_NEAR(v.spread, 6.0 / 23.0, 1e-12);
   EXPECT_NE(v.reason.find("26%"), std::string::npos) << v.reason;
