@@ -44,6 +44,10 @@ RepeatSummary summarize_repeats(const std::vector<RepeatLane>& lanes, bool pertu
     s.imbalance.push_back(balance::bootstrap_median(l.imbalance));
     s.deviation.push_back(balance::bootstrap_median(l.deviation));
     s.recovery.push_back(balance::bootstrap_median(l.recovery));
+    int recovered = 0;
+    for (const std::vector<double>& block : l.recovery)
+      recovered += !block.empty() && std::isfinite(block.front());
+    s.recovered_blocks.push_back(recovered);
     std::vector<double> medians;
     for (const std::vector<double>& block : l.frame_ms)
       medians.push_back(balance::bootstrap_median({block}, {.resamples = 0}).median);
@@ -60,6 +64,15 @@ std::string interval(const balance::Interval& i, const char* format) {
   if (!i.valid) return "-";
   return fmt::format(fmt::runtime(std::string(format) + " [" + format + ", " + format + "]"),
                      i.median, i.lo, i.hi);
+}
+
+// "never", "5 [5, 5]", or "31 [31, 31] (2/3)" when only some blocks recovered.
+std::string recovery_text(const RepeatSummary& s, size_t k) {
+  if (!s.recovery[k].valid) return "never";
+  std::string text = interval(s.recovery[k], "{:.0f}");
+  if (s.recovered_blocks[k] < s.blocks)
+    text += fmt::format(" ({}/{})", s.recovered_blocks[k], s.blocks);
+  return text;
 }
 }  // namespace
 
@@ -78,20 +91,18 @@ void print_repeats(const RepeatSummary& s) {
       s.blocks);
   fmt::print("{:<{}}  {:>24}  {:>22}  {:>22}{}{}  {:>22}\n", "balancer", width, "frame ms",
              "efficiency", "imbalance %", deviation ? fmt::format("  {:>22}", "deviation %") : "",
-             recovery ? fmt::format("  {:>16}", "recovery") : "", "x best (per frame)");
+             recovery ? fmt::format("  {:>22}", "recovery") : "", "x best (per frame)");
   auto percent = [](balance::Interval i) {
     i.median *= 100, i.lo *= 100, i.hi *= 100;
     return interval(i, "{:.1f}");
   };
   for (size_t k = 0; k < s.labels.size(); ++k)
-    fmt::print(
-        "{:<{}}  {:>24}  {:>22}  {:>22}{}{}  {:>22}\n", s.labels[k], width,
-        interval(s.time.medians[k], "{:.2f}"), interval(s.efficiency[k], "{:.3f}"),
-        percent(s.imbalance[k]), deviation ? fmt::format("  {:>22}", percent(s.deviation[k])) : "",
-        recovery ? fmt::format("  {:>16}", s.recovery[k].valid ? interval(s.recovery[k], "{:.0f}")
-                                                               : std::string("never"))
-                 : "",
-        int(k) == s.time.best ? std::string("best") : interval(s.time.ratios[k], "{:.3f}"));
+    fmt::print("{:<{}}  {:>24}  {:>22}  {:>22}{}{}  {:>22}\n", s.labels[k], width,
+               interval(s.time.medians[k], "{:.2f}"), interval(s.efficiency[k], "{:.3f}"),
+               percent(s.imbalance[k]),
+               deviation ? fmt::format("  {:>22}", percent(s.deviation[k])) : "",
+               recovery ? fmt::format("  {:>22}", recovery_text(s, k)) : "",
+               int(k) == s.time.best ? std::string("best") : interval(s.time.ratios[k], "{:.3f}"));
   fmt::print("verdict: {}\n", s.time.text);
   for (size_t k = 0; k < s.labels.size(); ++k)
     if (s.efficiency[k].valid && s.efficiency[k].median > 1.0)
@@ -115,6 +126,7 @@ nlohmann::json repeats_to_json(const RepeatSummary& s) {
                      {"imbalance", j(s.imbalance[k])},
                      {"deviation", j(s.deviation[k])},
                      {"recovery_frames", j(s.recovery[k])},
+                     {"recovered_blocks", s.recovered_blocks[k]},
                      {"ratio_to_best", j(s.time.ratios[k])},
                      {"block_median_frame_ms", s.block_medians[k]}});
   nlohmann::json tied = nlohmann::json::array();

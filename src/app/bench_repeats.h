@@ -31,7 +31,9 @@ struct RepeatSummary {
   std::vector<balance::Interval> efficiency, imbalance, deviation, recovery;
   bool perturbed = false;  // recovery is shown ("never" where no block recovered)
   std::vector<std::vector<double>> block_medians;  // per lane, per block: frame time
-  balance::Verdict time;                           // frame time: medians, ratios, winner or ties
+  // Per lane, the blocks that recovered (the recovery interval is over those only).
+  std::vector<int> recovered_blocks;
+  balance::Verdict time;  // frame time: medians, ratios, winner or ties
 };
 
 // Appends one block's figures of every lane of `r` (frames [warmup, end)); `lanes` is

@@ -162,6 +162,26 @@ TEST(BenchCli, BreakdownAddsUpAndTheRunIsJudged) {
   EXPECT_THAT(bad.out, ::testing::HasSubstr("--probe-ms"));
 }
 
+// Recovery appears with --perturb only, per repeat lane with the number of blocks that
+// recovered (its interval is over those).
+TEST(BenchCli, RecoveryIsShownWhenPerturbed) {
+  const std::string json = ::testing::TempDir() + "/bench_perturb.json";
+  const Result r = run(std::string(kSmall) +
+                       "--frames 6 --warmup 1 --repeats 2 --perturb 3:1:0.5 --probe-ms 0 "
+                       "--balancers uniform,queue --json " +
+                       json);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("recovery: frames after --perturb"));
+  const nlohmann::json doc = read_json(json);
+  for (const auto& lane : doc.at("repeats").at("lanes")) {
+    const int blocks = lane.at("recovered_blocks").get<int>();
+    EXPECT_GE(blocks, 0) << lane;
+    EXPECT_LE(blocks, 2) << lane;
+    EXPECT_EQ(lane.at("recovery_frames").is_null(), blocks == 0) << lane;
+  }
+  EXPECT_TRUE(doc.at("noise").at("contention_probe_before").is_null());  // --probe-ms 0
+}
+
 TEST(BenchCli, BadBalancersEntryIsNamedAsSuch) {
   for (const std::string mapping : {"", "--mapping strips "}) {
     const std::string args = std::string(kSmall) + "--frames 2 --warmup 0 " + mapping +
