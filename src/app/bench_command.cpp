@@ -18,6 +18,7 @@
 #include "app/report_plots.h"
 #include "app/stats_json.h"
 #include "app/trace_file.h"
+#include "balance/balancer.h"
 #include "balance/spec.h"
 #include "core/error.h"
 #include "core/file_io.h"
@@ -28,9 +29,16 @@ namespace multiray::app {
 
 namespace {
 
+// Every registered balancer, "uniform,static,...".
+std::string every_balancer() {
+  std::string list;
+  for (const std::string& name : balance::balancer_names())
+    list += (list.empty() ? "" : ",") + name;
+  return list;
+}
+
 struct BenchOptions {
-  std::string balancers =
-      "uniform,static,queue,semi-static,dlb,hybrid,cycles,equalizer,ospray-static,ospray-dynamic";
+  std::string balancers = every_balancer();
   std::string json_path;
   std::string report_dir;
   std::string trace_prefix;
@@ -51,7 +59,9 @@ Runner add_bench_command(CLI::App& app) {
   o->camera_path = "orbit";
   o->mesh_spp = 4;
   add_common_options(*cmd, *o);
-  cmd->add_option("--balancers", b->balancers, "Comma-separated balancer specs to compare")
+  cmd->add_option("--balancers", b->balancers,
+                  "Comma-separated balancer specs to compare (default: every balancer; "
+                  "`render --help` lists them with their options)")
       ->capture_default_str();
   cmd->add_option("--json", b->json_path, "Write all measurements as JSON to this file");
   cmd->add_option(

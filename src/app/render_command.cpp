@@ -13,6 +13,7 @@
 #include "app/interrupt.h"
 #include "app/stats_json.h"
 #include "app/trace_file.h"
+#include "balance/registry.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "render/kernel.h"
@@ -292,11 +293,9 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                   "roll off), clamp (values above 1 clip), or auto: filmic for meshes, clamp for "
                   "volumes (the raycaster already writes display colours)")
       ->capture_default_str();
-  cmd->add_option(
-         "--balancer", *balancer,
-         "How work is split between devices: uniform, static[:ratios=A/B/..], "
-         "queue[:tile=N:batch=N], semi-static[:alpha=A:split=columns|rows:cdf=reported|frame], "
-         "dlb, hybrid")
+  cmd->add_option("--balancer", *balancer,
+                  "How work is split between devices, NAME[:key=value]... (docs/balancers.md):\n" +
+                      balance::balancer_help())
       ->capture_default_str();
   cmd->add_option("--trace", *trace_path,
                   "Write every work item's device, view, rect, samples, busy and wall time to "

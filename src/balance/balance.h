@@ -13,6 +13,7 @@
 #include "balance/plan.h"
 #include "balance/queue.h"
 #include "balance/region.h"
+#include "balance/registry.h"
 #include "balance/semi_static.h"
 #include "balance/sim_study.h"
 #include "balance/simulate.h"

@@ -38,27 +38,15 @@ class Balancer {
   virtual void drop_device(int index) = 0;
 };
 
-// Builds a balancer from a spec "name[:key=value]..." for `device_count` devices:
-//   uniform[:layout=rows|columns|strips|views]
-//   static[:ratios=3/1][:layout=...]      (no ratios: calibrate from the first frame)
-//   queue[:tile=64][:batch=1]
-//   semi-static[:alpha=0.4]
-//   dlb[:interval=5][:band=0.1][:slow=0.75][:bits=auto][:strip=32][:layout=strips|views]
-//   hybrid[:bands=8][:taper=0.7][:tail=0.02][:alpha=0.5][:jump=0.2][:gamma=0.5]
-//         [:min_chunk=256][:steal=1][:overhead=0.1]
-//   bruder[:zeta=0.5][:tile=8][:steal=0][:items=rows]  (Bruder et al. 2017: predicted costs,
-//                                                 k-d tree of tiles)
-// and, to compare against the peers (peers_*.h):
-//   cycles[:interval_ms=1000]                    (Blender Cycles)
-//   equalizer[:damping=0.5]                      (Equalizer's load equalizer, 2D)
-//   ospray-static[:tile=64]                      (OSPRay MPI, round-robin tiles)
-//   ospray-dynamic[:tile=64][:prefetch=4]        (OSPRay MPI, tiles on request)
-// docs/balancers.md explains each parameter. Throws std::invalid_argument with a one-line
-// message for an unknown name or option, a malformed or out-of-range value, or
+// Builds a balancer from a spec "name[:key=value]..." for `device_count` devices; the
+// names, options, defaults and ranges are those of the registry (balance/registry.h,
+// `multiray render --help`, docs/balancers.md). Throws std::invalid_argument with a
+// one-line message for an unknown name or option, a malformed or out-of-range value, or
 // device_count outside 1..4096.
 std::unique_ptr<Balancer> make_balancer(const std::string& spec, int device_count);
 
-// The names make_balancer accepts, in the order of DESIGN.md, then the peers' balancers.
+// The names make_balancer accepts, in the registry's order: DESIGN.md's, then the peers'
+// balancers, then any registered later.
 std::vector<std::string> balancer_names();
 
 }  // namespace multiray::balance

@@ -68,7 +68,7 @@ void Spec::fail(const std::string& what) const {
 }
 
 const std::string* Spec::find(const std::string& key) {
-  asked_.push_back(key);
+  if (std::find(asked_.begin(), asked_.end(), key) == asked_.end()) asked_.push_back(key);
   const auto it = options_.find(key);
   return it == options_.end() ? nullptr : &it->second;
 }

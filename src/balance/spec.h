@@ -34,6 +34,8 @@ class Spec {
   // Every option as written, key -> value (the positional value under its key).
   const std::map<std::string, std::string>& options() const { return options_; }
   bool has(const std::string& key) const { return options_.count(key) != 0; }
+  // The keys the getters asked for so far (given or not), in order, without repeats.
+  const std::vector<std::string>& asked() const { return asked_; }
 
   // Each getter returns the option's value, or `fallback` (unchecked) when it is absent,
   // and throws std::invalid_argument when the value does not parse or is out of range.

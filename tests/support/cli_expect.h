@@ -2,20 +2,27 @@
 // for bad input — one line on stderr starting "multiray: error: ", exit code 2.
 #pragma once
 
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
 
 #include "support/run_cli.h"
 
 namespace multiray::testing {
 
-// Writes `content` to TempDir()/name and returns the path.
+// Writes `content` to a file `name` and returns its path. The folder is this test
+// process's own: ctest runs test processes in parallel, and two writing one /tmp/ball.raw
+// while a third read it made a render fail now and then.
 inline std::string temp_file(const std::string& name, const std::string& content) {
-  const std::string path = ::testing::TempDir() + "/" + name;
+  const std::string dir = ::testing::TempDir() + "/multiray-test-" + std::to_string(getpid());
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/" + name;
   std::ofstream(path, std::ios::binary) << content;
   return path;
 }
