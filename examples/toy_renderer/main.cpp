@@ -8,7 +8,7 @@
 #include <thread>
 #include <vector>
 
-#include "balance/balance.h"
+#include <multiray/balance.h>
 
 namespace mb = multiray::balance;
 
