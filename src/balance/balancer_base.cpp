@@ -9,8 +9,9 @@ namespace multiray::balance {
 
 namespace {
 constexpr int kMaxDevices = 4096;
-bool usable(double x) { return std::isfinite(x) && x > 0; }
 }  // namespace
+
+bool usable(double x) { return std::isfinite(x) && x > 0; }
 
 bool valid_time(double ms) { return usable(ms); }
 

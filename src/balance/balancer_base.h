@@ -9,6 +9,9 @@
 
 namespace multiray::balance {
 
+// True for a measurement that can be used (a time, a cost, a sum of work): finite and > 0.
+bool usable(double x);
+
 // True for a usable measured time: finite and > 0 ms.
 bool valid_time(double ms);
 

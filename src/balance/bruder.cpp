@@ -15,8 +15,6 @@ namespace multiray::balance {
 namespace {
 constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
 
-bool usable(double x) { return std::isfinite(x) && x > 0; }
-
 // The frame's tiles: each view cut into tile×tile tiles (clipped at the right and bottom),
 // the views' grids side by side in one grid of columns × rows tiles.
 struct TileLayout {

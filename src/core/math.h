@@ -46,6 +46,15 @@ inline Vec3 normalize(Vec3 a) {
   const float l = length(a);
   return l > 0 ? a / l : Vec3(0, 0, 1);
 }
+
+// 1 / d per component, with components of magnitude under 1e-30 taken as ±1e-30 (sign
+// kept): slab tests then get huge finite values instead of inf · 0 = NaN.
+inline Vec3 safe_inverse(Vec3 d) {
+  const auto inv = [](float x) {
+    return 1.0f / (std::fabs(x) < 1e-30f ? std::copysign(1e-30f, x) : x);
+  };
+  return Vec3(inv(d.x), inv(d.y), inv(d.z));
+}
 inline Vec3 min(Vec3 a, Vec3 b) {
   return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
 }

@@ -13,13 +13,6 @@ namespace {
 // 1 + 2·gamma(3), gamma(n) = n·u / (1 - n·u), u = 2^-24 (see box_hit).
 constexpr float kSlabSlack = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
 
-Vec3 safe_inverse(Vec3 d) {
-  const auto inv = [](float x) {
-    return 1.0f / (std::fabs(x) < 1e-30f ? std::copysign(1e-30f, x) : x);
-  };
-  return Vec3(inv(d.x), inv(d.y), inv(d.z));
-}
-
 // Slab test; on a hit, *t_near is where the ray enters the box (within the ray's range).
 // The exit distance is scaled by 1 + 2·gamma(3) (Ize, "Robust BVH ray traversal", JCGT
 // 2013; pbrt's Bounds3::IntersectP): the rounding of the three slab distances can

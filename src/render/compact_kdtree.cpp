@@ -213,13 +213,6 @@ class KdBuilder {
   std::vector<Event> events_;
 };
 
-Vec3 safe_inverse(Vec3 d) {
-  const auto inv = [](float x) {
-    return 1.0f / (std::fabs(x) < 1e-30f ? std::copysign(1e-30f, x) : x);
-  };
-  return Vec3(inv(d.x), inv(d.y), inv(d.z));
-}
-
 // Moller-Trumbore on the decoded triangle: the arithmetic of compact_accel.cpp's
 // triangle_hit (e1n = v0 - v1, e2 = v2 - v0), so that both structures report the same t,
 // barycentrics and normal. Keep the two in step.
