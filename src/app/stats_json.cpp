@@ -77,8 +77,7 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
     leaf_ms.push_back(mine);
     leaves.insert(leaves.end(), mine.begin(), mine.end());
   }
-  double leaf_imbalance = 0, leaf_deviation = 0;
-  imbalance_of(leaves, leaf_imbalance, leaf_deviation);
+  const double leaf_deviation = balance::deviation(leaves);
   for (const auto& d : rec.devices) {
     device_ms.push_back(d.time_ms);
     busy_ms.push_back(d.busy_ms);

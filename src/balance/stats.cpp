@@ -6,10 +6,17 @@
 namespace multiray::balance {
 
 namespace {
+bool usable_time(double ms) { return std::isfinite(ms) && ms >= 0; }
 std::vector<double> usable_times(const FrameStats& stats) {
   std::vector<double> t;
   for (const DeviceFrameStats& d : stats.devices)
-    if (d.alive && std::isfinite(d.time_ms) && d.time_ms >= 0) t.push_back(d.time_ms);
+    if (d.alive && usable_time(d.time_ms)) t.push_back(d.time_ms);
+  return t;
+}
+std::vector<double> usable_times(const std::vector<double>& times) {
+  std::vector<double> t;
+  for (double ms : times)
+    if (usable_time(ms)) t.push_back(ms);
   return t;
 }
 double mean(const std::vector<double>& v) {
@@ -24,15 +31,19 @@ double frame_time_ms(const FrameStats& stats) {
   return t.empty() ? 0 : *std::max_element(t.begin(), t.end());
 }
 
-double imbalance(const FrameStats& stats) {
-  const std::vector<double> t = usable_times(stats);
+double imbalance(const FrameStats& stats) { return imbalance(usable_times(stats)); }
+
+double deviation(const FrameStats& stats) { return deviation(usable_times(stats)); }
+
+double imbalance(const std::vector<double>& times) {
+  const std::vector<double> t = usable_times(times);
   const double m = mean(t);
   if (t.empty() || !(m > 0)) return 0;
   return *std::max_element(t.begin(), t.end()) / m - 1;
 }
 
-double deviation(const FrameStats& stats) {
-  const std::vector<double> t = usable_times(stats);
+double deviation(const std::vector<double>& times) {
+  const std::vector<double> t = usable_times(times);
   const double m = mean(t);
   if (t.empty() || !(m > 0)) return 0;
   double worst = 0;

@@ -42,6 +42,10 @@ double frame_time_ms(const FrameStats& stats);
 double imbalance(const FrameStats& stats);
 // Deviation (Harada) = max_i |t_i − t_mean| / t_mean; 0 as above.
 double deviation(const FrameStats& stats);
+// The same two over plain times (ms; entries not finite or < 0 left out): the one
+// definition the engine's frame records, the bench and the simulator use.
+double imbalance(const std::vector<double>& times);
+double deviation(const std::vector<double>& times);
 
 // The imbalance under which a frame counts as balanced when recovery is measured.
 inline constexpr double kRecoveredImbalance = 0.05;

@@ -12,17 +12,6 @@
 
 namespace multiray {
 
-void imbalance_of(const std::vector<double>& t, double& imbalance, double& deviation) {
-  imbalance = deviation = 0;
-  if (t.size() < 2) return;
-  double sum = 0, mx = 0;
-  for (double x : t) sum += x, mx = std::max(mx, x);
-  const double mean = sum / double(t.size());
-  if (!(mean > 0)) return;
-  imbalance = mx / mean - 1.0;
-  for (double x : t) deviation = std::max(deviation, std::abs(x - mean) / mean);
-}
-
 namespace {
 
 // Irregular sampling: the samples of every pixel of every view (views·height·width values,
@@ -260,7 +249,8 @@ void Engine::record(std::vector<DeviceReport>& reports, FrameRecord& rec) {
     s.items = r.items;
     for (const ItemReport& it : r.items) rendered_[i].push_back(it.item);
   }
-  imbalance_of(live_times, rec.imbalance, rec.deviation);
+  rec.imbalance = balance::imbalance(live_times);
+  rec.deviation = balance::deviation(live_times);
   rec.devices = std::move(reports);
 }
 

@@ -34,13 +34,10 @@ struct FrameRecord {
   int stolen = 0;                     // items taken by stealing
   std::vector<DeviceReport> devices;  // per device, with the engine's alive/share fields
   balance::Quality quality;           // the plan's quality, as rendered
-  double imbalance = 0;               // t_max / t_mean - 1 over live devices
+  // balance::imbalance() and balance::deviation() of the live devices' times.
+  double imbalance = 0;               // t_max / t_mean - 1
   double deviation = 0;               // max |t_i - t_mean| / t_mean (Harada)
   std::vector<std::string> messages;  // e.g. a device dropped
 };
-
-// Imbalance and deviation of the given device times; 0 for fewer than two devices or a
-// zero mean.
-void imbalance_of(const std::vector<double>& times, double& imbalance, double& deviation);
 
 }  // namespace multiray
