@@ -29,19 +29,19 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "app/options.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/image_metrics.h"
 #include "engine/session.h"
 #include "render/gbuffer.h"
 #include "render/path_tracer.h"
+#include "run/run.h"
 
 namespace multiray {
 namespace {
 
 // What one run of a grid kept: per frame the images and times.
-struct Run {
+struct GridRun {
   std::vector<std::vector<Framebuffer>> images;  // [frame][view]
   std::vector<std::shared_ptr<const ReprojectedFrame>> reprojection;
   std::vector<double> frame_ms, host_ms;
@@ -54,7 +54,7 @@ struct Run {
 
 class Keeper : public FrameObserver {
  public:
-  explicit Keeper(Run& run) : run_(run) {}
+  explicit Keeper(GridRun& run) : run_(run) {}
   void before_frame(int, const FrameInput& in) override {
     run_.reprojection.push_back(in.reprojection);
   }
@@ -65,7 +65,7 @@ class Keeper : public FrameObserver {
   }
 
  private:
-  Run& run_;
+  GridRun& run_;
 };
 
 struct Config {
@@ -78,8 +78,8 @@ struct Config {
   float spacing = 0.2f;
 };
 
-Run run_grid(const app::Setup& s, const Config& c, CameraRig rig, Sampling mode, uint64_t seed,
-             int reference_spacing = 0) {
+GridRun run_grid(const multiray::Run& s, const Config& c, CameraRig rig, Sampling mode,
+                 uint64_t seed, int reference_spacing = 0) {
   SamplingSetup sampling;
   sampling.mode = mode;
   sampling.reproject_spp = c.spp;
@@ -90,14 +90,14 @@ Run run_grid(const app::Setup& s, const Config& c, CameraRig rig, Sampling mode,
   std::vector<std::unique_ptr<balance::Balancer>> lanes;
   lanes.push_back(balance::make_balancer(c.balancer, int(s.devices.size())));
   Session session(s.device_ptrs(), std::move(lanes), std::move(views), s.path, settings);
-  Run run;
+  GridRun run;
   Keeper keeper(run);
   session.run(0, c.frames, keeper);
   return run;
 }
 
 // Bits of the holes and the centre that differ from the full render (must be none).
-size_t mismatches(const Run& full, const Run& r) {
+size_t mismatches(const GridRun& full, const GridRun& r) {
   size_t bad = 0;
   for (size_t f = 0; f < r.images.size(); ++f) {
     const ReprojectedFrame& rf = *r.reprojection[f];
@@ -113,7 +113,7 @@ size_t mismatches(const Run& full, const Run& r) {
 
 // Mean image error of `x` against `full` over the frames and the views that `r` did not
 // path-trace in full (its references are excluded for every x alike).
-ImageError error(const Run& full, const Run& x, const Run& r) {
+ImageError error(const GridRun& full, const GridRun& x, const GridRun& r) {
   ImageError e{0, 0, 0};
   int n = 0;
   for (size_t f = 0; f < x.images.size(); ++f)
@@ -129,7 +129,8 @@ ImageError error(const Run& full, const Run& x, const Run& r) {
 // Mean squared error (clamped linear RGB, as image_error) of `r` and of `other` against
 // `full` over the pixels that `moved` took from the centre, in every frame and view: the
 // error of reprojected pixels against that of a full render with another seed there.
-std::pair<double, double> moved_pixel_mse(const Run& full, const Run& other, const Run& moved) {
+std::pair<double, double> moved_pixel_mse(const GridRun& full, const GridRun& other,
+                                          const GridRun& moved) {
   const auto sq = [](const Vec3& a, const Vec3& b) {
     double e = 0;
     for (int c = 0; c < 3; ++c) {
@@ -158,7 +159,8 @@ std::pair<double, double> moved_pixel_mse(const Run& full, const Run& other, con
 
 // The last frame's first view that is not a reference: full, reprojected, and with its
 // holes in red (files GRID_viewV_*.png).
-void write_images(const std::string& dir, const std::string& grid, const Run& full, const Run& r) {
+void write_images(const std::string& dir, const std::string& grid, const GridRun& full,
+                  const GridRun& r) {
   const ReprojectedFrame& rf = *r.reprojection.back();
   size_t v = 0;
   while (rf.is_reference(v)) ++v;
@@ -184,7 +186,7 @@ CameraRig parse_grid(const std::string& grid, float spacing) {
 
 // One entry of --reference-spacings: 0..64.
 int parse_spacing(const std::string& text) {
-  const double k = app::to_number(text, "--reference-spacings");
+  const double k = to_number(text, "--reference-spacings");
   if (k < 0 || k > 64 || k != std::floor(k))
     throw InputError("--reference-spacings: '" + text + "' must be a whole number in 0..64");
   return int(k);
@@ -193,7 +195,7 @@ int parse_spacing(const std::string& text) {
 // --holes-only: per grid, the hole fraction and what the holes see, from each target
 // view's own G-buffer: no surface (sky: one ray each), a surface outside every reference's
 // image (the border), or a surface no reference sees (a disocclusion). No path tracing.
-void measure_holes(const app::Setup& s, const Config& c, CameraRig rig, int reference_spacing) {
+void measure_holes(const multiray::Run& s, const Config& c, CameraRig rig, int reference_spacing) {
   SamplingSetup sampling;
   sampling.mode = Sampling::Reprojected;
   sampling.reproject_spp = c.spp;
@@ -239,8 +241,8 @@ void measure_holes(const app::Setup& s, const Config& c, CameraRig rig, int refe
 }
 
 // One row of the table: `r` against the full render and the other seed's.
-nlohmann::json compare(const std::string& label, const Run& full, const Run& other, const Run& r,
-                       double one_view_ms) {
+nlohmann::json compare(const std::string& label, const GridRun& full, const GridRun& other,
+                       const GridRun& r, double one_view_ms) {
   const ImageError e = error(full, r, r), floor = error(full, other, r);
   double holes = 0;
   for (const auto& rf : r.reprojection) holes += rf->hole_fraction() / double(r.images.size());
@@ -273,7 +275,7 @@ nlohmann::json compare(const std::string& label, const Run& full, const Run& oth
 }
 
 int run(const Config& c) {
-  app::CommonOptions o;
+  multiray::RunConfig o;
   o.scene_path = c.scene;
   o.resolution = c.res;
   o.spp = c.spp;
@@ -281,15 +283,15 @@ int run(const Config& c) {
   o.frames = c.frames;
   o.camera_path = c.camera_path;
   o.devices = c.devices;
-  const app::Setup s = app::make_setup(o);
+  const multiray::Run s = build_run(o);
   if (c.holes_only) {
-    for (const std::string& grid : app::split(c.grids, ','))
-      for (const std::string& k : app::split(c.reference_spacings, ','))
+    for (const std::string& grid : split(c.grids, ','))
+      for (const std::string& k : split(c.reference_spacings, ','))
         measure_holes(s, c, parse_grid(grid, c.spacing), parse_spacing(k));
     return 0;
   }
   for (const auto& d : s.devices) fmt::print("device {}\n", d->info().name);
-  const Run alone =
+  const GridRun alone =
       run_grid(s, c, CameraRig::single(), Sampling::Uniform, s.settings.seed);  // one view
   fmt::print("one view: {:.1f} ms a frame\n", alone.mean(alone.frame_ms));
   fmt::print("{:>16} {:>10} {:>10} {:>9} {:>8} {:>8} {:>7} {:>9} {:>9} {:>10}\n", "grid",
@@ -300,13 +302,13 @@ int run(const Config& c) {
                         {"frames", c.frames},     {"devices", c.devices},
                         {"balancer", c.balancer}, {"one_view_ms", alone.mean(alone.frame_ms)}};
   int status = 0;
-  for (const std::string& grid : app::split(c.grids, ',')) {
+  for (const std::string& grid : split(c.grids, ',')) {
     const CameraRig rig = parse_grid(grid, c.spacing);
-    const Run full = run_grid(s, c, rig, Sampling::Uniform, s.settings.seed);
-    const Run other = run_grid(s, c, rig, Sampling::Uniform, s.settings.seed + 1);
-    for (const std::string& spacing : app::split(c.reference_spacings, ',')) {
+    const GridRun full = run_grid(s, c, rig, Sampling::Uniform, s.settings.seed);
+    const GridRun other = run_grid(s, c, rig, Sampling::Uniform, s.settings.seed + 1);
+    for (const std::string& spacing : split(c.reference_spacings, ',')) {
       const int k = parse_spacing(spacing);
-      const Run r = run_grid(s, c, rig, Sampling::Reprojected, s.settings.seed, k);
+      const GridRun r = run_grid(s, c, rig, Sampling::Reprojected, s.settings.seed, k);
       const std::string label = k ? fmt::format("{} refs every {}", grid, k) : grid;
       out["grids"].push_back(compare(label, full, other, r, alone.mean(alone.frame_ms)));
       out["grids"].back()["reference_spacing"] = k;

@@ -1,7 +1,8 @@
 // Fuzz target of the command line: the input is split into arguments at line breaks
 // and NULs (at most 32 arguments of at most 200 bytes) and run as `multiray ARGS...`
-// through the CLI11 set-up of src/app/main.cpp, repeated below (keep the two in step),
-// from a scratch folder holding a small scene in each format, a keyframe file and a trace.
+// through the command line's one entry (app/cli.h: run_cli, which main() calls too; the
+// only app/ header outside app/, since this target fuzzes the CLI itself), from a scratch
+// folder holding a small scene in each format, a keyframe file and a trace.
 //
 // Bad input must give exit code 2 (README: "one line on stderr and exit code 2"); device
 // faults 3. An exception other than InputError or DeviceError reaching the top (main's
@@ -30,11 +31,11 @@
 #include <CLI/CLI.hpp>
 
 #include "app/cli.h"
-#include "app/commands.h"
-#include "app/options.h"
 #include "core/error.h"
 #include "device/device_factory.h"
 #include "fuzz_support.h"
+#include "run/parse_options.h"
+#include "run/run.h"
 
 namespace {
 
@@ -103,7 +104,7 @@ bool too_big(CLI::App& app) {
     const bool bench = std::string(name) == "bench";
     if (const auto res = value(cmd, "--res")) {
       try {
-        const app::Resolution r = app::parse_resolution(*res);
+        const Resolution r = parse_resolution(*res);
         if (int64_t(r.width) * r.height > 32 * 32) return true;
       } catch (const InputError&) {
       }
@@ -143,8 +144,8 @@ bool too_big(CLI::App& app) {
     }
     if (const CLI::Option* p = cmd->get_option_no_throw("--perturb"); p && p->count() > 0) {
       try {
-        for (const Perturbation& q : app::parse_perturbations(
-                 p->as<std::vector<std::string>>(), int(std::max<size_t>(device_count, 1))))
+        for (const Perturbation& q : parse_perturbations(p->as<std::vector<std::string>>(),
+                                                         int(std::max<size_t>(device_count, 1))))
           if (q.speed < 0.25) return true;
       } catch (const InputError&) {
       }

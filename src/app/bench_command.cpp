@@ -53,7 +53,7 @@ struct BenchOptions {
 Runner add_bench_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "bench", "Run several balancers on the same frames and compare how evenly devices finish");
-  auto o = std::make_shared<CommonOptions>();
+  auto o = std::make_shared<RunConfig>();
   auto b = std::make_shared<BenchOptions>();
   o->frames = 100;
   o->camera_path = "orbit";
@@ -111,7 +111,7 @@ Runner add_bench_command(CLI::App& app) {
       throw InputError("--warmup must be in 0.." + std::to_string(o->frames - 1));
     if (b->ideal_frames < 1 || b->ideal_frames > 1000)
       throw InputError("--ideal-frames must be in 1..1000");
-    Setup s = make_setup(*o, int(specs.size()));
+    Run s = build_run(*o, int(specs.size()));
     if (s.cluster && !s.cluster->master()) return serve_as_worker(s);
     std::vector<std::string> mapped;
     for (const auto& spec : specs)

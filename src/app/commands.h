@@ -8,14 +8,14 @@
 
 #include <CLI/CLI.hpp>
 
-#include "app/options.h"
+#include "run/run.h"
 
 namespace multiray::app {
 
 using Runner = std::function<int()>;
 
 // Adds the options shared by render and bench to `cmd`, storing into `o`.
-void add_common_options(CLI::App& cmd, CommonOptions& o);
+void add_common_options(CLI::App& cmd, RunConfig& o);
 
 // `command_line` (argv) is recorded in the run's stats.json.
 Runner add_render_command(CLI::App& app, const std::vector<std::string>& command_line);

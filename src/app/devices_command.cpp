@@ -7,14 +7,8 @@
 #include <fmt/core.h>
 
 #include "app/commands.h"
-#include "device/device_factory.h"
 #include "device/scene_memory.h"
-#include "render/compact_scene.h"
-#include "scene/builders.h"
-#include "scene/loaders.h"
-#ifdef MULTIRAY_HAS_OPENCL
-#include "device/opencl/opencl_platform.h"
-#endif
+#include "run/catalog.h"
 
 namespace multiray::app {
 
@@ -31,32 +25,25 @@ void print_row(const std::string& type, const std::string& name, unsigned units,
 // scene and prints the representation it renders from and its size (issue: memory per
 // device), with the scene's full-precision and compact sizes by part.
 int report_scene_memory(const std::string& scene_path, const std::string& devices) {
-  const Scene scene = scene_path.empty() ? make_cornell_box() : load_scene(scene_path);
-  SceneCache cache(scene);
-  fmt::print("scene {}: {} triangles, {} vertices\n", scene_path.empty() ? scene.name : scene_path,
-             scene.triangle_count(), scene.positions.size());
-  if (scene.has_triangles()) {
-    const CompactScene& c = cache.compact_scene();
-    const SceneBytes full = full_precision_bytes(scene, c.bvh.nodes.size());
-    const SceneBytes small = compact_bytes(c);
-    fmt::print("  full precision: mesh {}, structure {}, both {}\n", format_bytes(full.mesh),
-               format_bytes(full.structure), format_bytes(full.total()));
+  const SceneMemory m = scene_memory(scene_path, devices);
+  fmt::print("scene {}: {} triangles, {} vertices\n", m.scene_name, m.triangles, m.vertices);
+  if (m.has_triangles) {
+    const uint64_t full = m.full_mesh + m.full_structure;
+    const uint64_t small = m.compact_mesh + m.compact_structure;
+    fmt::print("  full precision: mesh {}, structure {}, both {}\n", format_bytes(m.full_mesh),
+               format_bytes(m.full_structure), format_bytes(full));
     fmt::print("  compact:        mesh {}, structure {}, both {} ({:.2f}x smaller)\n",
-               format_bytes(small.mesh), format_bytes(small.structure),
-               format_bytes(small.total()),
-               double(full.total()) / double(std::max<size_t>(1, small.total())));
+               format_bytes(m.compact_mesh), format_bytes(m.compact_structure),
+               format_bytes(small), double(full) / double(std::max<uint64_t>(1, small)));
   }
-  const auto built = create_devices(devices, cache);
   size_t name_width = 6;  // "device"; the column fits the longest name
-  for (const auto& d : built) name_width = std::max(name_width, d->info().name.size());
+  for (const DeviceInfo& i : m.devices) name_width = std::max(name_width, i.name.size());
   fmt::print("{:<{}} {:<16} {:>11} {:>20}\n", "device", name_width, "representation", "scene",
              "memory limit");
-  for (const auto& d : built) {
-    const DeviceInfo& i = d->info();
+  for (const DeviceInfo& i : m.devices)
     fmt::print("{:<{}} {:<16} {:>11} {:>20}\n", i.name, name_width, i.representation,
                i.scene_bytes ? format_bytes(i.scene_bytes) : "-",
                i.memory_limit ? format_bytes(i.memory_limit) + " (emulated)" : "-");
-  }
   return 0;
 }
 
@@ -76,46 +63,37 @@ Runner add_devices_command(CLI::App& app) {
       ->check(CLI::ExistingFile);
   return [devices, scene]() -> int {
     if (!devices->empty()) return report_scene_memory(*scene, *devices);
-    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-    const std::string ram = gib(double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)));
+    const Offer offer = offered_devices();
     fmt::print("{:<8} {:<40} {:>6} {:>9}  {}\n", "type", "name", "units", "memory", "spec");
-    print_row("cpu", "all cores (oneTBB + Embree)", cores, ram,
-              fmt::format("cpu:threads={}", cores));
-    for (unsigned c = 0; c < cores; ++c)
-      print_row("cpu", fmt::format("core {}", c), 1, ram,
-                fmt::format("cpu:threads=1:cores={}", c));
-#ifdef MULTIRAY_HAS_OPENCL
-    const auto cl = list_opencl_devices();
-    for (const OpenClDeviceListing& d : cl)
-      print_row("opencl", fmt::format("{} ({})", d.name, d.kind), d.compute_units,
-                gib(double(d.memory_bytes)), fmt::format("opencl:{}", d.index));
-#endif
+    for (const OfferedDevice& d : offer.devices)
+      print_row(d.type, d.name, d.units, gib(double(d.memory_bytes)), d.spec);
     fmt::print(
         "\nWhat each backend runs (--integrator, --sampling) and on which scene "
         "representation:\n");
-    for (const char* type : {"cpu", "opencl"}) {
-      const DeviceCapabilities caps = backend_capabilities(type);
-      if (caps.kernels.empty()) continue;
-      auto list = [](const std::vector<std::string>& v) {
-        std::string out;
-        for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
-        return out;
-      };
+    auto list = [](const std::vector<std::string>& v) {
+      std::string out;
+      for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
+      return out;
+    };
+    for (const auto& [type, caps] : offer.backends)
       fmt::print("  {:<7} kernels: {}; sampling: {}; representation: {}\n", type,
                  list(caps.kernels), list(caps.sampling), caps.representation);
-    }
     fmt::print(
         "\nAdd :speed=S (emulated slowdown) or :quota=Q (real cgroup throttle) to any cpu "
         "spec.\n");
-#ifdef MULTIRAY_HAS_OPENCL
-    if (cl.empty()) fmt::print("No OpenCL device found (install an ICD, e.g. pocl-opencl-icd).\n");
-    fmt::print(
-        "OpenCL keys: speed, tile, wg, cores. With PoCL, POCL_DEVICES=\"basic basic\" gives two "
-        "independent one-core devices; POCL_MAX_PTHREAD_COUNT=N limits its pthread device.\n");
-#else
-    fmt::print(
-        "This multiray was built without OpenCL (-DMULTIRAY_WITH_OPENCL=ON to require it).\n");
-#endif
+    if (offer.opencl_built) {
+      const bool none = std::none_of(offer.devices.begin(), offer.devices.end(),
+                                     [](const OfferedDevice& d) { return d.type == "opencl"; });
+      if (none) fmt::print("No OpenCL device found (install an ICD, e.g. pocl-opencl-icd).\n");
+      fmt::print(
+          "OpenCL keys: speed, tile, wg, cores. With PoCL, POCL_DEVICES=\"basic basic\" gives "
+          "two independent one-core devices; POCL_MAX_PTHREAD_COUNT=N limits its pthread "
+          "device.\n");
+    } else {
+      fmt::print(
+          "This multiray was built without OpenCL (-DMULTIRAY_WITH_OPENCL=ON to require "
+          "it).\n");
+    }
     return 0;
   };
 }

@@ -16,135 +16,10 @@
 #include "balance/registry.h"
 #include "core/error.h"
 #include "core/file_io.h"
-#include "render/kernel.h"
 
 namespace multiray::app {
 
 bool stderr_is_tty() { return isatty(STDERR_FILENO) == 1; }
-
-void add_common_options(CLI::App& cmd, CommonOptions& o) {
-  cmd.add_option("scene", o.scene_path,
-                 "Scene file (.gltf, .glb, .obj, .ply; .fbx, .dae, .3ds, .stl, .off, .blend and "
-                 "more through assimp, see docs/scene-formats.md) or volume (.nhdr, .nrrd, or "
-                 "raw with --raw); omitted: the built-in Cornell box");
-  cmd.add_option("--res", o.resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
-  cmd.add_option(
-         "--spp", o.spp,
-         "Samples per pixel; 0: " + std::to_string(o.mesh_spp) + " for meshes, 1 for volumes")
-      ->capture_default_str();
-  cmd.add_option("--bounces", o.bounces, "Maximum scattering events per path")
-      ->capture_default_str();
-  cmd.add_option("--frames", o.frames, "Number of frames to render")->capture_default_str();
-  cmd.add_option("--camera", o.camera,
-                 "Camera as ex,ey,ez,tx,ty,tz,ux,uy,uz,fov (eye, target, up, vertical fov in "
-                 "degrees); default: the scene's first camera, else a three-quarter view from "
-                 "outside that frames the scene's bounding box (see --up), or a straight view "
-                 "into a box that is open on one side");
-  cmd.add_option("--up", o.up,
-                 "The scene's up axis for the default camera and orbits: x, y or z, optionally "
-                 "signed (+z, -y); auto: y for meshes (glTF's convention), z for volumes")
-      ->capture_default_str();
-  cmd.add_option("--camera-path", o.camera_path,
-                 "Animation: fixed, orbit (100 frames per turn), orbit:PERIOD, or a keyframe "
-                 "JSON file {\"keyframes\":[{\"frame\":0,\"eye\":[..],\"target\":[..],\"up\":[..],"
-                 "\"fov\":45},...]}")
-      ->capture_default_str();
-  cmd.add_option("--devices", o.devices,
-                 "Comma-separated devices, each TYPE[:KEY=VALUE...], e.g. "
-                 "cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.33. cpu keys: threads "
-                 "(0 = all), cores (0, 0+1, 0-3), speed (emulated slowdown, (0,1]), quota "
-                 "(real cgroup throttle, (0,1] of a core), tile. opencl[:N] (N as `multiray "
-                 "devices` lists) keys: speed, tile, wg (work-group size), cores (pin the "
-                 "driving thread). With PoCL, POCL_DEVICES=\"basic basic\" gives two independent "
-                 "one-core devices opencl:0 and opencl:1; POCL_MAX_PTHREAD_COUNT=N limits its "
-                 "default pthread device to N threads")
-      ->capture_default_str();
-  cmd.add_option(
-         "--env", o.env,
-         "Light from outside the scene: a constant sky radiance V or R,G,B, or an "
-         "equirectangular map FILE.hdr / FILE.exr (top row = up, see --up); auto = the "
-         "scene's own, or daylight (a white sky of 0.3 and, with --sun auto, a sun; a sky of 1 "
-         "without) when the "
-         "scene has no light but emissive textures. The sky is sampled by next-event "
-         "estimation with MIS")
-      ->capture_default_str();
-  cmd.add_option("--env-scale", o.env_scale, "Multiplies an --env map's radiance")
-      ->capture_default_str();
-  cmd.add_option(
-         "--sun", o.sun,
-         "A sun: auto (with the default daylight of a scene without lights: "
-         "-40,55,3), off, or AZIMUTH,ELEVATION[,IRRADIANCE[,DIAMETER]], degrees round the up "
-         "axis from the front towards the right and above the horizon (as the default "
-         "camera's view), irradiance at normal incidence in W/m^2 in scene units "
-         "(default 3; a white sky of 1 gives pi), angular diameter in degrees (0.53)")
-      ->capture_default_str();
-  cmd.add_option("--seed", o.seed, "Seed for all random numbers")->capture_default_str();
-  cmd.add_flag("--allow-outside-paths", o.allow_outside_paths,
-               "Let a scene file name files outside its own folder (buffers, images, material "
-               "libraries); by default they are refused, with a warning or an error. Only "
-               "regular files are ever read");
-  cmd.add_option("--max-memory", o.max_memory,
-                 "Refuse runs estimated to need more memory than this: auto (half of physical "
-                 "memory) or a size such as 8G or 512M")
-      ->capture_default_str();
-  cmd.add_option("--views", o.views,
-                 "Light-field grid of parallel views KxL (e.g. 3x3, 5x5), following the camera "
-                 "path")
-      ->capture_default_str();
-  cmd.add_option("--view-spacing", o.view_spacing, "Distance between grid views (scene units)")
-      ->capture_default_str();
-  cmd.add_option("--stereo", o.stereo, "Render a stereo pair with this eye separation instead");
-  cmd.add_option("--mapping", o.mapping,
-                 "Multiview task mapping: strips (each device renders its share of every view's "
-                 "shuffled strips) or views (whole views per device; uniform, static, dlb)");
-  std::string kernels;
-  for (const KernelEntry& e : cpu_kernels())
-    kernels += (kernels.empty() ? "" : "; ") + e.name + ": " + e.help;
-  cmd.add_option("--integrator", o.integrator,
-                 "The kernel that renders; default: path for meshes, volume for volumes "
-                 "(OpenCL devices: path only). " +
-                     kernels);
-  add_volume_options(cmd, o.volume);
-  add_distributed_options(cmd, o.distributed);
-  cmd.add_option("--ao-rays", o.ao_rays, "Occlusion rays per AO sample")->capture_default_str();
-  cmd.add_option("--ao-distance", o.ao_distance,
-                 "Occlusion range in scene units (0: 0.3 of the scene size)")
-      ->capture_default_str();
-  cmd.add_option("--sampling", o.sampling,
-                 "uniform (--spp everywhere), adaptive (a first pass finds geometric edges; "
-                 "edge pixels get --edge-spp samples, the others 1) or foveated (a fixed pattern "
-                 "of samples, dense at the --gaze point and sparse around it; each pixel "
-                 "interpolates its 8 nearest samples) or reproject (with several views: the "
-                 "centre view is path-traced and moved into the others by its depth; only "
-                 "what it cannot see there, the holes, is path-traced; Leria et al. 6.3)")
-      ->capture_default_str();
-  cmd.add_option("--edge-spp", o.edge_spp, "Samples of edge pixels with --sampling adaptive")
-      ->capture_default_str();
-  cmd.add_option("--reference-spacing", o.reference_spacing,
-                 "With --sampling reproject: path-trace every K-th view from the centre, across "
-                 "and down, in full and reproject from all of them (ours; fewer holes in large "
-                 "grids); 0: the centre view alone (Leria et al.)")
-      ->capture_default_str();
-  cmd.add_option("--gaze", o.gaze,
-                 "Foveated: gaze point X,Y in normalised screen coordinates, 0,0 top left")
-      ->capture_default_str();
-  cmd.add_option("--gaze-path", o.gaze_path,
-                 "Foveated: fixed, or orbit[:PERIOD] (the gaze circles --gaze at radius 0.25, "
-                 "one turn per PERIOD frames, default 100)")
-      ->capture_default_str();
-  cmd.add_option("--fovea-spp", o.foveation.fovea_spp,
-                 "Foveated: samples per pixel at the gaze point; density(r) = max(periphery, "
-                 "fovea / (1 + (r/r0)^2))")
-      ->capture_default_str();
-  cmd.add_option("--fovea-radius", o.foveation.fovea_radius,
-                 "Foveated: r0, where the density halves, as a fraction of the image height")
-      ->capture_default_str();
-  cmd.add_option("--periphery-spp", o.foveation.periphery_spp,
-                 "Foveated: the density's floor far from the gaze, samples per pixel")
-      ->capture_default_str();
-  cmd.add_option("--perturb", o.perturb,
-                 "FRAME:DEVICE:SPEED, repeatable: from FRAME on, DEVICE runs at emulated SPEED");
-}
 
 namespace {
 
@@ -265,7 +140,7 @@ class ProgressLine {
 
 Runner add_render_command(CLI::App& app, const std::vector<std::string>& command_line) {
   auto* cmd = app.add_subcommand("render", "Render frames to PNG (and EXR) files");
-  auto o = std::make_shared<CommonOptions>();
+  auto o = std::make_shared<RunConfig>();
   auto out_dir = std::make_shared<std::string>("out");
   auto exr = std::make_shared<bool>(false);
   auto balancer = std::make_shared<std::string>("hybrid");
@@ -307,7 +182,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     display.exposure_ev = parse_exposure(*exposure);
     const bool volume_input = is_volume_input(o->scene_path, o->volume);
     display.tone = parse_tone(*tone, volume_input);
-    Setup s = make_setup(*o, 1, [&] { prepare_output_folder(*out_dir, *overwrite); });
+    Run s = build_run(*o, 1, [&] { prepare_output_folder(*out_dir, *overwrite); });
     if (s.cluster && !s.cluster->master()) return serve_as_worker(s);
     if (s.volume && s.volume->modes().size() > 1)
       throw InputError("--adapt: render takes one mode (bench compares several)");

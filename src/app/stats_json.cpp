@@ -1,14 +1,14 @@
 #include "app/stats_json.h"
 
-#include "app/options.h"
 #include "core/error.h"
+#include "run/run.h"
 
 namespace multiray::app {
 
 namespace {
 nlohmann::json vec3_json(Vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 
-nlohmann::json distributed_to_json(const Setup& s) {
+nlohmann::json distributed_to_json(const Run& s) {
   if (!s.cluster) return nullptr;
   const DistributedOptions& o = s.cluster->options();
   return {{"ranks", s.cluster->size()},
@@ -24,7 +24,7 @@ nlohmann::json distributed_to_json(const Setup& s) {
 }
 }  // namespace
 
-nlohmann::json settings_to_json(const CommonOptions& o, const Setup& s,
+nlohmann::json settings_to_json(const RunConfig& o, const Run& s,
                                 const std::vector<std::string>& command_line) {
   return {
       {"command_line", command_line},
@@ -132,15 +132,6 @@ nlohmann::json devices_to_json(const std::vector<std::unique_ptr<Device>>& devic
          {"kernels", i.caps.kernels}});
   }
   return out;
-}
-
-std::unique_ptr<balance::Balancer> make_balancer_or_throw(const std::string& spec, int devices,
-                                                          const std::string& option) {
-  try {
-    return balance::make_balancer(spec, devices);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(option + ": " + e.what());
-  }
 }
 
 }  // namespace multiray::app

@@ -11,13 +11,15 @@
 #include "device/device.h"
 #include "engine/frame_record.h"
 
+namespace multiray {
+struct RunConfig;
+struct Run;
+}  // namespace multiray
+
 namespace multiray::app {
 
 // The project version (CMake's PROJECT_VERSION), for --version and stats.json.
 inline constexpr const char* kVersion = MULTIRAY_VERSION;
-
-struct CommonOptions;
-struct Setup;
 
 nlohmann::json frame_to_json(const FrameRecord& rec);
 // A reprojected frame's summary: {"reference_views", "hole_fraction"}.
@@ -27,12 +29,7 @@ nlohmann::json reprojection_to_json(const std::vector<uint32_t>& reference_views
 // command line, version, scene, resolution, spp, bounces, frames, kernel, sampling, seed,
 // camera (where it came from and the one used), up axis, camera path, environment, views
 // and the devices asked for. Output options (balancer, exposure, tone) are the caller's.
-nlohmann::json settings_to_json(const CommonOptions& o, const Setup& s,
+nlohmann::json settings_to_json(const RunConfig& o, const Run& s,
                                 const std::vector<std::string>& command_line);
 nlohmann::json devices_to_json(const std::vector<std::unique_ptr<Device>>& devices);
-// make_balancer, with std::invalid_argument turned into InputError naming `option` (the
-// command-line option the spec came from).
-std::unique_ptr<balance::Balancer> make_balancer_or_throw(
-    const std::string& spec, int devices, const std::string& option = "--balancer");
-
 }  // namespace multiray::app

@@ -17,7 +17,7 @@ Runner add_view_command(CLI::App& app) {
       "view",
       "Render continuously and watch it in a web browser: orbit, pan and zoom with the "
       "mouse, switch the balancer, see which device drew what and how long each took");
-  auto o = std::make_shared<CommonOptions>();
+  auto o = std::make_shared<RunConfig>();
   add_common_options(*cmd, *o);
   auto balancer = std::make_shared<std::string>("hybrid");
   auto bind = std::make_shared<std::string>("127.0.0.1");
@@ -53,13 +53,13 @@ Runner add_view_command(CLI::App& app) {
     vo.port = *port;
     vo.display.exposure_ev = parse_exposure(*exposure);
     vo.display.tone = parse_tone(*tone, is_volume_input(o->scene_path, o->volume));
-    Setup s = make_setup(*o, 1);
+    Run s = build_run(*o, 1);
     vo.volume = s.volume;
     std::unique_ptr<Session> session = s.make_session({*balancer});
     for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
     std::vector<std::string> names;
     for (const auto& d : s.devices) names.push_back(d->info().name);
-    viewer::LiveView view(*session, viewer::OrbitCamera(s.camera, s.up), names, vo);
+    viewer::LiveView view(*session, OrbitCamera(s.camera, s.up), names, vo);
     if (*bind != "127.0.0.1" && *bind != "localhost" && *bind != "::1")
       fmt::print(stderr,
                  "multiray: warning: --bind {}: anyone who reaches it can steer this run\n",

@@ -5,6 +5,7 @@
 
 #include "app/viewer/view_control.h"
 #include "core/error.h"
+#include "engine/orbit_camera.h"
 
 namespace multiray::app::viewer {
 namespace view_control_test {

@@ -5,11 +5,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/volume_run.h"
 #include "balance/balancer.h"
 #include "core/error.h"
 #include "engine/volume_advisor.h"
-#include "volume/transfer_function.h"
+#include "run/catalog.h"
+#include "run/volume_run.h"
 
 namespace multiray::app::viewer {
 
@@ -57,7 +57,7 @@ std::string LiveView::hello() const {
                         {"devices", devices},
                         {"views", session_.views().rig().view_count()},
                         {"volume", options_.volume != nullptr},
-                        {"presets", transfer_preset_names()},
+                        {"presets", transfer_presets()},
                         {"target_ms", options_.volume ? options_.volume->options().target_ms : 0}}
       .dump();
 }
@@ -112,7 +112,7 @@ std::string LiveView::volume_command(const Command& c) {
     std::shared_ptr<const VolumeStyle> style;
     std::lock_guard<std::mutex> lock(volume_mutex_);
     if (!c.spec.empty()) {  // a preset by name; never a file named by the page
-      const auto& names = transfer_preset_names();
+      const auto& names = transfer_presets();
       if (std::find(names.begin(), names.end(), c.spec) == names.end())
         return "unknown transfer-function preset '" + c.spec + "'";
       style = options_.volume->style(c.spec);

@@ -20,9 +20,10 @@
 #include "app/viewer/view_control.h"
 #include "app/viewer/web_server.h"
 #include "core/image.h"
+#include "engine/orbit_camera.h"
 #include "engine/session.h"
 
-namespace multiray::app {
+namespace multiray {
 class VolumeRun;
 }
 

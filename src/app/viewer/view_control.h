@@ -1,36 +1,11 @@
 // What the live viewer's page may ask for, parsed and checked (a hostile or broken page
-// gets an error reply, never a crash), and the mouse-driven camera it moves. Pure: no
-// server, no session.
+// gets an error reply, never a crash). Pure: no server, no session. The camera the mouse
+// moves is scene/orbit_camera.h.
 #pragma once
 
 #include <string>
 
-#include "scene/scene.h"
-
 namespace multiray::app::viewer {
-
-// A camera orbiting its target about the scene's up axis, panned and zoomed by the mouse;
-// starts from `base` (its eye, target and fov).
-class OrbitCamera {
- public:
-  OrbitCamera(const Camera& base, Vec3 up);
-  // Degrees: yaw about the up axis, pitch towards it (kept within 89 degrees of level).
-  void orbit(float yaw_deg, float pitch_deg);
-  // Moves eye and target across the view by fractions of the view's height at the target.
-  void pan(float right, float up);
-  // Multiplies the distance to the target by `factor` (kept within 1e-4 .. 1e4 of the
-  // starting distance).
-  void zoom(float factor);
-  void reset();
-  Camera camera() const;
-
- private:
-  Camera base_;
-  Vec3 up_, target_;
-  float distance_ = 1, start_distance_ = 1, yaw_ = 0, pitch_ = 0;  // yaw, pitch in radians
-  Vec3 start_target_;
-  float start_yaw_ = 0, start_pitch_ = 0;
-};
 
 // One message from the page, a JSON object with "type":
 //   {"type":"orbit","dx":DEG,"dy":DEG}      |dx|, |dy| <= 360

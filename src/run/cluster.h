@@ -10,33 +10,18 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "device/device.h"
 #include "device/remote/link.h"
+#include "run/run_config.h"
 #include "scene/scene.h"
 
 namespace multiray::remote {
 class Transport;
 }
 
-namespace multiray::app {
+namespace multiray {
 
-struct DistributedOptions {
-  bool enabled = false;
-  std::vector<std::string> rank_devices;  // "R=DEVICES": rank R's --devices
-  bool master_renders = false;            // rank 0 also renders with --devices
-  std::string rank_balancer = "semi-static";
-  bool same_direction = false;  // workers split their part along the master's axis
-  std::string link = "none";
-  double worker_timeout_s = 10;
-  std::string depth = "auto";         // auto (adapts, from 2) or a fixed depth
-  std::string scene_from = "shared";  // shared: every rank loads it; master: sent to workers
-};
-
-void add_distributed_options(CLI::App& cmd, DistributedOptions& o);
-
-struct Setup;
+struct Run;
 
 // A worker printing nothing and ending with this exit code (the master reports why).
 struct QuietExit {
@@ -78,4 +63,4 @@ class Cluster {
   std::shared_ptr<remote::Transport> transport_;  // (shared_ptr: no MPI type needed here)
 };
 
-}  // namespace multiray::app
+}  // namespace multiray

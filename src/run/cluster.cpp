@@ -1,4 +1,4 @@
-#include "app/distributed.h"
+#include "run/cluster.h"
 
 #include <cmath>
 #include <csignal>
@@ -17,47 +17,9 @@
 #include "device/remote/wire.h"
 #include "engine/rank_worker.h"
 #endif
-#include "app/options.h"
+#include "run/run.h"
 
-namespace multiray::app {
-
-void add_distributed_options(CLI::App& cmd, DistributedOptions& o) {
-  cmd.add_flag("--distributed", o.enabled,
-               "Run as one MPI job (mpirun -np K multiray ... --distributed): rank 0 plans, "
-               "composites and writes; every other rank is a worker that loads the same scene "
-               "path and renders what it is sent over its own --devices (docs/distributed.md)");
-  cmd.add_option("--rank-devices", o.rank_devices,
-                 "R=DEVICES, repeatable: rank R's --devices (e.g. 2=cpu:threads=1:speed=0.5)");
-  cmd.add_flag("--master-renders", o.master_renders,
-               "Rank 0 renders too, with its own --devices (default: it only plans and "
-               "composites)");
-  cmd.add_option("--rank-balancer", o.rank_balancer,
-                 "How each worker splits what it is sent across its local devices (any "
-                 "--balancer; Harada's hierarchy: the master's bands, split the other way)")
-      ->capture_default_str();
-  cmd.add_flag("--rank-same-direction", o.same_direction,
-               "Workers split along the master's axis instead of the other one");
-  cmd.add_option("--link", o.link,
-                 "Emulated network between master and workers (always labelled emulated): "
-                 "none, lan (0.1 ms, 10 Gbit/s), wifi (5 ms, 200 Mbit/s, a mobile cluster), "
-                 "or LATENCY_MS,MBIT[,separate]; the master's link is shared by all workers "
-                 "unless 'separate'")
-      ->capture_default_str();
-  cmd.add_option("--scene-from", o.scene_from,
-                 "Where workers get the scene: shared (each loads the same path: a shared "
-                 "folder or a copy on every machine) or master (the master sends the scene it "
-                 "loaded, lighting included; up to 2 GiB)")
-      ->capture_default_str();
-  cmd.add_option("--worker-timeout", o.worker_timeout_s,
-                 "Seconds of silence (no result, no heartbeat) after which a worker is given "
-                 "up on and its work re-assigned")
-      ->capture_default_str();
-  cmd.add_option("--depth", o.depth,
-                 "Items pulled on demand that a worker holds at once: N in 1..64 (2: it renders "
-                 "one while the previous one's pixels travel, as Seo et al.), or auto: from 2, "
-                 "deeper while the worker measured itself waiting for items")
-      ->capture_default_str();
-}
+namespace multiray {
 
 namespace {
 
@@ -202,7 +164,7 @@ std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {
   return devices;
 }
 
-int serve_as_worker(Setup& s) {
+int serve_as_worker(Run& s) {
   // mpirun forwards Ctrl-C and SIGTERM to every rank. The master finishes its frame and
   // writes its outputs (app/interrupt.h), which needs the workers' results: they carry on
   // until the master tells them to quit.
@@ -223,7 +185,7 @@ int serve_as_worker(Setup& s) {
 
 #else  // built without MPI
 
-int serve_as_worker(Setup&) { return 0; }
+int serve_as_worker(Run&) { return 0; }
 
 Cluster::Cluster(const DistributedOptions& o) : options_(o) {
   throw InputError(
@@ -241,4 +203,4 @@ Scene Cluster::receive_scene() { return {}; }
 
 #endif
 
-}  // namespace multiray::app
+}  // namespace multiray

@@ -1,4 +1,4 @@
-#include "app/volume_run.h"
+#include "run/volume_run.h"
 
 #include <stdexcept>
 
@@ -9,7 +9,7 @@
 #include "render/volume_raycaster.h"
 #include "volume/transfer_function.h"
 
-namespace multiray::app {
+namespace multiray {
 
 VolumeRun::VolumeRun(SceneCache& scenes, const VolumeOptions& o, Vec3 background)
     : scenes_(scenes), o_(o), background_(background) {
@@ -76,4 +76,4 @@ std::unique_ptr<FrameAdvisor> VolumeRun::advisor(size_t mode, int devices) const
   return std::make_unique<VolumeAdvisor>(volume_scene(scenes_), devices, c);
 }
 
-}  // namespace multiray::app
+}  // namespace multiray

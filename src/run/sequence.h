@@ -15,7 +15,7 @@
 
 #include "scene/camera_path.h"
 
-namespace multiray::app {
+namespace multiray {
 
 struct InteractionSequence {
   int frames = 0;  // 0: not given
@@ -34,4 +34,4 @@ InteractionSequence load_sequence(const std::string& path);
 // target and zoomed, as keyframes (one per frame).
 CameraPath sequence_path(const InteractionSequence& seq, const Camera& base, int frames);
 
-}  // namespace multiray::app
+}  // namespace multiray

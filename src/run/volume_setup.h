@@ -7,30 +7,14 @@
 #include <string>
 
 #include "render/scene_cache.h"
+#include "run/run_config.h"
 #include "scene/scene.h"
-
-namespace CLI {
-class App;
-}
 
 namespace multiray {
 struct VolumeStyle;
 }
 
-namespace multiray::app {
-
-struct VolumeOptions {
-  std::string tf = "auto";     // a preset name or a JSON file; auto: by voxel type
-  float step = 0.5f;           // ray step, in voxel lengths
-  std::string raw;             // "NXxNYxNZ:TYPE[...]" for a headerless .raw file
-  double target_ms = 0;        // frame-time target; 0: none
-  std::string adapt = "auto";  // none | last-frame | predict[:q=Q] | two-pass, a list for bench
-  std::string adapt_space = "ray";  // ray | image | hybrid
-  int prepass_stride = 4;           // pixels per pre-pass ray each way; 0: no prediction
-  std::string sequence;             // interaction sequence file (sequence.h)
-};
-
-void add_volume_options(CLI::App& cmd, VolumeOptions& o);
+namespace multiray {
 
 // True when `path` (with these options) names a volume: .nhdr, .nrrd, or any file when
 // --raw describes it.
@@ -51,4 +35,4 @@ Scene load_volume_scene(const std::string& path, const VolumeOptions& o, bool al
 std::shared_ptr<const VolumeStyle> make_style(SceneCache& scenes, const VolumeOptions& o,
                                               Vec3 background, std::string* tf_note = nullptr);
 
-}  // namespace multiray::app
+}  // namespace multiray

@@ -1,4 +1,4 @@
-#include "app/sequence.h"
+#include "run/sequence.h"
 
 #include <cmath>
 #include <filesystem>
@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "volume/transfer_function.h"
 
-namespace multiray::app {
+namespace multiray {
 
 namespace {
 
@@ -119,4 +119,4 @@ CameraPath sequence_path(const InteractionSequence& seq, const Camera& base, int
   return CameraPath::keyframes(std::move(keys));
 }
 
-}  // namespace multiray::app
+}  // namespace multiray

@@ -1,17 +1,15 @@
-#include "app/volume_options.h"
+#include "run/volume_setup.h"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-
-#include <CLI/CLI.hpp>
 
 #include "core/error.h"
 #include "render/volume_raycaster.h"
 #include "volume/load_volume.h"
 #include "volume/transfer_function.h"
 
-namespace multiray::app {
+namespace multiray {
 
 namespace {
 // Steps below a hundredth of a voxel only multiply the cost (a 256^3 volume would take
@@ -31,44 +29,6 @@ std::string preset_list() {
   return names;
 }
 }  // namespace
-
-void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
-  cmd.add_option("--tf", o.tf,
-                 "Volumes: transfer function, a preset (" + preset_list() +
-                     ") or a JSON file (docs/volumes.md); auto: ct-bone for 16-bit data, angio "
-                     "for 8-bit")
-      ->capture_default_str();
-  cmd.add_option("--step", o.step,
-                 "Volumes: ray step in voxel lengths (the shortest spacing), in [0.01, 64]")
-      ->capture_default_str();
-  cmd.add_option("--target-ms", o.target_ms,
-                 "Volumes: frame-time target in ms for --adapt (0: none)")
-      ->capture_default_str();
-  cmd.add_option(
-         "--adapt", o.adapt,
-         "Volumes: frame-time targeting: none, last-frame (scale quality by the last "
-         "frame's time), predict (Bruder et al.: choose quality from the predicted "
-         "time; predict:q=Q scales predictions by the Q-quantile of recent measured/predicted "
-         "ratios, e.g. q=0.9), two-pass (a quarter-quality pass, then a second pass "
-         "filling the budget if the first took under half of it); auto: predict with --target-ms, "
-         "else none. bench takes a list and runs "
-         "every balancer once per mode")
-      ->capture_default_str();
-  cmd.add_option("--adapt-space", o.adapt_space,
-                 "Volumes: what --adapt changes: ray (the step), image (the resolution, "
-                 "upsampled) or hybrid (both)")
-      ->capture_default_str();
-  cmd.add_option("--prepass-stride", o.prepass_stride,
-                 "Volumes: one prediction pre-pass ray per NxN pixels (0: no prediction; "
-                 "balancers then split by area)")
-      ->capture_default_str();
-  cmd.add_option("--sequence", o.sequence,
-                 "Volumes: interaction sequence JSON (orbit, zoom, transfer-function switches "
-                 "at given frames; docs/volumes.md); replaces --camera-path");
-  cmd.add_option("--raw", o.raw,
-                 "Volumes: read the scene file as headerless voxels "
-                 "NXxNYxNZ:TYPE[:be|:le][:spacing=SX,SY,SZ], TYPE uint8, int8, uint16 or int16");
-}
 
 bool is_volume_input(const std::string& path, const VolumeOptions& o) {
   if (!o.raw.empty()) return true;
@@ -120,4 +80,4 @@ std::shared_ptr<const VolumeStyle> make_style(SceneCache& scenes, const VolumeOp
   return style;
 }
 
-}  // namespace multiray::app
+}  // namespace multiray

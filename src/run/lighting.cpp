@@ -1,14 +1,14 @@
-#include "app/lighting_options.h"
+#include "run/lighting.h"
 
 #include <cmath>
 #include <memory>
 
-#include "app/options.h"
 #include "core/error.h"
+#include "run/parse_options.h"
 
 #include <fmt/format.h>
 
-namespace multiray::app {
+namespace multiray {
 
 namespace {
 
@@ -109,4 +109,4 @@ void apply_lighting(const LightingOptions& o, bool volume, const LoadOptions& lo
   }
 }
 
-}  // namespace multiray::app
+}  // namespace multiray

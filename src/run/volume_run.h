@@ -9,13 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "app/sequence.h"
-#include "app/volume_options.h"
 #include "balance/targeting.h"
 #include "engine/frame_advisor.h"
 #include "render/scene_cache.h"
+#include "run/sequence.h"
+#include "run/volume_setup.h"
 
-namespace multiray::app {
+namespace multiray {
 
 class VolumeRun {
  public:
@@ -57,4 +57,4 @@ class VolumeRun {
   std::map<std::string, std::shared_ptr<const VolumeStyle>> styles_;
 };
 
-}  // namespace multiray::app
+}  // namespace multiray

@@ -7,7 +7,7 @@
 #include "scene/loaders.h"
 #include "scene/scene.h"
 
-namespace multiray::app {
+namespace multiray {
 
 struct LightingOptions {
   std::string env = "auto";  // auto | V | R,G,B | FILE.hdr | FILE.exr
@@ -30,4 +30,4 @@ void apply_lighting(const LightingOptions& o, bool volume, const LoadOptions& lo
 // The sun of --sun's text for up axis `up` (off: radiance 0).
 Sun parse_sun(const std::string& text, Vec3 up);
 
-}  // namespace multiray::app
+}  // namespace multiray

@@ -1,4 +1,4 @@
-#include "app/options.h"
+#include "run/run.h"
 
 #include <unistd.h>
 
@@ -13,8 +13,6 @@
 
 #include <fmt/core.h>
 
-#include "app/lighting_options.h"
-#include "app/stats_json.h"
 #include "balance/spec.h"
 #include "core/clock.h"
 #include "core/error.h"
@@ -22,143 +20,21 @@
 #include "render/default_view.h"
 #include "render/kernel.h"
 #include "render/volume_raycaster.h"
+#include "run/lighting.h"
 #include "scene/builders.h"
 #include "scene/camera_check.h"
 #include "scene/loaders.h"
 
-namespace multiray::app {
+namespace multiray {
 
-// Strict numeric parsing: the whole token must be a finite number.
-double to_number(const std::string& tok, const std::string& what) {
-  size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(tok, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (tok.empty() || used != tok.size() || !std::isfinite(v))
-    throw InputError(what + ": '" + tok + "' is not a number");
-  return v;
-}
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, sep)) out.push_back(item);
-  if (!s.empty() && s.back() == sep) out.push_back("");
-  return out;
-}
-
-uint64_t parse_seed(const std::string& text) {
-  // Digits only: "-1" must not wrap around to 2^64 - 1, nor "1e3" become 1.
-  bool digits = !text.empty() && text.size() <= 20;
-  for (char c : text) digits &= c >= '0' && c <= '9';
-  errno = 0;
-  const unsigned long long v = digits ? std::strtoull(text.c_str(), nullptr, 10) : 0;
-  if (!digits || errno == ERANGE)
-    throw InputError("--seed '" + text + "' must be a whole number in 0..18446744073709551615");
-  return uint64_t(v);
-}
-
-Resolution parse_resolution(const std::string& text) {
-  const auto x = text.find('x');
-  if (x == std::string::npos) throw InputError("--res '" + text + "' must look like 640x360");
-  const double w = to_number(text.substr(0, x), "--res width");
-  const double h = to_number(text.substr(x + 1), "--res height");
-  constexpr int kMax = 16384;
-  if (w < 1 || h < 1 || w != std::floor(w) || h != std::floor(h))
-    throw InputError("--res '" + text + "': width and height must be whole numbers of at least 1");
-  if (w > kMax || h > kMax)
-    throw InputError("--res '" + text + "': at most " + std::to_string(kMax) + " pixels per side");
-  return {int(w), int(h)};
-}
-
-Camera parse_camera(const std::string& text) {
-  const auto parts = split(text, ',');
-  if (parts.size() != 10)
-    throw InputError("--camera needs 10 numbers: eye x,y,z, target x,y,z, up x,y,z, fov (got " +
-                     std::to_string(parts.size()) + ")");
-  float v[10];
-  for (int i = 0; i < 10; ++i) v[i] = float(to_number(parts[size_t(i)], "--camera"));
-  Camera c{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
-  const std::string problem = camera_problem(c);  // checked as floats, as rendered
-  if (!problem.empty()) throw InputError("--camera: " + problem);
-  return c;
-}
-
-Vec3 parse_up(const std::string& text, bool volume) {
-  Vec3 up = volume ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
-  if (text != "auto" && !up_axis_vector(text, up))
-    throw InputError("--up '" + text + "' must be auto, x, y or z, optionally signed (+z, -y)");
-  return up;
-}
-
-float parse_exposure(double ev) {
-  if (!(ev >= -20 && ev <= 20)) throw InputError("--exposure must be in [-20, 20] stops");
-  return float(ev);
-}
-
-ToneCurve parse_tone(const std::string& text, bool volume) {
-  if (text == "filmic") return ToneCurve::Filmic;
-  if (text == "clamp") return ToneCurve::Clamp;
-  if (text == "auto") return volume ? ToneCurve::Clamp : ToneCurve::Filmic;
-  throw InputError("--tone '" + text + "' must be filmic, clamp or auto");
-}
-
-GazePath parse_gaze(const std::string& gaze, const std::string& path) {
-  GazePath g;
-  const auto parts = split(gaze, ',');
-  if (parts.size() != 2) throw InputError("--gaze '" + gaze + "' must look like 0.5,0.5");
-  const double x = to_number(parts[0], "--gaze x"), y = to_number(parts[1], "--gaze y");
-  if (x < 0 || x > 1 || y < 0 || y > 1)
-    throw InputError("--gaze '" + gaze + "': X and Y are normalised, each must be in [0, 1]");
-  g.center = Vec2{float(x), float(y)};
-  if (path == "orbit" || path.rfind("orbit:", 0) == 0) {
-    g.radius = 0.25f;
-    if (path != "orbit") {
-      const double period = to_number(path.substr(6), "--gaze-path orbit period");
-      if (!(period >= 1e-3 && period <= 1e9))
-        throw InputError("--gaze-path: the orbit period must be in [0.001, 1e9] frames");
-      g.period = float(period);
-    }
-  } else if (path != "fixed") {
-    throw InputError("--gaze-path '" + path + "' must be fixed, orbit or orbit:PERIOD");
-  }
-  return g;
-}
-
-std::vector<Perturbation> parse_perturbations(const std::vector<std::string>& items,
-                                              int device_count) {
-  std::vector<Perturbation> out;
-  for (const std::string& it : items) {
-    const auto p = split(it, ':');
-    if (p.size() != 3)
-      throw InputError("--perturb '" + it + "' must look like FRAME:DEVICE:SPEED, e.g. 50:0:0.5");
-    const double f = to_number(p[0], "--perturb frame"), d = to_number(p[1], "--perturb device"),
-                 s = to_number(p[2], "--perturb speed");
-    if (f < 0 || f != std::floor(f))
-      throw InputError("--perturb '" + it + "': frame must be a whole number >= 0");
-    if (d < 0 || d != std::floor(d) || d >= device_count)
-      throw InputError("--perturb '" + it + "': device must be 0.." +
-                       std::to_string(device_count - 1));
-    if (f > 1e9) throw InputError("--perturb '" + it + "': frame must be at most 1e9");
-    if (!(s >= kMinEmulatedSpeed && s <= 1))
-      throw InputError("--perturb '" + it + "': speed must be in [0.01, 1] (emulated)");
-    out.push_back({int(f), int(d), s});
-  }
-  return out;
-}
-
-std::vector<Device*> Setup::device_ptrs() const {
+std::vector<Device*> Run::device_ptrs() const {
   std::vector<Device*> out;
   for (const auto& d : devices) out.push_back(d.get());
   return out;
 }
 
-std::unique_ptr<Session> Setup::make_session(const std::vector<std::string>& specs,
-                                             const std::string& option) const {
+std::unique_ptr<Session> Run::make_session(const std::vector<std::string>& specs,
+                                           const std::string& option) const {
   const size_t modes = volume ? volume->modes().size() : 1;
   std::vector<std::unique_ptr<balance::Balancer>> lanes;
   for (const std::string& spec : specs)
@@ -176,7 +52,7 @@ std::unique_ptr<Session> Setup::make_session(const std::vector<std::string>& spe
   return session;
 }
 
-std::vector<std::string> Setup::lane_labels(const std::vector<std::string>& specs) const {
+std::vector<std::string> Run::lane_labels(const std::vector<std::string>& specs) const {
   std::vector<std::string> labels;
   const size_t modes = volume ? volume->modes().size() : 1;
   for (const std::string& spec : specs)
@@ -186,44 +62,7 @@ std::vector<std::string> Setup::lane_labels(const std::vector<std::string>& spec
   return labels;
 }
 
-std::string apply_mapping(const std::string& text, const std::string& mapping,
-                          const std::string& option) {
-  if (mapping.empty()) return text;
-  if (mapping != "strips" && mapping != "views")
-    throw InputError("--mapping '" + mapping + "' must be strips or views");
-  const balance::Spec spec = [&] {
-    try {
-      return balance::Spec(text);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(option + ": " + e.what());
-    }
-  }();
-  const std::string& name = spec.name();
-  if (name == "uniform" || name == "static" || name == "dlb")
-    return spec.has("layout") ? text : text + ":layout=" + mapping;
-  if (mapping == "views")
-    throw InputError("--mapping views works with the uniform, static and dlb balancers, not '" +
-                     name + "'");
-  return text;  // queue, semi-static and hybrid lay out work their own way
-}
-
-double parse_memory_limit(const std::string& text) {
-  if (text == "auto")
-    return 0.5 * double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
-  double unit = 1;
-  std::string digits = text;
-  if (!digits.empty() && std::string("KMGT").find(digits.back()) != std::string::npos) {
-    unit = std::pow(1024.0, double(std::string("KMGT").find(digits.back()) + 1));
-    digits.pop_back();
-  }
-  const double v = to_number(digits, "--max-memory") * unit;
-  if (!(v >= 1 << 20 && v <= 1e15))
-    throw InputError("--max-memory '" + text + "' must be auto or a size from 1M to 1e15 bytes");
-  return v;
-}
-
-MemoryEstimate estimate_memory(const CommonOptions& o, int views, int width, int height,
-                               int lanes) {
+MemoryEstimate estimate_memory(const RunConfig& o, int views, int width, int height, int lanes) {
   MemoryEstimate m;
   std::error_code ec;
   if (!o.scene_path.empty()) {
@@ -242,7 +81,7 @@ MemoryEstimate estimate_memory(const CommonOptions& o, int views, int width, int
 namespace {
 // The kernel the options ask for (by default the one the scene type needs), checked
 // against the scene type before anything loads.
-std::string check_kernel(const CommonOptions& o, bool volume_input) {
+std::string check_kernel(const RunConfig& o, bool volume_input) {
   const std::string kernel =
       o.integrator.empty() ? (volume_input ? "volume" : "path") : o.integrator;
   const KernelEntry* e = find_cpu_kernel(kernel);
@@ -267,9 +106,8 @@ std::string check_kernel(const CommonOptions& o, bool volume_input) {
 }  // namespace
 
 namespace {
-// make_setup() without the distributed part.
-void fill_setup(Setup& s, const CommonOptions& o, int lanes,
-                const std::function<void()>& before_load) {
+// build_run() without the distributed part.
+void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void()>& before_load) {
   s.res = parse_resolution(o.resolution);
   if (o.spp < 0 || o.spp > 1 << 20) throw InputError("--spp must be in 0..1048576 (0: auto)");
   if (o.bounces < 0 || o.bounces > 1024) throw InputError("--bounces must be in 0..1024");
@@ -426,7 +264,7 @@ void fill_setup(Setup& s, const CommonOptions& o, int lanes,
 }
 
 // The master's checks of what cannot run distributed.
-void check_distributed(const CommonOptions& o) {
+void check_distributed(const RunConfig& o) {
   if (o.sampling == "foveated")
     throw InputError(
         "--distributed: foveated sampling does not run on other ranks yet "
@@ -436,8 +274,8 @@ void check_distributed(const CommonOptions& o) {
 }
 }  // namespace
 
-Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>& before_load) {
-  Setup s;
+Run build_run(const RunConfig& o, int lanes, const std::function<void()>& before_load) {
+  Run s;
   if (!o.distributed.enabled) {
     fill_setup(s, o, lanes, before_load);
     return s;
@@ -474,4 +312,4 @@ Setup make_setup(const CommonOptions& o, int lanes, const std::function<void()>&
   return s;
 }
 
-}  // namespace multiray::app
+}  // namespace multiray

@@ -1,0 +1,221 @@
+// The options render, bench and view share, declared on a CLI11 command and stored into a
+// RunConfig (run/run_config.h), which run/ then checks and builds from.
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.h"
+#include "run/catalog.h"
+
+namespace multiray::app {
+
+namespace {
+
+std::string preset_list() {
+  std::string names;
+  for (const std::string& n : transfer_presets()) names += (names.empty() ? "" : ", ") + n;
+  return names;
+}
+
+void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
+  cmd.add_option("--tf", o.tf,
+                 "Volumes: transfer function, a preset (" + preset_list() +
+                     ") or a JSON file (docs/volumes.md); auto: ct-bone for 16-bit data, angio "
+                     "for 8-bit")
+      ->capture_default_str();
+  cmd.add_option("--step", o.step,
+                 "Volumes: ray step in voxel lengths (the shortest spacing), in [0.01, 64]")
+      ->capture_default_str();
+  cmd.add_option("--target-ms", o.target_ms,
+                 "Volumes: frame-time target in ms for --adapt (0: none)")
+      ->capture_default_str();
+  cmd.add_option(
+         "--adapt", o.adapt,
+         "Volumes: frame-time targeting: none, last-frame (scale quality by the last "
+         "frame's time), predict (Bruder et al.: choose quality from the predicted "
+         "time; predict:q=Q scales predictions by the Q-quantile of recent measured/predicted "
+         "ratios, e.g. q=0.9), two-pass (a quarter-quality pass, then a second pass "
+         "filling the budget if the first took under half of it); auto: predict with --target-ms, "
+         "else none. bench takes a list and runs "
+         "every balancer once per mode")
+      ->capture_default_str();
+  cmd.add_option("--adapt-space", o.adapt_space,
+                 "Volumes: what --adapt changes: ray (the step), image (the resolution, "
+                 "upsampled) or hybrid (both)")
+      ->capture_default_str();
+  cmd.add_option("--prepass-stride", o.prepass_stride,
+                 "Volumes: one prediction pre-pass ray per NxN pixels (0: no prediction; "
+                 "balancers then split by area)")
+      ->capture_default_str();
+  cmd.add_option("--sequence", o.sequence,
+                 "Volumes: interaction sequence JSON (orbit, zoom, transfer-function switches "
+                 "at given frames; docs/volumes.md); replaces --camera-path");
+  cmd.add_option("--raw", o.raw,
+                 "Volumes: read the scene file as headerless voxels "
+                 "NXxNYxNZ:TYPE[:be|:le][:spacing=SX,SY,SZ], TYPE uint8, int8, uint16 or int16");
+}
+
+void add_distributed_options(CLI::App& cmd, DistributedOptions& o) {
+  cmd.add_flag("--distributed", o.enabled,
+               "Run as one MPI job (mpirun -np K multiray ... --distributed): rank 0 plans, "
+               "composites and writes; every other rank is a worker that loads the same scene "
+               "path and renders what it is sent over its own --devices (docs/distributed.md)");
+  cmd.add_option("--rank-devices", o.rank_devices,
+                 "R=DEVICES, repeatable: rank R's --devices (e.g. 2=cpu:threads=1:speed=0.5)");
+  cmd.add_flag("--master-renders", o.master_renders,
+               "Rank 0 renders too, with its own --devices (default: it only plans and "
+               "composites)");
+  cmd.add_option("--rank-balancer", o.rank_balancer,
+                 "How each worker splits what it is sent across its local devices (any "
+                 "--balancer; Harada's hierarchy: the master's bands, split the other way)")
+      ->capture_default_str();
+  cmd.add_flag("--rank-same-direction", o.same_direction,
+               "Workers split along the master's axis instead of the other one");
+  cmd.add_option("--link", o.link,
+                 "Emulated network between master and workers (always labelled emulated): "
+                 "none, lan (0.1 ms, 10 Gbit/s), wifi (5 ms, 200 Mbit/s, a mobile cluster), "
+                 "or LATENCY_MS,MBIT[,separate]; the master's link is shared by all workers "
+                 "unless 'separate'")
+      ->capture_default_str();
+  cmd.add_option("--scene-from", o.scene_from,
+                 "Where workers get the scene: shared (each loads the same path: a shared "
+                 "folder or a copy on every machine) or master (the master sends the scene it "
+                 "loaded, lighting included; up to 2 GiB)")
+      ->capture_default_str();
+  cmd.add_option("--worker-timeout", o.worker_timeout_s,
+                 "Seconds of silence (no result, no heartbeat) after which a worker is given "
+                 "up on and its work re-assigned")
+      ->capture_default_str();
+  cmd.add_option("--depth", o.depth,
+                 "Items pulled on demand that a worker holds at once: N in 1..64 (2: it renders "
+                 "one while the previous one's pixels travel, as Seo et al.), or auto: from 2, "
+                 "deeper while the worker measured itself waiting for items")
+      ->capture_default_str();
+}
+}  // namespace
+
+void add_common_options(CLI::App& cmd, RunConfig& o) {
+  cmd.add_option("scene", o.scene_path,
+                 "Scene file (.gltf, .glb, .obj, .ply; .fbx, .dae, .3ds, .stl, .off, .blend and "
+                 "more through assimp, see docs/scene-formats.md) or volume (.nhdr, .nrrd, or "
+                 "raw with --raw); omitted: the built-in Cornell box");
+  cmd.add_option("--res", o.resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
+  cmd.add_option(
+         "--spp", o.spp,
+         "Samples per pixel; 0: " + std::to_string(o.mesh_spp) + " for meshes, 1 for volumes")
+      ->capture_default_str();
+  cmd.add_option("--bounces", o.bounces, "Maximum scattering events per path")
+      ->capture_default_str();
+  cmd.add_option("--frames", o.frames, "Number of frames to render")->capture_default_str();
+  cmd.add_option("--camera", o.camera,
+                 "Camera as ex,ey,ez,tx,ty,tz,ux,uy,uz,fov (eye, target, up, vertical fov in "
+                 "degrees); default: the scene's first camera, else a three-quarter view from "
+                 "outside that frames the scene's bounding box (see --up), or a straight view "
+                 "into a box that is open on one side");
+  cmd.add_option("--up", o.up,
+                 "The scene's up axis for the default camera and orbits: x, y or z, optionally "
+                 "signed (+z, -y); auto: y for meshes (glTF's convention), z for volumes")
+      ->capture_default_str();
+  cmd.add_option("--camera-path", o.camera_path,
+                 "Animation: fixed, orbit (100 frames per turn), orbit:PERIOD, or a keyframe "
+                 "JSON file {\"keyframes\":[{\"frame\":0,\"eye\":[..],\"target\":[..],\"up\":[..],"
+                 "\"fov\":45},...]}")
+      ->capture_default_str();
+  cmd.add_option("--devices", o.devices,
+                 "Comma-separated devices, each TYPE[:KEY=VALUE...], e.g. "
+                 "cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.33. cpu keys: threads "
+                 "(0 = all), cores (0, 0+1, 0-3), speed (emulated slowdown, (0,1]), quota "
+                 "(real cgroup throttle, (0,1] of a core), tile. opencl[:N] (N as `multiray "
+                 "devices` lists) keys: speed, tile, wg (work-group size), cores (pin the "
+                 "driving thread). With PoCL, POCL_DEVICES=\"basic basic\" gives two independent "
+                 "one-core devices opencl:0 and opencl:1; POCL_MAX_PTHREAD_COUNT=N limits its "
+                 "default pthread device to N threads")
+      ->capture_default_str();
+  cmd.add_option(
+         "--env", o.env,
+         "Light from outside the scene: a constant sky radiance V or R,G,B, or an "
+         "equirectangular map FILE.hdr / FILE.exr (top row = up, see --up); auto = the "
+         "scene's own, or daylight (a white sky of 0.3 and, with --sun auto, a sun; a sky of 1 "
+         "without) when the "
+         "scene has no light but emissive textures. The sky is sampled by next-event "
+         "estimation with MIS")
+      ->capture_default_str();
+  cmd.add_option("--env-scale", o.env_scale, "Multiplies an --env map's radiance")
+      ->capture_default_str();
+  cmd.add_option(
+         "--sun", o.sun,
+         "A sun: auto (with the default daylight of a scene without lights: "
+         "-40,55,3), off, or AZIMUTH,ELEVATION[,IRRADIANCE[,DIAMETER]], degrees round the up "
+         "axis from the front towards the right and above the horizon (as the default "
+         "camera's view), irradiance at normal incidence in W/m^2 in scene units "
+         "(default 3; a white sky of 1 gives pi), angular diameter in degrees (0.53)")
+      ->capture_default_str();
+  cmd.add_option("--seed", o.seed, "Seed for all random numbers")->capture_default_str();
+  cmd.add_flag("--allow-outside-paths", o.allow_outside_paths,
+               "Let a scene file name files outside its own folder (buffers, images, material "
+               "libraries); by default they are refused, with a warning or an error. Only "
+               "regular files are ever read");
+  cmd.add_option("--max-memory", o.max_memory,
+                 "Refuse runs estimated to need more memory than this: auto (half of physical "
+                 "memory) or a size such as 8G or 512M")
+      ->capture_default_str();
+  cmd.add_option("--views", o.views,
+                 "Light-field grid of parallel views KxL (e.g. 3x3, 5x5), following the camera "
+                 "path")
+      ->capture_default_str();
+  cmd.add_option("--view-spacing", o.view_spacing, "Distance between grid views (scene units)")
+      ->capture_default_str();
+  cmd.add_option("--stereo", o.stereo, "Render a stereo pair with this eye separation instead");
+  cmd.add_option("--mapping", o.mapping,
+                 "Multiview task mapping: strips (each device renders its share of every view's "
+                 "shuffled strips) or views (whole views per device; uniform, static, dlb)");
+  std::string kernels;
+  for (const Choice& k : kernel_choices())
+    kernels += (kernels.empty() ? "" : "; ") + k.name + ": " + k.help;
+  cmd.add_option("--integrator", o.integrator,
+                 "The kernel that renders; default: path for meshes, volume for volumes "
+                 "(OpenCL devices: path only). " +
+                     kernels);
+  add_volume_options(cmd, o.volume);
+  add_distributed_options(cmd, o.distributed);
+  cmd.add_option("--ao-rays", o.ao_rays, "Occlusion rays per AO sample")->capture_default_str();
+  cmd.add_option("--ao-distance", o.ao_distance,
+                 "Occlusion range in scene units (0: 0.3 of the scene size)")
+      ->capture_default_str();
+  cmd.add_option("--sampling", o.sampling,
+                 "uniform (--spp everywhere), adaptive (a first pass finds geometric edges; "
+                 "edge pixels get --edge-spp samples, the others 1) or foveated (a fixed pattern "
+                 "of samples, dense at the --gaze point and sparse around it; each pixel "
+                 "interpolates its 8 nearest samples) or reproject (with several views: the "
+                 "centre view is path-traced and moved into the others by its depth; only "
+                 "what it cannot see there, the holes, is path-traced; Leria et al. 6.3)")
+      ->capture_default_str();
+  cmd.add_option("--edge-spp", o.edge_spp, "Samples of edge pixels with --sampling adaptive")
+      ->capture_default_str();
+  cmd.add_option("--reference-spacing", o.reference_spacing,
+                 "With --sampling reproject: path-trace every K-th view from the centre, across "
+                 "and down, in full and reproject from all of them (ours; fewer holes in large "
+                 "grids); 0: the centre view alone (Leria et al.)")
+      ->capture_default_str();
+  cmd.add_option("--gaze", o.gaze,
+                 "Foveated: gaze point X,Y in normalised screen coordinates, 0,0 top left")
+      ->capture_default_str();
+  cmd.add_option("--gaze-path", o.gaze_path,
+                 "Foveated: fixed, or orbit[:PERIOD] (the gaze circles --gaze at radius 0.25, "
+                 "one turn per PERIOD frames, default 100)")
+      ->capture_default_str();
+  cmd.add_option("--fovea-spp", o.foveation.fovea_spp,
+                 "Foveated: samples per pixel at the gaze point; density(r) = max(periphery, "
+                 "fovea / (1 + (r/r0)^2))")
+      ->capture_default_str();
+  cmd.add_option("--fovea-radius", o.foveation.fovea_radius,
+                 "Foveated: r0, where the density halves, as a fraction of the image height")
+      ->capture_default_str();
+  cmd.add_option("--periphery-spp", o.foveation.periphery_spp,
+                 "Foveated: the density's floor far from the gaze, samples per pixel")
+      ->capture_default_str();
+  cmd.add_option("--perturb", o.perturb,
+                 "FRAME:DEVICE:SPEED, repeatable: from FRAME on, DEVICE runs at emulated SPEED");
+}
+
+}  // namespace multiray::app

@@ -1,0 +1,52 @@
+// What a run can be made of, as data for the command line's help and `multiray devices`:
+// the kernels, the transfer-function presets, the devices this machine offers and what
+// each backend runs, and the memory a scene takes in each device's representation. The
+// lists come from the registries (render/kernel.h, device/device_factory.h), so the help
+// text cannot go stale.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "device/device.h"
+
+namespace multiray {
+
+struct Choice {
+  std::string name, help;
+};
+
+// The kernels --integrator takes, each with its one-line help.
+std::vector<Choice> kernel_choices();
+// The transfer-function presets --tf takes.
+std::vector<std::string> transfer_presets();
+
+// One device this machine offers, as `multiray devices` lists it.
+struct OfferedDevice {
+  std::string type, name;  // "cpu", "all cores (oneTBB + Embree)"
+  unsigned units = 0;      // cores or compute units
+  uint64_t memory_bytes = 0;
+  std::string spec;  // the --devices text that makes it
+};
+struct Offer {
+  std::vector<OfferedDevice> devices;
+  // What each backend built into this binary runs ("cpu", "opencl").
+  std::vector<std::pair<std::string, DeviceCapabilities>> backends;
+  bool opencl_built = false;  // false: this binary was built without OpenCL
+};
+Offer offered_devices();
+
+// The memory `devices` (a --devices text) take on the scene at `scene_path` (empty: the
+// Cornell box): the scene's full-precision and compact sizes by part, and each device's
+// representation, size and emulated limit. Builds the devices; throws InputError.
+struct SceneMemory {
+  std::string scene_name;
+  size_t triangles = 0, vertices = 0;
+  bool has_triangles = false;
+  uint64_t full_mesh = 0, full_structure = 0, compact_mesh = 0, compact_structure = 0;
+  std::vector<DeviceInfo> devices;
+};
+SceneMemory scene_memory(const std::string& scene_path, const std::string& devices);
+
+}  // namespace multiray

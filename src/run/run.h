@@ -1,0 +1,84 @@
+// A run built from its RunConfig: the loaded scene, its device representations, the
+// devices, the camera path and views, and a Session over them (one lane per balancer).
+// build_run() checks every value before it loads anything, and throws InputError with a
+// one-line message on bad input. The CLI, the bench programs, the fuzz targets and the
+// Python module all start a run here.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/frame_views.h"
+#include "engine/session.h"
+#include "render/scene_cache.h"
+#include "run/cluster.h"
+#include "run/parse_options.h"
+#include "run/run_config.h"
+#include "run/volume_run.h"
+#include "run/volume_setup.h"
+#include "scene/camera_path.h"
+#include "scene/camera_rig.h"
+#include "scene/scene.h"
+
+namespace multiray {
+
+// The loaded scene and everything derived from the options; owns the devices.
+struct Run {
+  // A distributed run's MPI side (null otherwise). First, so that it outlives the devices
+  // (the master's remote devices use its transport).
+  std::shared_ptr<Cluster> cluster;
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<SceneCache> scenes;  // the representations the devices render
+  std::vector<std::unique_ptr<Device>> devices;
+  CameraPath path;
+  std::unique_ptr<FrameViews> views;  // rig, output size and sampling of every frame
+  Resolution res;
+  RenderSettings settings;
+  std::vector<Perturbation> perturbations;
+  std::vector<std::string> notes;     // things the user should know (e.g. a sky was added)
+  Camera camera;                      // the base camera of the path (before any animation)
+  std::string camera_source;          // "--camera", "scene" (its first camera) or "default"
+  Vec3 up{0, 1, 0};                   // the up axis --up resolved to
+  std::shared_ptr<VolumeRun> volume;  // volumes only: styles, adaptation, sequence
+
+  std::vector<Device*> device_ptrs() const;
+  // A session over the devices with one lane per balancer spec (each already checked) and,
+  // for volumes, per --adapt mode (spec-major: spec 0 with every mode, then spec 1, ...),
+  // each lane with its own prediction advisor. Bad specs are reported as coming from
+  // `option`.
+  std::unique_ptr<Session> make_session(const std::vector<std::string>& balancer_specs,
+                                        const std::string& option = "--balancer") const;
+  // The name of each lane make_session(specs) makes: the spec, plus " adapt=MODE" when a
+  // volume run adapts in more than one way.
+  std::vector<std::string> lane_labels(const std::vector<std::string>& balancer_specs) const;
+};
+
+// Memory a run is estimated to need before it takes it, in bytes: the scene (from its file
+// size: loaded geometry, BVH and shading records are within ~12x a mesh file) and the
+// frames (every view's float image in the session's buffers, `lanes` of them, plus
+// per-pixel sample data of irregular sampling). A refusal beats an out-of-memory kill.
+struct MemoryEstimate {
+  double scene_bytes = 0, frame_bytes = 0;
+  double total() const { return scene_bytes + frame_bytes; }
+};
+MemoryEstimate estimate_memory(const RunConfig& o, int views, int width, int height, int lanes);
+// --max-memory: "auto" (half of physical memory) or a size like 8G, 512M, 100000 (bytes).
+double parse_memory_limit(const std::string& text);
+
+// A worker rank of a distributed run (s.cluster, not the master): serves the master over
+// s.devices until it says quit; returns the exit code.
+int serve_as_worker(Run& s);
+
+// Validates every option before loading anything expensive (the memory estimate
+// included, for `lanes` balancers), then loads the scene and creates the devices.
+// `before_load`, if given, runs after the options are checked and before the scene loads
+// (e.g. preparing the output folder: its refusal then costs nothing).
+// With --distributed, MPI starts here; on the master, s.devices are then one remote device
+// per worker (then its own, with --master-renders); a worker's fault in setting up is
+// reported by the master as "rank R: ...", and the worker ends with QuietExit.
+Run build_run(const RunConfig& o, int lanes = 1, const std::function<void()>& before_load = {});
+
+}  // namespace multiray
