@@ -19,11 +19,11 @@
 #include "app/stats_json.h"
 #include "app/trace_file.h"
 #include "balance/balancer.h"
-#include "balance/spec.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/machine_load.h"
 #include "engine/bench_harness.h"
+#include "util/spec.h"
 
 namespace multiray::app {
 
@@ -104,7 +104,7 @@ Runner add_bench_command(CLI::App& app) {
         throw InputError("--repeats above 1 does not work with --distributed yet");
       b->repeats = 1;
     }
-    const auto specs = balance::split_spec_list(b->balancers);
+    const auto specs = split_spec_list(b->balancers);
     if (specs.empty()) throw InputError("--balancers is empty");
     const int warmup = warmup_option->count() > 0 ? b->warmup : default_warmup(o->frames);
     if (warmup < 0 || warmup >= o->frames)

@@ -12,9 +12,10 @@
 #include "app/stats_json.h"
 #include "balance/balancer.h"
 #include "balance/sim_study.h"
-#include "balance/spec.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "util/parse.h"
+#include "util/spec.h"
 
 namespace multiray::app {
 
@@ -63,17 +64,11 @@ int validate(const balance::Trace& trace) {
 
 std::vector<int> device_counts(const std::string& text) {
   std::vector<int> out;
-  for (const std::string& item : balance::split_spec_list(text)) {
-    size_t used = 0;
-    int n = 0;
-    try {
-      n = std::stoi(item, &used);
-    } catch (...) {
-      used = 0;
-    }
-    if (used != item.size() || n < 1 || n > 4096)
+  for (const std::string& item : split_spec_list(text)) {
+    const double n = parse_number(item).value_or(0);
+    if (n != std::floor(n) || n < 1 || n > 4096)
       throw InputError("--devices: '" + item + "' is not a device count in 1..4096");
-    out.push_back(n);
+    out.push_back(int(n));
   }
   if (out.empty()) throw InputError("--devices is empty");
   return out;
@@ -114,8 +109,8 @@ Runner add_simulate_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--link", o->link,
                   "Emulated link to the master: none, lan (0.1 ms, 10 Gbit/s), wifi (5 ms, "
-                  "200 Mbit/s, as Seo et al.'s mobile cluster) or LATENCY_MS:MBIT; the "
-                  "master's link is shared by all devices")
+                  "200 Mbit/s, as Seo et al.'s mobile cluster) or LATENCY_MS,MBIT[,separate] (as "
+                  "render --link); the master's link is shared by all devices unless 'separate'")
       ->capture_default_str();
   cmd->add_option("--balancers", o->balancers, "Balancer specs, comma-separated (default: all)");
   cmd->add_option("--frames", o->frames, "Frames to simulate (0: the trace's; more cycle it)")
@@ -132,7 +127,7 @@ Runner add_simulate_command(CLI::App& app) {
     if (o->validate) return validate(trace);
     const std::vector<int> counts = device_counts(o->devices);
     std::vector<std::string> specs =
-        o->balancers.empty() ? balance::balancer_names() : balance::split_spec_list(o->balancers);
+        o->balancers.empty() ? balance::balancer_names() : split_spec_list(o->balancers);
     if (!(o->noise >= 0 && o->noise < 1)) throw InputError("--noise must be in [0, 1)");
     balance::StudyConfig config;
     config.frame_noise = o->noise;
@@ -145,7 +140,7 @@ Runner add_simulate_command(CLI::App& app) {
     const int frames = o->frames > 0 ? o->frames : int(trace.frames.size());
     config.warmup = o->warmup >= 0 ? o->warmup : frames / 10;
     try {
-      config.link = balance::parse_link(o->link);
+      config.link = balance::simulated_link(o->link);
     } catch (const std::invalid_argument& e) {
       throw InputError(std::string("--link: ") + e.what());
     }

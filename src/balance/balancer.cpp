@@ -1,7 +1,7 @@
 #include "balance/balancer.h"
 
 #include "balance/registry.h"
-#include "balance/spec.h"
+#include "util/spec.h"
 
 namespace multiray::balance {
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "balance/balancer.h"
-#include "balance/spec.h"
+#include "util/spec.h"
 
 namespace multiray::balance {
 

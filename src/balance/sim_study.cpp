@@ -6,19 +6,16 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "util/link.h"
+#include "util/parse.h"
+
 namespace multiray::balance {
 
 namespace {
 
 double number(const std::string& text, const std::string& what, double lo, double hi) {
-  size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(text, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (text.empty() || used != text.size() || !std::isfinite(v) || v < lo || v > hi)
+  const double v = parse_number(text).value_or(NAN);
+  if (!(v >= lo && v <= hi))
     throw std::invalid_argument(what + ": '" + text + "' is not a number in [" +
                                 std::to_string(lo) + ", " + std::to_string(hi) + "]");
   return v;
@@ -66,16 +63,12 @@ std::vector<double> device_speeds(const std::string& dist, int n, uint64_t seed)
                               "' must be equal, linear:MIN, random:MIN or list:A/B/...");
 }
 
-SimLink parse_link(const std::string& text) {
-  if (text == "lan") return SimLink::lan();
-  if (text == "wifi") return SimLink::wifi();
-  if (text == "none") return SimLink{};
-  const auto colon = text.find(':');
-  if (colon == std::string::npos)
-    throw std::invalid_argument("link '" + text + "' must be lan, wifi, none or LATENCY_MS:MBIT");
+SimLink simulated_link(const std::string& text) {
+  const LinkSpec spec = parse_link(text);
   SimLink l;
-  l.latency_ms = number(text.substr(0, colon), "link latency (ms)", 0, 1e6);
-  l.mbit_per_s = number(text.substr(colon + 1), "link bandwidth (Mbit/s)", 1e-6, 1e9);
+  l.latency_ms = spec.latency_ms;
+  l.mbit_per_s = spec.mbit_per_s;
+  l.shared_master = spec.shared;
   return l;
 }
 

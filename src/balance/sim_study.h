@@ -20,8 +20,9 @@ namespace multiray::balance {
 // Throws std::invalid_argument with one line for anything else.
 std::vector<double> device_speeds(const std::string& dist, int n, uint64_t seed);
 
-// "lan", "wifi", "none", or "LATENCY_MS:MBIT" (e.g. "2:100"). Throws std::invalid_argument.
-SimLink parse_link(const std::string& text);
+// The simulator's link for a --link text (util/link.h's one grammar: none, lan, wifi or
+// LATENCY_MS,MBIT[,separate]). Throws std::invalid_argument.
+SimLink simulated_link(const std::string& text);
 
 struct StudyConfig {
   std::vector<double> speeds;  // one per device

@@ -8,17 +8,7 @@
 
 namespace multiray::balance {
 
-// One item a device rendered, measured inside the device. `time_ms` is the wall time the
-// item cost the device (rendering + emulated idle + per-item overhead), `busy_ms` the
-// rendering alone (0 where unknown); `samples` the samples it took (0 if not counted);
-// `id` its number in the frame's Dispatcher (Plan::all_items() order).
-struct ItemReport {
-  WorkItem item;
-  double time_ms = 0;
-  double samples = 0;
-  double busy_ms = 0;
-  uint32_t id = 0;
-};
+// ItemReport (one item as a device rendered it) is util/rect.h's, through partition/rect.h.
 
 struct DeviceFrameStats {
   double time_ms = 0;  // time the device worked on this frame (busy + emulated idle): the

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "util/parse.h"
+
 namespace multiray::balance {
 
 AdaptMode parse_adapt_mode(const std::string& text) {
@@ -26,14 +28,8 @@ void parse_adapt(const std::string& text, TargetingConfig& config) {
   if (config.mode != AdaptMode::predict || option.rfind("q=", 0) != 0)
     throw std::invalid_argument("adaptation mode '" + text +
                                 "': only predict takes an option, q=Q (e.g. predict:q=0.9)");
-  size_t used = 0;
-  double q = NAN;
-  try {
-    q = std::stod(option.substr(2), &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != option.size() - 2 || !(q > 0 && q < 1))
+  const double q = parse_number(option.substr(2)).value_or(NAN);
+  if (!(q > 0 && q < 1))
     throw std::invalid_argument("adaptation mode '" + text + "': q must be a number in (0, 1)");
   config.margin_quantile = q;
 }

@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "partition/weight_map.h"
+#include "util/parse.h"
 
 namespace multiray::balance {
 
@@ -34,16 +35,10 @@ class LineReader {
   }
   double number(double lo, double hi) {
     const std::string w = word();
-    size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(w, &used);
-    } catch (...) {
-      used = 0;
-    }
-    if (used != w.size() || !std::isfinite(v) || v < lo || v > hi)
+    const std::optional<double> v = parse_number(w);
+    if (!v || *v < lo || *v > hi)
       fail("'" + w + "' is not a number in [" + num(lo) + ", " + num(hi) + "]");
-    return v;
+    return *v;
   }
   int integer(int lo, int hi) {
     const double v = number(lo, hi);

@@ -14,8 +14,8 @@
 
 #include "balance/stats.h"
 #include "core/image.h"
-#include "core/rect.h"
 #include "render/render_types.h"
+#include "util/rect.h"
 
 namespace multiray {
 

@@ -5,10 +5,10 @@
 #include <limits>
 #include <stdexcept>
 
-#include "balance/spec.h"
 #include "core/error.h"
 #include "device/cpu/cpu_device.h"
 #include "device/scene_memory.h"
+#include "util/spec.h"
 #ifdef MULTIRAY_HAS_OPENCL
 #include "device/opencl/opencl_device.h"
 #endif
@@ -29,11 +29,11 @@ auto as_input_error(F&& f) -> decltype(f()) {
 }
 
 // One device of a `--devices` list, with a known type that this multiray can run.
-balance::Spec device_spec(const std::string& item) {
-  balance::SpecSyntax syntax;
+Spec device_spec(const std::string& item) {
+  SpecSyntax syntax;
   syntax.label = "--devices";
   syntax.positional_key = "index";  // opencl:N
-  balance::Spec spec(item, syntax);
+  Spec spec(item, syntax);
   if (spec.name() != "cpu" && spec.name() != "opencl")
     spec.fail("unknown device type '" + spec.name() + "' (known: cpu, opencl)");
 #ifndef MULTIRAY_HAS_OPENCL
@@ -46,7 +46,7 @@ balance::Spec device_spec(const std::string& item) {
 }
 
 // compact=1 (the compact scene representation) and mem=SIZE (an emulated memory limit).
-void read_memory_options(balance::Spec& spec, bool& compact, uint64_t& limit) {
+void read_memory_options(Spec& spec, bool& compact, uint64_t& limit) {
   compact = spec.get_bool("compact", compact);
   if (!spec.has("mem")) return;
   const std::string text = spec.get_string("mem", "", {});
@@ -66,7 +66,7 @@ int core_id(const std::string& s) {
 }
 
 // "0", "0+2", "0-3", "0-1+4"; empty when `cores` is absent.
-std::vector<int> read_cores(balance::Spec& spec) {
+std::vector<int> read_cores(Spec& spec) {
   const std::string list = spec.get_string("cores", "", {});
   if (!spec.has("cores")) return {};
   std::vector<int> cores;
@@ -85,7 +85,7 @@ std::vector<int> read_cores(balance::Spec& spec) {
   }
 }
 
-CpuDeviceOptions read_cpu_options(balance::Spec& spec) {
+CpuDeviceOptions read_cpu_options(Spec& spec) {
   spec.accept_only({"threads", "cores", "speed", "quota", "tile", "fail_after", "compact", "mem"});
   CpuDeviceOptions o;
   o.threads = spec.get_int("threads", o.threads, 1, 1024);
@@ -100,7 +100,7 @@ CpuDeviceOptions read_cpu_options(balance::Spec& spec) {
 }
 
 #ifdef MULTIRAY_HAS_OPENCL
-OpenClDeviceOptions read_opencl_options(balance::Spec& spec) {
+OpenClDeviceOptions read_opencl_options(Spec& spec) {
   spec.accept_only({"index", "speed", "tile", "wg", "cores", "fail_after", "compact", "mem"});
   OpenClDeviceOptions o;
   o.index = spec.get_int("index", o.index, 0, 65535);
@@ -120,11 +120,11 @@ OpenClDeviceOptions read_opencl_options(balance::Spec& spec) {
 std::vector<DeviceSpec> parse_device_specs(const std::string& text) {
   if (text.empty()) throw InputError("--devices is empty; try --devices cpu");
   std::vector<DeviceSpec> specs;
-  for (const std::string& item : balance::split_spec_list(text)) {
+  for (const std::string& item : split_spec_list(text)) {
     if (item.empty())
       throw InputError("--devices '" + text + "': a device is empty (stray comma?)");
     specs.push_back(as_input_error([&] {
-      balance::Spec spec = device_spec(item);
+      Spec spec = device_spec(item);
 #ifdef MULTIRAY_HAS_OPENCL
       if (spec.name() == "opencl") read_opencl_options(spec);
 #endif
@@ -145,7 +145,7 @@ DeviceCapabilities backend_capabilities(const std::string& type) {
 }
 
 std::unique_ptr<Device> create_device(const DeviceSpec& d, SceneCache& scenes) {
-  balance::Spec spec = as_input_error([&] { return device_spec(d.text); });
+  Spec spec = as_input_error([&] { return device_spec(d.text); });
 #ifdef MULTIRAY_HAS_OPENCL
   if (spec.name() == "opencl") {
     const OpenClDeviceOptions o = as_input_error([&] { return read_opencl_options(spec); });

@@ -1,6 +1,6 @@
 // Turning `--devices` strings into devices.
 //
-// Grammar: DEVICE[,DEVICE...] where DEVICE is TYPE[:KEY=VALUE...], a balance::Spec (see
+// Grammar: DEVICE[,DEVICE...] where DEVICE is TYPE[:KEY=VALUE...], a Spec (see
 // balance/spec.h) whose options are checked as below when the list is parsed.
 //   cpu:threads=N:cores=LIST:speed=S:quota=Q:tile=T:compact=B:mem=SIZE:fail_after=K
 //     threads  worker threads (default 1)

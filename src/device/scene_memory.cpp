@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "render/compact_scene.h"
+#include "util/parse.h"
 
 namespace multiray {
 
@@ -17,35 +18,12 @@ uint64_t estimate_scene_bytes(const Scene& s, bool compact) {
 }
 
 uint64_t parse_memory_size(const std::string& text) {
-  size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    throw std::invalid_argument("mem=" + text + " is not a size like 512M or 2G");
-  }
-  const std::string unit = text.substr(used);
-  double scale = 1;
-  if (unit == "K" || unit == "k")
-    scale = 1024.0;
-  else if (unit == "M" || unit == "m")
-    scale = 1024.0 * 1024;
-  else if (unit == "G" || unit == "g")
-    scale = 1024.0 * 1024 * 1024;
-  else if (unit == "T" || unit == "t")
-    scale = 1024.0 * 1024 * 1024 * 1024;
-  else if (!unit.empty())
-    throw std::invalid_argument("mem=" + text + ": unknown unit '" + unit + "' (K, M, G or T)");
-  const double bytes = value * scale;
-  if (!std::isfinite(bytes) || bytes < 1024.0 * 1024 || bytes > 1024.0 * 1024 * 1024 * 1024 * 1024)
+  const double bytes = parse_size(text).value_or(-1);
+  if (bytes < 0)
+    throw std::invalid_argument("mem=" + text + " is not a size like 512M or 2G (K, M, G or T)");
+  if (bytes < 1024.0 * 1024 || bytes > 1024.0 * 1024 * 1024 * 1024 * 1024)
     throw std::invalid_argument("mem=" + text + " must lie between 1M and 1024T");
   return uint64_t(bytes);
-}
-
-std::string format_bytes(uint64_t b) {
-  if (b >= (1ull << 30)) return fmt::format("{:.1f} GiB", double(b) / double(1ull << 30));
-  if (b >= (1ull << 20)) return fmt::format("{:.1f} MiB", double(b) / double(1ull << 20));
-  return fmt::format("{:.1f} KiB", double(b) / 1024.0);
 }
 
 void check_scene_fits(const Scene& scene, bool compact, uint64_t limit, const std::string& what) {

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "scene/scene.h"
+#include "util/parse.h"
 
 namespace multiray {
 
@@ -19,12 +20,10 @@ namespace multiray {
 // not counted (their backends check their own memory).
 uint64_t estimate_scene_bytes(const Scene& scene, bool compact);
 
-// "512M", "2G", "1.5G", "65536": bytes, with binary K/M/G/T suffixes. Throws
-// std::invalid_argument (one line) unless the result lies in [1 MiB, 1 PiB].
+// mem=: a size as util/parse.h reads one ("512M", "2g", "65536": binary K/M/G/T, either
+// case). Throws std::invalid_argument (one line) unless it lies in [1 MiB, 1 PiB].
+// (format_bytes, for the other direction, is util/parse.h's.)
 uint64_t parse_memory_size(const std::string& text);
-
-// "1.4 GiB", "312 MiB", "20 KiB".
-std::string format_bytes(uint64_t bytes);
 
 // Throws InputError when `limit` > 0 and the scene does not fit the chosen representation;
 // the message names both representations' needs. `what` prefixes it ("--devices 'cpu:mem=1G'").

@@ -1,36 +1,13 @@
-// The unit of work every partition and balancer deals in: a half-open pixel rectangle of
-// one view. Header-only and free of dependencies, so a renderer can adopt it as is.
+// The balancing library's names for the unit of work (util/rect.h): Rect, WorkItem and
+// ItemReport, so that its users write balance::Rect.
 #pragma once
 
-#include <cstdint>
+#include "util/rect.h"
 
 namespace multiray::balance {
 
-// Pixels [x0, x1) × [y0, y1) of one view. Empty when x1 <= x0 or y1 <= y0.
-struct Rect {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-
-  int width() const { return x1 > x0 ? x1 - x0 : 0; }
-  int height() const { return y1 > y0 ? y1 - y0 : 0; }
-  // Pixel count (0 for an empty rect); 64-bit because views of 2^31 pixels exist in tests.
-  int64_t area() const { return int64_t(width()) * int64_t(height()); }
-  bool empty() const { return area() == 0; }
-};
-
-inline bool operator==(const Rect& a, const Rect& b) {
-  return a.x0 == b.x0 && a.y0 == b.y0 && a.x1 == b.x1 && a.y1 == b.y1;
-}
-inline bool operator!=(const Rect& a, const Rect& b) { return !(a == b); }
-
-// A rect of one view (views are numbered 0..views-1 in the frame's FrameShape).
-struct WorkItem {
-  Rect rect;
-  int view = 0;
-};
-
-inline bool operator==(const WorkItem& a, const WorkItem& b) {
-  return a.view == b.view && a.rect == b.rect;
-}
-inline bool operator!=(const WorkItem& a, const WorkItem& b) { return !(a == b); }
+using multiray::ItemReport;
+using multiray::Rect;
+using multiray::WorkItem;
 
 }  // namespace multiray::balance

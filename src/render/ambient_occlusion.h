@@ -6,9 +6,9 @@
 #pragma once
 
 #include "core/image.h"
-#include "core/rect.h"
 #include "render/kernel.h"
 #include "render/render_types.h"
+#include "util/rect.h"
 
 namespace multiray {
 

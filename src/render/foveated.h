@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "core/image.h"
-#include "core/rect.h"
 #include "render/foveation_frame.h"
 #include "render/kernel.h"
+#include "util/rect.h"
 
 namespace multiray {
 

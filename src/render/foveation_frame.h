@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "core/math.h"
-#include "core/rect.h"
 #include "render/foveated_pattern.h"
+#include "util/rect.h"
 
 namespace multiray {
 

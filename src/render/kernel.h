@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "core/image.h"
-#include "core/rect.h"
 #include "render/render_types.h"
 #include "render/scene_cache.h"
+#include "util/rect.h"
 
 namespace multiray {
 

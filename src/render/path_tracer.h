@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "core/image.h"
-#include "core/rect.h"
 #include "render/kernel.h"
 #include "render/render_types.h"
+#include "util/rect.h"
 
 namespace multiray {
 

@@ -59,7 +59,19 @@ std::string Cluster::devices_of_this_rank(const std::string& all) const {
 
 #ifdef MULTIRAY_HAS_MPI
 
-Cluster::Cluster(const DistributedOptions& o) : options_(o), link_(remote::parse_link(o.link)) {
+namespace {
+// --link, its error as bad input.
+LinkSpec checked_link(const std::string& text) {
+  try {
+    return parse_link(text);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("--link ") + e.what());
+  }
+}
+
+}  // namespace
+
+Cluster::Cluster(const DistributedOptions& o) : options_(o), link_(checked_link(o.link)) {
   if (!(o.worker_timeout_s >= 0.5 && o.worker_timeout_s <= 86400))
     throw InputError("--worker-timeout must be in [0.5, 86400] seconds");
   parse_depth(o.depth);

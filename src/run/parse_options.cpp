@@ -8,33 +8,17 @@
 
 #include <unistd.h>
 
-#include "balance/spec.h"
 #include "core/error.h"
 #include "scene/camera_check.h"
+#include "util/parse.h"
+#include "util/spec.h"
 
 namespace multiray {
 
-// Strict numeric parsing: the whole token must be a finite number.
 double to_number(const std::string& tok, const std::string& what) {
-  size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(tok, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (tok.empty() || used != tok.size() || !std::isfinite(v))
-    throw InputError(what + ": '" + tok + "' is not a number");
-  return v;
-}
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, sep)) out.push_back(item);
-  if (!s.empty() && s.back() == sep) out.push_back("");
-  return out;
+  const std::optional<double> v = parse_number(tok);
+  if (!v) throw InputError(what + ": '" + tok + "' is not a number");
+  return *v;
 }
 
 uint64_t parse_seed(const std::string& text) {
@@ -142,9 +126,9 @@ std::string apply_mapping(const std::string& text, const std::string& mapping,
   if (mapping.empty()) return text;
   if (mapping != "strips" && mapping != "views")
     throw InputError("--mapping '" + mapping + "' must be strips or views");
-  const balance::Spec spec = [&] {
+  const Spec spec = [&] {
     try {
-      return balance::Spec(text);
+      return Spec(text);
     } catch (const std::invalid_argument& e) {
       throw InputError(option + ": " + e.what());
     }
@@ -161,13 +145,7 @@ std::string apply_mapping(const std::string& text, const std::string& mapping,
 double parse_memory_limit(const std::string& text) {
   if (text == "auto")
     return 0.5 * double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
-  double unit = 1;
-  std::string digits = text;
-  if (!digits.empty() && std::string("KMGT").find(digits.back()) != std::string::npos) {
-    unit = std::pow(1024.0, double(std::string("KMGT").find(digits.back()) + 1));
-    digits.pop_back();
-  }
-  const double v = to_number(digits, "--max-memory") * unit;
+  const double v = parse_size(text).value_or(0);
   if (!(v >= 1 << 20 && v <= 1e15))
     throw InputError("--max-memory '" + text + "' must be auto or a size from 1M to 1e15 bytes");
   return v;

@@ -12,6 +12,7 @@
 #include "engine/frame_views.h"
 #include "engine/session.h"
 #include "scene/scene.h"
+#include "util/parse.h"
 
 namespace multiray {
 
@@ -43,11 +44,9 @@ std::string apply_mapping(const std::string& balancer_spec, const std::string& m
 std::vector<Perturbation> parse_perturbations(const std::vector<std::string>& items,
                                               int device_count);
 
-// Strict numeric parsing: the whole token must be a finite number, else InputError
+// A number filling the whole token (util/parse.h's parse_number), else InputError
 // "<what>: '<tok>' is not a number".
 double to_number(const std::string& tok, const std::string& what);
-// `s` cut at every `sep` (a trailing separator gives a final empty part).
-std::vector<std::string> split(const std::string& s, char sep);
 
 // make_balancer, with std::invalid_argument turned into InputError naming `option` (the
 // command-line option the spec came from).

@@ -13,7 +13,6 @@
 
 #include <fmt/core.h>
 
-#include "balance/spec.h"
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/device_factory.h"
@@ -24,6 +23,7 @@
 #include "scene/builders.h"
 #include "scene/camera_check.h"
 #include "scene/loaders.h"
+#include "util/spec.h"
 
 namespace multiray {
 

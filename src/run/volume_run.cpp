@@ -2,11 +2,11 @@
 
 #include <stdexcept>
 
-#include "balance/spec.h"
 #include "core/clock.h"
 #include "core/error.h"
 #include "engine/volume_advisor.h"
 #include "render/volume_raycaster.h"
+#include "util/spec.h"
 #include "volume/transfer_function.h"
 
 namespace multiray {
@@ -22,7 +22,7 @@ VolumeRun::VolumeRun(SceneCache& scenes, const VolumeOptions& o, Vec3 background
       modes_.emplace_back().mode =
           o.target_ms > 0 ? balance::AdaptMode::predict : balance::AdaptMode::none;
     } else {
-      for (const std::string& m : balance::split_spec_list(o.adapt))
+      for (const std::string& m : split_spec_list(o.adapt))
         balance::parse_adapt(m, modes_.emplace_back());
     }
   } catch (const std::invalid_argument& e) {

@@ -37,13 +37,16 @@ TEST(SimStudy, SpeedDistributions) {
 }
 
 TEST(SimStudy, Links) {
-  EXPECT_EQ(parse_link("wifi").latency_ms, 5);
-  EXPECT_FALSE(parse_link("none").active());
-  const SimLink l = parse_link("2:100");
+  // The grammar of render --distributed's --link (util/link.h), one for both commands.
+  EXPECT_EQ(simulated_link("wifi").latency_ms, 5);
+  EXPECT_FALSE(simulated_link("none").active());
+  const SimLink l = simulated_link("2,100");
   EXPECT_EQ(l.latency_ms, 2);
   EXPECT_EQ(l.mbit_per_s, 100);
-  for (const char* bad : {"", "fast", "2", "2:0", "-1:10", "x:10", "1:inf"})
-    EXPECT_THROW(parse_link(bad), std::invalid_argument) << bad;
+  EXPECT_TRUE(l.shared_master);
+  EXPECT_FALSE(simulated_link("2,100,separate").shared_master);
+  for (const char* bad : {"", "fast", "2", "2:100", "-1,10", "x,10", "1,inf", "1,2,other"})
+    EXPECT_THROW(simulated_link(bad), std::invalid_argument) << bad;
 }
 
 TEST(SimStudy, WithoutLinkAStaticSplitOfEqualDevicesIsIdeal) {

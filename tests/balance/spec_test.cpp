@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "balance/balancer.h"
-#include "balance/spec.h"
+#include "util/spec.h"
 
 namespace multiray::balance {
 namespace spec_test {

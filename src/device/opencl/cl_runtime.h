@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "core/image.h"
-#include "core/rect.h"
 #include "device/opencl/cl_common.h"
 #include "render/render_types.h"
+#include "util/rect.h"
 
 namespace multiray {
 

@@ -10,22 +10,12 @@
 #include <string>
 #include <vector>
 
+#include "util/link.h"
+
 namespace multiray::remote {
 
-struct LinkSpec {
-  std::string name = "none";  // preset name or "custom"
-  double latency_ms = 0;      // one way, per message
-  double mbit_per_s = 0;      // 0: unlimited
-  bool shared = true;         // one link at the master for every worker
-  bool active() const { return latency_ms > 0 || mbit_per_s > 0; }
-  // "emulated LAN (0.1 ms, 10000 Mbit/s, shared master link)" or "none (real transport)".
-  std::string describe() const;
-};
-
-// --link: none, lan (0.1 ms, 10 Gbit/s), wifi (5 ms, 200 Mbit/s: a mobile Wi-Fi cluster,
-// Seo et al.), or LATENCY_MS,MBIT[,separate] (separate: one link per worker instead of
-// the shared master link). Throws InputError with a one-line message.
-LinkSpec parse_link(const std::string& text);
+// The link as --link describes it (util/link.h: its grammar, shared with `simulate`).
+using multiray::LinkSpec;
 
 // The emulated link's clock: when a message entering it now is delivered.
 class LinkModel {

@@ -1,43 +1,23 @@
-#include "balance/spec.h"
+#include "util/spec.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
 
-namespace multiray::balance {
+#include "util/parse.h"
+
+namespace multiray {
 
 namespace {
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> parts;
-  std::string part;
-  std::istringstream in(s);
-  while (std::getline(in, part, sep)) parts.push_back(part);
-  if (!s.empty() && s.back() == sep) parts.push_back("");
-  return parts;
-}
-
-// The whole of `s` is a finite number (std::stod alone would skip leading blanks and
-// stop at trailing garbage).
 bool parse_double(const std::string& s, double& out) {
-  if (s.empty() || std::isspace(static_cast<unsigned char>(s[0]))) return false;
-  size_t used = 0;
-  try {
-    out = std::stod(s, &used);
-  } catch (const std::exception&) {
-    return false;
-  }
-  return used == s.size() && std::isfinite(out);
-}
-
-std::string join(const std::vector<std::string>& v) {
-  std::string s;
-  for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
+  const std::optional<double> v = parse_number(s);
+  if (v) out = *v;
+  return v.has_value();
 }
 }  // namespace
 
@@ -168,4 +148,4 @@ std::vector<std::string> split_spec_list(const std::string& text) {
   return split(text, ',');
 }
 
-}  // namespace multiray::balance
+}  // namespace multiray

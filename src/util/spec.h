@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace multiray::balance {
+namespace multiray {
 
 // How a kind of spec is read and named in error messages.
 struct SpecSyntax {
@@ -77,4 +77,4 @@ class Spec {
 // the empty one fails as a spec without a name instead of being silently skipped.
 std::vector<std::string> split_spec_list(const std::string& text);
 
-}  // namespace multiray::balance
+}  // namespace multiray
