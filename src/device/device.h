@@ -12,15 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "balance/stats.h"
 #include "core/image.h"
 #include "render/render_types.h"
 #include "util/rect.h"
 
 namespace multiray {
-
-using balance::ItemReport;
-using balance::WorkItem;
 
 // Slowest emulated speed a device or --perturb may ask for: a device idling 99% of the
 // time. Slower ones would only make runs that never finish.

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "balance/plan.h"
+#include "balance/stats.h"
 #include "engine/frame_record.h"
 #include "render/render_types.h"
 

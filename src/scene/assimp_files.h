@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/scene_files.h"
+#include "core/scene_files.h"
 
 namespace multiray::detail {
 

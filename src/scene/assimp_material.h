@@ -10,7 +10,8 @@
 #include <map>
 #include <string>
 
-#include "scene/scene_files.h"
+#include "core/scene_files.h"
+#include "scene/scene.h"
 
 namespace multiray::detail {
 

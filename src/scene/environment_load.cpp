@@ -10,8 +10,8 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/scene_files.h"
 #include "scene/loaders.h"
-#include "scene/scene_files.h"
 
 namespace multiray {
 
@@ -75,7 +75,7 @@ EnvironmentMap load_environment_map(const std::string& path, const LoadOptions& 
     detail::fail(path, "unknown environment map extension '" + ext + "' (supported: .hdr, .exr)");
   // The same checks as a scene file (regular, non-empty, within the byte limit) before
   // either library opens it.
-  detail::SceneFiles files(path, options);
+  SceneFiles files(path, options);
   const std::string bytes = files.read_scene_file();
   EnvironmentMap map;
   map.name = detail::file_name(path);

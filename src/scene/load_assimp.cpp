@@ -60,7 +60,7 @@ struct MeshSize {
 
 class AssimpReader {
  public:
-  AssimpReader(const aiScene& ai, detail::SceneFiles* files)
+  AssimpReader(const aiScene& ai, SceneFiles* files)
       : ai_(ai), files_(files), path_(files->scene_path()) {}
   Scene read();
 
@@ -74,7 +74,7 @@ class AssimpReader {
   void add_cameras(Scene* scene);
 
   const aiScene& ai_;
-  detail::SceneFiles* files_;
+  SceneFiles* files_;
   const std::string& path_;
   std::vector<MeshSize> sizes_;                    // per mesh
   uint64_t triangles_ = 0, vertices_ = 0;          // after instancing
@@ -290,7 +290,7 @@ Scene AssimpReader::read() {
 }  // namespace
 
 Scene load_assimp(const std::string& path, const LoadOptions& options) {
-  detail::SceneFiles files(path, options);
+  SceneFiles files(path, options);
   const std::string text = files.read_scene_file();
   auto* io =
       new detail::SceneFileSystem(&files, std::vector<unsigned char>(text.begin(), text.end()));

@@ -18,10 +18,10 @@
 #include <optional>
 #include <set>
 
+#include "core/scene_files.h"
 #include "scene/camera_check.h"
 #include "scene/gltf_parts.h"
 #include "scene/loaders.h"
-#include "scene/scene_files.h"
 
 namespace multiray {
 namespace {
@@ -559,7 +559,7 @@ namespace {
 // FileExists only stat()s (tinygltf's own opens the file, and opening a FIFO blocks);
 // a refused read leaves its reason in `refused` and in tinygltf's message.
 struct FileAccess {
-  detail::SceneFiles* files;
+  SceneFiles* files;
   std::vector<RefusedFile> refused;  // in order
 };
 
@@ -583,7 +583,7 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
 }  // namespace
 
 Scene load_gltf(const std::string& path, const LoadOptions& options) {
-  detail::SceneFiles files(path, options);
+  SceneFiles files(path, options);
   const std::string bytes = files.read_scene_file();  // clear messages for missing/empty
   tg::Model model;
   tg::TinyGLTF ctx;

@@ -17,11 +17,11 @@
 #include <filesystem>
 #include <map>
 
+#include "core/scene_files.h"
 #include "scene/camera_check.h"
 #include "scene/loaders.h"
 #include "scene/mitsuba_shapes.h"
 #include "scene/mitsuba_xml.h"
-#include "scene/scene_files.h"
 
 namespace multiray {
 namespace {
@@ -53,7 +53,7 @@ class MitsubaReader {
   float float_property(const XmlElement* e, const char* name, float fallback);
 
   detail::MitsubaContext ctx_;
-  detail::SceneFiles files_;
+  SceneFiles files_;
   const LoadOptions& options_;
   fs::path dir_;                  // the XML's folder
   std::vector<fs::path> search_;  // <path> folders, in document order

@@ -20,8 +20,8 @@
 #include <sstream>
 #include <system_error>
 
+#include "core/scene_files.h"
 #include "scene/loaders.h"
-#include "scene/scene_files.h"
 
 namespace multiray {
 namespace {
@@ -95,7 +95,7 @@ std::string resolve_file(const fs::path& dir, std::string name) {
 // the file is refused, with a warning.
 class MtlReader : public tinyobj::MaterialReader {
  public:
-  MtlReader(fs::path dir, detail::SceneFiles* files) : dir_(std::move(dir)), files_(files) {}
+  MtlReader(fs::path dir, SceneFiles* files) : dir_(std::move(dir)), files_(files) {}
   bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
                   std::map<std::string, int>* names, std::string* warn,
                   std::string* err) override {
@@ -114,7 +114,7 @@ class MtlReader : public tinyobj::MaterialReader {
 
  private:
   fs::path dir_;
-  detail::SceneFiles* files_;
+  SceneFiles* files_;
 };
 
 // Element i of a flat xyz array (indices checked by the caller).
@@ -125,7 +125,7 @@ Vec3 vec3_at(const std::vector<float>& xyz, int i) {
 }  // namespace
 
 Scene load_obj(const std::string& path, const LoadOptions& options) {
-  detail::SceneFiles files(path, options);
+  SceneFiles files(path, options);
   const std::string text = files.read_scene_file();
   check_vertex_lines(path, text);
 

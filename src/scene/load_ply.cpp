@@ -16,8 +16,8 @@
 #include <cstring>
 #include <sstream>
 
+#include "core/scene_files.h"
 #include "scene/loaders.h"
-#include "scene/scene_files.h"
 
 namespace multiray {
 namespace {
@@ -390,7 +390,7 @@ void build_mesh(const std::string& path, const LoadOptions& options, Scene* scen
 }  // namespace
 
 Scene load_ply(const std::string& path, const LoadOptions& options) {
-  const std::string data = detail::SceneFiles(path, options).read_scene_file();
+  const std::string data = SceneFiles(path, options).read_scene_file();
   const Header header = parse_header(path, data);
   check_counts(path, header, data.size());
 

@@ -8,25 +8,10 @@
 #include <functional>
 #include <string>
 
+#include "core/scene_files.h"
 #include "scene/scene.h"
 
 namespace multiray {
-
-// What a load may read, and where its warnings go. The defaults are the safe choice for
-// files from anywhere: every file is checked with stat() before it is opened, so a FIFO,
-// device or directory is refused without ever being opened (it could block forever).
-struct LoadOptions {
-  // Files the scene file names (glTF buffers and images, OBJ material libraries and
-  // textures) are read only if they lie inside the scene file's folder after symlinks
-  // and '..' are resolved. True lifts that restriction (never the regular-file one).
-  bool allow_outside = false;
-  // Bytes one load may read: the scene file plus every file it names, together.
-  uint64_t max_total_bytes = uint64_t(4) << 30;  // 4 GiB
-  // Receives one line per thing the load dropped but could do without (a refused
-  // image or material library, repaired normals, an unusable camera). Unset: printed to
-  // stderr as "multiray: warning: <line>".
-  std::function<void(const std::string& line)> warn;
-};
 
 // Dispatches on the extension, case-insensitively: .gltf/.glb, .obj, .ply, .xml to their own
 // readers, kAssimpExtensions to load_assimp().
@@ -82,15 +67,7 @@ EnvironmentMap load_environment_map(const std::string& path, const LoadOptions& 
 // Helpers shared by the loaders (texture_load.cpp). Not part of the public interface.
 namespace detail {
 
-// `path` with directories removed, for Scene::name and messages.
-std::string file_name(const std::string& path);
-
-// Throws InputError "<path>: <what>", with line breaks in `what` folded into "; " so the
-// message stays one line (library error strings often end in '\n').
-[[noreturn]] void fail(const std::string& path, const std::string& what);
-
-// Sends "<path>: <what>" to options.warn (or stderr).
-void warn(const LoadOptions& options, const std::string& path, const std::string& what);
+// file_name, fail and warn: core/scene_files.h.
 
 // The last step of every loader: replaces unusable shading normals (see
 // shading_normal) by face normals, with one warning saying how many, then

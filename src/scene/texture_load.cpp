@@ -41,34 +41,6 @@ Scene load_scene(const std::string& path, const LoadOptions& options) {
 
 namespace detail {
 
-std::string file_name(const std::string& path) {
-  const std::string name = fs::path(path).filename().string();
-  return name.empty() ? path : name;
-}
-
-void fail(const std::string& path, const std::string& what) {
-  std::string line;
-  bool pending_break = false;
-  for (char c : what) {
-    if (c == '\n' || c == '\r') {
-      pending_break = !line.empty();
-      continue;
-    }
-    if (pending_break) line += "; ";
-    pending_break = false;
-    line += c;
-  }
-  throw InputError(path + ": " + line);
-}
-
-void warn(const LoadOptions& options, const std::string& path, const std::string& what) {
-  const std::string line = path + ": " + what;
-  if (options.warn)
-    options.warn(line);
-  else
-    std::fprintf(stderr, "multiray: warning: %s\n", line.c_str());
-}
-
 Vec3 shading_normal(Vec3 n) {
   const double x = n.x, y = n.y, z = n.z;
   const double len = std::sqrt(x * x + y * y + z * z);  // finite for any finite floats

@@ -1,7 +1,7 @@
 // NRRD volumes through Teem (http://teem.sourceforge.net/nrrd/format.html). Teem reads
 // only from memory (nrrd_header.h says why): the header is parsed first without data to
 // check the grid, type, encoding and memory; only then is the data file read (through
-// scene/scene_files.h, which refuses FIFOs, devices and files outside the folder) and
+// core/scene_files.h, which refuses FIFOs, devices and files outside the folder) and
 // decoded by Teem from the header plus the data.
 #include <teem/biff.h>
 #include <teem/nrrd.h>
@@ -12,8 +12,7 @@
 #include <filesystem>
 #include <mutex>
 
-#include "scene/loaders.h"
-#include "scene/scene_files.h"
+#include "core/scene_files.h"
 #include "volume/load_volume.h"
 #include "volume/nrrd_header.h"
 #include "volume/volume_input.h"
@@ -156,7 +155,7 @@ void read_data_file(const std::string& path, const NrrdHeaderParts& parts,
   read_options.allow_outside = options.allow_outside;
   const uint64_t skip = parts.byte_skip > 0 ? uint64_t(parts.byte_skip) : 0;
   read_options.max_total_bytes = skip + need + data_file_slack(need);
-  detail::SceneFiles files(path, read_options);
+  SceneFiles files(path, read_options);
   std::string why;
   if (!files.read(file, bytes, &why)) fail(path, "data file " + why);
 }
@@ -167,7 +166,7 @@ Volume load_volume(const std::string& path, const VolumeLoadOptions& options) {
   LoadOptions read_options;
   read_options.max_total_bytes =
       options.max_bytes ? options.max_bytes : 2 * kMaxVolumeVoxels + (uint64_t(1) << 30);
-  std::string text = detail::SceneFiles(path, read_options).read_scene_file();
+  std::string text = SceneFiles(path, read_options).read_scene_file();
   const NrrdHeaderParts parts = split_nrrd_header(path, text);
   const bool attached = parts.data_file.empty();
   if (attached && !parts.has_blank_line)

@@ -5,8 +5,7 @@
 #include <string_view>
 #include <vector>
 
-#include "scene/loaders.h"
-#include "scene/scene_files.h"
+#include "core/scene_files.h"
 #include "volume/load_volume.h"
 #include "volume/volume_input.h"
 
@@ -119,7 +118,7 @@ Volume load_raw_volume(const std::string& path, const RawVolumeSpec& spec,
 
   LoadOptions read_options;
   read_options.max_total_bytes = need + data_file_slack(need);
-  detail::SceneFiles files(path, read_options);
+  SceneFiles files(path, read_options);
   const std::string bytes = files.read_scene_file();
   check_data_size(path, "the file", bytes.size(), need, grid);
   const bool host_big = std::endian::native == std::endian::big;

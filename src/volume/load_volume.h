@@ -16,7 +16,7 @@ namespace multiray {
 
 // What a load may read and take. The defaults are the safe choice for files from
 // anywhere; files are checked with stat() before they are opened (a FIFO, directory or
-// device is refused, never read), as scene loads do (scene/loaders.h LoadOptions).
+// device is refused, never read), as scene loads do (core/scene_files.h LoadOptions).
 struct VolumeLoadOptions {
   // A detached header's data file is read only if it lies inside the header's folder
   // after symlinks and '..' are resolved; true lifts that rule (not the regular-file one).

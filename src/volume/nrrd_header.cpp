@@ -6,7 +6,7 @@
 #include <cstring>
 #include <new>
 
-#include "scene/loaders.h"
+#include "core/scene_files.h"
 
 namespace multiray::volume_detail {
 

@@ -1,7 +1,7 @@
 // The text side of reading NRRD files, before Teem sees them (load_nrrd.cpp). Teem opens a
 // detached header's data file by itself (even to read only the header), which would block
 // forever on a FIFO; so the header is split here, the "data file:" line taken out and the
-// named file checked and read through scene/scene_files.h, and Teem only ever reads from
+// named file checked and read through core/scene_files.h, and Teem only ever reads from
 // memory. Private to src/volume.
 #pragma once
 

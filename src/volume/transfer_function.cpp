@@ -5,8 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "scene/loaders.h"
-#include "scene/scene_files.h"
+#include "core/scene_files.h"
 #include "volume/volume_input.h"
 
 namespace multiray {
@@ -122,7 +121,7 @@ float corrected_alpha(float alpha, float step_over_reference) {
 TransferFunction load_transfer_function(const std::string& path) {
   LoadOptions options;
   options.max_total_bytes = kMaxTfFileBytes;
-  const std::string text = detail::SceneFiles(path, options).read_scene_file();
+  const std::string text = SceneFiles(path, options).read_scene_file();
   TransferFunction tf = parse_transfer_function(text, path);
   if (tf.name.empty()) tf.name = detail::file_name(path);
   return tf;

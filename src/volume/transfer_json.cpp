@@ -4,7 +4,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "scene/loaders.h"
+#include "core/scene_files.h"
 #include "volume/transfer_function.h"
 
 namespace multiray {

@@ -9,7 +9,7 @@
 #include <cstring>
 #include <utility>
 
-#include "scene/loaders.h"
+#include "core/scene_files.h"
 
 namespace multiray::volume_detail {
 

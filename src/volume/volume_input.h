@@ -1,6 +1,6 @@
 // Checks and conversions shared by the volume loaders (load_nrrd.cpp, load_raw.cpp).
 // Private to src/volume. Every function that refuses throws InputError "<path>: <problem>"
-// through scene/loaders.h detail::fail, like the scene loaders.
+// through core/scene_files.h detail::fail, like the scene loaders.
 #pragma once
 
 #include <cstdint>

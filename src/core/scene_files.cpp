@@ -1,16 +1,51 @@
-#include "scene/scene_files.h"
+#include "core/scene_files.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <system_error>
 
-namespace multiray::detail {
+#include "core/error.h"
+
+namespace multiray {
 
 namespace fs = std::filesystem;
+
+namespace detail {
+
+std::string file_name(const std::string& path) {
+  const std::string name = fs::path(path).filename().string();
+  return name.empty() ? path : name;
+}
+
+void fail(const std::string& path, const std::string& what) {
+  std::string line;
+  bool pending_break = false;
+  for (char c : what) {
+    if (c == '\n' || c == '\r') {
+      pending_break = !line.empty();
+      continue;
+    }
+    if (pending_break) line += "; ";
+    pending_break = false;
+    line += c;
+  }
+  throw InputError(path + ": " + line);
+}
+
+void warn(const LoadOptions& options, const std::string& path, const std::string& what) {
+  const std::string line = path + ": " + what;
+  if (options.warn)
+    options.warn(line);
+  else
+    std::fprintf(stderr, "multiray: warning: %s\n", line.c_str());
+}
+
+}  // namespace detail
 
 namespace {
 
@@ -43,8 +78,8 @@ SceneFiles::SceneFiles(const std::string& scene_path, const LoadOptions& options
 
 std::string SceneFiles::read_scene_file() {
   std::string data, why;
-  if (!read_checked(path_, /*named=*/false, &data, &why)) fail(path_, why);
-  if (data.empty()) fail(path_, "file is empty");
+  if (!read_checked(path_, /*named=*/false, &data, &why)) detail::fail(path_, why);
+  if (data.empty()) detail::fail(path_, "file is empty");
   return data;
 }
 
@@ -119,4 +154,4 @@ bool SceneFiles::read_checked(const std::string& path, bool named, Bytes* out, s
   return true;
 }
 
-}  // namespace multiray::detail
+}  // namespace multiray
