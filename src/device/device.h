@@ -15,7 +15,7 @@
 #include "balance/stats.h"
 #include "core/image.h"
 #include "core/rect.h"
-#include "render/render_types.h"
+#include "render/render_settings.h"
 
 namespace multiray {
 
