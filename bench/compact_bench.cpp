@@ -50,7 +50,7 @@
 #include "render/compact_scene.h"
 #include "render/default_view.h"
 #include "render/path_tracer.h"
-#include "render/sampling.h"
+#include "render/shared/sampling.h"
 #include "scene/builders.h"
 #include "scene/loaders.h"
 

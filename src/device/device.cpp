@@ -26,6 +26,11 @@ std::string unsupported_job(const DeviceInfo& info, const std::string& kernel,
   return "";
 }
 
+std::vector<std::string> sampling_modes(bool point_samples) {
+  if (point_samples) return {"uniform", "adaptive", "foveated", "reproject"};
+  return {"uniform", "adaptive", "reproject"};
+}
+
 size_t WorkSource::next(int device, size_t max, std::vector<uint32_t>& ids) {
   size_t n = 0;
   for (uint32_t id; n < max && next(device, id); ++n) ids.push_back(id);

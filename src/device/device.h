@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/image.h"
-#include "render/render_types.h"
+#include "render/render_settings.h"
 #include "util/rect.h"
 
 namespace multiray {
@@ -23,12 +23,20 @@ namespace multiray {
 constexpr double kMinEmulatedSpeed = 0.01;
 
 // What a backend can run. Names are those of RenderSettings::kernel (render/kernel.h),
-// of --sampling, and of the scene representations in SceneCache.
+// of --sampling, and of the scene representations in SceneCache. A backend fills
+// `kernels` from its kernel registry (cpu_kernels(), opencl_kernels()) and `sampling`
+// with sampling_modes().
 struct DeviceCapabilities {
   std::vector<std::string> kernels;
   std::vector<std::string> sampling;  // "uniform", "adaptive", "foveated", "reproject"
   std::string representation;         // the scene representation this device renders
 };
+
+// The sampling modes of a backend: uniform, adaptive (per-pixel sample maps) and reproject
+// for every kernel that renders rectangles; foveated only when `point_samples`, i.e. some
+// kernel of its registry renders samples at arbitrary positions
+// (KernelDescription::point_samples).
+std::vector<std::string> sampling_modes(bool point_samples);
 
 struct DeviceInfo {
   std::string type;  // "cpu", "opencl", ...

@@ -1,8 +1,8 @@
 #include "render/ambient_occlusion.h"
 
-#include "core/rng.h"
 #include "render/path_tracer.h"
-#include "render/sampling.h"
+#include "render/rng.h"
+#include "render/shared/sampling.h"
 
 namespace multiray {
 

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "render/sampling.h"
+#include "render/shared/sampling.h"
 
 namespace multiray {
 

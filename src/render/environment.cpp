@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "render/render_types.h"
-#include "render/sampling.h"
+#include "render/shared/sampling.h"
 
 namespace multiray {
 

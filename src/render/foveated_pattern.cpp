@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "core/rng.h"
+#include "render/rng.h"
 
 namespace multiray {
 

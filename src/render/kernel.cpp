@@ -24,23 +24,26 @@ std::unique_ptr<Kernel> make(SceneCache& scenes, bool compact) {
 
 const std::vector<KernelEntry>& cpu_kernels() {
   static const std::vector<KernelEntry> entries{
-      {"path", "path tracing with next-event estimation and MIS", true, KernelInput::mesh,
+      {{"path", "path tracing with next-event estimation and MIS", true, KernelInput::mesh},
        &make<PathTracer>},
-      {"direct",
-       "direct illumination: one light and one BSDF sample with MIS at the first surface "
-       "(the path tracer stopped after one bounce; --bounces is ignored)",
-       true, KernelInput::mesh, &make<DirectLighting>},
-      {"ao", "ambient occlusion (--ao-rays, --ao-distance)", true, KernelInput::mesh,
+      {{"direct",
+        "direct illumination: one light and one BSDF sample with MIS at the first surface "
+        "(the path tracer stopped after one bounce; --bounces is ignored)",
+        true, KernelInput::mesh},
+       &make<DirectLighting>},
+      {{"ao", "ambient occlusion (--ao-rays, --ao-distance)", true, KernelInput::mesh},
        &make<AmbientOcclusion>},
-      {"depth", "distance to the first surface, one ray per pixel (debugging)", true,
-       KernelInput::mesh, &make<DepthKernel>},
-      {"volume", "volume raycasting (Bruder et al. 2017): --tf, --step", false,
-       KernelInput::volume, &make_volume_raycaster},
+      {{"depth", "distance to the first surface, one ray per pixel (debugging)", true,
+        KernelInput::mesh},
+       &make<DepthKernel>},
+      {{"volume", "volume raycasting (Bruder et al. 2017): --tf, --step", false,
+        KernelInput::volume},
+       &make_volume_raycaster},
   };
   return entries;
 }
 
-bool KernelEntry::accepts(const Scene& scene) const {
+bool KernelDescription::accepts(const Scene& scene) const {
   return input == KernelInput::volume ? scene.volume != nullptr : scene.has_triangles();
 }
 

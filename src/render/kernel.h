@@ -42,19 +42,27 @@ class Kernel {
 // What a kernel renders: a scene's triangles or its volume (Scene::volume).
 enum class KernelInput { mesh, volume };
 
-// One CPU kernel: its name (RenderSettings::kernel, --integrator), a line of help, whether
-// it can render samples at arbitrary positions, what it renders, and how to build it from
-// the representation it needs.
-struct KernelEntry {
+// What a kernel is, on whichever backend runs it: its name (RenderSettings::kernel,
+// --integrator), a line of help, whether it can render samples at arbitrary positions
+// (foveated sampling) and what it renders. Each backend's registry lists entries that add
+// its own factory: the CPU's below, the OpenCL device's in device/opencl/opencl_kernels.h,
+// whose names are CPU kernel names with the same input (so --integrator means one thing on
+// every device; tests/opencl/opencl_kernels_test.cpp checks it). Capabilities
+// (DeviceCapabilities::kernels) are read from the registries, never listed by hand.
+struct KernelDescription {
   std::string name;
   std::string help;
   bool point_samples = false;
   KernelInput input = KernelInput::mesh;
-  // `compact`: trace the compact representation (SceneCache::mesh); volumes ignore it.
-  std::unique_ptr<Kernel> (*make)(SceneCache& scenes, bool compact) = nullptr;
 
   // True when the scene has what this kernel renders.
   bool accepts(const Scene& scene) const;
+};
+
+// One CPU kernel and how to build it from the representation it needs.
+struct KernelEntry : KernelDescription {
+  // `compact`: trace the compact representation (SceneCache::mesh); volumes ignore it.
+  std::unique_ptr<Kernel> (*make)(SceneCache& scenes, bool compact) = nullptr;
 };
 
 // Every CPU kernel, in the order `--help` lists them.

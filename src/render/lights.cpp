@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "render/sampling.h"
+#include "render/shared/sampling.h"
 #include "render/surface.h"
 
 namespace multiray {

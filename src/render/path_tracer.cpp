@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "core/rng.h"
 #include "render/bsdf.h"
-#include "render/sampling.h"
+#include "render/rng.h"
+#include "render/shared/sampling.h"
 #include "render/surface.h"
 
 namespace multiray {
@@ -16,14 +16,9 @@ PinholeCamera::PinholeCamera(const Camera& cam, int width, int height)
   const float tan_half = std::tan(0.5f * cam.fov_y_deg * kPi / 180.0f);
   scale_y = tan_half;
   scale_x = tan_half * float(width) / float(height);
-  inv_w_ = 2.0f / float(width);
-  inv_h_ = 2.0f / float(height);
-}
-
-Ray PinholeCamera::ray(float px, float py) const {
-  const float sx = (px * inv_w_ - 1.0f) * scale_x;
-  const float sy = (1.0f - py * inv_h_) * scale_y;
-  return Ray{eye, normalize(forward + right * sx + up * sy)};
+  const auto f4 = [](Vec3 v) { return mr_float4{v.x, v.y, v.z, 0.0f}; };
+  block_ = CameraBlock{f4(eye), f4(forward), f4(right), f4(up),
+                       mr_float4{scale_x, scale_y, 2.0f / float(width), 2.0f / float(height)}};
 }
 
 PathTracer::PathTracer(const RenderScene& rs) : rs_(rs) {

@@ -10,6 +10,7 @@
 #include "core/image.h"
 #include "render/kernel.h"
 #include "render/render_types.h"
+#include "render/shared/camera.h"
 #include "util/rect.h"
 
 namespace multiray {
@@ -52,14 +53,17 @@ class PathTracer : public Kernel {
 // A Camera prepared for generating rays in an image of width x height pixels.
 struct PinholeCamera {
   PinholeCamera(const Camera& cam, int width, int height);
-  // Primary ray through image position (px, py) in pixels (fractional; y down).
-  Ray ray(float px, float py) const;
+  // Primary ray through image position (px, py) in pixels (fractional; y down):
+  // render/shared/camera.h's camera_dir, as the OpenCL kernels compute it.
+  Ray ray(float px, float py) const { return Ray{eye, camera_dir(&block_, px, py)}; }
+  // The frame as the OpenCL parameter blocks carry it.
+  const CameraBlock& block() const { return block_; }
 
   Vec3 eye, forward, right, up;
   float scale_x, scale_y;  // image-plane half extents at distance 1
 
  private:
-  float inv_w_, inv_h_;
+  CameraBlock block_;
 };
 
 }  // namespace multiray

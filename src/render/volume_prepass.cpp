@@ -5,8 +5,8 @@
 
 #include <oneapi/tbb/parallel_for.h>
 
-#include "core/rng.h"
 #include "render/path_tracer.h"
+#include "render/rng.h"
 #include "render/volume_march.h"
 
 namespace multiray {

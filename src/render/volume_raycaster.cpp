@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "core/rng.h"
 #include "render/path_tracer.h"
+#include "render/rng.h"
 #include "render/volume_march.h"
 
 namespace multiray {

@@ -137,8 +137,12 @@ CpuDevice::~CpuDevice() = default;
 
 DeviceCapabilities CpuDevice::capabilities() {
   DeviceCapabilities caps;
-  for (const KernelEntry& e : cpu_kernels()) caps.kernels.push_back(e.name);
-  caps.sampling = {"uniform", "adaptive", "foveated", "reproject"};
+  bool point_samples = false;
+  for (const KernelEntry& e : cpu_kernels()) {
+    caps.kernels.push_back(e.name);
+    point_samples = point_samples || e.point_samples;
+  }
+  caps.sampling = sampling_modes(point_samples);
   caps.representation = "embree";
   return caps;
 }

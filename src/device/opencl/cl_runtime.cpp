@@ -2,7 +2,6 @@
 
 #include "core/error.h"
 #include "device/opencl/cl_program.h"
-#include "render/path_tracer.h"
 
 namespace multiray {
 
@@ -89,13 +88,6 @@ uint64_t ClLaunchBuffers::read(const ClRuntime& rt, const ClLaunchRect& r, Frame
     total += host_counts[i];
   }
   return total;
-}
-
-ClCamera cl_camera(const ViewSetup& view) {
-  const PinholeCamera cam(view.camera, view.width, view.height);
-  return ClCamera{
-      cl_f4(cam.eye), cl_f4(cam.forward), cl_f4(cam.right), cl_f4(cam.up),
-      cl_float4{{cam.scale_x, cam.scale_y, 2.0f / float(view.width), 2.0f / float(view.height)}}};
 }
 
 }  // namespace multiray

@@ -11,6 +11,7 @@
 #include "core/image.h"
 #include "device/opencl/cl_common.h"
 #include "render/render_types.h"
+#include "render/shared/language.h"
 #include "util/rect.h"
 
 namespace multiray {
@@ -91,13 +92,7 @@ class ClKernelRunner {
   uint64_t scene_bytes = 0;  // bytes of the scene buffers it uploaded
 };
 
-// PinholeCamera's frame as four float4s and its scale (tan half-fov x, tan half-fov y,
-// 2 / width, 2 / height): what both kernels' parameter blocks start with.
-struct ClCamera {
-  cl_float4 eye, forward, right, up, scale;
-};
-ClCamera cl_camera(const ViewSetup& view);
-
-inline cl_float4 cl_f4(Vec3 v, float w = 0) { return cl_float4{{v.x, v.y, v.z, w}}; }
+// `v` and `w` as a float4 of a parameter block (render/shared/language.h).
+inline mr_float4 cl_f4(Vec3 v, float w = 0) { return mr_float4{v.x, v.y, v.z, w}; }
 
 }  // namespace multiray

@@ -11,8 +11,7 @@
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/opencl/cl_runtime.h"
-#include "device/opencl/opencl_path_tracer.h"
-#include "device/opencl/opencl_volume.h"
+#include "device/opencl/opencl_kernels.h"
 #include "device/scene_memory.h"
 
 namespace multiray {
@@ -37,30 +36,42 @@ struct OpenClDevice::Impl {
   std::atomic<double> speed{1.0};
   int units_done = 0;  // over the device's lifetime, for fail_after
 
-  // Builds the kernels for the cache's scene, as the CPU device builds those whose
-  // KernelEntry accepts it: the raycaster for a volume, the path tracer for triangles (and
-  // for a scene with neither, which the path tracer refuses as before).
+  // Builds the kernels whose registry entry accepts the cache's scene (opencl_kernels.h),
+  // as the CPU device builds those of cpu_kernels().
   void setup(const cl::Device& device, SceneCache& scenes) {
     runtime = std::make_unique<ClRuntime>(device, opts.index, opts.tile, opts.work_group);
-    const Scene& scene = scenes.scene();
-    if (scene.volume)
-      kernels.emplace("volume", make_cl_volume_raycaster(*runtime, volume_scene(scenes)));
-    if (!scene.volume || scene.has_triangles())
-      kernels.emplace("path", make_cl_path_tracer(*runtime, scenes.mesh(opts.compact)));
+    for (const ClKernelEntry& e : opencl_kernels())
+      if (e.accepts(scenes.scene()))
+        kernels.emplace(e.name, e.make(*runtime, scenes, opts.compact));
+    if (kernels.empty())
+      throw DeviceError("opencl device " + std::to_string(opts.index) +
+                        ": no OpenCL kernel renders this scene (it has no triangles and no "
+                        "volume)");
   }
-  // Throws std::invalid_argument for a kernel this device did not build.
+  // Throws std::invalid_argument, in one line, for a kernel this device did not build.
   ClKernelRunner& kernel(const std::string& name) {
     const auto it = kernels.find(name);
-    if (it == kernels.end())
-      throw std::invalid_argument("opencl device has no kernel '" + name + "' for this scene");
-    return *it->second;
+    if (it != kernels.end()) return *it->second;
+    if (!find_opencl_kernel(name))
+      throw std::invalid_argument("opencl device has no kernel '" + name + "' (it has " +
+                                  kernel_names() + ")");
+    throw std::invalid_argument("opencl device has no kernel '" + name + "' for this scene");
+  }
+  static std::string kernel_names() {
+    std::string names;
+    for (const ClKernelEntry& e : opencl_kernels()) names += (names.empty() ? "" : ", ") + e.name;
+    return names;
   }
 };
 
 DeviceCapabilities OpenClDevice::capabilities() {
   DeviceCapabilities caps;
-  caps.kernels = {"path", "volume"};
-  caps.sampling = {"uniform", "adaptive", "reproject"};  // sample maps; no foveation
+  bool point_samples = false;
+  for (const ClKernelEntry& e : opencl_kernels()) {
+    caps.kernels.push_back(e.name);
+    point_samples = point_samples || e.point_samples;
+  }
+  caps.sampling = sampling_modes(point_samples);  // sample maps; no foveation
   // A device's own info() names the one it built.
   caps.representation = "opencl-flat-bvh, opencl-compact or opencl-volume";
   return caps;

@@ -1,6 +1,7 @@
 // OpenCL device: the path tracer and the volume raycaster of render/ as OpenCL kernels
 // (kernels/*.cl), on any OpenCL device — GPUs in the field, the CPU through PoCL here.
-// It builds the kernels that accept the scene, as the CPU device does: for triangles the
+// It builds the kernels of its registry (opencl_kernels.h) that accept the scene, as the
+// CPU device does with cpu_kernels(): for triangles the
 // path tracer (opencl_path_tracer.h: flat BVH built on the host, shading records,
 // materials, lights, textures), for a volume the raycaster (opencl_volume.h: the values,
 // then the transfer table per style), uploaded once when the device is created; each work
@@ -45,8 +46,9 @@ class OpenClDevice : public Device {
   OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::string spec);
   ~OpenClDevice() override;
 
-  // The path tracer and the volume raycaster, uniform or per-pixel (adaptive) sampling.
-  // A device's info().caps lists only the kernels it built for its scene.
+  // The kernels of opencl_kernels() (the path tracer and the volume raycaster), uniform or
+  // per-pixel (adaptive) sampling. A device's info().caps lists only the kernels it built
+  // for its scene.
   static DeviceCapabilities capabilities();
 
   const DeviceInfo& info() const override { return info_; }

@@ -6,6 +6,7 @@
 #include "device/opencl/kernel_source.h"
 #include "device/opencl/kernels/launch_params.h"
 #include "device/opencl/scene_buffers.h"
+#include "render/path_tracer.h"
 
 namespace multiray {
 
@@ -67,9 +68,7 @@ class ClPathTracer : public ClKernelRunner {
   KernelStats render_rect(const ViewSetup& view, const RenderSettings& st, Rect r,
                           Framebuffer& out) override {
     KernelStats stats;
-    const ClCamera cam = cl_camera(view);
-    params_.eye = cam.eye, params_.forward = cam.forward, params_.right = cam.right;
-    params_.up = cam.up, params_.scale = cam.scale;
+    params_.camera = PinholeCamera(view.camera, view.width, view.height).block();
     params_.width = cl_uint(view.width);
     params_.spp = cl_int(st.spp);
     params_.max_bounces = cl_int(st.max_bounces);
@@ -85,7 +84,7 @@ class ClPathTracer : public ClKernelRunner {
       // Always `launch_items` work-items (see ClRuntime::build_kernel); those beyond the
       // piece's pixels return at once. Non-blocking writes: the host copies stay
       // unchanged until read() waits for the queue.
-      params_.rect = cl_int4{{piece.x, piece.y, piece.w, piece.h}};
+      params_.rect = mr_int4{piece.x, piece.y, piece.w, piece.h};
       rt_.queue.enqueueWriteBuffer(params_buffer_, CL_FALSE, 0, sizeof(LaunchParams), &params_);
       stats.samples += out_.write_spp(rt_, view, st, piece);
       rt_.queue.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(rt_.launch_items),

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "device/opencl/kernels/volume_params.h"
 #include "device/opencl/volume_kernel_source.h"
+#include "render/path_tracer.h"
 
 namespace multiray {
 
@@ -34,8 +35,8 @@ class ClVolumeRaycaster : public ClKernelRunner {
     // MR_VARG_table is set by use_style, before the first launch.
     params_.lower = cl_f4(v.lower());
     params_.spacing = cl_f4(v.spacing);
-    params_.dims = cl_int4{{v.nx, v.ny, v.nz, 0}};
-    params_.blocks = cl_int4{{vs.blocks.bx, vs.blocks.by, vs.blocks.bz, 0}};
+    params_.dims = mr_int4{v.nx, v.ny, v.nz, 0};
+    params_.blocks = mr_int4{vs.blocks.bx, vs.blocks.by, vs.blocks.bz, 0};
   }
 
   KernelStats render_rect(const ViewSetup& view, const RenderSettings& st, Rect r,
@@ -47,7 +48,7 @@ class ClVolumeRaycaster : public ClKernelRunner {
     KernelStats stats;
     for_each_launch(r, rt_.tile, [&](const ClLaunchRect& piece) {
       // Always `launch_items` work-items (see ClRuntime::build_kernel).
-      params_.rect = cl_int4{{piece.x, piece.y, piece.w, piece.h}};
+      params_.rect = mr_int4{piece.x, piece.y, piece.w, piece.h};
       rt_.queue.enqueueWriteBuffer(params_buffer_, CL_FALSE, 0, sizeof(VolumeParams), &params_);
       stats.samples += out_.write_spp(rt_, view, st, piece);
       rt_.queue.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(rt_.launch_items),
@@ -86,11 +87,9 @@ class ClVolumeRaycaster : public ClKernelRunner {
   // The scalars of every launch of this rect, computed as VolumeRaycaster does.
   void set_frame_params(const ViewSetup& view, const RenderSettings& st) {
     const VolumeStyle& style = *style_;
-    const ClCamera cam = cl_camera(view);
-    params_.eye = cam.eye, params_.forward = cam.forward, params_.right = cam.right;
-    params_.up = cam.up, params_.scale = cam.scale;
+    params_.camera = PinholeCamera(view.camera, view.width, view.height).block();
     params_.background = cl_f4(style.background);
-    params_.blocks.s[3] = style.skip_empty ? 1 : 0;
+    params_.blocks.w = style.skip_empty ? 1 : 0;
     params_.seed = cl_ulong(st.seed);
     params_.width = cl_uint(view.width);
     params_.spp = cl_int(st.spp);

@@ -63,12 +63,6 @@ float fresnel_dielectric(float cos_i, float eta) {
 
 float3 reflect3(float3 w, float3 m) { return m * (2.0f * dot3(w, m)) - w; }
 
-// Cosine-weighted direction about +z.
-float3 sample_cosine_hemisphere(float u1, float u2) {
-  const float r = sqrt(u1), phi = 2.0f * PI * u2;
-  return (float3)(r * cos(phi), r * sin(phi), sqrt(fmax(0.0f, 1.0f - u1)));
-}
-
 // f(wo, wi) * |cos theta_i|.
 float3 bsdf_eval(const Bsdf* b, float3 wo, float3 wi) {
   if (b->dielectric || wo.z <= 0.0f || wi.z <= 0.0f) return (float3)(0.0f);

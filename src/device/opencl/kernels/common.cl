@@ -1,11 +1,7 @@
 // Shared definitions of the OpenCL path tracer: buffer records (mirroring
 // render/flat_bvh.h and device/opencl/scene_buffers.h byte for byte) and small vector helpers
-// that evaluate in the same order as core/math.h.
-//
-// Contraction of a*b+c into fma is off: a fused and an unfused evaluation of the same
-// pixel must never coexist (e.g. vectorised and scalar work-item loops), or images would
-// depend on how the frame was split.
-#pragma OPENCL FP_CONTRACT OFF
+// that evaluate in the same order as core/math.h (with dot3, cross3 and normalize3 of
+// render/shared/language.h, which also turns fma contraction off for the whole program).
 
 #define PI 3.14159265358979323846f
 #define INV_PI (1.0f / PI)
@@ -135,14 +131,6 @@ typedef struct {
 float3 load3(const __global float* p) { return (float3)(p[0], p[1], p[2]); }
 
 // Written out (not the built-ins) so the order of operations is core/math.h's.
-float dot3(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-float3 cross3(float3 a, float3 b) {
-  return (float3)(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
-}
-float3 normalize3(float3 a) {
-  const float l = sqrt(dot3(a, a));
-  return l > 0.0f ? a * (1.0f / l) : (float3)(0.0f, 0.0f, 1.0f);
-}
 float max3(float3 a) { return fmax(a.x, fmax(a.y, a.z)); }
 float3 lerp3(float3 a, float3 b, float t) { return a * (1.0f - t) + b * t; }
 bool finite3(float3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }

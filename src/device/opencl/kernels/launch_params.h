@@ -1,8 +1,9 @@
 // The interface of the render_rect kernel (kernels/path_tracer.cl), declared once for both
 // sides: compiled as OpenCL C (embedded first in the kernel source, see CMakeLists.txt
 // here; the disk cache keys on that source, so editing this file rebuilds the binaries)
-// and as C++ by opencl_device.cpp. Plain C: no templates, no namespaces outside
-// `__cplusplus`.
+// and as C++ by opencl_path_tracer.cpp. Written in render/shared/language.h's dialect
+// (whose typedefs mr_float4, mr_int4, mr_uint, ... it uses); the camera block opening it is
+// render/shared/camera.h's, shared with volume_params.h and the CPU's PinholeCamera.
 //
 // LaunchParams: the scalars of one launch, passed as one small `__constant` buffer that
 // the host rewrites before every launch. Not a by-value struct argument: OpenCL leaves the
@@ -23,21 +24,10 @@
 #ifndef MULTIRAY_DEVICE_OPENCL_KERNELS_LAUNCH_PARAMS_H
 #define MULTIRAY_DEVICE_OPENCL_KERNELS_LAUNCH_PARAMS_H
 
-#if defined(__OPENCL_C_VERSION__) || defined(__OPENCL_VERSION__)
-#define MR_OPENCL_C 1
-typedef float4 mr_float4;
-typedef int4 mr_int4;
-typedef int mr_int;
-typedef uint mr_uint;
-typedef ulong mr_ulong;
-#else
-#include <CL/cl_platform.h>
+#ifdef __cplusplus
 #include <stddef.h>
-typedef cl_float4 mr_float4;
-typedef cl_int4 mr_int4;
-typedef cl_int mr_int;
-typedef cl_uint mr_uint;
-typedef cl_ulong mr_ulong;
+
+#include "render/shared/camera.h"
 #endif
 
 #ifdef __cplusplus
@@ -46,13 +36,7 @@ namespace multiray {
 
 // Byte offsets on the right.
 typedef struct {
-  // Camera, as PinholeCamera: eye, then the unit vectors forward, right, up (w unused),
-  // and scale = (tan half-fov x, tan half-fov y, 2 / view width, 2 / view height).
-  mr_float4 eye;      //   0
-  mr_float4 forward;  //  16
-  mr_float4 right;    //  32
-  mr_float4 up;       //  48
-  mr_float4 scale;    //  64
+  CameraBlock camera;  //   0: PinholeCamera::block(), 80 bytes
   // x: the probability that next-event estimation samples the environment (the sky's
   // choice, or 0 when RenderSettings::sample_environment is off); w: the ray-origin
   // offset; y, z unused.
@@ -119,11 +103,8 @@ inline constexpr const char* kRenderRectArgNames[] = {
 static_assert(sizeof(kRenderRectArgNames) / sizeof(kRenderRectArgNames[0]) == MR_ARG_COUNT);
 
 static_assert(sizeof(LaunchParams) == 160);
-static_assert(offsetof(LaunchParams, eye) == 0);
-static_assert(offsetof(LaunchParams, forward) == 16);
-static_assert(offsetof(LaunchParams, right) == 32);
-static_assert(offsetof(LaunchParams, up) == 48);
-static_assert(offsetof(LaunchParams, scale) == 64);
+static_assert(sizeof(CameraBlock) == 80);
+static_assert(offsetof(LaunchParams, camera) == 0);
 static_assert(offsetof(LaunchParams, env_choice_eps) == 80);
 static_assert(offsetof(LaunchParams, rect) == 96);
 static_assert(offsetof(LaunchParams, seed) == 112);

@@ -1,6 +1,6 @@
 // Next-event estimation's light sampling, as render/lights.cpp: a triangle is chosen by
 // binary search in the power CDF (the LightSampler's own table), a point on it by Heitz's
-// low-distortion map (render/sampling.h), its radiance the material's emission at the
+// low-distortion map (render/shared/sampling.h), its radiance the material's emission at the
 // point's uv (emission_at, with the triangle's uvs: shading.cl's uv_at).
 
 typedef struct {
@@ -9,25 +9,6 @@ typedef struct {
   float3 radiance;
   float pdf_area;  // selection probability / triangle area
 } LightSample;
-
-// Barycentrics (b1, b2) of a uniform point (Heitz 2019).
-float2 sample_triangle(float u1, float u2) {
-  float b0, b1;
-  if (u2 > u1) {
-    b0 = u1 * 0.5f;
-    b1 = u2 - b0;
-  } else {
-    b1 = u2 * 0.5f;
-    b0 = u1 - b1;
-  }
-  return (float2)(b1, 1.0f - b0 - b1);
-}
-
-// Veach's power heuristic (beta = 2).
-float power_heuristic(float pdf_a, float pdf_b) {
-  const float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
-  return a + b > 0.0f ? a / (a + b) : 0.0f;
-}
 
 // sc->light_count > 0. The first CDF entry greater than `u` (std::upper_bound) picks one.
 LightSample sample_light(const SceneData* sc, float u, float u1, float u2) {

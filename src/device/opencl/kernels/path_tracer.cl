@@ -11,7 +11,7 @@
 // Next-event estimation from a vertex (PathTracer::sample_light): one sample of either the
 // environment or an emissive triangle; returns the unoccluded contribution (0 if none).
 float3 sample_direct(const SceneData* sc, const Bsdf* bsdf, const Frame* frame, float3 wo,
-                     float3 p, float3 ng, float3 beta, Rng* rng, uint* rays) {
+                     float3 p, float3 ng, float3 beta, RngState* rng, uint* rays) {
   const float p_env = sc->p_env;
   float ul = rng_next(rng);
   const float u1 = rng_next(rng), u2 = rng_next(rng);
@@ -52,7 +52,7 @@ float3 sample_direct(const SceneData* sc, const Bsdf* bsdf, const Frame* frame, 
 }
 
 // One camera path; returns its radiance and adds the rays it traced to *rays.
-float3 trace_path(const SceneData* sc, Ray ray, Rng* rng, int max_bounces, int rr_start,
+float3 trace_path(const SceneData* sc, Ray ray, RngState* rng, int max_bounces, int rr_start,
                   uint* rays) {
   float3 L = (float3)(0.0f), beta = (float3)(1.0f);
   float prev_pdf = 0.0f;
@@ -167,13 +167,11 @@ __kernel REQD_GROUP_SIZE void render_rect(MR_RENDER_RECT_ARGS(MR_ARG_PARAM, MR_A
   uint count = 0;
   const int samples = p.use_spp_map ? (int)spp_map[i] : p.spp;
   for (int s = 0; s < samples; ++s) {
-    Rng rng = rng_for_path(pixel, (uint)s, p.frame, p.view, p.seed);
+    RngState rng = rng_for_path(pixel, (uint)s, p.frame, p.view, p.seed);
     const float jx = rng_next(&rng), jy = rng_next(&rng);
-    const float sx = (((float)x + jx) * p.scale.z - 1.0f) * p.scale.x;
-    const float sy = (1.0f - ((float)y + jy) * p.scale.w) * p.scale.y;
     Ray ray;
-    ray.org = p.eye.xyz;
-    ray.dir = normalize3(p.forward.xyz + p.right.xyz * sx + p.up.xyz * sy);
+    ray.org = p.camera.eye.xyz;
+    ray.dir = camera_dir(&p.camera, (float)x + jx, (float)y + jy);
     ray.tmin = 0.0f;
     ray.tmax = INFINITY;
     const float3 L = trace_path(&sc, ray, &rng, p.max_bounces, p.rr_start, &count);

@@ -2,7 +2,7 @@
 // -DMR_COMPACT=1), traversed as render/compact_accel.cpp does: each node decodes its
 // children's boxes from its own decoded box (so the box travels down the stack with the
 // reference), and leaves test triangles decoded from the quantized mesh. The arithmetic
-// of dequantize_plane and decode_position is the CPU's, with contraction off (common.cl),
+// of dequantize_plane and decode_position is the CPU's, with contraction off (render/shared/language.h),
 // so the boxes are the conservative ones the host checked when it built the tree.
 // Then the ray queries the rest of the kernel uses, over whichever traversal is compiled.
 

@@ -113,14 +113,12 @@ __kernel REQD_GROUP_SIZE void render_volume(MR_VOLUME_ARGS(MR_ARG_PARAM, MR_ARG_
   for (int k = 0; k < samples; ++k) {
     float jx = 0.5f, jy = 0.5f;  // one sample: the pixel centre
     if (samples > 1) {
-      Rng rng = rng_for_path(pixel, (uint)k, p.frame, p.view, p.seed);
+      RngState rng = rng_for_path(pixel, (uint)k, p.frame, p.view, p.seed);
       jx = rng_next(&rng), jy = rng_next(&rng);
     }
-    const float sx = (((float)x + jx) * p.scale.z - 1.0f) * p.scale.x;
-    const float sy = (1.0f - ((float)y + jy) * p.scale.w) * p.scale.y;
     // PinholeCamera::ray normalises, and the CPU raycaster normalises once more.
-    const float3 dir = normalize3(normalize3(p.forward.xyz + p.right.xyz * sx + p.up.xyz * sy));
-    sum += cast(&g, &s, bn, p.lower.xyz, p.background.xyz, p.eye.xyz, dir, &count);
+    const float3 dir = normalize3(camera_dir(&p.camera, (float)x + jx, (float)y + jy));
+    sum += cast(&g, &s, bn, p.lower.xyz, p.background.xyz, p.camera.eye.xyz, dir, &count);
   }
   radiance[i] = samples > 0 ? (float4)(sum * (1.0f / (float)samples), 0.0f) : (float4)(0.0f);
   steps[i] = count;

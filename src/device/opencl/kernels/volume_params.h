@@ -23,13 +23,7 @@ namespace multiray {
 
 // Byte offsets on the right.
 typedef struct {
-  // Camera, as in LaunchParams (PinholeCamera's eye, forward, right, up; scale = (tan
-  // half-fov x, tan half-fov y, 2 / view width, 2 / view height)).
-  mr_float4 eye;         //   0
-  mr_float4 forward;     //  16
-  mr_float4 right;       //  32
-  mr_float4 up;          //  48
-  mr_float4 scale;       //  64
+  CameraBlock camera;    //   0: PinholeCamera::block(), 80 bytes
   mr_float4 lower;       //  80: Volume::lower(), world units (w unused)
   mr_float4 spacing;     //  96: Volume::spacing, world units (w unused)
   mr_float4 background;  // 112: VolumeStyle::background (w unused)
@@ -76,6 +70,7 @@ inline constexpr const char* kVolumeArgNames[] = {MR_VOLUME_ARGS(MR_ARG_NAME, MR
 static_assert(sizeof(kVolumeArgNames) / sizeof(kVolumeArgNames[0]) == MR_VARG_COUNT);
 
 static_assert(sizeof(VolumeParams) == 240);
+static_assert(offsetof(VolumeParams, camera) == 0);
 static_assert(offsetof(VolumeParams, lower) == 80);
 static_assert(offsetof(VolumeParams, spacing) == 96);
 static_assert(offsetof(VolumeParams, background) == 112);

@@ -1,0 +1,78 @@
+// What a render request says, as plain data: the settings, one view of a frame, a sample
+// at an arbitrary image position, and what a kernel reports back. Free of Embree, OpenCL
+// and the prepared scene on purpose: device/device.h (the Device interface, which every
+// layer above sees) includes this header and nothing heavier from render/
+// (tests/render/device_header_test.cpp checks it). The scene prepared for rendering is
+// render_types.h.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"  // Camera (plain data; scene.h includes only core/math.h)
+
+namespace multiray {
+
+struct FoveationFrame;
+struct VolumeStyle;  // render/volume_raycaster.h
+
+struct RenderSettings {
+  int spp = 16;                 // samples per pixel (unless the view has a sample map)
+  int max_bounces = 8;          // scattering events per path
+  int rr_start = 3;             // first bounce at which Russian roulette may end a path
+  uint64_t seed = 0;            // changes every random number (for variance tests)
+  std::string kernel = "path";  // which kernel renders (render/kernel.h: cpu_kernels())
+  int ao_rays = 2;              // occlusion rays per AO sample
+  float ao_distance = 0.0f;     // occlusion range, scene units; 0: 0.3 of the scene size
+  // Ray step relative to the user's, for kernels that march along rays (volumes); set by
+  // the engine from Plan::quality for frame-time targeting. Surface kernels ignore it.
+  float step_scale = 1.0f;
+  // Next-event estimation of the environment (render/environment.h). Off, the sky is
+  // reached by BSDF sampling alone, as before it was sampled: for variance comparisons.
+  bool sample_environment = true;
+  // The volume kernel's transfer function, block opacities and step (null for meshes);
+  // shared, immutable, replaced when the transfer function changes.
+  std::shared_ptr<const VolumeStyle> volume_style = {};
+};
+
+// One view of one frame: what the camera sees and the size of its image.
+struct ViewSetup {
+  Camera camera;
+  int width = 0, height = 0;
+  uint32_t view = 0;
+  uint32_t frame = 0;
+  // Adaptive edge sampling (Harada, GPU Pro 7 ch. 4, after Mitchell 1987): samples of each
+  // pixel of this view, row-major; null means RenderSettings::spp everywhere. Must outlive
+  // the frame.
+  const std::vector<uint8_t>* spp_map = nullptr;
+  // Foveated sampling (foveated.h): the frame's samples and neighbour lists; pixels are
+  // reconstructed from samples instead of being sampled themselves. Null: not foveated.
+  // Must outlive the frame.
+  const FoveationFrame* foveation = nullptr;
+
+  int samples_at(uint32_t pixel, const RenderSettings& s) const {
+    return spp_map ? int((*spp_map)[pixel]) : s.spp;
+  }
+};
+
+// One camera sample at a given image position (pixels, fractional, x right, y down) whose
+// random numbers are keyed by (key, 0, frame, view, seed): the integrators' entry point for
+// sample patterns that are not per-pixel (foveated sampling keys by pattern index).
+struct ImageSample {
+  float x = 0, y = 0;
+  uint32_t key = 0;
+};
+
+struct KernelStats {
+  uint64_t samples = 0;  // camera paths
+  uint64_t rays = 0;     // closest-hit plus shadow rays (volumes: camera rays)
+  uint64_t steps = 0;    // volume samples along rays (7 fetches each), volume kernel only
+  KernelStats& operator+=(const KernelStats& o) {
+    samples += o.samples, rays += o.rays, steps += o.steps;
+    return *this;
+  }
+};
+
+}  // namespace multiray

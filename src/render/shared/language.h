@@ -1,0 +1,117 @@
+// The one dialect of the physics that C++ and OpenCL C share (pbrt-v4's PBRT_CPU_GPU,
+// OSPRay's *Shared.h). Every header under render/shared/ is written in it, once, and
+// compiled twice: by the C++ compiler as part of render/ (through ordinary #includes) and
+// by the OpenCL C 1.2 compiler as part of the device's programs, which embed these headers
+// as text ahead of their own .cl files (src/device/opencl/CMakeLists.txt), so an installed
+// binary needs no file at run time and the kernel cache's key (the source) covers them.
+//
+// Rules for code in render/shared/ (the CPU's images must not change by a bit, and the
+// OpenCL C must be standard 1.2, not what one driver tolerates):
+// - Functions are MR_DEVICE (C++: inline in namespace multiray; OpenCL C: ordinary
+//   program-scope functions) or MR_CONSTEXPR for pure integer arithmetic.
+// - Types: float, mr_int, mr_uint, mr_ulong (64-bit literals: MR_U64(0x...)); vectors
+//   mr_float2 / mr_float3 (C++: core/math.h's Vec2 / Vec3; OpenCL C: float2 / float3),
+//   built with MR_FLOAT2(x, y) / MR_FLOAT3(x, y, z), combined with + - * and the helpers
+//   below; mr_float4 / mr_int4 only in blocks the host writes (16 bytes each, MR_XYZ
+//   reads a float4's first three). Float literals carry `f`; no double anywhere.
+// - The helpers dot3, cross3, normalize3 are core/math.h's dot, cross, normalize in C++
+//   and written out in the same order of operations for OpenCL C; mr_fmax is std::max in
+//   C++ and fmax in OpenCL C (equal unless an argument is NaN, which no caller passes).
+// - Pointers point to private memory (OpenCL C 1.2 has no generic address space).
+// - A shared header includes its shared dependencies only for C++ (#ifdef __cplusplus):
+//   the programs embed each file once, in dependency order. Include guards, not #pragma
+//   once: in a program the text is part of the main file.
+#ifndef MULTIRAY_RENDER_SHARED_LANGUAGE_H
+#define MULTIRAY_RENDER_SHARED_LANGUAGE_H
+
+// OpenCL C 1.2 compilers define __OPENCL_C_VERSION__; __OPENCL_VERSION__ is the device's
+// (PoCL defines it, a bare front end such as clang -x cl does not).
+#if defined(__OPENCL_C_VERSION__) || defined(__OPENCL_VERSION__)
+
+#define MR_OPENCL_C 1
+// Contraction of a*b+c into fma is off: a fused and an unfused evaluation of the same
+// pixel must never coexist (e.g. vectorised and scalar work-item loops), or images would
+// depend on how the frame was split. (The C++ side is built for generic x86-64, whose
+// instruction set has no fma to contract into; docs/testing.md.)
+#pragma OPENCL FP_CONTRACT OFF
+
+#define MR_DEVICE
+#define MR_CONSTEXPR
+#define MR_NAMESPACE_BEGIN
+#define MR_NAMESPACE_END
+#define MR_U64(x) x##UL
+
+typedef int mr_int;
+typedef uint mr_uint;
+typedef ulong mr_ulong;
+typedef float2 mr_float2;
+typedef float3 mr_float3;
+typedef float4 mr_float4;
+typedef int4 mr_int4;
+
+#define MR_PI 3.14159265358979323846f
+#define MR_FLOAT2(x, y) ((float2)((x), (y)))
+#define MR_FLOAT3(x, y, z) ((float3)((x), (y), (z)))
+#define MR_XYZ(v) ((v).xyz)
+#define mr_sqrt sqrt
+#define mr_cos cos
+#define mr_sin sin
+#define mr_fmax fmax
+
+// As core/math.h's dot, cross and normalize, operation for operation (not the built-ins,
+// whose order of operations is the driver's).
+float dot3(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+float3 cross3(float3 a, float3 b) {
+  return (float3)(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+float3 normalize3(float3 a) {
+  const float l = sqrt(dot3(a, a));
+  return l > 0.0f ? a * (1.0f / l) : (float3)(0.0f, 0.0f, 1.0f);
+}
+
+#else  // C++
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "core/math.h"
+
+#define MR_DEVICE inline
+#define MR_CONSTEXPR constexpr
+#define MR_NAMESPACE_BEGIN namespace multiray {
+#define MR_NAMESPACE_END }
+#define MR_U64(x) x##ull
+
+namespace multiray {
+typedef int32_t mr_int;
+typedef uint32_t mr_uint;
+typedef uint64_t mr_ulong;
+typedef Vec2 mr_float2;
+typedef Vec3 mr_float3;
+// OpenCL C's float4 and int4 as the host writes them into parameter blocks.
+struct alignas(16) mr_float4 {
+  float x, y, z, w;
+};
+struct alignas(16) mr_int4 {
+  int32_t x, y, z, w;
+};
+static_assert(sizeof(mr_float4) == 16 && sizeof(mr_int4) == 16);
+
+inline float dot3(Vec3 a, Vec3 b) { return dot(a, b); }
+inline Vec3 cross3(Vec3 a, Vec3 b) { return cross(a, b); }
+inline Vec3 normalize3(Vec3 a) { return normalize(a); }
+}  // namespace multiray
+
+#define MR_PI ::multiray::kPi
+#define MR_FLOAT2(x, y) (::multiray::Vec2{(x), (y)})
+#define MR_FLOAT3(x, y, z) (::multiray::Vec3((x), (y), (z)))
+#define MR_XYZ(v) (::multiray::Vec3((v).x, (v).y, (v).z))
+#define mr_sqrt std::sqrt
+#define mr_cos std::cos
+#define mr_sin std::sin
+#define mr_fmax std::max
+
+#endif
+
+#endif  // MULTIRAY_RENDER_SHARED_LANGUAGE_H
