@@ -1,4 +1,4 @@
-// Fuzz target of the messages between ranks (device/remote/protocol.h, scene_codec.h):
+// Fuzz target of the messages between ranks (distributed/protocol.h, scene_codec.h):
 // every decoder must return a message or throw WireError / InputError for any bytes, and
 // a message it returns, encoded, must survive a further round trip unchanged.
 //
@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "core/error.h"
-#include "device/remote/protocol.h"
-#include "device/remote/scene_codec.h"
-#include "device/remote/wire.h"
+#include "distributed/protocol.h"
+#include "distributed/scene_codec.h"
+#include "distributed/wire.h"
 #include "scene/builders.h"
 
 namespace {

@@ -274,6 +274,8 @@ void check_distributed(const RunConfig& o) {
 }
 }  // namespace
 
+int serve_as_worker(Run& s) { return s.cluster->serve(s.device_ptrs(), s.settings); }
+
 Run build_run(const RunConfig& o, int lanes, const std::function<void()>& before_load) {
   Run s;
   if (!o.distributed.enabled) {

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "distributed/cluster.h"
 #include "engine/frame_views.h"
 #include "engine/session.h"
 #include "render/scene_cache.h"
-#include "run/cluster.h"
 #include "run/parse_options.h"
 #include "run/run_config.h"
 #include "run/volume_run.h"

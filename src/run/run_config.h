@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "distributed/options.h"
 #include "render/foveated_pattern.h"
 
 namespace multiray {
@@ -23,19 +24,6 @@ struct VolumeOptions {
   std::string adapt_space = "ray";  // ray | image | hybrid
   int prepass_stride = 4;           // pixels per pre-pass ray each way; 0: no prediction
   std::string sequence;             // interaction sequence file (sequence.h)
-};
-
-// --distributed and its options (run/cluster.h).
-struct DistributedOptions {
-  bool enabled = false;
-  std::vector<std::string> rank_devices;  // "R=DEVICES": rank R's --devices
-  bool master_renders = false;            // rank 0 also renders with --devices
-  std::string rank_balancer = "semi-static";
-  bool same_direction = false;  // workers split their part along the master's axis
-  std::string link = "none";
-  double worker_timeout_s = 10;
-  std::string depth = "auto";         // auto (adapts, from 2) or a fixed depth
-  std::string scene_from = "shared";  // shared: every rank loads it; master: sent to workers
 };
 
 // Everything render, bench and view share.
@@ -71,7 +59,7 @@ struct RunConfig {
   FoveationParams foveation;         // foveated: --fovea-spp, --fovea-radius, --periphery-spp
   bool allow_outside_paths = false;  // files a scene names may lie outside its folder
   std::string max_memory = "auto";   // bytes (K/M/G suffixes) or auto: half of physical RAM
-  DistributedOptions distributed;    // --distributed and its options (run/cluster.h)
+  DistributedOptions distributed;    // --distributed and its options (distributed/cluster.h)
 };
 
 }  // namespace multiray

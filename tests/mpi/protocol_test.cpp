@@ -5,9 +5,9 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "device/remote/link.h"
-#include "device/remote/protocol.h"
-#include "device/remote/wire.h"
+#include "distributed/link.h"
+#include "distributed/protocol.h"
+#include "distributed/wire.h"
 
 namespace multiray::remote {
 namespace protocol_test {

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "device/remote/scene_codec.h"
-#include "device/remote/wire.h"
+#include "distributed/scene_codec.h"
+#include "distributed/wire.h"
 #include "scene/builders.h"
 #include "volume/volume.h"
 

@@ -1,7 +1,7 @@
-#include "device/remote/scene_codec.h"
+#include "distributed/scene_codec.h"
 
 #include "core/error.h"
-#include "device/remote/wire.h"
+#include "distributed/wire.h"
 #include "volume/volume.h"
 
 namespace multiray::remote {

@@ -1,5 +1,5 @@
 // A worker rank of a distributed run (`--distributed`, ranks >= 1): it serves the master's
-// requests (device/remote/protocol.h) over its own local devices until told to quit.
+// requests (distributed/protocol.h) over its own local devices until told to quit.
 // Every item the master sends is one region to balance across the local devices, with
 // the worker's own balancer (RegionBalancer over --rank-balancer): Harada's hierarchy,
 // where the master splits the frame into bands across machines and each machine splits
@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "balance/region.h"
-#include "device/remote/protocol.h"
-#include "device/remote/transport.h"
+#include "distributed/protocol.h"
+#include "distributed/transport.h"
 #include "engine/engine.h"
 
 namespace multiray {

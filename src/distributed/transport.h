@@ -21,7 +21,7 @@
 #include <thread>
 #include <vector>
 
-#include "device/remote/link.h"
+#include "distributed/link.h"
 
 namespace multiray::remote {
 

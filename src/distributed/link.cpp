@@ -1,4 +1,4 @@
-#include "device/remote/link.h"
+#include "distributed/link.h"
 
 #include <algorithm>
 #include <cmath>

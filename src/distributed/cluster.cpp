@@ -1,4 +1,4 @@
-#include "run/cluster.h"
+#include "distributed/cluster.h"
 
 #include <cmath>
 #include <csignal>
@@ -10,14 +10,13 @@
 #include "core/error.h"
 
 #ifdef MULTIRAY_HAS_MPI
-#include "device/remote/protocol.h"
-#include "device/remote/remote_device.h"
-#include "device/remote/scene_codec.h"
-#include "device/remote/transport.h"
-#include "device/remote/wire.h"
-#include "engine/rank_worker.h"
+#include "distributed/protocol.h"
+#include "distributed/rank_worker.h"
+#include "distributed/remote_device.h"
+#include "distributed/scene_codec.h"
+#include "distributed/transport.h"
+#include "distributed/wire.h"
 #endif
-#include "run/run.h"
 
 namespace multiray {
 
@@ -176,28 +175,28 @@ std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {
   return devices;
 }
 
-int serve_as_worker(Run& s) {
+int Cluster::serve(const std::vector<Device*>& devices, const RenderSettings& settings) {
   // mpirun forwards Ctrl-C and SIGTERM to every rank. The master finishes its frame and
   // writes its outputs (app/interrupt.h), which needs the workers' results: they carry on
   // until the master tells them to quit.
   std::signal(SIGINT, SIG_IGN);
   std::signal(SIGTERM, SIG_IGN);
   RankWorkerOptions wo;
-  wo.balancer = s.cluster->options().rank_balancer;
-  wo.transposed = !s.cluster->options().same_direction;
+  wo.balancer = options_.rank_balancer;
+  wo.transposed = !options_.same_direction;
   // Testing aid (tests/mpi): MULTIRAY_TEST_KILL=R:F makes rank R kill itself when it is
   // asked for frame F, as a crashed machine would vanish.
   if (const char* kill = std::getenv("MULTIRAY_TEST_KILL")) {
     int r = -1, f = -1;
-    if (std::sscanf(kill, "%d:%d", &r, &f) == 2 && r == s.cluster->rank()) wo.kill_at_frame = f;
+    if (std::sscanf(kill, "%d:%d", &r, &f) == 2 && r == rank()) wo.kill_at_frame = f;
   }
-  RankWorker worker(s.cluster->transport(), s.device_ptrs(), s.settings, wo);
+  RankWorker worker(*transport_, devices, settings, wo);
   return worker.serve();
 }
 
 #else  // built without MPI
 
-int serve_as_worker(Run&) { return 0; }
+int Cluster::serve(const std::vector<Device*>&, const RenderSettings&) { return 0; }
 
 Cluster::Cluster(const DistributedOptions& o) : options_(o) {
   throw InputError(

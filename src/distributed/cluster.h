@@ -1,8 +1,8 @@
 // `--distributed`: one mpirun job, rank 0 the master, the other ranks workers (Seo et al.
 // 2022 §4; Harada, GPU Pro 7 Fig. 4.5). Every rank parses the same command line and loads
 // the scene from the same path; the master plans, composites and writes, and sees each
-// worker as one device (device/remote/remote_device.h); each worker renders what it is
-// sent over its own local devices (engine/rank_worker.h). Built only with MPI
+// worker as one device (distributed/remote_device.h); each worker renders what it is
+// sent over its own local devices (distributed/rank_worker.h). Built only with MPI
 // (MULTIRAY_WITH_MPI); without it --distributed is refused with one line.
 #pragma once
 
@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "device/device.h"
-#include "device/remote/link.h"
-#include "run/run_config.h"
+#include "distributed/link.h"
+#include "distributed/options.h"
 #include "scene/scene.h"
 
 namespace multiray::remote {
@@ -20,8 +20,6 @@ class Transport;
 }
 
 namespace multiray {
-
-struct Run;
 
 // A worker printing nothing and ending with this exit code (the master reports why).
 struct QuietExit {
@@ -56,6 +54,9 @@ class Cluster {
   // Master: waits for every worker's hello and returns one device per worker. Throws
   // InputError naming the first worker that cannot start, DeviceError for a silent one.
   std::vector<std::unique_ptr<Device>> connect_workers();
+  // Worker: serves the master over `devices` with `settings` (the master sends each
+  // frame's changes) until it says quit; returns the exit code.
+  int serve(const std::vector<Device*>& devices, const RenderSettings& settings);
 
  private:
   DistributedOptions options_;

@@ -1,9 +1,9 @@
-#include "engine/rank_worker.h"
+#include "distributed/rank_worker.h"
 
 #include <csignal>
 
 #include "core/error.h"
-#include "device/remote/wire.h"
+#include "distributed/wire.h"
 
 namespace multiray {
 

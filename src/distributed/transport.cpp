@@ -1,4 +1,4 @@
-#include "device/remote/transport.h"
+#include "distributed/transport.h"
 
 #include <mpi.h>
 

@@ -1,8 +1,8 @@
-#include "device/remote/protocol.h"
+#include "distributed/protocol.h"
 
 #include <cmath>
 
-#include "device/remote/wire.h"
+#include "distributed/wire.h"
 
 namespace multiray::remote {
 

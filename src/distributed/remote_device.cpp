@@ -1,9 +1,9 @@
-#include "device/remote/remote_device.h"
+#include "distributed/remote_device.h"
 
 #include <algorithm>
 
 #include "core/clock.h"
-#include "device/remote/wire.h"
+#include "distributed/wire.h"
 
 namespace multiray::remote {
 

@@ -25,8 +25,8 @@
 #include <vector>
 
 #include "device/device.h"
-#include "device/remote/protocol.h"
-#include "device/remote/transport.h"
+#include "distributed/protocol.h"
+#include "distributed/transport.h"
 
 namespace multiray::remote {
 
