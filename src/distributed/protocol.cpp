@@ -1,8 +1,10 @@
 #include "distributed/protocol.h"
 
 #include <cmath>
+#include <iterator>
 
 #include "distributed/wire.h"
+#include "util/aggregate.h"
 
 namespace multiray::remote {
 
@@ -45,18 +47,37 @@ WorkItem get_item(ByteReader& r) {
   return it;
 }
 
+// RenderSettings on the wire: the fields for_each_sent_setting lists, in its order.
+static_assert(aggregate_field_count<RenderSettings>() ==
+                  kSentSettings + std::size(kRankLocalSettings),
+              "a RenderSettings field is neither sent nor rank-local: add it to "
+              "for_each_sent_setting or kRankLocalSettings (render/render_settings.h)");
+
+struct SettingWriter {
+  ByteWriter& w;
+  void operator()(const char*, int v) const { w.put(int32_t(v)); }
+  void operator()(const char*, uint64_t v) const { w.put(v); }
+  void operator()(const char*, float v) const { w.put(v); }
+  void operator()(const char*, bool v) const { w.put(uint8_t(v)); }
+  void operator()(const char*, const std::string& v) const { w.put_string(v); }
+};
+
+struct SettingReader {
+  ByteReader& r;
+  void operator()(const char*, int& v) const { v = r.get<int32_t>(); }
+  void operator()(const char*, uint64_t& v) const { v = r.get<uint64_t>(); }
+  void operator()(const char*, float& v) const { v = r.get<float>(); }
+  void operator()(const char*, bool& v) const { v = r.get<uint8_t>() != 0; }
+  void operator()(const char*, std::string& v) const { v = r.get_string(); }
+};
+
 void put_settings(ByteWriter& w, const RenderSettings& s) {
-  w.put(int32_t(s.spp)), w.put(int32_t(s.max_bounces)), w.put(int32_t(s.rr_start));
-  w.put(s.seed), w.put_string(s.kernel), w.put(int32_t(s.ao_rays)), w.put(s.ao_distance);
-  w.put(s.step_scale), w.put(uint8_t(s.sample_environment));
+  for_each_sent_setting(s, SettingWriter{w});
 }
 
 RenderSettings get_settings(ByteReader& r) {
   RenderSettings s;
-  s.spp = r.get<int32_t>(), s.max_bounces = r.get<int32_t>(), s.rr_start = r.get<int32_t>();
-  s.seed = r.get<uint64_t>(), s.kernel = r.get_string(), s.ao_rays = r.get<int32_t>();
-  s.ao_distance = r.get<float>(), s.step_scale = r.get<float>();
-  s.sample_environment = r.get<uint8_t>() != 0;
+  for_each_sent_setting(s, SettingReader{r});
   if (s.spp < 0 || s.max_bounces < 0 || s.ao_rays < 0 || !std::isfinite(s.step_scale) ||
       !(s.step_scale > 0))
     throw WireError("render settings out of range");

@@ -37,6 +37,22 @@ struct RenderSettings {
   std::shared_ptr<const VolumeStyle> volume_style = {};
 };
 
+// The settings another rank needs, in wire order, each given to `f` as (name, field): the
+// MPI codec (distributed/protocol.cpp) writes and reads exactly these. A new field of
+// RenderSettings goes here, or into kRankLocalSettings when every rank makes its own; the
+// codec counts RenderSettings' fields at compile time and does not build while one is in
+// neither list.
+template <class Settings, class F>
+void for_each_sent_setting(Settings& s, F&& f) {
+  f("spp", s.spp), f("max_bounces", s.max_bounces), f("rr_start", s.rr_start);
+  f("seed", s.seed), f("kernel", s.kernel), f("ao_rays", s.ao_rays);
+  f("ao_distance", s.ao_distance), f("step_scale", s.step_scale);
+  f("sample_environment", s.sample_environment);
+}
+inline constexpr size_t kSentSettings = 9;
+// Built by each rank from its own data: the volume style (from the transfer function).
+inline constexpr const char* kRankLocalSettings[] = {"volume_style"};
+
 // One view of one frame: what the camera sees and the size of its image.
 struct ViewSetup {
   Camera camera;

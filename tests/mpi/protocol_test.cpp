@@ -4,6 +4,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <string>
+#include <type_traits>
+#include <vector>
+
 #include "core/error.h"
 #include "distributed/link.h"
 #include "distributed/protocol.h"
@@ -82,6 +86,43 @@ TEST(Protocol, MessagesSurviveARoundTrip) {
   EXPECT_DOUBLE_EQ(decode_speed(encode_speed(0.25)), 0.25);
   EXPECT_TRUE(decode_quit(encode_quit(true)));
   EXPECT_FALSE(decode_quit(encode_quit(false)));
+}
+
+// Every setting for_each_sent_setting lists travels: each one changed from its default on
+// its own arrives changed, and nothing else does. (A field missing from the list entirely
+// stops protocol.cpp from compiling; see render/render_settings.h.)
+TEST(Protocol, EverySentSettingTravels) {
+  const RenderSettings defaults;
+  std::vector<std::string> names;
+  for_each_sent_setting(defaults, [&](const char* name, const auto&) { names.push_back(name); });
+  EXPECT_EQ(names.size(), kSentSettings);
+  for (size_t k = 0; k < names.size(); ++k) {
+    FrameMessage m = sample_frame();
+    m.settings = RenderSettings{};
+    size_t i = 0;
+    // Field k gets a value unlike its default (and valid on the wire).
+    for_each_sent_setting(m.settings, [&](const char*, auto& v) {
+      using T = std::decay_t<decltype(v)>;
+      if (i++ != k) return;
+      if constexpr (std::is_same_v<T, std::string>)
+        v = "depth";
+      else if constexpr (std::is_same_v<T, bool>)
+        v = !v;
+      else
+        v = v + T(2);
+    });
+    const RenderSettings got = decode_frame(encode(m)).settings;
+    size_t j = 0;
+    for_each_sent_setting(got, [&](const char* name, const auto& v) {
+      const size_t at = j++;
+      size_t n = 0;
+      for_each_sent_setting(at == k ? m.settings : defaults, [&](const char*, const auto& w) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(w)>, std::decay_t<decltype(v)>>)
+          if (n == at) EXPECT_EQ(v, w) << name << " (changed: " << names[k] << ")";
+        ++n;
+      });
+    });
+  }
 }
 
 TEST(Protocol, EveryTruncationIsRefused) {
