@@ -123,13 +123,11 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
       ->capture_default_str();
   cmd.add_option("--devices", o.devices,
                  "Comma-separated devices, each TYPE[:KEY=VALUE...], e.g. "
-                 "cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.33. cpu keys: threads "
-                 "(0 = all), cores (0, 0+1, 0-3), speed (emulated slowdown, (0,1]), quota "
-                 "(real cgroup throttle, (0,1] of a core), tile. opencl[:N] (N as `multiray "
-                 "devices` lists) keys: speed, tile, wg (work-group size), cores (pin the "
-                 "driving thread). With PoCL, POCL_DEVICES=\"basic basic\" gives two independent "
-                 "one-core devices opencl:0 and opencl:1; POCL_MAX_PTHREAD_COUNT=N limits its "
-                 "default pthread device to N threads")
+                 "cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.33. " +
+                     device_keys_help() +
+                     ". With PoCL, POCL_DEVICES=\"basic basic\" gives two independent "
+                     "one-core devices opencl:0 and opencl:1; POCL_MAX_PTHREAD_COUNT=N limits "
+                     "its default pthread device to N threads")
       ->capture_default_str();
   cmd.add_option(
          "--env", o.env,

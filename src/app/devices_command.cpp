@@ -78,17 +78,20 @@ Runner add_devices_command(CLI::App& app) {
     for (const auto& [type, caps] : offer.backends)
       fmt::print("  {:<7} kernels: {}; sampling: {}; representation: {}\n", type,
                  list(caps.kernels), list(caps.sampling), caps.representation);
-    fmt::print(
-        "\nAdd :speed=S (emulated slowdown) or :quota=Q (real cgroup throttle) to any cpu "
-        "spec.\n");
+    fmt::print("\nKeys of each backend (TYPE:KEY=VALUE:...):\n");
+    for (const BackendEntry& b : device_backend_choices()) {
+      fmt::print("  {}: {}\n", b.name, b.help);
+      for (const BackendParam& p : b.params)
+        fmt::print("    {:<11} {:<12} {}{}\n", p.key, p.values, p.help,
+                   p.fallback.empty() ? "" : " (default " + p.fallback + ")");
+    }
     if (offer.opencl_built) {
       const bool none = std::none_of(offer.devices.begin(), offer.devices.end(),
                                      [](const OfferedDevice& d) { return d.type == "opencl"; });
       if (none) fmt::print("No OpenCL device found (install an ICD, e.g. pocl-opencl-icd).\n");
       fmt::print(
-          "OpenCL keys: speed, tile, wg, cores. With PoCL, POCL_DEVICES=\"basic basic\" gives "
-          "two independent one-core devices; POCL_MAX_PTHREAD_COUNT=N limits its pthread "
-          "device.\n");
+          "With PoCL, POCL_DEVICES=\"basic basic\" gives two independent one-core devices; "
+          "POCL_MAX_PTHREAD_COUNT=N limits its pthread device.\n");
     } else {
       fmt::print(
           "This multiray was built without OpenCL (-DMULTIRAY_WITH_OPENCL=ON to require "

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "device/cpu/cpu_device.h"
 #include "device/scene_memory.h"
+#include "util/parse.h"
 #include "util/spec.h"
 #ifdef MULTIRAY_HAS_OPENCL
 #include "device/opencl/opencl_device.h"
@@ -28,20 +29,31 @@ auto as_input_error(F&& f) -> decltype(f()) {
   }
 }
 
-// One device of a `--devices` list, with a known type that this multiray can run.
+std::vector<std::string> param_keys(const BackendEntry& b) {
+  std::vector<std::string> keys;
+  for (const BackendParam& p : b.params) keys.push_back(p.key);
+  return keys;
+}
+
+// One device of a `--devices` list, with a known type that this multiray can run and no
+// key its backend does not take.
 Spec device_spec(const std::string& item) {
   SpecSyntax syntax;
   syntax.label = "--devices";
   syntax.positional_key = "index";  // opencl:N
   Spec spec(item, syntax);
-  if (spec.name() != "cpu" && spec.name() != "opencl")
-    spec.fail("unknown device type '" + spec.name() + "' (known: cpu, opencl)");
+  if (!find_backend(spec.name())) {
 #ifndef MULTIRAY_HAS_OPENCL
-  if (spec.name() == "opencl")
-    spec.fail(
-        "this multiray was built without OpenCL (install ocl-icd-opencl-dev, "
-        "opencl-clhpp-headers and configure with -DMULTIRAY_WITH_OPENCL=ON)");
+    if (spec.name() == "opencl")
+      spec.fail(
+          "this multiray was built without OpenCL (install ocl-icd-opencl-dev, "
+          "opencl-clhpp-headers and configure with -DMULTIRAY_WITH_OPENCL=ON)");
 #endif
+    std::vector<std::string> known;
+    for (const BackendEntry& b : device_backends()) known.push_back(b.name);
+    spec.fail("unknown device type '" + spec.name() + "' (known: " + join(known) + ")");
+  }
+  spec.accept_only(param_keys(*find_backend(spec.name())));
   return spec;
 }
 
@@ -86,7 +98,6 @@ std::vector<int> read_cores(Spec& spec) {
 }
 
 CpuDeviceOptions read_cpu_options(Spec& spec) {
-  spec.accept_only({"threads", "cores", "speed", "quota", "tile", "fail_after", "compact", "mem"});
   CpuDeviceOptions o;
   o.threads = spec.get_int("threads", o.threads, 1, 1024);
   o.cores = read_cores(spec);
@@ -101,7 +112,6 @@ CpuDeviceOptions read_cpu_options(Spec& spec) {
 
 #ifdef MULTIRAY_HAS_OPENCL
 OpenClDeviceOptions read_opencl_options(Spec& spec) {
-  spec.accept_only({"index", "speed", "tile", "wg", "cores", "fail_after", "compact", "mem"});
   OpenClDeviceOptions o;
   o.index = spec.get_int("index", o.index, 0, 65535);
   o.speed = spec.get_double("speed", o.speed, kMinEmulatedSpeed, 1.0);  // emulated
@@ -115,7 +125,73 @@ OpenClDeviceOptions read_opencl_options(Spec& spec) {
 }
 #endif
 
+// Keys both backends take.
+const BackendParam kSpeed{"speed", "[0.01, 1]", "1",
+                          "emulated speed: the device idles after each item (always labelled "
+                          "emulated)"};
+const BackendParam kCores{"cores", "0, 0+2, 0-3", "", "cores to pin to"};
+const BackendParam kCompact{"compact", "0 or 1", "0",
+                            "trace the compact scene (quantized mesh and tree)"};
+const BackendParam kMem{"mem", "1M..1024T", "",
+                        "emulated memory limit (512M, 2G): a scene that does not fit the "
+                        "representation is refused"};
+const BackendParam kFailAfter{"fail_after", "0..2^31-1", "0",
+                              "testing aid: the device fails after this many items (0: never)"};
+
+std::vector<BackendEntry> make_backends() {
+  std::vector<BackendEntry> b;
+  b.push_back({"cpu",
+               "CPU cores through oneTBB and Embree",
+               {{"threads", "1..1024", "1", "worker threads (--devices cpu:threads=0: all)"},
+                kCores,
+                kSpeed,
+                {"quota", "(0, 1]", "", "real throttle: a fraction of a core per thread (cgroup)"},
+                {"tile", "1..4096", "16", "pixel block handed to a thread"},
+                kFailAfter,
+                kCompact,
+                kMem},
+               &CpuDevice::capabilities,
+               [](Spec& spec) { read_cpu_options(spec); },
+               [](Spec& spec, SceneCache& scenes) -> std::unique_ptr<Device> {
+                 return std::make_unique<CpuDevice>(scenes, read_cpu_options(spec), spec.text());
+               }});
+#ifdef MULTIRAY_HAS_OPENCL
+  b.push_back({"opencl",
+               "an OpenCL device, opencl:N as `multiray devices` lists it",
+               {{"index", "0..65535", "0", "the device (also written opencl:N)"},
+                kSpeed,
+                {"tile", "1..4096", "256", "side of the largest square one launch renders"},
+                {"wg", "1..4096", "64", "work-group size (clamped to the kernel's maximum)"},
+                {"cores", "0, 0+2, 0-3", "", "cores to pin the thread driving the device to"},
+                kFailAfter,
+                kCompact,
+                kMem},
+               &OpenClDevice::capabilities,
+               [](Spec& spec) { read_opencl_options(spec); },
+               [](Spec& spec, SceneCache& scenes) -> std::unique_ptr<Device> {
+                 const OpenClDeviceOptions o = read_opencl_options(spec);
+                 try {
+                   return std::make_unique<OpenClDevice>(scenes, o, spec.text());
+                 } catch (const InputError& e) {
+                   throw InputError("--devices '" + spec.text() + "': " + e.what());
+                 }
+               }});
+#endif
+  return b;
+}
+
 }  // namespace
+
+const std::vector<BackendEntry>& device_backends() {
+  static const std::vector<BackendEntry> backends = make_backends();
+  return backends;
+}
+
+const BackendEntry* find_backend(const std::string& name) {
+  for (const BackendEntry& b : device_backends())
+    if (b.name == name) return &b;
+  return nullptr;
+}
 
 std::vector<DeviceSpec> parse_device_specs(const std::string& text) {
   if (text.empty()) throw InputError("--devices is empty; try --devices cpu");
@@ -125,10 +201,7 @@ std::vector<DeviceSpec> parse_device_specs(const std::string& text) {
       throw InputError("--devices '" + text + "': a device is empty (stray comma?)");
     specs.push_back(as_input_error([&] {
       Spec spec = device_spec(item);
-#ifdef MULTIRAY_HAS_OPENCL
-      if (spec.name() == "opencl") read_opencl_options(spec);
-#endif
-      if (spec.name() == "cpu") read_cpu_options(spec);
+      find_backend(spec.name())->check(spec);
       return DeviceSpec{spec.name(), spec.options(), item};
     }));
   }
@@ -137,27 +210,15 @@ std::vector<DeviceSpec> parse_device_specs(const std::string& text) {
 }
 
 DeviceCapabilities backend_capabilities(const std::string& type) {
-#ifdef MULTIRAY_HAS_OPENCL
-  if (type == "opencl") return OpenClDevice::capabilities();
-#endif
-  if (type == "cpu") return CpuDevice::capabilities();
-  return {};
+  const BackendEntry* b = find_backend(type);
+  return b ? b->capabilities() : DeviceCapabilities{};
 }
 
 std::unique_ptr<Device> create_device(const DeviceSpec& d, SceneCache& scenes) {
   Spec spec = as_input_error([&] { return device_spec(d.text); });
-#ifdef MULTIRAY_HAS_OPENCL
-  if (spec.name() == "opencl") {
-    const OpenClDeviceOptions o = as_input_error([&] { return read_opencl_options(spec); });
-    try {
-      return std::make_unique<OpenClDevice>(scenes, o, d.text);
-    } catch (const InputError& e) {
-      throw InputError("--devices '" + d.text + "': " + e.what());
-    }
-  }
-#endif
-  const CpuDeviceOptions o = as_input_error([&] { return read_cpu_options(spec); });
-  return std::make_unique<CpuDevice>(scenes, o, d.text);
+  const BackendEntry& backend = *find_backend(spec.name());
+  // Options are read again by the factory (a fresh Spec: each getter marks its key).
+  return as_input_error([&] { return backend.create(spec, scenes); });
 }
 
 std::vector<std::unique_ptr<Device>> create_devices(const std::string& text, SceneCache& scenes) {

@@ -34,8 +34,33 @@
 
 #include "device/device.h"
 #include "render/scene_cache.h"
+#include "util/spec.h"
 
 namespace multiray {
+
+// A device backend as `--devices` names it: the registry every list of backends, their
+// keys and their capabilities comes from (the --devices help, `multiray devices`, the
+// factory and the contract tests in tests/engine/device_registry_test.cpp).
+struct BackendParam {
+  std::string key;
+  std::string values;    // what it accepts, for help: "1..1024", "[0.01, 1]", "0+2, 0-3"
+  std::string fallback;  // its value when absent, for help ("" when there is none)
+  std::string help;
+};
+struct BackendEntry {
+  std::string name, help;
+  std::vector<BackendParam> params;  // every key the backend accepts, nothing else
+  DeviceCapabilities (*capabilities)() = nullptr;
+  // Reads and range-checks every option of `spec` (named as a --devices entry); throws
+  // std::invalid_argument "--devices '<device>': <what>".
+  void (*check)(Spec& spec) = nullptr;
+  // Makes the device (check() passed); throws InputError or DeviceError.
+  std::unique_ptr<Device> (*create)(Spec& spec, SceneCache& scenes) = nullptr;
+};
+// The backends this multiray was built with, in the order `multiray devices` lists them.
+const std::vector<BackendEntry>& device_backends();
+// The entry named `name`, or nullptr.
+const BackendEntry* find_backend(const std::string& name);
 
 // One checked device of a `--devices` list. create_device() reads `text`; `type` and
 // `options` (the bare `opencl:N` under "index") show what it says.
@@ -51,7 +76,8 @@ struct DeviceSpec {
 std::vector<DeviceSpec> parse_device_specs(const std::string& text);
 
 // What devices of backend `type` ("cpu", "opencl") can run, known before any is created
-// (so the CLI refuses an impossible job before loading the scene).
+// (so the CLI refuses an impossible job before loading the scene); empty for a backend
+// this multiray was built without.
 DeviceCapabilities backend_capabilities(const std::string& type);
 
 // Creates one device on the scene representations of `scenes` (each backend asks for the

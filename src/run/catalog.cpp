@@ -28,6 +28,20 @@ std::vector<Choice> kernel_choices() {
 
 std::vector<std::string> transfer_presets() { return transfer_preset_names(); }
 
+const std::vector<BackendEntry>& device_backend_choices() { return device_backends(); }
+
+std::string device_keys_help() {
+  std::string out;
+  for (const BackendEntry& b : device_backends()) {
+    std::string keys;
+    for (const BackendParam& p : b.params)
+      keys += (keys.empty() ? "" : ", ") + p.key + " (" + p.values +
+              (p.fallback.empty() ? "" : ", default " + p.fallback) + "): " + p.help;
+    out += (out.empty() ? "" : ". ") + b.name + " (" + b.help + ") keys: " + keys;
+  }
+  return out;
+}
+
 Offer offered_devices() {
   Offer offer;
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "device/device.h"
+#include "device/device_factory.h"
 
 namespace multiray {
 
@@ -19,6 +20,10 @@ struct Choice {
 
 // The kernels --integrator takes, each with its one-line help.
 std::vector<Choice> kernel_choices();
+// The device backends --devices takes (device/device_factory.h's registry), with their keys.
+const std::vector<BackendEntry>& device_backend_choices();
+// One line per backend for help: "cpu: CPU cores ...; keys: threads (1..1024, default 1), ...".
+std::string device_keys_help();
 // The transfer-function presets --tf takes.
 std::vector<std::string> transfer_presets();
 
