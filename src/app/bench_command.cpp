@@ -111,12 +111,13 @@ Runner add_bench_command(CLI::App& app) {
       throw InputError("--warmup must be in 0.." + std::to_string(o->frames - 1));
     if (b->ideal_frames < 1 || b->ideal_frames > 1000)
       throw InputError("--ideal-frames must be in 1..1000");
-    Run s = build_run(*o, int(specs.size()));
-    if (s.cluster && !s.cluster->master()) return serve_as_worker(s);
+    Run s;
+    int worker_exit = 0;
+    std::unique_ptr<Session> session = start_run(s, *o, specs, "--balancers", &worker_exit);
+    if (!session) return worker_exit;
     std::vector<std::string> mapped;
     for (const auto& spec : specs)
       mapped.push_back(apply_mapping(spec, o->mapping, "--balancers"));
-    std::unique_ptr<Session> session = s.make_session(mapped, "--balancers");  // checks every spec
     const std::vector<std::string> lanes = s.lane_labels(mapped);
     if (!b->report_dir.empty()) {
       std::error_code ec;
@@ -124,7 +125,6 @@ Runner add_bench_command(CLI::App& app) {
       if (ec)
         throw InputError("cannot create report folder '" + b->report_dir + "': " + ec.message());
     }
-    for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
     std::vector<double> initial;
     std::vector<std::string> labels;
     for (size_t i = 0; i < s.devices.size(); ++i) {

@@ -177,17 +177,21 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                   "this file (format: docs/traces.md), for `multiray simulate` and analysis");
   cmd->add_flag("-q,--quiet", *quiet, "No per-frame lines");
   return [=]() -> int {
-    const std::string spec = apply_mapping(*balancer, o->mapping);
+    const std::string spec = apply_mapping(*balancer, o->mapping);  // checked again by start_run
     Display display;
     display.exposure_ev = parse_exposure(*exposure);
     const bool volume_input = is_volume_input(o->scene_path, o->volume);
     display.tone = parse_tone(*tone, volume_input);
-    Run s = build_run(*o, 1, [&] { prepare_output_folder(*out_dir, *overwrite); });
-    if (s.cluster && !s.cluster->master()) return serve_as_worker(s);
-    if (s.volume && s.volume->modes().size() > 1)
-      throw InputError("--adapt: render takes one mode (bench compares several)");
-    std::unique_ptr<Session> session = s.make_session({spec});
-    for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
+    Run s;
+    int worker_exit = 0;
+    std::unique_ptr<Session> session = start_run(
+        s, *o, {*balancer}, "--balancer", &worker_exit,
+        [&] { prepare_output_folder(*out_dir, *overwrite); },
+        [](const Run& run) {
+          if (run.volume && run.volume->modes().size() > 1)
+            throw InputError("--adapt: render takes one mode (bench compares several)");
+        });
+    if (!session) return worker_exit;
     std::unique_ptr<TraceFile> trace;
     if (!trace_path->empty())
       trace = std::make_unique<TraceFile>(*trace_path, session->engine(0).balancer().spec(),

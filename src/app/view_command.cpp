@@ -53,10 +53,10 @@ Runner add_view_command(CLI::App& app) {
     vo.port = *port;
     vo.display.exposure_ev = parse_exposure(*exposure);
     vo.display.tone = parse_tone(*tone, is_volume_input(o->scene_path, o->volume));
-    Run s = build_run(*o, 1);
+    Run s;
+    int worker_exit = 0;  // view refuses --distributed above: never a worker
+    std::unique_ptr<Session> session = start_run(s, *o, {*balancer}, "--balancer", &worker_exit);
     vo.volume = s.volume;
-    std::unique_ptr<Session> session = s.make_session({*balancer});
-    for (const auto& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
     std::vector<std::string> names;
     for (const auto& d : s.devices) names.push_back(d->info().name);
     viewer::LiveView view(*session, OrbitCamera(s.camera, s.up), names, vo);
