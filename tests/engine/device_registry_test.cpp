@@ -1,11 +1,14 @@
 // The device backend registry (device/device_factory.h) against the factory: every key a
 // backend lists is accepted and no other, and every numeric range its help states is the
 // range the factory enforces (both ends accepted, one step outside refused). The help
-// (--devices, `multiray devices`) is printed from the registry, so it cannot go stale.
+// (--devices, `multiray devices`) is printed from the registry, so it cannot go stale; the
+// page docs/devices.md is checked against it.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include "core/error.h"
@@ -91,6 +94,26 @@ TEST(DeviceRegistry, EveryListedKeyIsTakenAndNoOther) {
       for (const BackendParam& p : b.params)
         EXPECT_THAT(e.what(), ::testing::HasSubstr(p.key)) << "the error lists the keys";
     }
+  }
+}
+
+// docs/devices.md names every backend, every key (in a table row) and every kernel.
+TEST(DeviceRegistry, TheDocsNameEveryBackendKeyAndKernel) {
+  std::ifstream in(std::string(MULTIRAY_SOURCE_DIR) + "/docs/devices.md");
+  ASSERT_TRUE(in) << "docs/devices.md";
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string docs = text.str();
+  for (const BackendEntry& b : device_backends()) {
+    const size_t section = docs.find("## `" + b.name + "`");
+    ASSERT_NE(section, std::string::npos) << b.name;
+    const size_t end = docs.find("\n## ", section + 1);
+    const std::string part = docs.substr(section, end - section);
+    for (const BackendParam& p : b.params)
+      EXPECT_NE(part.find("| `" + p.key + "` | " + p.values + " |"), std::string::npos)
+          << b.name << "'s " << p.key << " (" << p.values << ") in docs/devices.md";
+    for (const std::string& k : b.capabilities().kernels)
+      EXPECT_NE(part.find("`" + k + "`"), std::string::npos) << b.name << "'s kernel " << k;
   }
 }
 
