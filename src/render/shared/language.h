@@ -17,10 +17,11 @@
 // - The helpers dot3, cross3, normalize3 are core/math.h's dot, cross, normalize in C++
 //   and written out in the same order of operations for OpenCL C; mr_fmax is std::max in
 //   C++ and fmax in OpenCL C (equal unless an argument is NaN, which no caller passes).
-// - mr_fabs, mr_pow, mr_atan2, mr_acos and mr_clamp are std::abs, pow, atan2, acos, clamp in
-//   C++ and the built-ins of the same names in OpenCL C: each side keeps the functions it
-//   used before the code was shared (the two libraries' results may differ in the last ulp;
-//   an image is bit-identical to itself on one backend, not across backends).
+// - mr_fabs, mr_pow, mr_atan2, mr_acos, mr_expm1 and mr_clamp are std::abs, pow, atan2,
+//   acos, expm1, clamp in C++ and the built-ins of the same names in OpenCL C: each side
+//   keeps the functions it used before the code was shared (the two libraries' results may
+//   differ in the last ulp; an image is bit-identical to itself on one backend, not across
+//   backends). clamp_std (transfer.h) is std::clamp's definition on both sides.
 // - Pointers point to private memory (OpenCL C 1.2 has no generic address space), except
 //   MR_GLOBAL ones (`__global` in OpenCL C, nothing in C++): tables the host uploads.
 // - A shared header includes its shared dependencies only for C++ (#ifdef __cplusplus):
@@ -68,6 +69,7 @@ typedef int4 mr_int4;
 #define mr_pow pow
 #define mr_atan2 atan2
 #define mr_acos acos
+#define mr_expm1 expm1
 #define mr_clamp clamp
 
 // As core/math.h's dot, cross and normalize, operation for operation (not the built-ins,
@@ -129,6 +131,7 @@ inline Vec3 normalize3(Vec3 a) { return normalize(a); }
 #define mr_pow std::pow
 #define mr_atan2 std::atan2
 #define mr_acos std::acos
+#define mr_expm1 std::expm1
 #define mr_clamp std::clamp
 
 #endif
