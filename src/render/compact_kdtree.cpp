@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "render/shared/triangle.h"
 
 namespace multiray {
 
@@ -213,27 +214,16 @@ class KdBuilder {
   std::vector<Event> events_;
 };
 
-// Moller-Trumbore on the decoded triangle: the arithmetic of compact_accel.cpp's
-// triangle_hit (e1n = v0 - v1, e2 = v2 - v0), so that both structures report the same t,
-// barycentrics and normal. Keep the two in step.
+// The shared ray/triangle test (render/shared/triangle.h) on the decoded triangle, with
+// compact_accel.cpp's edges (e1n = v0 - v1, e2 = v2 - v0), so that both structures report
+// the same t, barycentrics and normal.
 bool triangle_hit(const CompactMesh& m, uint32_t prim, const Ray& ray, float& tmax, Hit& hit) {
   const Vec3 v0 = m.corner(prim, 0), e1n = v0 - m.corner(prim, 1), e2 = m.corner(prim, 2) - v0;
-  const Vec3 e1 = Vec3(0.0f) - e1n;
-  const Vec3 p = cross(ray.dir, e2);
-  const float det = dot(e1, p);
-  if (det == 0.0f) return false;
-  const float inv = 1.0f / det;
-  const Vec3 s = ray.org - v0;
-  const float u = dot(s, p) * inv;
-  if (u < 0.0f || u > 1.0f) return false;
-  const Vec3 q = cross(s, e1);
-  const float v = dot(ray.dir, q) * inv;
-  if (v < 0.0f || u + v > 1.0f) return false;
-  const float t = dot(e2, q) * inv;
-  if (!(t > ray.tmin && t < tmax)) return false;
+  float t, u, v;
+  if (!intersect_triangle(ray.org, ray.dir, ray.tmin, tmax, v0, e1n, e2, &t, &u, &v)) return false;
   tmax = t;
   hit.t = t, hit.prim = prim, hit.u = u, hit.v = v;
-  hit.ng = cross(e2, e1n);
+  hit.ng = triangle_normal(e1n, e2);
   return true;
 }
 

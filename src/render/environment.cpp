@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "render/render_types.h"
+#include "render/shared/environment.h"
 #include "render/shared/sampling.h"
 
 namespace multiray {
@@ -15,27 +16,11 @@ EnvFrame environment_frame(Vec3 up) {
   return EnvFrame{x, up, cross(x, up)};
 }
 
-Vec2 direction_to_equirect(const EnvFrame& f, Vec3 d) {
-  const float lx = dot(d, f.x), ly = dot(d, f.up), lz = dot(d, f.z);
-  const float phi = std::atan2(lx, -lz);  // 0 along -z, pi/2 along +x
-  const float theta = std::acos(std::clamp(ly, -1.0f, 1.0f));
-  return {0.5f + phi * (0.5f * kInvPi), theta * kInvPi};
-}
+Vec2 direction_to_equirect(const EnvFrame& f, Vec3 d) { return equirect_uv(f.x, f.up, f.z, d); }
 
 Vec3 equirect_to_direction(const EnvFrame& f, Vec2 uv) {
-  const float phi = (uv.x - 0.5f) * 2.0f * kPi, theta = uv.y * kPi;
-  const float st = std::sin(theta);
-  return f.x * (st * std::sin(phi)) + f.up * std::cos(theta) - f.z * (st * std::cos(phi));
+  return equirect_direction(f.x, f.up, f.z, uv);
 }
-
-namespace {
-
-// Index of the first entry of cdf[0, n) greater than u (the last if none).
-size_t pick(const float* cdf, size_t n, float u) {
-  return std::min(size_t(std::upper_bound(cdf, cdf + n, u) - cdf), n - 1);
-}
-
-}  // namespace
 
 EnvironmentLight::EnvironmentLight(const Scene& scene)
     : constant_(scene.environment),
@@ -47,7 +32,7 @@ EnvironmentLight::EnvironmentLight(const Scene& scene)
   sky_ = max_component(constant_) > 0 || map_ != nullptr;
   if (sun_.on()) {
     sun_cos_ = std::cos(sun_.half_angle_rad);
-    sun_pdf_ = 1.0f / (2.0f * kPi * (1.0f - sun_cos_));
+    sun_pdf_ = cone_pdf(sun_cos_);
     p_sun_ = sky_ ? 0.5f : 1.0f;
   }
   on_ = sky_ || sun_.on();
@@ -105,8 +90,7 @@ float EnvironmentLight::mean_luminance() const {
 }
 
 Vec3 EnvironmentLight::map_radiance(Vec2 uv) const {
-  const int x = std::clamp(int(uv.x * float(map_->width)), 0, map_->width - 1);
-  const int y = std::clamp(int(uv.y * float(map_->height)), 0, map_->height - 1);
+  const int x = equirect_texel(uv.x, map_->width), y = equirect_texel(uv.y, map_->height);
   return map_->radiance[size_t(y) * size_t(map_->width) + size_t(x)] * map_scale_;
 }
 
@@ -117,16 +101,10 @@ Vec3 EnvironmentLight::radiance(Vec3 dir) const {
   return L;
 }
 
-// Solid-angle density of the map distribution at `uv`: pixel probability x pixel count
-// over the Jacobian of the equirectangular map (2 pi^2 sin theta).
 float EnvironmentLight::map_pdf(Vec2 uv) const {
-  const int x = std::clamp(int(uv.x * float(map_->width)), 0, map_->width - 1);
-  const int y = std::clamp(int(uv.y * float(map_->height)), 0, map_->height - 1);
-  const float st = std::sin(uv.y * kPi);
-  if (!(st > 0)) return 0;
-  const float p = row_pdf_[size_t(y)] * pix_pdf_[size_t(y) * size_t(map_->width) + size_t(x)] *
-                  float(map_->width) * float(map_->height);
-  return p / (2.0f * kPi * kPi * st);
+  const int x = equirect_texel(uv.x, map_->width), y = equirect_texel(uv.y, map_->height);
+  return equirect_pdf(row_pdf_[size_t(y)], pix_pdf_[size_t(y) * size_t(map_->width) + size_t(x)],
+                      map_->width, map_->height, uv.y);
 }
 
 float EnvironmentLight::sky_pdf(Vec3 dir, Vec3 n) const {
@@ -145,21 +123,12 @@ EnvSample EnvironmentLight::sample(Vec3 n, float u_choice, float u1, float u2) c
   EnvSample s;
   if (u_choice < p_sun_) {
     // Uniform in the cone around the sun's direction.
-    const float cos_t = 1.0f - u1 * (1.0f - sun_cos_);
-    const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
-    const float phi = 2.0f * kPi * u2;
     const Frame f = Frame::from_normal(sun_.direction);
-    s.dir = normalize(f.to_world(Vec3(sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t)));
+    s.dir = normalize(f.to_world(sample_cone(sun_cos_, u1, u2)));
   } else if (map_ != nullptr) {
-    const size_t y = pick(row_cdf_.data(), row_cdf_.size(), u1);
-    const float* row = &col_cdf_[y * size_t(map_->width)];
-    const size_t x = pick(row, size_t(map_->width), u2);
-    // Where inside the pixel: the part of u2 (and u1) past the chosen bin's start.
-    const float r0 = y == 0 ? 0.0f : row_cdf_[y - 1], c0 = x == 0 ? 0.0f : row[x - 1];
-    const float fy = std::clamp((u1 - r0) / std::max(row_cdf_[y] - r0, 1e-20f), 0.0f, 1.0f);
-    const float fx = std::clamp((u2 - c0) / std::max(row[x] - c0, 1e-20f), 0.0f, 1.0f);
     s.dir = equirect_to_direction(
-        frame_, Vec2{(float(x) + fx) / float(map_->width), (float(y) + fy) / float(map_->height)});
+        frame_, sample_equirect(row_cdf_.data(), col_cdf_.data(), uint32_t(map_->width),
+                                uint32_t(map_->height), u1, u2));
   } else {
     const Frame f = Frame::from_normal(n);
     s.dir = f.to_world(sample_cosine_hemisphere(u1, u2));

@@ -34,7 +34,8 @@ struct EnvFrame {
 };
 EnvFrame environment_frame(Vec3 up);
 
-// Map texture coordinates (u right, v down, both in [0, 1]) of direction `d`, and back.
+// Map texture coordinates (u right, v down, both in [0, 1]) of direction `d`, and back
+// (render/shared/environment.h's equirect_uv and equirect_direction in this frame).
 Vec2 direction_to_equirect(const EnvFrame& f, Vec3 d);
 Vec3 equirect_to_direction(const EnvFrame& f, Vec2 uv);
 
@@ -69,6 +70,7 @@ class EnvironmentLight {
 
  private:
   float sky_pdf(Vec3 dir, Vec3 n) const;
+  // Solid-angle density of the map distribution at `uv` (equirect_pdf).
   float map_pdf(Vec2 uv) const;
   Vec3 map_radiance(Vec2 uv) const;
 

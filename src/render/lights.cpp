@@ -44,15 +44,13 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
 }
 
 LightSample LightSampler::sample(float u, float u1, float u2) const {
-  const size_t i = std::min(size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()),
-                            tris_.size() - 1);
-  const uint32_t t = tris_[i];
+  const uint32_t t = tris_[pick_cdf(cdf_.data(), uint32_t(cdf_.size()), u)];
   const Vec3 a = scene_.positions[scene_.indices[3 * t]],
              b = scene_.positions[scene_.indices[3 * t + 1]],
              c = scene_.positions[scene_.indices[3 * t + 2]];
   const Vec2 bc = sample_triangle(u1, u2);
   LightSample s;
-  s.point = a * (1.0f - bc.x - bc.y) + b * bc.x + c * bc.y;
+  s.point = triangle_point(a, b, c, bc);
   s.normal = normalize(cross(b - a, c - a));
   s.radiance = emission_at(scene_, scene_.materials[scene_.material_ids[t]], uv_at(t, bc.x, bc.y));
   s.pdf_area = pdf_by_prim_[t];

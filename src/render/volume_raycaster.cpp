@@ -1,11 +1,13 @@
 #include "render/volume_raycaster.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
 #include "render/path_tracer.h"
 #include "render/rng.h"
+#include "render/shared/transfer.h"
 #include "render/volume_march.h"
 
 namespace multiray {
@@ -134,6 +136,7 @@ Vec3 VolumeRaycaster::cast(const Ray& ray, const VolumeStyle& style, float step_
     const float dt = style.step * step_scale * v.voxel_length();
     const float ratio = style.step * step_scale / style.reference_step;
     const TransferTable& table = style.table;
+    const uint32_t last = uint32_t(table.rgba.size() - 1);
     const float to_index = float(table.rgba.size() - 1) / std::max(table.hi - table.lo, 1e-30f);
     // The first lattice index at or after t (a function of t alone; see walk_blocks).
     auto first_index = [&](float t) { return int64_t(std::ceil(std::max(t - t0, 0.0f) / dt)); };
@@ -143,17 +146,11 @@ Vec3 VolumeRaycaster::cast(const Ray& ray, const VolumeStyle& style, float step_
         const Vec3 p = r.org + r.dir * (t0 + float(k) * dt);
         ++steps;
         const float value = trilinear(v, p);
-        const float fi =
-            std::clamp((value - table.lo) * to_index, 0.0f, float(table.rgba.size() - 1));
-        const size_t i0 = size_t(fi), i1 = std::min(i0 + 1, table.rgba.size() - 1);
-        const auto& c0 = style.colour_log_transparency[i0];
-        const auto& c1 = style.colour_log_transparency[i1];
-        const float f = fi - float(i0);
-        const float log_t = c0[3] + (c1[3] - c0[3]) * f;
-        if (log_t == 0) continue;  // fully transparent: no gradient, no change
-        const float a = -std::expm1(log_t * ratio);
-        Vec3 c(c0[0] + (c1[0] - c0[0]) * f, c0[1] + (c1[1] - c0[1]) * f,
-               c0[2] + (c1[2] - c0[2]) * f);
+        const TfSample tf = tf_lookup(style.colour_log_transparency.data(), last,
+                                      tf_position(value, table.lo, to_index, last));
+        if (tf.log_t == 0) continue;  // fully transparent: no gradient, no change
+        const float a = tf_opacity(tf.log_t, ratio);
+        Vec3 c = tf.colour;
         const Vec3 g = gradient(v, p);
         const float glen = length(g);
         if (glen > 0) c = c * (kAmbient + kDiffuse * std::abs(dot(g, ray.dir)) / glen);

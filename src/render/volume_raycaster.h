@@ -10,12 +10,12 @@
 // image is bit-identical with and without skipping, and for any split of the image.
 #pragma once
 
-#include <array>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "render/kernel.h"
+#include "render/shared/language.h"
 #include "volume/blocks.h"
 #include "volume/transfer_function.h"
 #include "volume/volume.h"
@@ -39,7 +39,8 @@ struct VolumeStyle {
   // Per table entry: linear RGB and log(1 - alpha), so a sample's opacity at any step is
   // 1 - exp(log(1 - alpha) * step / reference_step) (opacity correction, Engel et al.,
   // "Real-Time Volume Graphics" §1.4.3) without a pow per sample.
-  std::vector<std::array<float, 4>> colour_log_transparency;
+  // The OpenCL raycaster uploads it as is (float4); render/shared/transfer.h reads it.
+  std::vector<mr_float4> colour_log_transparency;
   float reference_step = 1;  // voxel lengths
   BlockOpacity opacity;      // per block of VolumeScene::blocks
   // Per block: the share of its voxels the transfer function gives a non-zero opacity

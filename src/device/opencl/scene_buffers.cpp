@@ -4,6 +4,7 @@
 #include <type_traits>
 
 #include "core/error.h"
+#include "render/bsdf.h"
 
 namespace multiray {
 
@@ -17,9 +18,9 @@ ClMaterial to_cl(const Material& m) {
   c.emission_texture = m.emission_texture;
   c.metallic = m.metallic;
   c.roughness = m.roughness;
-  // The Bsdf constructor's choices that no texture changes, done once here.
-  c.ior = m.ior > 1.0f ? m.ior : 1.5f;
-  c.dielectric = m.transmission > 0.5f ? 1u : 0u;
+  // The Bsdf's choices that no texture changes, made once here.
+  c.ior = material_ior(m);
+  c.dielectric = material_is_dielectric(m) ? 1u : 0u;
   c.emissive = max_component(m.emission) > 0 ? 1u : 0u;
   c.metallic_roughness_texture = m.metallic_roughness_texture;
   c.normal_texture = m.normal_texture;

@@ -15,7 +15,7 @@
 namespace multiray {
 
 // Material with its raw factors: the kernel multiplies them by their textures and then
-// clamps them as the Bsdf constructor does (kernels/surface.cl, kernels/path_tracer.cl).
+// clamps them with bsdf_params (kernels/surface.cl, render/shared/bsdf.h).
 struct ClMaterial {
   float color[3];
   int32_t texture;  // base colour texture (index into ClScene::textures) or -1

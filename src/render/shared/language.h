@@ -17,7 +17,13 @@
 // - The helpers dot3, cross3, normalize3 are core/math.h's dot, cross, normalize in C++
 //   and written out in the same order of operations for OpenCL C; mr_fmax is std::max in
 //   C++ and fmax in OpenCL C (equal unless an argument is NaN, which no caller passes).
-// - Pointers point to private memory (OpenCL C 1.2 has no generic address space).
+// - mr_fabs, mr_pow, mr_atan2, mr_acos, mr_expm1 and mr_clamp are std::abs, pow, atan2,
+//   acos, expm1, clamp in C++ and the built-ins of the same names in OpenCL C: each side
+//   keeps the functions it used before the code was shared (the two libraries' results may
+//   differ in the last ulp; an image is bit-identical to itself on one backend, not across
+//   backends). clamp_std (transfer.h) is std::clamp's definition on both sides.
+// - Pointers point to private memory (OpenCL C 1.2 has no generic address space), except
+//   MR_GLOBAL ones (`__global` in OpenCL C, nothing in C++): tables the host uploads.
 // - A shared header includes its shared dependencies only for C++ (#ifdef __cplusplus):
 //   the programs embed each file once, in dependency order. Include guards, not #pragma
 //   once: in a program the text is part of the main file.
@@ -50,6 +56,8 @@ typedef float4 mr_float4;
 typedef int4 mr_int4;
 
 #define MR_PI 3.14159265358979323846f
+#define MR_INV_PI (1.0f / MR_PI)
+#define MR_GLOBAL __global
 #define MR_FLOAT2(x, y) ((float2)((x), (y)))
 #define MR_FLOAT3(x, y, z) ((float3)((x), (y), (z)))
 #define MR_XYZ(v) ((v).xyz)
@@ -57,6 +65,12 @@ typedef int4 mr_int4;
 #define mr_cos cos
 #define mr_sin sin
 #define mr_fmax fmax
+#define mr_fabs fabs
+#define mr_pow pow
+#define mr_atan2 atan2
+#define mr_acos acos
+#define mr_expm1 expm1
+#define mr_clamp clamp
 
 // As core/math.h's dot, cross and normalize, operation for operation (not the built-ins,
 // whose order of operations is the driver's).
@@ -104,6 +118,8 @@ inline Vec3 normalize3(Vec3 a) { return normalize(a); }
 }  // namespace multiray
 
 #define MR_PI ::multiray::kPi
+#define MR_INV_PI ::multiray::kInvPi
+#define MR_GLOBAL
 #define MR_FLOAT2(x, y) (::multiray::Vec2{(x), (y)})
 #define MR_FLOAT3(x, y, z) (::multiray::Vec3((x), (y), (z)))
 #define MR_XYZ(v) (::multiray::Vec3((v).x, (v).y, (v).z))
@@ -111,6 +127,12 @@ inline Vec3 normalize3(Vec3 a) { return normalize(a); }
 #define mr_cos std::cos
 #define mr_sin std::sin
 #define mr_fmax std::max
+#define mr_fabs std::abs
+#define mr_pow std::pow
+#define mr_atan2 std::atan2
+#define mr_acos std::acos
+#define mr_expm1 std::expm1
+#define mr_clamp std::clamp
 
 #endif
 

@@ -1,6 +1,6 @@
-// Warping functions from [0,1)^2 to directions and points, with their densities: one
-// definition for the CPU's kernels and the OpenCL path tracer. Written in
-// render/shared/language.h's dialect.
+// Warping functions from [0,1)^2 to directions and points, with their densities, and the
+// inversion of a tabulated discrete distribution: one definition for the CPU's kernels
+// and the OpenCL path tracer. Written in render/shared/language.h's dialect.
 #ifndef MULTIRAY_RENDER_SHARED_SAMPLING_H
 #define MULTIRAY_RENDER_SHARED_SAMPLING_H
 
@@ -16,6 +16,17 @@ MR_DEVICE mr_float3 sample_cosine_hemisphere(float u1, float u2) {
   return MR_FLOAT3(r * mr_cos(phi), r * mr_sin(phi), mr_sqrt(mr_fmax(0.0f, 1.0f - u1)));
 }
 
+// Uniform direction in the cone of directions within acos(cos_max) of +z (local frame).
+MR_DEVICE mr_float3 sample_cone(float cos_max, float u1, float u2) {
+  const float cos_t = 1.0f - u1 * (1.0f - cos_max);
+  const float sin_t = mr_sqrt(mr_fmax(0.0f, 1.0f - cos_t * cos_t));
+  const float phi = 2.0f * MR_PI * u2;
+  return MR_FLOAT3(sin_t * mr_cos(phi), sin_t * mr_sin(phi), cos_t);
+}
+
+// sample_cone's density per solid angle.
+MR_DEVICE float cone_pdf(float cos_max) { return 1.0f / (2.0f * MR_PI * (1.0f - cos_max)); }
+
 // Uniform point on a triangle as barycentrics (b1, b2) of vertices 1 and 2
 // (Heitz 2019, "A Low-Distortion Map Between Triangle and Square").
 MR_DEVICE mr_float2 sample_triangle(float u1, float u2) {
@@ -28,6 +39,27 @@ MR_DEVICE mr_float2 sample_triangle(float u1, float u2) {
     b0 = u1 - b1;
   }
   return MR_FLOAT2(b1, 1.0f - b0 - b1);
+}
+
+// The point at barycentrics `bc` (of vertices b and c, as sample_triangle's) of triangle abc.
+MR_DEVICE mr_float3 triangle_point(mr_float3 a, mr_float3 b, mr_float3 c, mr_float2 bc) {
+  return a * (1.0f - bc.x - bc.y) + b * bc.x + c * bc.y;
+}
+
+// Index of the first entry of cdf[0, n) greater than `u`, the last if none (as
+// std::upper_bound): draws from the discrete distribution whose cumulative table (non-
+// decreasing, last entry 1) is `cdf`. n > 0.
+MR_DEVICE mr_uint pick_cdf(const MR_GLOBAL float* cdf, mr_uint n, float u) {
+  mr_uint lo = 0, hi = n;
+  while (lo < hi) {
+    const mr_uint mid = lo + (hi - lo) / 2;
+    if (u < cdf[mid]) {
+      hi = mid;
+    } else {
+      lo = mid + 1;
+    }
+  }
+  return lo < n - 1 ? lo : n - 1;
 }
 
 // Veach's power heuristic (beta = 2) for two strategies.

@@ -53,8 +53,8 @@ typedef struct {
   uint material;
 } Shading;
 
-// Raw factors: the kernel multiplies them by their textures, then clamps as the Bsdf
-// constructor does (render/surface.cpp, render/bsdf.cpp).
+// Raw factors: the kernel multiplies them by their textures, then clamps them with
+// bsdf_params (render/surface.cpp, render/shared/bsdf.h).
 typedef struct {
   float color[3];
   int texture;  // base colour (sRGB, alpha = coverage) or -1

@@ -1,7 +1,7 @@
 // Next-event estimation's light sampling, as render/lights.cpp: a triangle is chosen by
-// binary search in the power CDF (the LightSampler's own table), a point on it by Heitz's
-// low-distortion map (render/shared/sampling.h), its radiance the material's emission at the
-// point's uv (emission_at, with the triangle's uvs: shading.cl's uv_at).
+// binary search in the power CDF (the LightSampler's own table, pick_cdf), a point on it
+// by Heitz's low-distortion map (render/shared/sampling.h), its radiance the material's
+// emission at the point's uv (emission_at, with the triangle's uvs: shading.cl's uv_at).
 
 typedef struct {
   float3 point;
@@ -10,23 +10,13 @@ typedef struct {
   float pdf_area;  // selection probability / triangle area
 } LightSample;
 
-// sc->light_count > 0. The first CDF entry greater than `u` (std::upper_bound) picks one.
+// sc->light_count > 0. The first CDF entry greater than `u` picks one (pick_cdf).
 LightSample sample_light(const SceneData* sc, float u, float u1, float u2) {
-  const uint count = sc->light_count;
-  uint lo = 0, hi = count;
-  while (lo < hi) {
-    const uint mid = lo + (hi - lo) / 2;
-    if (u < sc->light_cdf[mid]) {
-      hi = mid;
-    } else {
-      lo = mid + 1;
-    }
-  }
-  const __global Light* l = &sc->lights[min(lo, count - 1)];
+  const __global Light* l = &sc->lights[pick_cdf(sc->light_cdf, sc->light_count, u)];
   const float3 a = load3(l->a), b = load3(l->b), c = load3(l->c);
   const float2 bc = sample_triangle(u1, u2);
   LightSample s;
-  s.point = a * (1.0f - bc.x - bc.y) + b * bc.x + c * bc.y;
+  s.point = triangle_point(a, b, c, bc);
   s.normal = normalize3(cross3(b - a, c - a));
   const __global Material* m = &sc->materials[material_of(sc, l->prim)];
   s.radiance = load3(l->radiance);

@@ -10,7 +10,7 @@
 
 // Next-event estimation from a vertex (PathTracer::sample_light): one sample of either the
 // environment or an emissive triangle; returns the unoccluded contribution (0 if none).
-float3 sample_direct(const SceneData* sc, const Bsdf* bsdf, const Frame* frame, float3 wo,
+float3 sample_direct(const SceneData* sc, const BsdfParams* bsdf, const Frame* frame, float3 wo,
                      float3 p, float3 ng, float3 beta, RngState* rng, uint* rays) {
   const float p_env = sc->p_env;
   float ul = rng_next(rng);
@@ -99,13 +99,8 @@ float3 trace_path(const SceneData* sc, Ray ray, RngState* rng, int max_bounces, 
 
     const SurfacePoint sp = surface_at(sc, mat, uv, ns, ng, hit.prim);
     ns = sp.ns;
-    // The Bsdf constructor's clamping.
-    Bsdf bsdf;
-    bsdf.color = sp.base_color;
-    bsdf.metallic = clamp(sp.metallic, 0.0f, 1.0f);
-    bsdf.alpha = fmax(sp.roughness * sp.roughness, 1e-3f);
-    bsdf.ior = mat->ior;
-    bsdf.dielectric = mat->dielectric != 0;
+    const BsdfParams bsdf =
+        bsdf_params(sp.base_color, sp.metallic, sp.roughness, mat->ior, mat->dielectric != 0);
     const bool opaque = !bsdf.dielectric;
     // Opaque surfaces are two-sided; dielectrics keep their outward normal.
     if (opaque && !front) ng = -ng, ns = -ns;

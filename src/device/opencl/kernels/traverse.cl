@@ -57,31 +57,21 @@ bool cut_out(const SceneData* sc, const Ray* ray, uint prim, float u, float v) {
   return passes_through(sc, m, uv_at(sc, prim, 1.0f - u - v, u, v), ray_hash(ray, prim));
 }
 
-// Moller-Trumbore on scene triangle `prim` with corner v0 and edges e1n = v0 - v1 (Embree's
-// e1) and e2 = v2 - v0. Updates `hit` and returns true for a hit in (tmin, *tmax) that is
-// not cut out.
+// The shared ray/triangle test (render/shared/triangle.h) on scene triangle `prim` with
+// corner v0 and edges e1n = v0 - v1 (Embree's e1) and e2 = v2 - v0. Updates `hit` and
+// returns true for a hit in (tmin, *tmax) that is not cut out.
 bool tri_hit(const SceneData* sc, uint prim, float3 v0, float3 e1n, float3 e2, const Ray* ray,
              float* tmax, Hit* hit) {
-  const float3 e1 = -e1n;
-  const float3 p = cross3(ray->dir, e2);
-  const float det = dot3(e1, p);
-  if (det == 0.0f) return false;
-  const float inv = 1.0f / det;
-  const float3 s = ray->org - v0;
-  const float u = dot3(s, p) * inv;
-  if (u < 0.0f || u > 1.0f) return false;
-  const float3 q = cross3(s, e1);
-  const float v = dot3(ray->dir, q) * inv;
-  if (v < 0.0f || u + v > 1.0f) return false;
-  const float t = dot3(e2, q) * inv;
-  if (!(t > ray->tmin && t < *tmax)) return false;
+  float t, u, v;
+  if (!intersect_triangle(ray->org, ray->dir, ray->tmin, *tmax, v0, e1n, e2, &t, &u, &v))
+    return false;
   if (sc->cutouts && cut_out(sc, ray, prim, u, v)) return false;
   *tmax = t;
   hit->t = t;
   hit->prim = prim;
   hit->u = u;
   hit->v = v;
-  hit->ng = cross3(e2, e1n);  // as Embree's, zero signs included
+  hit->ng = triangle_normal(e1n, e2);  // as Embree's, zero signs included
   return true;
 }
 

@@ -1,15 +1,13 @@
 // Sampling a volume as render/volume_raycaster.cpp does: the trilinear fetch clamped to the
-// grid, the table of (rgb, log(1 - alpha)) with linear interpolation, opacity correction,
-// the central-difference gradient, headlight shading and front-to-back compositing with
-// early ray termination, in the CPU's order of operations (contraction off, common.cl).
-// The walk that calls it is in volume.cl.
+// grid, the table of (rgb, log(1 - alpha)) with linear interpolation and opacity
+// correction (render/shared/transfer.h), the central-difference gradient, headlight
+// shading and front-to-back compositing with early ray termination, in the CPU's order of
+// operations (contraction off, render/shared/language.h). The walk that calls it is in
+// volume.cl.
 
 #define BLOCK_SIZE 16  // kBlockSize
 #define AMBIENT 0.3f   // kAmbient
 #define DIFFUSE 0.7f   // kDiffuse
-
-// std::clamp's definition (not OpenCL's fmin/fmax form), for the same result everywhere.
-float clamp_std(float v, float lo, float hi) { return v < lo ? lo : (hi < v ? hi : v); }
 
 typedef struct {
   const __global float* values;  // x fastest, then y, z
@@ -76,15 +74,11 @@ bool march(const Grid* g, const Style* s, float3 org, float3 dir, float3 view_di
     const float3 p = org + dir * (t0 + (float)k * s->dt);
     ++acc->steps;
     const float value = trilinear(g, p);
-    const float fi = clamp_std((value - s->table_lo) * s->to_index, 0.0f, (float)last);
-    const uint i0 = (uint)fi, i1 = min(i0 + 1, last);
-    const float4 c0 = s->table[i0], c1 = s->table[i1];
-    const float f = fi - (float)i0;
-    const float log_t = c0.w + (c1.w - c0.w) * f;
-    if (log_t == 0.0f) continue;  // fully transparent: no gradient, no change
-    const float a = -expm1(log_t * s->ratio);
-    float3 c =
-        (float3)(c0.x + (c1.x - c0.x) * f, c0.y + (c1.y - c0.y) * f, c0.z + (c1.z - c0.z) * f);
+    const TfSample tf =
+        tf_lookup(s->table, last, tf_position(value, s->table_lo, s->to_index, last));
+    if (tf.log_t == 0.0f) continue;  // fully transparent: no gradient, no change
+    const float a = tf_opacity(tf.log_t, s->ratio);
+    float3 c = tf.colour;
     const float3 grad = gradient(g, p);
     const float glen = sqrt(dot3(grad, grad));
     if (glen > 0.0f) c = c * (AMBIENT + DIFFUSE * fabs(dot3(grad, view_dir)) / glen);
