@@ -7,7 +7,7 @@
 #include <fmt/core.h>
 
 #include "app/commands.h"
-#include "device/scene_memory.h"
+#include "util/parse.h"
 #include "run/catalog.h"
 
 namespace multiray::app {
