@@ -7,8 +7,8 @@
 #include <fmt/core.h>
 
 #include "app/commands.h"
-#include "util/parse.h"
 #include "run/catalog.h"
+#include "util/parse.h"
 
 namespace multiray::app {
 
