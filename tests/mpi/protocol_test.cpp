@@ -117,8 +117,11 @@ TEST(Protocol, EverySentSettingTravels) {
       const size_t at = j++;
       size_t n = 0;
       for_each_sent_setting(at == k ? m.settings : defaults, [&](const char*, const auto& w) {
-        if constexpr (std::is_same_v<std::decay_t<decltype(w)>, std::decay_t<decltype(v)>>)
-          if (n == at) EXPECT_EQ(v, w) << name << " (changed: " << names[k] << ")";
+        if constexpr (std::is_same_v<std::decay_t<decltype(w)>, std::decay_t<decltype(v)>>) {
+          if (n == at) {
+            EXPECT_EQ(v, w) << name << " (changed: " << names[k] << ")";
+          }
+        }
         ++n;
       });
     });
