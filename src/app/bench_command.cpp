@@ -165,6 +165,47 @@ void report_volume(const Run& s, const BenchResult& result, const std::vector<st
   }
 }
 
+// What the bench ran, for its JSON: scene, image, sampling, frames, camera path, and how
+// time was measured (the measurements are added beside it).
+nlohmann::json run_description(const Run& s, const RunConfig& o) {
+  return {{"scene", s.scene->name},
+          {"resolution", {s.res.width, s.res.height}},
+          {"views", s.views->rig().view_count()},
+          {"spp", s.settings.spp},
+          {"integrator", s.settings.kernel},
+          {"sampling", o.sampling},
+          {"frames", o.frames},
+          {"camera_path", o.camera_path},
+          {"timing",
+           "device_ms measured inside each device (steady_clock); frame_ms by the engine "
+           "around all devices"},
+          {"volume_setup_ms", s.volume ? nlohmann::json{{"block_histograms", s.volume->blocks_ms},
+                                                        {"styles", s.volume->style_ms}}
+                                       : nlohmann::json()}};
+}
+
+// Block `block` of `repeats`: every lane over the run's frames into `out`, with a progress
+// line on a terminal. Returns 0, or 128 + the signal that interrupted it (then nothing is
+// written: a summary of a cut-short run would mislead).
+int run_block(Session& session, const Run& s, const std::vector<double>& initial,
+              const BenchConfig& config, int block, int repeats, BenchResult& out) {
+  InterruptWatch watch(session);
+  out = run_bench(session, s.device_ptrs(), initial, s.perturbations, session.settings(), config,
+                  [&](int f) {
+                    if (stderr_is_tty())
+                      fmt::print(stderr, "\rblock {}/{}  frame {}/{} ", block + 1, repeats, f + 1,
+                                 config.frames);
+                  });
+  if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
+  if (!watch.signal()) return 0;
+  fmt::print(stderr,
+             "multiray: bench interrupted by {} in block {} of {}, after {} of {} frames; "
+             "no output\n",
+             watch.signal_name(), block + 1, repeats,
+             out.lanes.empty() ? 0 : out.lanes[0].records.size(), config.frames);
+  return 128 + watch.signal();
+}
+
 }  // namespace
 
 Runner add_bench_command(CLI::App& app) {
@@ -268,23 +309,8 @@ Runner add_bench_command(CLI::App& app) {
     for (int block = 0; block < b->repeats; ++block) {
       if (block > 0) session = s.make_session(mapped, "--balancers");
       BenchResult r;
-      InterruptWatch watch(*session);
-      r = run_bench(*session, s.device_ptrs(), initial, s.perturbations, session->settings(),
-                    config, [&](int f) {
-                      if (stderr_is_tty())
-                        fmt::print(stderr, "\rblock {}/{}  frame {}/{} ", block + 1, b->repeats,
-                                   f + 1, o->frames);
-                    });
-      if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
-      if (watch.signal()) {
-        // A summary of a cut-short run would mislead; nothing is written.
-        fmt::print(stderr,
-                   "multiray: bench interrupted by {} in block {} of {}, after {} of {} frames; "
-                   "no output\n",
-                   watch.signal_name(), block + 1, b->repeats,
-                   r.lanes.empty() ? 0 : r.lanes[0].records.size(), o->frames);
-        return 128 + watch.signal();
-      }
+      if (const int code = run_block(*session, s, initial, config, block, b->repeats, r))
+        return code;
       add_block(repeat_lanes, lanes, r, warmup, perturb_frame);
       if (block == 0) result = std::move(r);
     }
@@ -362,29 +388,15 @@ Runner add_bench_command(CLI::App& app) {
     const balance::NoiseVerdict verdict = judge_noise(noise, repeat_lanes);
     print_noise(noise, verdict);
     if (!b->json_path.empty()) {
-      nlohmann::json doc{
-          {"repeats", repeats_to_json(repeats)},
-          {"trustworthy", verdict.trustworthy},
-          {"noise", noise_to_json(noise, verdict)},
-          {"scene", s.scene->name},
-          {"resolution", {s.res.width, s.res.height}},
-          {"views", s.views->rig().view_count()},
-          {"spp", s.settings.spp},
-          {"integrator", s.settings.kernel},
-          {"sampling", o->sampling},
-          {"frames", o->frames},
-          {"camera_path", o->camera_path},
-          {"timing",
-           "device_ms measured inside each device (steady_clock); frame_ms by the "
-           "engine around all devices"},
-          {"ideal_ms", ideal_mean},
-          {"images_identical", mixed_types ? nlohmann::json("not compared: mixed device types")
-                                           : nlohmann::json(mismatch.empty())},
-          {"ideal", ideal_detail},
-          {"volume_setup_ms", s.volume ? nlohmann::json{{"block_histograms", s.volume->blocks_ms},
-                                                        {"styles", s.volume->style_ms}}
-                                       : nlohmann::json()},
-          {"runs", runs_json}};
+      nlohmann::json doc = run_description(s, *o);
+      doc["repeats"] = repeats_to_json(repeats);
+      doc["trustworthy"] = verdict.trustworthy;
+      doc["noise"] = noise_to_json(noise, verdict);
+      doc["ideal_ms"] = ideal_mean;
+      doc["ideal"] = ideal_detail;
+      doc["images_identical"] = mixed_types ? nlohmann::json("not compared: mixed device types")
+                                            : nlohmann::json(mismatch.empty());
+      doc["runs"] = runs_json;
       write_file_atomically(b->json_path, doc.dump(1) + "\n");
     }
     if (!mismatch.empty()) {
