@@ -271,11 +271,9 @@ Runner add_bench_command(CLI::App& app) {
       throw InputError("--ideal-frames must be in 1..1000");
     Run s;
     int worker_exit = 0;
-    std::unique_ptr<Session> session = start_run(s, *o, specs, "--balancers", &worker_exit);
+    std::vector<std::string> mapped = specs;  // --mapping applied by start_run
+    std::unique_ptr<Session> session = start_run(s, *o, mapped, "--balancers", &worker_exit);
     if (!session) return worker_exit;
-    std::vector<std::string> mapped;
-    for (const auto& spec : specs)
-      mapped.push_back(apply_mapping(spec, o->mapping, "--balancers"));
     const std::vector<std::string> lanes = s.lane_labels(mapped);
     if (!b->report_dir.empty()) {
       std::error_code ec;

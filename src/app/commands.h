@@ -17,15 +17,15 @@ using Runner = std::function<int()>;
 // Adds the options shared by render and bench to `cmd`, storing into `o`.
 void add_common_options(CLI::App& cmd, RunConfig& o);
 
-// The start render, bench and view share: builds the run of `o` into `s` (with
-// `before_load`, and memory estimated for `specs.size()` lanes) and, on the master or a
-// single process, prints its notes and returns a session with one lane per balancer spec,
-// each with --mapping applied (bad specs reported as coming from `option`); `check`, if
+// The start render, bench and view share: applies --mapping to every balancer spec in
+// `specs` (in place, before anything loads; bad specs reported as coming from `option`),
+// builds the run of `o` into `s` (with `before_load`, and memory estimated for
+// `specs.size()` lanes) and, on the master or a single process, prints its notes and
+// returns a session with one lane per spec; `check`, if
 // given, may refuse the built run before anything is printed. On a worker
 // rank of a distributed run it serves the master instead, sets `*worker_exit` to the exit
 // code and returns null.
-std::unique_ptr<Session> start_run(Run& s, const RunConfig& o,
-                                   const std::vector<std::string>& specs,
+std::unique_ptr<Session> start_run(Run& s, const RunConfig& o, std::vector<std::string>& specs,
                                    const std::string& option, int* worker_exit,
                                    const std::function<void()>& before_load = {},
                                    const std::function<void(const Run&)>& check = {});

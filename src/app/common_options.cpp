@@ -217,20 +217,18 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
                  "FRAME:DEVICE:SPEED, repeatable: from FRAME on, DEVICE runs at emulated SPEED");
 }
 
-std::unique_ptr<Session> start_run(Run& s, const RunConfig& o,
-                                   const std::vector<std::string>& specs,
+std::unique_ptr<Session> start_run(Run& s, const RunConfig& o, std::vector<std::string>& specs,
                                    const std::string& option, int* worker_exit,
                                    const std::function<void()>& before_load,
                                    const std::function<void(const Run&)>& check) {
+  for (std::string& spec : specs) spec = apply_mapping(spec, o.mapping, option);
   s = build_run(o, int(specs.size()), before_load);
   if (s.cluster && !s.cluster->master()) {
     *worker_exit = serve_as_worker(s);
     return nullptr;
   }
   if (check) check(s);
-  std::vector<std::string> mapped;
-  for (const std::string& spec : specs) mapped.push_back(apply_mapping(spec, o.mapping, option));
-  std::unique_ptr<Session> session = s.make_session(mapped, option);  // checks every spec
+  std::unique_ptr<Session> session = s.make_session(specs, option);  // checks every spec
   for (const std::string& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
   return session;
 }

@@ -177,15 +177,15 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                   "this file (format: docs/traces.md), for `multiray simulate` and analysis");
   cmd->add_flag("-q,--quiet", *quiet, "No per-frame lines");
   return [=]() -> int {
-    const std::string spec = apply_mapping(*balancer, o->mapping);  // checked again by start_run
     Display display;
     display.exposure_ev = parse_exposure(*exposure);
     const bool volume_input = is_volume_input(o->scene_path, o->volume);
     display.tone = parse_tone(*tone, volume_input);
     Run s;
     int worker_exit = 0;
+    std::vector<std::string> specs{*balancer};  // --mapping applied by start_run
     std::unique_ptr<Session> session = start_run(
-        s, *o, {*balancer}, "--balancer", &worker_exit,
+        s, *o, specs, "--balancer", &worker_exit,
         [&] { prepare_output_folder(*out_dir, *overwrite); },
         [](const Run& run) {
           if (run.volume && run.volume->modes().size() > 1)
@@ -210,7 +210,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     }
     if (trace) trace->close();
     nlohmann::json settings = settings_to_json(*o, s, command_line);
-    settings["balancer"] = spec;  // as asked; "balancer" below has every parameter
+    settings["balancer"] = specs[0];  // as asked; "balancer" below has every parameter
     settings["exposure_ev"] = display.exposure_ev;
     settings["tone"] = display.tone == ToneCurve::Filmic ? "filmic" : "clamp";
     settings["exr"] = *exr;

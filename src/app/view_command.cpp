@@ -55,7 +55,8 @@ Runner add_view_command(CLI::App& app) {
     vo.display.tone = parse_tone(*tone, is_volume_input(o->scene_path, o->volume));
     Run s;
     int worker_exit = 0;  // view refuses --distributed above: never a worker
-    std::unique_ptr<Session> session = start_run(s, *o, {*balancer}, "--balancer", &worker_exit);
+    std::vector<std::string> specs{*balancer};
+    std::unique_ptr<Session> session = start_run(s, *o, specs, "--balancer", &worker_exit);
     vo.volume = s.volume;
     std::vector<std::string> names;
     for (const auto& d : s.devices) names.push_back(d->info().name);
