@@ -5,6 +5,7 @@
 
 #include <fmt/core.h>
 
+#include "app/console.h"
 #include "app/svg_chart.h"
 
 namespace multiray::app {
@@ -77,20 +78,20 @@ nlohmann::json targeting_to_json(const TargetingSummary& t) {
 
 void print_targeting(const std::vector<std::string>& lanes,
                      const std::vector<TargetingSummary>& summaries, double target_ms) {
-  fmt::print("\nframe-time target {:.1f} ms (frame times: engine wall time per frame)\n",
-             target_ms);
-  fmt::print("{:<40} {:>9} {:>8} {:>8} {:>7} {:>7} {:>9} {:>10} {:>8} {:>6}\n", "run", "RMSE ms",
-             "worst", ">1.25x", "step x", "image x", "pred err", "predict ms", "PSNR dB", "SSIM");
+  print_out("\nframe-time target {:.1f} ms (frame times: engine wall time per frame)\n",
+            target_ms);
+  print_out("{:<40} {:>9} {:>8} {:>8} {:>7} {:>7} {:>9} {:>10} {:>8} {:>6}\n", "run", "RMSE ms",
+            "worst", ">1.25x", "step x", "image x", "pred err", "predict ms", "PSNR dB", "SSIM");
   for (size_t i = 0; i < lanes.size() && i < summaries.size(); ++i) {
     const TargetingSummary& t = summaries[i];
-    fmt::print("{:<40} {:9.1f} {:7.2f}x {:7.1f}% {:7.2f} {:7.2f} {:>9} {:10.2f} {:>8} {:>6}\n",
-               lanes[i], t.rmse_ms, t.worst_ratio, 100 * t.over_125, t.mean_step_scale,
-               t.mean_image_scale,
-               t.prediction_error < 0 ? std::string("-")
-                                      : fmt::format("{:.1f}%", 100 * t.prediction_error),
-               t.advise_ms + t.learn_ms,
-               t.psnr_db < 0 ? std::string("-") : fmt::format("{:.1f}", t.psnr_db),
-               t.ssim < 0 ? std::string("-") : fmt::format("{:.3f}", t.ssim));
+    print_out("{:<40} {:9.1f} {:7.2f}x {:7.1f}% {:7.2f} {:7.2f} {:>9} {:10.2f} {:>8} {:>6}\n",
+              lanes[i], t.rmse_ms, t.worst_ratio, 100 * t.over_125, t.mean_step_scale,
+              t.mean_image_scale,
+              t.prediction_error < 0 ? std::string("-")
+                                     : fmt::format("{:.1f}%", 100 * t.prediction_error),
+              t.advise_ms + t.learn_ms,
+              t.psnr_db < 0 ? std::string("-") : fmt::format("{:.1f}", t.psnr_db),
+              t.ssim < 0 ? std::string("-") : fmt::format("{:.3f}", t.ssim));
   }
 }
 

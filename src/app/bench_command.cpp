@@ -14,6 +14,7 @@
 #include "app/bench_repeats.h"
 #include "app/bench_summary.h"
 #include "app/commands.h"
+#include "app/console.h"
 #include "app/interrupt.h"
 #include "app/report_plots.h"
 #include "app/stats_json.h"
@@ -51,7 +52,7 @@ struct BenchOptions {
 // The line saying what is benchmarked, and one line per device.
 void print_run_header(const Run& s, const RunConfig& o, const std::vector<std::string>& labels) {
   const SamplingSetup& sampling = s.views->sampling();
-  fmt::print(
+  print_out(
       "scene {}, {}x{} x {} views, {} kernel, {} sampling ({}), {} frames, camera path "
       "{}\n",
       s.scene->name, s.res.width, s.res.height, s.views->rig().view_count(), s.settings.kernel,
@@ -66,7 +67,7 @@ void print_run_header(const Run& s, const RunConfig& o, const std::vector<std::s
           ? fmt::format("{} spp on the references and on holes", s.settings.spp)
           : std::to_string(s.settings.spp) + " spp",
       o.frames, o.camera_path);
-  for (const auto& l : labels) fmt::print("  device {}\n", l);
+  for (const auto& l : labels) print_out("  device {}\n", l);
 }
 
 // One lane's JSON entry (its frames and summary), and its trace and plots when asked for.
@@ -104,7 +105,7 @@ nlohmann::json lane_outputs(size_t k, const Run& s, const BenchResult& result,
         lane.records, warmup, s.volume->options().target_ms, lane.error_vs_lane0));
   if (!b.trace_prefix.empty()) {
     TraceFile trace(fmt::format("{}-{}.trace", b.trace_prefix, name), lane.spec, s.devices);
-    for (const balance::FrameStats& f : lane.stats) trace.writer().frame(f);
+    for (const balance::FrameStats& f : lane.stats) trace.frame(f);
     trace.close();
   }
   if (!b.report_dir.empty()) {
@@ -131,7 +132,7 @@ void report_volume(const Run& s, const BenchResult& result, const std::vector<st
     std::string styles;
     for (double ms : s.volume->style_ms)
       styles += fmt::format("{}{:.1f}", styles.empty() ? "" : ", ", ms);
-    fmt::print(
+    print_out(
         "volume set-up (host, wall time): block histograms {:.1f} ms once; table and "
         "opacity histograms per transfer function {} ms\n",
         s.volume->blocks_ms, styles);
@@ -190,19 +191,18 @@ nlohmann::json run_description(const Run& s, const RunConfig& o) {
 int run_block(Session& session, const Run& s, const std::vector<double>& initial,
               const BenchConfig& config, int block, int repeats, BenchResult& out) {
   InterruptWatch watch(session);
-  out = run_bench(session, s.device_ptrs(), initial, s.perturbations, session.settings(), config,
-                  [&](int f) {
-                    if (stderr_is_tty())
-                      fmt::print(stderr, "\rblock {}/{}  frame {}/{} ", block + 1, repeats, f + 1,
-                                 config.frames);
-                  });
-  if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
+  out = run_bench(
+      session, s.device_ptrs(), initial, s.perturbations, session.settings(), config, [&](int f) {
+        if (stderr_is_tty())
+          print_err("\rblock {}/{}  frame {}/{} ", block + 1, repeats, f + 1, config.frames);
+      });
+  if (stderr_is_tty()) print_err("\r\033[K");
   if (!watch.signal()) return 0;
-  fmt::print(stderr,
-             "multiray: bench interrupted by {} in block {} of {}, after {} of {} frames; "
-             "no output\n",
-             watch.signal_name(), block + 1, repeats,
-             out.lanes.empty() ? 0 : out.lanes[0].records.size(), config.frames);
+  print_err(
+      "multiray: bench interrupted by {} in block {} of {}, after {} of {} frames; "
+      "no output\n",
+      watch.signal_name(), block + 1, repeats, out.lanes.empty() ? 0 : out.lanes[0].records.size(),
+      config.frames);
   return 128 + watch.signal();
 }
 
@@ -269,6 +269,7 @@ Runner add_bench_command(CLI::App& app) {
       throw InputError("--warmup must be in 0.." + std::to_string(o->frames - 1));
     if (b->ideal_frames < 1 || b->ideal_frames > 1000)
       throw InputError("--ideal-frames must be in 1..1000");
+    if (!b->json_path.empty()) check_output_file(b->json_path, "--json");
     Run s;
     int worker_exit = 0;
     std::vector<std::string> mapped = specs;  // --mapping applied by start_run
@@ -316,7 +317,7 @@ Runner add_bench_command(CLI::App& app) {
     noise.probe_after = b->probe_ms > 0 ? contention_probe(b->probe_ms) : NAN;
     for (const BenchLane& lane : result.lanes)
       for (const FrameRecord& rec : lane.records)
-        for (const auto& m : rec.messages) fmt::print(stderr, "multiray: warning: {}\n", m);
+        for (const auto& m : rec.messages) print_err("multiray: warning: {}\n", m);
     nlohmann::json ideal_detail = nlohmann::json::array();
     for (const IdealSample& i : result.ideal) {
       ideal_detail.push_back(
@@ -325,7 +326,7 @@ Runner add_bench_command(CLI::App& app) {
     // The ideal efficiency compares against: each frame's, interpolated between the timed
     // ones, averaged over the summarised frames.
     const double ideal_mean = mean_ideal_ms(result.ideal, warmup, o->frames);
-    fmt::print(
+    print_out(
         "ideal frame time {:.1f} ms (mean over frames {}-{}, interpolated between {} frames "
         "on which each device was timed alone)\n",
         ideal_mean, warmup, o->frames - 1, result.ideal.size());
@@ -335,7 +336,7 @@ Runner add_bench_command(CLI::App& app) {
       summaries.push_back(summarize(lane.records, warmup, result.ideal, perturb_frame));
     add_speedups(lanes, summaries);
     if (b->repeats > 1)
-      fmt::print(
+      print_out(
           "block 1 of {} (its frames give the table below, the plots and the JSON "
           "frames; the repeat statistics follow):\n",
           b->repeats);
@@ -346,14 +347,14 @@ Runner add_bench_command(CLI::App& app) {
     bool mixed_types = false;
     for (const auto& d : s.devices) mixed_types |= d->info().type != s.devices[0]->info().type;
     if (mixed_types)
-      fmt::print(
+      print_out(
           "(mixed device types: images agree statistically, not bit for bit, so they are "
           "not compared)\n");
     // Every view of every frame, between the lanes that rendered it at the same quality.
     const std::string mismatch =
         mixed_types ? "" : mismatch_summary(lanes, result.mismatched_frames);
     if (!mixed_types && mismatch.empty())
-      fmt::print(
+      print_out(
           "(images: every view of every frame bit-identical across the balancers that "
           "rendered it at the same quality)\n");
     const TimelineScale timeline =
@@ -380,7 +381,7 @@ Runner add_bench_command(CLI::App& app) {
     bool emulated = false;
     for (double v : initial) emulated |= v < 1;
     if (emulated || !s.perturbations.empty())
-      fmt::print(
+      print_out(
           "(device speeds below 1 are emulated: the device idles after each piece of work)\n");
     if (b->repeats > 1) print_repeats(repeats);
     const balance::NoiseVerdict verdict = judge_noise(noise, repeat_lanes);
@@ -395,15 +396,15 @@ Runner add_bench_command(CLI::App& app) {
       doc["images_identical"] = mixed_types ? nlohmann::json("not compared: mixed device types")
                                             : nlohmann::json(mismatch.empty());
       doc["runs"] = runs_json;
-      write_file_atomically(b->json_path, doc.dump(1) + "\n");
+      write_file_atomically(b->json_path, dump_json(doc) + "\n");
     }
     if (!mismatch.empty()) {
       // A broken promise of the renderer: reported after the table and JSON, exit code 1.
-      fmt::print(stderr,
-                 "multiray: error: images differ between balancers rendering at the same "
-                 "quality (every view of every frame compared; mismatched_frames in the JSON): "
-                 "{}\n",
-                 mismatch);
+      print_err(
+          "multiray: error: images differ between balancers rendering at the same "
+          "quality (every view of every frame compared; mismatched_frames in the JSON): "
+          "{}\n",
+          mismatch);
       return 1;
     }
     return 0;

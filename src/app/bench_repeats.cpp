@@ -1,4 +1,5 @@
 #include "app/bench_repeats.h"
+#include "app/console.h"
 
 #include <cmath>
 
@@ -85,28 +86,28 @@ void print_repeats(const RepeatSummary& s) {
     deviation |= s.deviation[k].valid && s.imbalance[k].valid &&
                  std::abs(s.deviation[k].median - s.imbalance[k].median) > 5e-4;
   }
-  fmt::print(
+  print_out(
       "\n{} repeat blocks: medians over frames with 95% intervals (bootstrap over "
       "blocks and frames)\n",
       s.blocks);
-  fmt::print("{:<{}}  {:>24}  {:>22}  {:>22}{}{}  {:>22}\n", "balancer", width, "frame ms",
-             "efficiency", "imbalance %", deviation ? fmt::format("  {:>22}", "deviation %") : "",
-             recovery ? fmt::format("  {:>22}", "recovery") : "", "x best (per frame)");
+  print_out("{:<{}}  {:>24}  {:>22}  {:>22}{}{}  {:>22}\n", "balancer", width, "frame ms",
+            "efficiency", "imbalance %", deviation ? fmt::format("  {:>22}", "deviation %") : "",
+            recovery ? fmt::format("  {:>22}", "recovery") : "", "x best (per frame)");
   auto percent = [](balance::Interval i) {
     i.median *= 100, i.lo *= 100, i.hi *= 100;
     return interval(i, "{:.1f}");
   };
   for (size_t k = 0; k < s.labels.size(); ++k)
-    fmt::print("{:<{}}  {:>24}  {:>22}  {:>22}{}{}  {:>22}\n", s.labels[k], width,
-               interval(s.time.medians[k], "{:.2f}"), interval(s.efficiency[k], "{:.3f}"),
-               percent(s.imbalance[k]),
-               deviation ? fmt::format("  {:>22}", percent(s.deviation[k])) : "",
-               recovery ? fmt::format("  {:>22}", recovery_text(s, k)) : "",
-               int(k) == s.time.best ? std::string("best") : interval(s.time.ratios[k], "{:.3f}"));
-  fmt::print("verdict: {}\n", s.time.text);
+    print_out("{:<{}}  {:>24}  {:>22}  {:>22}{}{}  {:>22}\n", s.labels[k], width,
+              interval(s.time.medians[k], "{:.2f}"), interval(s.efficiency[k], "{:.3f}"),
+              percent(s.imbalance[k]),
+              deviation ? fmt::format("  {:>22}", percent(s.deviation[k])) : "",
+              recovery ? fmt::format("  {:>22}", recovery_text(s, k)) : "",
+              int(k) == s.time.best ? std::string("best") : interval(s.time.ratios[k], "{:.3f}"));
+  print_out("verdict: {}\n", s.time.text);
   for (size_t k = 0; k < s.labels.size(); ++k)
     if (s.efficiency[k].valid && s.efficiency[k].median > 1.0)
-      fmt::print(
+      print_out(
           "note: {}'s median efficiency is above 1: in most frames the devices worked faster "
           "than when each was timed alone (a negative overhead in the breakdown), so the ideal "
           "is too slow by at least that much\n",
@@ -180,11 +181,10 @@ std::string probe_text(double p) { return std::isnan(p) ? "not run" : fmt::forma
 
 void print_noise(const balance::NoiseReadings& readings, const balance::NoiseVerdict& verdict) {
   if (!verdict.trustworthy) {
-    fmt::print(stderr, "multiray: warning: these figures are not trustworthy: {}\n",
-               verdict.reason);
+    print_err("multiray: warning: these figures are not trustworthy: {}\n", verdict.reason);
     return;
   }
-  fmt::print(
+  print_out(
       "machine: contention probe {} before, {} after (1 = no other load); hypervisor steal "
       "{:.1f}%; block spread {:.0f}%: quiet enough to trust\n",
       probe_text(readings.probe_before), probe_text(readings.probe_after), 100 * readings.steal,

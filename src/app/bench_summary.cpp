@@ -5,6 +5,7 @@
 
 #include <fmt/core.h>
 
+#include "app/console.h"
 #include "balance/stats.h"
 
 namespace multiray::app {
@@ -160,21 +161,21 @@ void print_table(const std::vector<std::string>& specs, const std::vector<RunSum
   size_t width = 14;  // the longest label, so specs and lane names are never cut
   for (const std::string& spec : specs) width = std::max(width, spec.size());
   const bool deviation = deviation_differs(summaries);
-  fmt::print("\n{:<{}} {:>10} {:>10}{} {:>10} {:>9}{}\n", "balancer", width, "frame ms",
-             "imbalance", deviation ? fmt::format(" {:>10}", "deviation") : "", "efficiency",
-             "speedup", perturbed ? fmt::format(" {:>9}", "recovery") : "");
+  print_out("\n{:<{}} {:>10} {:>10}{} {:>10} {:>9}{}\n", "balancer", width, "frame ms",
+            "imbalance", deviation ? fmt::format(" {:>10}", "deviation") : "", "efficiency",
+            "speedup", perturbed ? fmt::format(" {:>9}", "recovery") : "");
   for (size_t k = 0; k < specs.size(); ++k) {
     const RunSummary& s = summaries[k];
-    fmt::print("{:<{}} {:>10.1f} {:>9.1f}%{} {:>10} {:>9}{}\n", specs[k], width, s.mean_frame_ms,
-               100 * s.mean_imbalance,
-               deviation ? fmt::format(" {:>9.1f}%", 100 * s.mean_deviation) : "",
-               s.efficiency > 0 ? fmt::format("{:.3f}", s.efficiency) : "-",
-               s.speedup > 0 ? fmt::format("{:.2f}x", s.speedup) : "-",
-               !perturbed               ? ""
-               : s.recovery_frames >= 0 ? fmt::format(" {:>9}", s.recovery_frames)
-                                        : fmt::format(" {:>9}", "never"));
+    print_out("{:<{}} {:>10.1f} {:>9.1f}%{} {:>10} {:>9}{}\n", specs[k], width, s.mean_frame_ms,
+              100 * s.mean_imbalance,
+              deviation ? fmt::format(" {:>9.1f}%", 100 * s.mean_deviation) : "",
+              s.efficiency > 0 ? fmt::format("{:.3f}", s.efficiency) : "-",
+              s.speedup > 0 ? fmt::format("{:.2f}x", s.speedup) : "-",
+              !perturbed               ? ""
+              : s.recovery_frames >= 0 ? fmt::format(" {:>9}", s.recovery_frames)
+                                       : fmt::format(" {:>9}", "never"));
   }
-  fmt::print(
+  print_out(
       "(frame ms: devices + host, mean over the frames after the warm-up; imbalance: slowest "
       "device's time / mean - 1{}{})\n",
       deviation ? "; deviation (Harada): max |time - mean| / mean" : "",
@@ -182,7 +183,7 @@ void print_table(const std::vector<std::string>& specs, const std::vector<RunSum
                   "never: not by the end"
                 : "");
   if (!deviation)
-    fmt::print(
+    print_out(
         "(Harada's deviation, max |time - mean| / mean, equals the imbalance in every row; "
         "with two devices it always does)\n");
 }
@@ -195,19 +196,19 @@ void print_breakdown(const std::vector<std::string>& specs,
   for (const RunSummary& s : summaries)
     any |= s.breakdown.valid, stolen_everywhere &= !s.breakdown.valid || s.stolen_measured;
   if (!any) return;
-  fmt::print(
+  print_out(
       "\nwhere the time goes (ms per frame, mean over full-quality frames after the "
       "warm-up):\n");
-  fmt::print("{:<{}} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>10}\n", "balancer", width, "frame",
-             "ideal", "balance", "overhead", "stolen", "host", "accounted");
+  print_out("{:<{}} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>10}\n", "balancer", width, "frame",
+            "ideal", "balance", "overhead", "stolen", "host", "accounted");
   for (size_t k = 0; k < specs.size(); ++k) {
     const balance::Breakdown& b = summaries[k].breakdown;
     if (!b.valid) continue;
-    fmt::print("{:<{}} {:>8.2f} {:>8.2f} {:>8.2f} {:>9.2f} {:>8.2f} {:>8.2f} {:>9.1f}%\n",
-               specs[k], width, b.total, b.ideal, b.balance_loss, b.overhead, b.stolen, b.host,
-               summaries[k].wall_ms > 0 ? 100 * b.total / summaries[k].wall_ms : 0.0);
+    print_out("{:<{}} {:>8.2f} {:>8.2f} {:>8.2f} {:>9.2f} {:>8.2f} {:>8.2f} {:>9.1f}%\n", specs[k],
+              width, b.total, b.ideal, b.balance_loss, b.overhead, b.stolen, b.host,
+              summaries[k].wall_ms > 0 ? 100 * b.total / summaries[k].wall_ms : 0.0);
   }
-  fmt::print(
+  print_out(
       "(frame = ideal + balance (devices idle, waiting for the last) + overhead (per item: "
       "launches, pulls, caches) + stolen (device threads runnable but not running) + host "
       "(planning, gathering, compositing); each device weighted by its share of the ideal "
@@ -217,7 +218,7 @@ void print_breakdown(const std::vector<std::string>& specs,
                           "elsewhere it is inside overhead");
   for (size_t k = 0; k < specs.size(); ++k) {
     const std::string why = balance::above_one_explanation(summaries[k].breakdown);
-    if (!why.empty()) fmt::print("note: {}: {}\n", specs[k], why);
+    if (!why.empty()) print_out("note: {}: {}\n", specs[k], why);
   }
 }
 

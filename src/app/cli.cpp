@@ -1,4 +1,5 @@
 // The multiray command line (app/cli.h): parse, dispatch, exit codes.
+#include <csignal>
 #include <cstdio>
 #include <exception>
 
@@ -7,12 +8,16 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/console.h"
 #include "app/stats_json.h"
 #include "core/error.h"
 
 namespace multiray::app {
 
 int run_cli(int argc, char** argv, const CliHooks& hooks) {
+  // A reader that goes away (`multiray render ... | head -1`) must not end the run by
+  // SIGPIPE before its files are written: writes to it fail instead (app/console.h).
+  std::signal(SIGPIPE, SIG_IGN);
   CLI::App app{
       "multiray: a ray tracer that splits every frame across CPU cores and other devices and "
       "balances the work so they all finish together.\n\nExamples:\n"
@@ -41,7 +46,7 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    if (!hooks.quiet) fmt::print(stderr, "multiray: error: {} (see multiray --help)\n", e.what());
+    if (!hooks.quiet) print_err("multiray: error: {} (see multiray --help)\n", e.what());
     return 2;
   }
   if (hooks.skip && hooks.skip(app)) return -1;
@@ -54,16 +59,16 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
   } catch (const QuietExit& e) {  // a worker rank; the master said why
     return e.code;
   } catch (const InputError& e) {
-    if (!hooks.quiet) fmt::print(stderr, "multiray: error: {}\n", e.what());
+    if (!hooks.quiet) print_err("multiray: error: {}\n", e.what());
     return 2;
   } catch (const DeviceError& e) {
-    if (!hooks.quiet) fmt::print(stderr, "multiray: device error: {}\n", e.what());
+    if (!hooks.quiet) print_err("multiray: device error: {}\n", e.what());
     return 3;
   } catch (const std::exception& e) {
     if (hooks.internal_error)
       hooks.internal_error(e.what());
     else if (!hooks.quiet)
-      fmt::print(stderr, "multiray: internal error: {}\n", e.what());
+      print_err("multiray: internal error: {}\n", e.what());
     return 4;
   }
   return 0;

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "app/console.h"
 #include "run/catalog.h"
 
 namespace multiray::app {
@@ -229,7 +230,7 @@ std::unique_ptr<Session> start_run(Run& s, const RunConfig& o, std::vector<std::
   }
   if (check) check(s);
   std::unique_ptr<Session> session = s.make_session(specs, option);  // checks every spec
-  for (const std::string& n : s.notes) fmt::print(stderr, "multiray: note: {}\n", n);
+  for (const std::string& n : s.notes) print_err("multiray: note: {}\n", n);
   return session;
 }
 

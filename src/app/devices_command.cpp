@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "app/commands.h"
+#include "app/console.h"
 #include "run/catalog.h"
 #include "util/parse.h"
 
@@ -18,7 +19,7 @@ std::string gib(double bytes) { return fmt::format("{:.1f} GB", bytes / double(1
 
 void print_row(const std::string& type, const std::string& name, unsigned units,
                const std::string& memory, const std::string& spec) {
-  fmt::print("{:<8} {:<40} {:>6} {:>9}  {}\n", type, name, units, memory, spec);
+  print_out("{:<8} {:<40} {:>6} {:>9}  {}\n", type, name, units, memory, spec);
 }
 
 // `multiray devices --devices SPEC [--scene FILE]`: builds each listed device on the
@@ -26,24 +27,24 @@ void print_row(const std::string& type, const std::string& name, unsigned units,
 // device), with the scene's full-precision and compact sizes by part.
 int report_scene_memory(const std::string& scene_path, const std::string& devices) {
   const SceneMemory m = scene_memory(scene_path, devices);
-  fmt::print("scene {}: {} triangles, {} vertices\n", m.scene_name, m.triangles, m.vertices);
+  print_out("scene {}: {} triangles, {} vertices\n", m.scene_name, m.triangles, m.vertices);
   if (m.has_triangles) {
     const uint64_t full = m.full_mesh + m.full_structure;
     const uint64_t small = m.compact_mesh + m.compact_structure;
-    fmt::print("  full precision: mesh {}, structure {}, both {}\n", format_bytes(m.full_mesh),
-               format_bytes(m.full_structure), format_bytes(full));
-    fmt::print("  compact:        mesh {}, structure {}, both {} ({:.2f}x smaller)\n",
-               format_bytes(m.compact_mesh), format_bytes(m.compact_structure),
-               format_bytes(small), double(full) / double(std::max<uint64_t>(1, small)));
+    print_out("  full precision: mesh {}, structure {}, both {}\n", format_bytes(m.full_mesh),
+              format_bytes(m.full_structure), format_bytes(full));
+    print_out("  compact:        mesh {}, structure {}, both {} ({:.2f}x smaller)\n",
+              format_bytes(m.compact_mesh), format_bytes(m.compact_structure), format_bytes(small),
+              double(full) / double(std::max<uint64_t>(1, small)));
   }
   size_t name_width = 6;  // "device"; the column fits the longest name
   for (const DeviceInfo& i : m.devices) name_width = std::max(name_width, i.name.size());
-  fmt::print("{:<{}} {:<16} {:>11} {:>20}\n", "device", name_width, "representation", "scene",
-             "memory limit");
+  print_out("{:<{}} {:<16} {:>11} {:>20}\n", "device", name_width, "representation", "scene",
+            "memory limit");
   for (const DeviceInfo& i : m.devices)
-    fmt::print("{:<{}} {:<16} {:>11} {:>20}\n", i.name, name_width, i.representation,
-               i.scene_bytes ? format_bytes(i.scene_bytes) : "-",
-               i.memory_limit ? format_bytes(i.memory_limit) + " (emulated)" : "-");
+    print_out("{:<{}} {:<16} {:>11} {:>20}\n", i.name, name_width, i.representation,
+              i.scene_bytes ? format_bytes(i.scene_bytes) : "-",
+              i.memory_limit ? format_bytes(i.memory_limit) + " (emulated)" : "-");
   return 0;
 }
 
@@ -64,10 +65,10 @@ Runner add_devices_command(CLI::App& app) {
   return [devices, scene]() -> int {
     if (!devices->empty()) return report_scene_memory(*scene, *devices);
     const Offer offer = offered_devices();
-    fmt::print("{:<8} {:<40} {:>6} {:>9}  {}\n", "type", "name", "units", "memory", "spec");
+    print_out("{:<8} {:<40} {:>6} {:>9}  {}\n", "type", "name", "units", "memory", "spec");
     for (const OfferedDevice& d : offer.devices)
       print_row(d.type, d.name, d.units, gib(double(d.memory_bytes)), d.spec);
-    fmt::print(
+    print_out(
         "\nWhat each backend runs (--integrator, --sampling) and on which scene "
         "representation:\n");
     auto list = [](const std::vector<std::string>& v) {
@@ -76,24 +77,24 @@ Runner add_devices_command(CLI::App& app) {
       return out;
     };
     for (const auto& [type, caps] : offer.backends)
-      fmt::print("  {:<7} kernels: {}; sampling: {}; representation: {}\n", type,
-                 list(caps.kernels), list(caps.sampling), caps.representation);
-    fmt::print("\nKeys of each backend (TYPE:KEY=VALUE:...):\n");
+      print_out("  {:<7} kernels: {}; sampling: {}; representation: {}\n", type,
+                list(caps.kernels), list(caps.sampling), caps.representation);
+    print_out("\nKeys of each backend (TYPE:KEY=VALUE:...):\n");
     for (const BackendEntry& b : device_backend_choices()) {
-      fmt::print("  {}: {}\n", b.name, b.help);
+      print_out("  {}: {}\n", b.name, b.help);
       for (const BackendParam& p : b.params)
-        fmt::print("    {:<11} {:<12} {}{}\n", p.key, p.values, p.help,
-                   p.fallback.empty() ? "" : " (default " + p.fallback + ")");
+        print_out("    {:<11} {:<12} {}{}\n", p.key, p.values, p.help,
+                  p.fallback.empty() ? "" : " (default " + p.fallback + ")");
     }
     if (offer.opencl_built) {
       const bool none = std::none_of(offer.devices.begin(), offer.devices.end(),
                                      [](const OfferedDevice& d) { return d.type == "opencl"; });
-      if (none) fmt::print("No OpenCL device found (install an ICD, e.g. pocl-opencl-icd).\n");
-      fmt::print(
+      if (none) print_out("No OpenCL device found (install an ICD, e.g. pocl-opencl-icd).\n");
+      print_out(
           "With PoCL, POCL_DEVICES=\"basic basic\" gives two independent one-core devices; "
           "POCL_MAX_PTHREAD_COUNT=N limits its pthread device.\n");
     } else {
-      fmt::print(
+      print_out(
           "This multiray was built without OpenCL (-DMULTIRAY_WITH_OPENCL=ON to require "
           "it).\n");
     }

@@ -10,12 +10,15 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/console.h"
+#include "app/frame_spool.h"
 #include "app/interrupt.h"
 #include "app/stats_json.h"
 #include "app/trace_file.h"
 #include "balance/registry.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/output_folder.h"
 
 namespace multiray::app {
 
@@ -23,13 +26,15 @@ bool stderr_is_tty() { return isatty(STDERR_FILENO) == 1; }
 
 namespace {
 
-// Writes each finished frame (PNG, EXR, quilt), prints its line, keeps its JSON record
-// and, with --trace, its per-item measurements.
+// Writes each finished frame (PNG, EXR, quilt), prints its line, keeps its JSON record on
+// disk (FrameSpool: memory stays flat however many frames) and, with --trace, its per-item
+// measurements.
 class RenderOutput : public FrameObserver {
  public:
   RenderOutput(const std::string& dir, bool exr, bool quiet, int columns, int frames,
-               const Display& display, balance::TraceWriter* trace)
+               const Display& display, TraceFile* trace)
       : dir_(dir),
+        records_(dir),
         exr_(exr),
         quiet_(quiet),
         columns_(columns),
@@ -46,9 +51,9 @@ class RenderOutput : public FrameObserver {
       if (exr_) write_exr(name + ".exr", images[v]);
     }
     if (images.size() > 1) write_png(base + "_quilt.png", make_quilt(images, columns_), display_);
-    if (stderr_is_tty()) fmt::print(stderr, "\r\033[K");
+    if (stderr_is_tty()) print_err("\r\033[K");
     const FrameRecord& rec = r->record;
-    for (const auto& m : rec.messages) fmt::print(stderr, "multiray: warning: {}\n", m);
+    for (const auto& m : rec.messages) print_err("multiray: warning: {}\n", m);
     uint64_t samples = 0, rays = 0;
     for (const auto& d : rec.devices) samples += d.samples, rays += d.rays;
     // Frame-time targeting: the predicted time and the quality the frame was rendered at.
@@ -62,56 +67,34 @@ class RenderOutput : public FrameObserver {
         r->reprojection ? fmt::format("  holes {:4.1f}%", 100.0 * r->reprojection->hole_fraction())
                         : "";
     if (!quiet_)
-      fmt::print(
+      print_out(
           "frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%{}{}  "
           "-> {}.png\n",
           r->frame, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
           100.0 * rec.imbalance, adapted, holes, base + (images.size() > 1 ? "_quilt" : ""));
-    json_.push_back(frame_to_json(rec));
-    json_.back()["sampling_ms"] = r->sampling_ms;
+    nlohmann::json record = frame_to_json(rec);
+    record["sampling_ms"] = r->sampling_ms;
     if (r->reprojection)
-      json_.back()["reprojection"] =
+      record["reprojection"] =
           reprojection_to_json(r->reprojection->references, r->reprojection->hole_fraction());
     uint64_t hash = 0xcbf29ce484222325ull;
     for (const Framebuffer& img : images) hash = image_hash(img, hash);
-    json_.back()["image_hash"] = fmt::format("{:016x}", hash);
+    record["image_hash"] = fmt::format("{:016x}", hash);
+    records_.add(record);
     if (trace_) trace_->frame(r->stats);
   }
 
-  const nlohmann::json& json() const { return json_; }
+  // Writes stats.json: `head` with every frame's record as "frames".
+  void write_stats(const nlohmann::json& head) { records_.write(dir_ + "/stats.json", head); }
 
  private:
   std::string dir_;
+  FrameSpool records_;
   bool exr_, quiet_;
   int columns_, frames_;
   Display display_;
-  balance::TraceWriter* trace_;
-  nlohmann::json json_ = nlohmann::json::array();
+  TraceFile* trace_;
 };
-
-// Makes `dir` ready for this run's outputs. A folder holding an earlier run's outputs
-// (stats.json, frame_*) is refused, unless `overwrite`, when exactly those files are
-// removed first, so the folder never mixes two runs. Other files are left alone.
-void prepare_output_folder(const std::string& dir, bool overwrite) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError("cannot create output folder '" + dir + "': " + ec.message());
-  std::vector<fs::path> earlier;
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    const std::string name = e.path().filename().string();
-    if (name == "stats.json" || name.rfind("frame_", 0) == 0) earlier.push_back(e.path());
-  }
-  if (ec) throw InputError("cannot read output folder '" + dir + "': " + ec.message());
-  if (earlier.empty()) return;
-  if (!overwrite)
-    throw InputError("--out '" + dir + "' holds an earlier run's outputs (" +
-                     earlier.front().filename().string() +
-                     ", ...); pass --overwrite to replace them, or choose another folder");
-  for (const fs::path& p : earlier)
-    if (!fs::remove(p, ec) || ec)
-      throw InputError("cannot remove '" + p.string() + "': " + ec.message());
-}
 
 // On a terminal, a line shows how much of the frame has been handed to devices.
 class ProgressLine {
@@ -120,8 +103,8 @@ class ProgressLine {
     if (!stderr_is_tty()) return;
     thread_ = std::thread([this, &session, frames] {
       while (running_) {
-        fmt::print(stderr, "\rrendering {} frame(s) ... {:3.0f}% of the current one", frames,
-                   100.0 * session.progress());
+        print_err("\rrendering {} frame(s) ... {:3.0f}% of the current one", frames,
+                  100.0 * session.progress());
         std::this_thread::sleep_for(std::chrono::milliseconds(200));
       }
     });
@@ -184,9 +167,13 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     Run s;
     int worker_exit = 0;
     std::vector<std::string> specs{*balancer};  // --mapping applied by start_run
+    std::unique_ptr<OutputFolder> folder;       // held (locked) until the run has ended
     std::unique_ptr<Session> session = start_run(
         s, *o, specs, "--balancer", &worker_exit,
-        [&] { prepare_output_folder(*out_dir, *overwrite); },
+        [&] {
+          if (!trace_path->empty()) check_output_file(*trace_path, "--trace");
+          folder = std::make_unique<OutputFolder>(*out_dir, *overwrite);
+        },
         [](const Run& run) {
           if (run.volume && run.volume->modes().size() > 1)
             throw InputError("--adapt: render takes one mode (bench compares several)");
@@ -197,7 +184,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
       trace = std::make_unique<TraceFile>(*trace_path, session->engine(0).balancer().spec(),
                                           s.devices);
     RenderOutput output(*out_dir, *exr, *quiet, s.views->rig().columns, o->frames, display,
-                        trace ? &trace->writer() : nullptr);
+                        trace.get());
     int done = 0;
     int interrupted = 0;
     std::string signal_name;
@@ -208,7 +195,6 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
       interrupted = watch.signal();
       signal_name = watch.signal_name();
     }
-    if (trace) trace->close();
     nlohmann::json settings = settings_to_json(*o, s, command_line);
     settings["balancer"] = specs[0];  // as asked; "balancer" below has every parameter
     settings["exposure_ev"] = display.exposure_ev;
@@ -219,15 +205,16 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                        {"devices", devices_to_json(s.devices)},
                        {"balancer", session->engine(0).balancer().spec()},
                        {"views", s.views->rig().view_count()},
-                       {"frames_requested", o->frames},
-                       {"frames", output.json()}};
+                       {"frames_requested", o->frames}};
     if (interrupted) doc["interrupted_by"] = signal_name;
-    write_file_atomically(*out_dir + "/stats.json", doc.dump(1) + "\n");
+    output.write_stats(doc);
+    // After stats.json, so that a failed trace (a full disk) loses only the trace.
+    if (trace) trace->close();
     if (interrupted) {
-      fmt::print(stderr,
-                 "multiray: interrupted by {} after {} of {} frames; their images and "
-                 "stats.json are complete\n",
-                 signal_name, done, o->frames);
+      print_err(
+          "multiray: interrupted by {} after {} of {} frames; their images and "
+          "stats.json are complete\n",
+          signal_name, done, o->frames);
       return 128 + interrupted;
     }
     return 0;

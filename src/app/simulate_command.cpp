@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/console.h"
 #include "app/report_plots.h"
 #include "app/stats_json.h"
 #include "balance/balancer.h"
@@ -41,10 +42,10 @@ struct SimulateOptions {
 int validate(const balance::Trace& trace) {
   auto balancer = make_balancer_or_throw(trace.balancer, int(trace.devices.size()), "the trace");
   const auto run = balance::replay_trace(trace, *balancer);
-  fmt::print("replay of {} frames with {} on the {} recorded devices (speeds", trace.frames.size(),
-             trace.balancer, trace.devices.size());
-  for (const auto& d : trace.devices) fmt::print(" {:g}", d.speed);
-  fmt::print(")\n{:>6} {:>12} {:>12} {:>8}\n", "frame", "recorded ms", "simulated ms", "error");
+  print_out("replay of {} frames with {} on the {} recorded devices (speeds", trace.frames.size(),
+            trace.balancer, trace.devices.size());
+  for (const auto& d : trace.devices) print_out(" {:g}", d.speed);
+  print_out(")\n{:>6} {:>12} {:>12} {:>8}\n", "frame", "recorded ms", "simulated ms", "error");
   double sum_err = 0, max_err = 0;
   for (size_t f = 0; f < run.size(); ++f) {
     const double rec = balance::frame_time_ms(trace.frames[f]);
@@ -52,10 +53,9 @@ int validate(const balance::Trace& trace) {
     const double err = rec > 0 ? (sim - rec) / rec : 0;
     sum_err += std::abs(err);
     max_err = std::max(max_err, std::abs(err));
-    fmt::print("{:>6} {:>12.3f} {:>12.3f} {:>7.1f}%\n", trace.frames[f].frame, rec, sim,
-               100 * err);
+    print_out("{:>6} {:>12.3f} {:>12.3f} {:>7.1f}%\n", trace.frames[f].frame, rec, sim, 100 * err);
   }
-  fmt::print(
+  print_out(
       "mean |error| {:.1f}%, largest {:.1f}% (device times: measured inside the devices; "
       "simulated: virtual time)\n",
       100 * sum_err / double(run.size()), 100 * max_err);
@@ -123,6 +123,8 @@ Runner add_simulate_command(CLI::App& app) {
                 "the simulated frame times with the recorded ones");
   cmd->add_option("--plot", o->plot_path, "Write efficiency vs device count as SVG");
   return [o]() -> int {
+    if (!o->json_path.empty()) check_output_file(o->json_path, "--json");
+    if (!o->plot_path.empty()) check_output_file(o->plot_path, "--plot");
     const balance::Trace trace = load_trace(o->trace_path);
     if (o->validate) return validate(trace);
     const std::vector<int> counts = device_counts(o->devices);
@@ -154,16 +156,16 @@ Runner add_simulate_command(CLI::App& app) {
       }
       for (const std::string& spec : specs) make_balancer_or_throw(spec, n, "--balancers");
     }
-    fmt::print("trace {} ({} frames of {}x{} x {} views, recorded with {} on {} devices)\n",
-               o->trace_path, trace.frames.size(), trace.frames[0].shape.width,
-               trace.frames[0].shape.height, trace.frames[0].shape.views, trace.balancer,
-               trace.devices.size());
-    fmt::print(
+    print_out("trace {} ({} frames of {}x{} x {} views, recorded with {} on {} devices)\n",
+              o->trace_path, trace.frames.size(), trace.frames[0].shape.width,
+              trace.frames[0].shape.height, trace.frames[0].shape.views, trace.balancer,
+              trace.devices.size());
+    print_out(
         "simulated (virtual time, emulated devices and link): {} frames, warm-up {}, speeds {}, "
         "slowdown {}, noise {}, link {}\n",
         frames, config.warmup, o->speeds, o->slowdown, o->noise, o->link);
-    fmt::print("{:>7}  {:<16} {:>12} {:>12} {:>10} {:>10} {:>10}\n", "devices", "balancer",
-               "frame ms", "ideal ms", "efficiency", "imbalance", "deviation");
+    print_out("{:>7}  {:<16} {:>12} {:>12} {:>10} {:>10} {:>10}\n", "devices", "balancer",
+              "frame ms", "ideal ms", "efficiency", "imbalance", "deviation");
     const auto start = std::chrono::steady_clock::now();
     std::vector<balance::StudyResult> results;
     for (size_t c = 0; c < counts.size(); ++c) {
@@ -176,14 +178,14 @@ Runner add_simulate_command(CLI::App& app) {
           throw InputError(std::string("--balancers: ") + e.what());
         }
         const auto& r = results.back();
-        fmt::print("{:>7}  {:<16} {:>12.3f} {:>12.3f} {:>10.3f} {:>9.1f}% {:>9.1f}%\n", n,
-                   spec.substr(0, 16), r.mean_frame_ms, r.mean_ideal_ms, r.efficiency,
-                   100 * r.mean_imbalance, 100 * r.mean_deviation);
+        print_out("{:>7}  {:<16} {:>12.3f} {:>12.3f} {:>10.3f} {:>9.1f}% {:>9.1f}%\n", n,
+                  spec.substr(0, 16), r.mean_frame_ms, r.mean_ideal_ms, r.efficiency,
+                  100 * r.mean_imbalance, 100 * r.mean_deviation);
       }
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    fmt::print("({} simulations in {:.2f} s of real time)\n", results.size(), seconds);
+    print_out("({} simulations in {:.2f} s of real time)\n", results.size(), seconds);
     if (!o->json_path.empty()) {
       nlohmann::json runs = nlohmann::json::array();
       for (const auto& r : results)
@@ -206,7 +208,7 @@ Runner add_simulate_command(CLI::App& app) {
                           "virtual time (simulated); ideal = frame cost / sum of "
                           "device speeds, without link or noise"},
                          {"runs", runs}};
-      write_file_atomically(o->json_path, doc.dump(1) + "\n");
+      write_file_atomically(o->json_path, dump_json(doc) + "\n");
     }
     if (!o->plot_path.empty()) {
       std::vector<ScalingSeries> series(specs.size());

@@ -2,10 +2,30 @@
 
 #include "core/error.h"
 #include "run/run.h"
+#include "util/utf8.h"
 
 namespace multiray::app {
 
 namespace {
+// A copy of `doc` whose every string (object keys too) is valid UTF-8.
+nlohmann::json valid_utf8(const nlohmann::json& doc) {
+  if (doc.is_string()) {
+    const auto& s = doc.get_ref<const std::string&>();
+    return is_valid_utf8(s) ? doc : nlohmann::json(escape_invalid_utf8(s));
+  }
+  if (doc.is_array()) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& e : doc) out.push_back(valid_utf8(e));
+    return out;
+  }
+  if (doc.is_object()) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [key, value] : doc.items()) out[escape_invalid_utf8(key)] = valid_utf8(value);
+    return out;
+  }
+  return doc;
+}
+
 nlohmann::json vec3_json(Vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 
 nlohmann::json distributed_to_json(const Run& s) {
@@ -23,6 +43,10 @@ nlohmann::json distributed_to_json(const Run& s) {
           {"scene_from", o.scene_from}};
 }
 }  // namespace
+
+std::string dump_json(const nlohmann::json& doc, int indent) {
+  return valid_utf8(doc).dump(indent);
+}
 
 nlohmann::json settings_to_json(const RunConfig& o, const Run& s,
                                 const std::vector<std::string>& command_line) {

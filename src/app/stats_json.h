@@ -21,6 +21,11 @@ namespace multiray::app {
 // The project version (CMake's PROJECT_VERSION), for --version and stats.json.
 inline constexpr const char* kVersion = MULTIRAY_VERSION;
 
+// `doc` as text, indented by `indent` (-1: one line). Strings that are not valid UTF-8
+// (paths are bytes on Linux: a scene named "\xE9\xFF.obj") are recorded with their invalid
+// bytes as "\xHH" (util/utf8.h), so the document is valid JSON whatever the names are.
+std::string dump_json(const nlohmann::json& doc, int indent = 1);
+
 nlohmann::json frame_to_json(const FrameRecord& rec);
 // A reprojected frame's summary: {"reference_views", "hole_fraction"}.
 nlohmann::json reprojection_to_json(const std::vector<uint32_t>& reference_views,

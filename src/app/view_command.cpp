@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include "app/commands.h"
+#include "app/console.h"
 #include "app/interrupt.h"
 #include "core/error.h"
 
@@ -62,10 +63,8 @@ Runner add_view_command(CLI::App& app) {
     for (const auto& d : s.devices) names.push_back(d->info().name);
     viewer::LiveView view(*session, OrbitCamera(s.camera, s.up), names, vo);
     if (*bind != "127.0.0.1" && *bind != "localhost" && *bind != "::1")
-      fmt::print(stderr,
-                 "multiray: warning: --bind {}: anyone who reaches it can steer this run\n",
-                 *bind);
-    fmt::print("multiray: viewer at http://{}:{}/  (Ctrl-C to stop)\n", *bind, view.port());
+      print_err("multiray: warning: --bind {}: anyone who reaches it can steer this run\n", *bind);
+    print_out("multiray: viewer at http://{}:{}/  (Ctrl-C to stop)\n", *bind, view.port());
     std::fflush(stdout);
     int interrupted = 0;
     {
@@ -74,7 +73,7 @@ Runner add_view_command(CLI::App& app) {
       session->run(0, count, view);
       interrupted = watch.signal();
     }
-    fmt::print("multiray: {} frames dropped for slow clients\n", view.frames_dropped());
+    print_out("multiray: {} frames dropped for slow clients\n", view.frames_dropped());
     return interrupted ? 128 + interrupted : 0;
 #endif
   };

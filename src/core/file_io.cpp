@@ -1,6 +1,7 @@
 #include "core/file_io.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -37,9 +38,28 @@ void commit(const std::string& path, const std::string& temp, int fd) {
   if (std::rename(temp.c_str(), path.c_str()) != 0) fail(path, temp, "renaming", errno);
 }
 
+// What a non-regular file is, for the error message.
+const char* kind_of(mode_t mode) {
+  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
 }  // namespace
 
+void check_output_file(const std::string& path, const std::string& option) {
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) return;  // absent (or a dangling link): a new file
+  if (S_ISREG(st.st_mode)) return;
+  throw InputError(option + " '" + path + "' is " + kind_of(st.st_mode) +
+                   "; outputs are written only to regular files or new names");
+}
+
 void write_file_atomically(const std::string& path, const void* data, size_t n) {
+  check_output_file(path, "output");
   const std::string temp = temp_name(path);
   const int fd = open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) fail(path, "", "creating a temporary file", errno);
@@ -59,6 +79,7 @@ void write_file_atomically(const std::string& path, const void* data, size_t n) 
 
 void replace_file_atomically(const std::string& path,
                              const std::function<void(const std::string& temp)>& write) {
+  check_output_file(path, "output");
   const std::string temp = temp_name(path);
   try {
     write(temp);

@@ -10,6 +10,14 @@
 
 namespace multiray {
 
+// Refuses (InputError naming `option` and `path`) an output path that exists and is not a
+// regular file (after links): a FIFO, a device such as /dev/null, a folder or a socket.
+// Outputs are renamed into place, so writing one would replace the special file itself
+// (as root, /dev/null). A link to a regular file is fine: the link is replaced, not its
+// target. Called by every writer below and early, before a run starts, for each output
+// option.
+void check_output_file(const std::string& path, const std::string& option);
+
 // Writes `n` bytes to `path` atomically. Throws InputError naming the path and the reason.
 void write_file_atomically(const std::string& path, const void* data, size_t n);
 inline void write_file_atomically(const std::string& path, const std::string& text) {

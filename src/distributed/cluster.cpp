@@ -59,6 +59,16 @@ std::string Cluster::devices_of_this_rank(const std::string& all) const {
 #ifdef MULTIRAY_HAS_MPI
 
 namespace {
+// Testing aid (tests/mpi): MULTIRAY_TEST_KILL=R:F makes rank R kill itself when frame F
+// starts there (a worker: when asked for it; the master: as it sends it), as a crashed
+// machine would vanish. -1: not this rank.
+int test_kill_frame(int rank) {
+  int r = -1, f = -1;
+  if (const char* kill = std::getenv("MULTIRAY_TEST_KILL"))
+    if (std::sscanf(kill, "%d:%d", &r, &f) == 2 && r == rank) return f;
+  return -1;
+}
+
 // --link, its error as bad input.
 LinkSpec checked_link(const std::string& text) {
   try {
@@ -86,7 +96,9 @@ Cluster::Cluster(const DistributedOptions& o) : options_(o), link_(checked_link(
     if (const int r = parse_rank_devices(entry).first; r >= size())
       throw InputError(
           fmt::format("--rank-devices: rank {} does not exist (ranks 0..{})", r, size() - 1));
-  if (!master()) transport_->set_heartbeat(std::chrono::milliseconds(250));
+  // Both ways: the master tells a busy worker from a dead one, and a worker notices a
+  // master that was killed (check_master_alive).
+  transport_->set_heartbeat(std::chrono::milliseconds(250));
 }
 
 Cluster::~Cluster() {
@@ -108,6 +120,7 @@ Scene Cluster::receive_scene() {
   for (;;) {
     std::optional<remote::Message> m =
         transport_->receive(0, remote::Transport::Clock::now() + std::chrono::seconds(1));
+    check_master_alive(*transport_, options_.worker_timeout_s);
     if (!m) continue;
     if (m->tag == remote::kQuit) {  // the master could not start
       obey_quit(*transport_, *m);
@@ -169,6 +182,7 @@ std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {
   ro.timeout = timeout;
   ro.depth = parse_depth(options_.depth);
   ro.auto_depth = options_.depth == "auto";
+  ro.kill_at_frame = test_kill_frame(0);
   for (int r = 1; r < size(); ++r)
     devices.push_back(
         std::make_unique<remote::RemoteDevice>(*transport_, r, *hellos[size_t(r)], ro));
@@ -184,12 +198,8 @@ int Cluster::serve(const std::vector<Device*>& devices, const RenderSettings& se
   RankWorkerOptions wo;
   wo.balancer = options_.rank_balancer;
   wo.transposed = !options_.same_direction;
-  // Testing aid (tests/mpi): MULTIRAY_TEST_KILL=R:F makes rank R kill itself when it is
-  // asked for frame F, as a crashed machine would vanish.
-  if (const char* kill = std::getenv("MULTIRAY_TEST_KILL")) {
-    int r = -1, f = -1;
-    if (std::sscanf(kill, "%d:%d", &r, &f) == 2 && r == rank()) wo.kill_at_frame = f;
-  }
+  wo.master_timeout_s = options_.worker_timeout_s;
+  wo.kill_at_frame = test_kill_frame(rank());
   RankWorker worker(*transport_, devices, settings, wo);
   return worker.serve();
 }

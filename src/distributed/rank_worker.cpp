@@ -2,6 +2,8 @@
 
 #include <csignal>
 
+#include <fmt/core.h>
+
 #include "core/error.h"
 #include "distributed/wire.h"
 
@@ -16,6 +18,18 @@ void obey_quit(Transport& transport, const Message& quit) {
   } catch (const WireError&) {
   }
   if (rank_lost) transport.forgo_finalize();
+}
+
+void check_master_alive(Transport& transport, double timeout_s) {
+  const double silent_s =
+      std::chrono::duration<double>(Transport::Clock::now() - transport.last_heard(0)).count();
+  if (silent_s <= timeout_s) return;
+  transport.give_up(0);
+  transport.forgo_finalize();
+  throw DeviceError(fmt::format(
+      "rank {}: nothing from the master (rank 0) for {:.1f} s (--worker-timeout {}): it has "
+      "stopped or its machine is gone; this worker ends",
+      transport.rank(), silent_s, timeout_s));
 }
 
 RankWorker::RankWorker(Transport& transport, std::vector<Device*> local, RenderSettings base,
@@ -34,6 +48,7 @@ int RankWorker::serve() {
   for (;;) {
     std::optional<Message> m =
         transport_.receive(0, Transport::Clock::now() + std::chrono::seconds(1));
+    check_master_alive(transport_, options_.master_timeout_s);
     if (!m) continue;
     try {
       switch (m->tag) {

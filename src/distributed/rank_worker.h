@@ -28,7 +28,14 @@ struct RankWorkerOptions {
   std::string balancer = "semi-static";  // the local split of each region
   bool transposed = true;                // split the other way from the master (Harada)
   int kill_at_frame = -1;                // testing aid: SIGKILL itself when asked for it
+  double master_timeout_s = 10;          // silence of the master that ends the worker
 };
+
+// Throws DeviceError when nothing (not even a heartbeat: the master's transport sends one
+// every 250 ms) has come from the master for `timeout_s`: it was killed or its machine
+// is gone, and without this the worker would wait forever. MPI is then not finalised
+// (MPI_Finalize would wait for the dead master).
+void check_master_alive(remote::Transport& transport, double timeout_s);
 
 // Ends this worker's part in MPI as the master's Quit says: when the master gave up on
 // a rank (or the message does not parse), MPI must not be finalised here, since
@@ -43,7 +50,8 @@ class RankWorker {
              RankWorkerOptions options);
 
   // Serves until the master says Quit; returns 0. Faults of the local devices go back to
-  // the master as Failure messages; nothing here throws for them.
+  // the master as Failure messages; nothing here throws for them. Throws DeviceError when
+  // the master falls silent (check_master_alive).
   int serve();
 
  private:

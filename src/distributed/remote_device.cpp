@@ -1,5 +1,7 @@
 #include "distributed/remote_device.h"
 
+#include <csignal>
+
 #include <algorithm>
 
 #include "core/clock.h"
@@ -111,6 +113,8 @@ DeviceReport RemoteDevice::render(const FrameJob& job, WorkSource& source, int i
     return report;
   };
   if (given_up_) return fail("given up on earlier");
+  if (!job.views.empty() && int(job.views[0].frame) == options_.kill_at_frame)
+    std::raise(SIGKILL);  // testing aid: a master that dies mid-run (tests/mpi)
   for (const ViewSetup& v : job.views)
     if (v.foveation) return fail("foveated sampling does not run on other ranks");
   Stopwatch clock;

@@ -34,6 +34,7 @@ struct RemoteOptions {
   std::chrono::milliseconds timeout{10000};  // silence after which a worker is given up on
   int depth = 2;                             // items on demand kept at the worker, >= 1
   bool auto_depth = true;                    // adapt depth (starting from `depth`)
+  int kill_at_frame = -1;  // testing aid: the master SIGKILLs itself as it starts this frame
 };
 
 // The depth of the next frame from this frame's: the worker waited `idle_ms` for items

@@ -118,12 +118,9 @@ void Transport::loop() {
     sleep = moved ? kMinSleep : std::min(kMaxSleep, sleep * 2);
     const Clock::time_point now = Clock::now();
     const auto period = std::chrono::milliseconds(heartbeat_ms_.load());
-    if (period.count() > 0 && rank_ != 0 && now - beat >= period) {
+    if (period.count() > 0 && now - beat >= period) {
       beat = now;
-      auto f = std::make_unique<InFlight>();
-      f->to = 0;
-      MPI_Isend(nullptr, 0, MPI_BYTE, 0, kHeartbeatTag, MPI_COMM_WORLD, &f->request);
-      in_flight_.push_back(std::move(f));
+      send_heartbeats();
     }
     std::unique_lock<std::mutex> lock(mutex_);
     if (stop_) {
@@ -140,6 +137,22 @@ void Transport::loop() {
   }
   for (auto& f : in_flight_)
     if (f->request != MPI_REQUEST_NULL && !given_up_[size_t(f->to)]) MPI_Request_free(&f->request);
+}
+
+void Transport::send_heartbeats() {
+  // A worker beats to the master; the master to every worker it has not given up on.
+  std::vector<int> peers;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (int r = rank_ == 0 ? 1 : 0; r < (rank_ == 0 ? size_ : 1); ++r)
+      if (!given_up_[size_t(r)]) peers.push_back(r);
+  }
+  for (const int r : peers) {
+    auto f = std::make_unique<InFlight>();
+    f->to = r;
+    MPI_Isend(nullptr, 0, MPI_BYTE, r, kHeartbeatTag, MPI_COMM_WORLD, &f->request);
+    in_flight_.push_back(std::move(f));
+  }
 }
 
 bool Transport::pump() {

@@ -74,8 +74,9 @@ class Transport {
   // Another rank gave up on one (a worker told so by the master): this rank must not
   // finalise MPI either, although every peer it talks to still answers.
   void forgo_finalize() { forgo_finalize_ = true; }
-  // Sends a heartbeat to rank 0 every `period` (workers), so the master tells a busy
-  // worker from a dead one. Zero: none.
+  // Sends a heartbeat every `period`: a worker to rank 0, so the master tells a busy
+  // worker from a dead one; the master to every worker, so a worker notices a dead master.
+  // Zero: none.
   void set_heartbeat(std::chrono::milliseconds period) { heartbeat_ms_ = period.count(); }
   TransportStats stats() const;
 
@@ -94,6 +95,7 @@ class Transport {
   // One pass of the transport's thread; true when it moved anything.
   bool pump();
   bool probe_one();
+  void send_heartbeats();
 
   int rank_ = 0, size_ = 1;
   LinkModel link_;

@@ -1,6 +1,7 @@
 // Atomic writes (core/file_io.h): the whole new file or the old one, and never a
 // temporary file left behind, whichever step fails.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -63,13 +64,15 @@ TEST_F(FileIo, WritesTheWholeFileAndReplacesTheOldOne) {
 }
 
 TEST_F(FileIo, AFailedRenameKeepsTheTargetAndLeavesNoTemporaryFile) {
-  // The target is a folder with a file in it: the temporary file is written, but renaming
-  // it over the folder fails.
+  // A folder appears at the target while the temporary file is written (after the check
+  // that refuses a folder up front), so renaming the file over it fails.
   const std::string p = path("taken");
-  fs::create_directories(p);
-  std::ofstream(p + "/inside.txt") << "keep me";
   try {
-    write_file_atomically(p, std::string("new contents"));
+    replace_file_atomically(p, [&](const std::string& temp) {
+      fs::create_directories(p);
+      std::ofstream(p + "/inside.txt") << "keep me";
+      std::ofstream(temp, std::ios::binary) << "new contents";
+    });
     ADD_FAILURE() << "renaming a file over a folder succeeded";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
@@ -78,6 +81,35 @@ TEST_F(FileIo, AFailedRenameKeepsTheTargetAndLeavesNoTemporaryFile) {
   EXPECT_TRUE(fs::is_directory(p));
   EXPECT_EQ(read(p + "/inside.txt"), "keep me");
   EXPECT_EQ(leftovers(), std::vector<std::string>{});
+}
+
+// Outputs are renamed into place, so a FIFO, a device or a folder at an output's name
+// would be replaced by a regular file (as root, /dev/null itself): refused, untouched.
+TEST_F(FileIo, OnlyRegularFilesOrNewNamesAreOutputs) {
+  const std::string fifo = path("pipe");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0644), 0);
+  const std::string folder = path("folder");
+  fs::create_directories(folder);
+  for (const std::string& p : {fifo, folder, std::string("/dev/null")}) {
+    try {
+      write_file_atomically(p, std::string("x"));
+      ADD_FAILURE() << p << " was written";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("regular file"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(replace_file_atomically(p, [](const std::string&) {}), InputError) << p;
+    EXPECT_THROW(check_output_file(p, "--trace"), InputError) << p;
+  }
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_TRUE(leftovers().empty());
+  // A new name, a regular file and a link to a regular file are outputs.
+  EXPECT_NO_THROW(check_output_file(path("new.json"), "--json"));
+  write_file_atomically(path("file.json"), std::string("old"));
+  fs::create_symlink(path("file.json"), path("link.json"));
+  EXPECT_NO_THROW(write_file_atomically(path("link.json"), std::string("new")));
+  EXPECT_EQ(read(path("file.json")), "old");  // the link was replaced, not its target
+  EXPECT_EQ(read(path("link.json")), "new");
 }
 
 TEST_F(FileIo, AMissingFolderIsAnInputError) {

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -151,6 +152,27 @@ TEST(Distributed, AKilledWorkerCostsNoPixel) {
     EXPECT_EQ(hashes(dir), hashes(ref)) << balancer;
     EXPECT_EQ(stats(dir)["frames"].size(), 3u);
   }
+}
+
+// The master killed mid-run (kill -9, a crashed machine): with --enable-recovery mpirun
+// keeps the other ranks, which used to wait for it forever. Each worker now notices the
+// master's heartbeats stop and ends within --worker-timeout, non-zero, saying why.
+TEST(Distributed, AKilledMasterEndsEveryWorker) {
+  const auto start = std::chrono::steady_clock::now();
+  const CliResult r =
+      distributed(3,
+                  "render -q --res 80x48 --spp 2 --frames 1000 "
+                  "--camera-path orbit:10 --devices cpu:threads=1 "
+                  "--worker-timeout 2 --out " +
+                      out_dir("master_killed"),
+                  "--enable-recovery -x MULTIRAY_TEST_KILL", "MULTIRAY_TEST_KILL=0:2", 60);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // timeout's code (mpirun's own code with --enable-recovery is its policy, not ours).
+  EXPECT_NE(r.code, 124) << "the workers outlived the master: " << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("rank 1: nothing from the master"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("rank 2: nothing from the master"));
+  EXPECT_LT(seconds, 45) << r.out;
 }
 
 TEST(Distributed, BadSetupsFailInOneLine) {
