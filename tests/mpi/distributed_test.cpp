@@ -175,6 +175,21 @@ TEST(Distributed, AKilledMasterEndsEveryWorker) {
   EXPECT_LT(seconds, 45) << r.out;
 }
 
+// A master that sends no work for longer than --worker-timeout is alive all the same: its
+// heartbeats say so. Here the emulated link holds every message 1.5 s, longer than the
+// 1 s timeout; without the master's heartbeats the workers took it for dead and ended.
+TEST(Distributed, AQuietMasterIsNotTakenForDead) {
+  const std::string dir = out_dir("quiet");
+  const CliResult r = distributed(3,
+                                  "render -q --res 32x18 --spp 1 --frames 2 "
+                                  "--devices cpu:threads=1 --worker-timeout 1 "
+                                  "--link 1500,1000 --out " +
+                                      dir);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("nothing from the master")));
+  EXPECT_EQ(stats(dir)["frames"].size(), 2u);
+}
+
 TEST(Distributed, BadSetupsFailInOneLine) {
   const std::string dir = out_dir("bad");
   // One rank is no cluster.
