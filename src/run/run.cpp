@@ -75,6 +75,7 @@ MemoryEstimate estimate_memory(const RunConfig& o, int views, int width, int hei
                            + (o.sampling == "reproject" ? 24 : 0)  // G-buffer, maps, depths
                            + (o.sampling == "foveated" ? 80 : 0);  // neighbours, weights
   m.frame_bytes = pixels * per_pixel;
+  m.record_bytes = double(o.frames) * o.kept_bytes_per_frame;
   return m;
 }
 
@@ -196,9 +197,13 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
       estimate_memory(o, rig.view_count(), s.res.width, s.res.height, lanes);
   if (need.total() > limit)
     throw InputError(fmt::format(
-        "this run needs about {:.1f} GB ({:.1f} GB of frames, {:.1f} GB of scene), more than "
+        "this run needs about {:.1f} GB ({:.1f} GB of frames, {:.1f} GB of scene{}), more than "
         "the {:.1f} GB allowed (--max-memory; default: half of physical memory)",
-        need.total() / 1e9, need.frame_bytes / 1e9, need.scene_bytes / 1e9, limit / 1e9));
+        need.total() / 1e9, need.frame_bytes / 1e9, need.scene_bytes / 1e9,
+        need.record_bytes > 0
+            ? fmt::format(", {:.1f} GB of per-frame records", need.record_bytes / 1e9)
+            : "",
+        limit / 1e9));
   if (before_load) before_load();
   LoadOptions load;
   load.allow_outside = o.allow_outside_paths;

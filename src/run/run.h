@@ -59,10 +59,11 @@ struct Run {
 // Memory a run is estimated to need before it takes it, in bytes: the scene (from its file
 // size: loaded geometry, BVH and shading records are within ~12x a mesh file) and the
 // frames (every view's float image in the session's buffers, `lanes` of them, plus
-// per-pixel sample data of irregular sampling). A refusal beats an out-of-memory kill.
+// per-pixel sample data of irregular sampling), and what the command keeps per frame
+// (RunConfig::kept_bytes_per_frame × frames). A refusal beats an out-of-memory kill.
 struct MemoryEstimate {
-  double scene_bytes = 0, frame_bytes = 0;
-  double total() const { return scene_bytes + frame_bytes; }
+  double scene_bytes = 0, frame_bytes = 0, record_bytes = 0;
+  double total() const { return scene_bytes + frame_bytes + record_bytes; }
 };
 MemoryEstimate estimate_memory(const RunConfig& o, int views, int width, int height, int lanes);
 // --max-memory: "auto" (half of physical memory) or a size like 8G, 512M, 100000 (bytes).

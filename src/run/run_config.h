@@ -59,7 +59,10 @@ struct RunConfig {
   FoveationParams foveation;         // foveated: --fovea-spp, --fovea-radius, --periphery-spp
   bool allow_outside_paths = false;  // files a scene names may lie outside its folder
   std::string max_memory = "auto";   // bytes (K/M/G suffixes) or auto: half of physical RAM
-  DistributedOptions distributed;    // --distributed and its options (distributed/cluster.h)
+  // Bytes the command keeps in memory per frame, for the estimate (bench: every lane's
+  // records; render keeps none: its records go to disk as frames finish).
+  double kept_bytes_per_frame = 0;
+  DistributedOptions distributed;  // --distributed and its options (distributed/cluster.h)
 };
 
 }  // namespace multiray
