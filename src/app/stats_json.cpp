@@ -1,5 +1,7 @@
 #include "app/stats_json.h"
 
+#include <algorithm>
+
 #include "core/error.h"
 #include "run/run.h"
 #include "util/utf8.h"
@@ -42,10 +44,22 @@ nlohmann::json distributed_to_json(const Run& s) {
           {"depth", o.depth},
           {"scene_from", o.scene_from}};
 }
+
+// True when every string in `doc` (keys too) is valid UTF-8: the common case, dumped
+// without a copy.
+bool all_valid_utf8(const nlohmann::json& doc) {
+  if (doc.is_string()) return is_valid_utf8(doc.get_ref<const std::string&>());
+  if (doc.is_array())
+    return std::all_of(doc.begin(), doc.end(), [](const auto& e) { return all_valid_utf8(e); });
+  if (doc.is_object())
+    for (const auto& [key, value] : doc.items())
+      if (!is_valid_utf8(key) || !all_valid_utf8(value)) return false;
+  return true;
+}
 }  // namespace
 
 std::string dump_json(const nlohmann::json& doc, int indent) {
-  return valid_utf8(doc).dump(indent);
+  return all_valid_utf8(doc) ? doc.dump(indent) : valid_utf8(doc).dump(indent);
 }
 
 nlohmann::json settings_to_json(const RunConfig& o, const Run& s,
