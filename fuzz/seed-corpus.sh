@@ -16,7 +16,7 @@ MAX_BYTES=131072   # whole files up to this size
 HEAD_BYTES=32768   # the head of larger ones
 PART_BYTES=65536   # companion files (MTL, buffers, images) up to this size
 
-targets="ply obj gltf glb camera_json camera_render trace cli volume transfer messages"
+targets="ply obj gltf glb camera_json camera_render trace cli volume transfer messages viewer"
 for t in $targets; do
   mkdir -p "$out/$t"
   cp "$here/corpus/$t/"* "$out/$t/" 2>/dev/null || true

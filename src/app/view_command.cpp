@@ -23,6 +23,7 @@ Runner add_view_command(CLI::App& app) {
   auto balancer = std::make_shared<std::string>("hybrid");
   auto bind = std::make_shared<std::string>("127.0.0.1");
   auto port = std::make_shared<int>(8080);
+  auto max_clients = std::make_shared<int>(16);
   auto max_frames = std::make_shared<int>(0);
   auto exposure = std::make_shared<double>(0.0);
   auto tone = std::make_shared<std::string>("auto");
@@ -31,8 +32,12 @@ Runner add_view_command(CLI::App& app) {
   cmd->add_option("--port", *port, "TCP port of the page (0: any free port, printed)")
       ->capture_default_str();
   cmd->add_option("--bind", *bind,
-                  "Address to listen on; the default serves this machine only. Anything else "
-                  "lets every machine that reaches it watch and steer the render")
+                  "IP address to listen on (IPv4, IPv6 when civetweb has it, or localhost); "
+                  "the default serves this machine only. Anything else lets every machine "
+                  "that reaches it watch and steer the render")
+      ->capture_default_str();
+  cmd->add_option("--max-clients", *max_clients,
+                  "Pages that may watch at once, 1..256; one more is refused (HTTP 503)")
       ->capture_default_str();
   cmd->add_option("--max-frames", *max_frames, "Stop after this many frames (0: at Ctrl-C)")
       ->capture_default_str();
@@ -49,9 +54,14 @@ Runner add_view_command(CLI::App& app) {
     if (*max_frames < 0 || *max_frames > 100000000)
       throw InputError("--max-frames must be in 0..100000000 (0: until Ctrl-C)");
     if (o->distributed.enabled) throw InputError("view: --distributed is not supported yet");
-    viewer::LiveViewOptions vo;
-    vo.bind = *bind;
+    if (*port < 0 || *port > 65535) throw InputError("--port must be in 0..65535");
+    if (*max_clients < 1 || *max_clients > viewer::WebServer::kMaxClientsLimit)
+      throw InputError("--max-clients must be in 1.." +
+                       std::to_string(viewer::WebServer::kMaxClientsLimit));
+    viewer::LiveViewOptions vo;  // checked before the scene loads
+    vo.bind = viewer::parse_listen_address(*bind, viewer::WebServer::has_ipv6());
     vo.port = *port;
+    vo.max_clients = *max_clients;
     vo.display.exposure_ev = parse_exposure(*exposure);
     vo.display.tone = parse_tone(*tone, is_volume_input(o->scene_path, o->volume));
     Run s;
@@ -62,9 +72,10 @@ Runner add_view_command(CLI::App& app) {
     std::vector<std::string> names;
     for (const auto& d : s.devices) names.push_back(d->info().name);
     viewer::LiveView view(*session, OrbitCamera(s.camera, s.up), names, vo);
-    if (*bind != "127.0.0.1" && *bind != "localhost" && *bind != "::1")
-      print_err("multiray: warning: --bind {}: anyone who reaches it can steer this run\n", *bind);
-    print_out("multiray: viewer at http://{}:{}/  (Ctrl-C to stop)\n", *bind, view.port());
+    if (!vo.bind.loopback)
+      print_err("multiray: warning: --bind {}: anyone who reaches it can steer this run\n",
+                vo.bind.host);
+    print_out("multiray: viewer at {}  (Ctrl-C to stop)\n", vo.bind.url(view.port()));
     std::fflush(stdout);
     int interrupted = 0;
     {
@@ -73,7 +84,8 @@ Runner add_view_command(CLI::App& app) {
       session->run(0, count, view);
       interrupted = watch.signal();
     }
-    print_out("multiray: {} frames dropped for slow clients\n", view.frames_dropped());
+    print_out("multiray: {} frames dropped while encoding, {} skipped for slow clients\n",
+              view.frames_dropped(), view.server().frames_skipped());
     return interrupted ? 128 + interrupted : 0;
 #endif
   };

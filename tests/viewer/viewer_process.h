@@ -30,16 +30,19 @@ class ViewerProcess {
     close(out[1]);
     FILE* f = fdopen(out[0], "r");
     char line[256];
-    // "multiray: viewer at http://127.0.0.1:PORT/ ..."
+    // "multiray: viewer at http://127.0.0.1:PORT/ ..." ("http://[::1]:PORT/" for IPv6)
     if (f && fgets(line, sizeof line, f)) {
       const std::string s(line);
       const auto colon = s.rfind(':', s.find("/ "));
       if (colon != std::string::npos) port_ = std::atoi(s.c_str() + colon + 1);
+      const auto at = s.find("http://");
+      if (at != std::string::npos) url_ = s.substr(at, s.find(' ', at) - at);
     }
     out_ = f;
   }
   ~ViewerProcess() { stop(); }
   int port() const { return port_; }
+  const std::string& url() const { return url_; }
   // SIGINT, then the exit code (128 + SIGINT expected).
   int stop() {
     if (pid_ <= 0) return code_;
@@ -55,6 +58,7 @@ class ViewerProcess {
  private:
   pid_t pid_ = -1;
   int port_ = 0, code_ = -1;
+  std::string url_;
   FILE* out_ = nullptr;
 };
 

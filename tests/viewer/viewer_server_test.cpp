@@ -15,66 +15,11 @@
 #include <nlohmann/json.hpp>
 
 #include "viewer_process.h"
+#include "ws_client.h"
 
 namespace viewer_server_test {
 
-using namespace std::chrono_literals;
-
-// A WebSocket client collecting what the server sends.
-class Client {
- public:
-  explicit Client(int port) {
-    char error[256] = "";
-    conn_ = mg_connect_websocket_client("127.0.0.1", port, 0, error, sizeof error, "/ws", nullptr,
-                                        &Client::on_data, &Client::on_close, this);
-  }
-  ~Client() {
-    if (conn_) mg_close_connection(conn_);
-  }
-  bool connected() const { return conn_ != nullptr; }
-  void send(const std::string& text, int opcode = MG_WEBSOCKET_OPCODE_TEXT) {
-    mg_websocket_client_write(conn_, opcode, text.data(), text.size());
-  }
-  // The next text message for which `pred` holds (earlier ones are dropped), within 20 s.
-  nlohmann::json wait(const std::function<bool(const nlohmann::json&)>& pred) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    const auto until = std::chrono::steady_clock::now() + 20s;
-    for (;;) {
-      while (!texts_.empty()) {
-        nlohmann::json j = nlohmann::json::parse(texts_.front(), nullptr, false);
-        texts_.pop_front();
-        if (!j.is_discarded() && pred(j)) return j;
-      }
-      if (arrived_.wait_until(lock, until) == std::cv_status::timeout) return nullptr;
-    }
-  }
-  nlohmann::json wait_type(const std::string& type) {
-    return wait([&](const nlohmann::json& j) { return j.value("type", "") == type; });
-  }
-  size_t jpegs() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return jpegs_;
-  }
-
- private:
-  static int on_data(mg_connection*, int bits, char* data, size_t len, void* self) {
-    auto* c = static_cast<Client*>(self);
-    std::lock_guard<std::mutex> lock(c->mutex_);
-    if ((bits & 0xf) == MG_WEBSOCKET_OPCODE_TEXT) c->texts_.emplace_back(data, len);
-    if ((bits & 0xf) == MG_WEBSOCKET_OPCODE_BINARY && len > 2 && uint8_t(data[0]) == 0xff &&
-        uint8_t(data[1]) == 0xd8)
-      ++c->jpegs_;
-    c->arrived_.notify_all();
-    return 1;
-  }
-  static void on_close(const mg_connection*, void*) {}
-
-  mg_connection* conn_ = nullptr;
-  std::mutex mutex_;
-  std::condition_variable arrived_;
-  std::deque<std::string> texts_;
-  size_t jpegs_ = 0;
-};
+using multiray::testing::Client;
 
 const char* kArgs = "--res 64x36 --spp 1 --bounces 2 --devices cpu:threads=1,cpu:threads=1";
 

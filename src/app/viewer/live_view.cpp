@@ -26,8 +26,8 @@ LiveView::LiveView(Session& session, OrbitCamera camera, std::vector<std::string
       options_(std::move(options)),
       camera_(std::move(camera)) {
   server_ = std::make_unique<WebServer>(
-      options_.bind, options_.port, viewer_page(),
-      [this](int client) { server_->send_text(client, hello()); },
+      options_.bind, options_.port, options_.max_clients, viewer_page(),
+      [this] { return hello(); },
       [this](int client, const std::string& text) { handle(client, text); });
   if (options_.volume)
     session_.set_settings_schedule([this, v = options_.volume](int frame, RenderSettings& s) {
@@ -201,8 +201,8 @@ void LiveView::send_loop() {
     } catch (const std::exception&) {
       continue;  // an empty image; nothing to show
     }
-    server_->broadcast_text(frame_json(*frame, view, balancer));
-    server_->broadcast_binary(jpeg);
+    server_->broadcast_frame(std::make_shared<const OutFrame>(
+        OutFrame{frame_json(*frame, view, balancer), std::move(jpeg)}));
   }
 }
 

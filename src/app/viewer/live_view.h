@@ -3,7 +3,8 @@
 // switches and view choices for the session (issue "Live viewer").
 //
 // Rendering never waits on a browser: on_frame() only keeps the newest frame and wakes the
-// sender thread, which encodes it (JPEG) and sends it with its measurements; frames that
+// sender thread, which encodes it (JPEG) and queues it with its measurements for every
+// client (web_server.h: each client's queue keeps the newest frame only); frames that
 // arrive while it is busy replace the one waiting (dropped, counted). Camera moves go
 // through Session::set_camera (thread-safe); a balancer switch is applied by on_frame,
 // between frames, on the session's thread.
@@ -17,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/viewer/listen_address.h"
 #include "app/viewer/view_control.h"
 #include "app/viewer/web_server.h"
 #include "core/image.h"
@@ -31,8 +33,9 @@ namespace multiray::app::viewer {
 
 struct LiveViewOptions {
   std::shared_ptr<VolumeRun> volume;  // volumes: the transfer functions and targeting
-  std::string bind = "127.0.0.1";
+  ListenAddress bind{"127.0.0.1", false, true};
   int port = 8080;
+  int max_clients = 16;  // open WebSockets at once (web_server.h)
   Display display;
   int jpeg_quality = 85;
 };
@@ -46,7 +49,10 @@ class LiveView : public FrameObserver {
 
   void on_frame(const std::shared_ptr<const FrameResult>& result) override;
   int port() const { return server_->port(); }
+  // Frames the sender skipped because newer ones finished while it encoded.
   uint64_t frames_dropped() const { return dropped_; }
+  // The server, whose receive() takes a client's message the way a socket delivers it.
+  WebServer& server() { return *server_; }
 
  private:
   void send_loop();

@@ -72,7 +72,8 @@ function connect() {
     drawOverlay(); drawStats(m);
     if (window.onFrameForTest) window.onFrameForTest(m);
   };
-  ws.onclose = () => { $("stats").textContent = "disconnected; retrying ..."; setTimeout(connect, 1000); };
+  // A refused connection (the viewer already has --max-clients pages) closes too.
+  ws.onclose = () => { $("stats").textContent = "disconnected (or the viewer is full); retrying ..."; setTimeout(connect, 1000); };
 }
 function hello(m) {
   devices = m.devices;

@@ -2,27 +2,68 @@
 
 #include <civetweb.h>
 
+#include <thread>
+#include <vector>
+
 #include "core/error.h"
 
 namespace multiray::app::viewer {
 
 namespace {
 constexpr size_t kMaxIncoming = 4096;  // longer messages are answered with an error
+
+// Whether `bytes` went out whole (mg_websocket_write returns the payload bytes written,
+// fewer when a write timed out part-way, or the header's 2 bytes for an empty payload).
+bool write_whole(mg_connection* conn, int opcode, const std::string& bytes) {
+  const int r = mg_websocket_write(conn, opcode, bytes.data(), bytes.size());
+  return bytes.empty() ? r > 0 : r == int(bytes.size());
+}
+}  // namespace
+
+// One open WebSocket: its queue and the thread that sends from it. The thread is joined by
+// on_ws_close, before civetweb reuses the connection.
+struct WebServer::Peer {
+  mg_connection* conn = nullptr;
+  Outbox outbox;
+  std::thread writer;
+};
+
+bool WebServer::has_ipv6() {
+  mg_init_library(MG_FEATURES_WEBSOCKET);
+  return mg_check_feature(MG_FEATURES_IPV6) != 0;
 }
 
-WebServer::WebServer(const std::string& bind, int port, std::string page, OnConnect on_connect,
-                     OnMessage on_message)
+WebServer::WebServer(const ListenAddress& address, int port, int max_clients, std::string page,
+                     Greeting greeting, OnMessage on_message)
     : page_(std::move(page)),
-      on_connect_(std::move(on_connect)),
-      on_message_(std::move(on_message)) {
+      greeting_(std::move(greeting)),
+      on_message_(std::move(on_message)),
+      max_clients_(max_clients) {
   if (port < 0 || port > 65535) throw InputError("--port must be in 0..65535");
+  if (max_clients < 1 || max_clients > kMaxClientsLimit)
+    throw InputError("--max-clients must be in 1.." + std::to_string(kMaxClientsLimit));
   mg_init_library(MG_FEATURES_WEBSOCKET);
   if (!mg_check_feature(MG_FEATURES_WEBSOCKET))
     throw InputError("this civetweb was built without WebSocket support");
-  const std::string listen = bind + ":" + std::to_string(port);
-  const char* options[] = {"listening_ports",      listen.c_str(), "num_threads", "4",
-                           "websocket_timeout_ms", "3600000",      nullptr};
+  const std::string listen = address.listening_port(port);
+  const std::string threads = std::to_string(max_clients + kSpareThreads);
+  const std::string request_ms = std::to_string(kRequestTimeoutMs);
+  const std::string ping_ms = std::to_string(kPingIntervalMs);
+  const char* options[] = {"listening_ports",
+                           listen.c_str(),
+                           "num_threads",
+                           threads.c_str(),
+                           "request_timeout_ms",
+                           request_ms.c_str(),
+                           "enable_keep_alive",
+                           "no",
+                           "websocket_timeout_ms",
+                           ping_ms.c_str(),
+                           "enable_websocket_ping_pong",
+                           "yes",
+                           nullptr};
   mg_callbacks callbacks{};
+  callbacks.end_request = &WebServer::on_end_request;
   ctx_ = mg_start(&callbacks, this, options);
   if (!ctx_) throw InputError("cannot listen on " + listen + " (in use, or not a local address?)");
   mg_server_port ports[4];
@@ -33,6 +74,7 @@ WebServer::WebServer(const std::string& bind, int port, std::string page, OnConn
                            &WebServer::on_ws_data, &WebServer::on_ws_close, this);
 }
 
+// mg_stop ends every connection; their close handlers join the writer threads.
 WebServer::~WebServer() {
   if (ctx_) mg_stop(ctx_);
 }
@@ -54,25 +96,79 @@ int WebServer::on_page(mg_connection* conn, void* self) {
   return 200;
 }
 
-int WebServer::on_ws_connect(const mg_connection*, void*) { return 0; }  // accept
+// Admits the WebSocket while fewer than max_clients are; otherwise answers 503 (before the
+// handshake, so this is still plain HTTP) and declines it.
+int WebServer::on_ws_connect(const mg_connection* conn, void* self) {
+  auto* s = static_cast<WebServer*>(self);
+  {
+    std::lock_guard<std::mutex> lock(s->mutex_);
+    if (s->admitted_.size() < size_t(s->max_clients_)) {
+      s->admitted_.insert(conn);
+      return 0;
+    }
+  }
+  const std::string reason = "multiray view: " + std::to_string(s->max_clients_) +
+                             " clients are connected, the most --max-clients allows\n";
+  mg_printf(const_cast<mg_connection*>(conn),
+            "HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain\r\n"
+            "Content-Length: %zu\r\nRetry-After: 5\r\nConnection: close\r\n\r\n%s",
+            reason.size(), reason.c_str());
+  return 1;
+}
+
+// Every request ends here, a WebSocket once it is closed or its handshake failed.
+void WebServer::on_end_request(const mg_connection* conn, int) {
+  auto* s = static_cast<WebServer*>(mg_get_user_data(mg_get_context(conn)));
+  std::lock_guard<std::mutex> lock(s->mutex_);
+  s->admitted_.erase(conn);
+}
 
 void WebServer::on_ws_ready(mg_connection* conn, void* self) {
   auto* s = static_cast<WebServer*>(self);
-  int id;
-  {
-    std::lock_guard<std::mutex> lock(s->mutex_);
-    id = s->next_id_++;
-    s->clients_[id] = conn;
-    s->ids_[conn] = id;
+  auto peer = std::make_shared<Peer>();
+  peer->conn = conn;
+  if (s->greeting_) peer->outbox.push_text(s->greeting_());  // before any frame
+  peer->writer = std::thread([p = peer.get()] { write_loop(*p); });
+  std::lock_guard<std::mutex> lock(s->mutex_);
+  const int id = s->next_id_++;
+  s->clients_[id] = peer;
+  s->ids_[conn] = id;
+}
+
+// Sends what the client's outbox holds until it is closed. A write that fails (the client
+// left, or read nothing for kRequestTimeoutMs) ends the loop and closes the outbox; civetweb
+// then closes the connection when its pings fail or go unanswered.
+void WebServer::write_loop(Peer& peer) {
+  std::vector<std::string> texts;
+  std::shared_ptr<const OutFrame> frame;
+  while (peer.outbox.take(texts, frame)) {
+    bool ok = true;
+    for (const std::string& t : texts)
+      ok = ok && write_whole(peer.conn, MG_WEBSOCKET_OPCODE_TEXT, t);
+    if (ok && frame)
+      ok = write_whole(peer.conn, MG_WEBSOCKET_OPCODE_TEXT, frame->json) &&
+           write_whole(peer.conn, MG_WEBSOCKET_OPCODE_BINARY, frame->jpeg);
+    if (!ok) {
+      peer.outbox.close();
+      return;
+    }
   }
-  if (s->on_connect_) s->on_connect_(id);
+}
+
+bool WebServer::receive(int client, int bits, const char* data, size_t len) {
+  const int opcode = bits & 0xf;
+  if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return false;
+  if (opcode != MG_WEBSOCKET_OPCODE_TEXT) return true;  // pings, binary: ignored
+  if (len > kMaxIncoming) {
+    send_text(client, R"({"type":"error","message":"message longer than 4096 bytes"})");
+    return true;
+  }
+  if (on_message_) on_message_(client, std::string(data, len));
+  return true;
 }
 
 int WebServer::on_ws_data(mg_connection* conn, int bits, char* data, size_t len, void* self) {
   auto* s = static_cast<WebServer*>(self);
-  const int opcode = bits & 0xf;
-  if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return 0;
-  if (opcode != MG_WEBSOCKET_OPCODE_TEXT) return 1;  // pings, binary: ignored
   int id = 0;
   {
     std::lock_guard<std::mutex> lock(s->mutex_);
@@ -80,47 +176,46 @@ int WebServer::on_ws_data(mg_connection* conn, int bits, char* data, size_t len,
     if (it == s->ids_.end()) return 0;
     id = it->second;
   }
-  if (len > kMaxIncoming) {
-    s->send_text(id, R"({"type":"error","message":"message longer than 4096 bytes"})");
-    return 1;
+  try {
+    return s->receive(id, bits, data, len) ? 1 : 0;
+  } catch (...) {  // a defect; it must not end civetweb's thread (std::terminate)
+    return 0;      // closes this client's connection
   }
-  if (s->on_message_) s->on_message_(id, std::string(data, len));
-  return 1;
 }
 
 void WebServer::on_ws_close(const mg_connection* conn, void* self) {
   auto* s = static_cast<WebServer*>(self);
+  std::shared_ptr<Peer> peer;
+  {
+    std::lock_guard<std::mutex> lock(s->mutex_);
+    const auto it = s->ids_.find(conn);
+    if (it == s->ids_.end()) return;
+    peer = s->clients_[it->second];
+    s->clients_.erase(it->second);
+    s->ids_.erase(it);
+  }
+  peer->outbox.close();
+  peer->writer.join();  // waits out a write in progress (at most kRequestTimeoutMs)
   std::lock_guard<std::mutex> lock(s->mutex_);
-  const auto it = s->ids_.find(conn);
-  if (it == s->ids_.end()) return;
-  s->clients_.erase(it->second);
-  s->ids_.erase(it);
-}
-
-// Sends hold mutex_ throughout, so a connection cannot be closed and freed by civetweb's
-// close handler while it is being written to (a slow client thus delays the other
-// clients' frames and the close of others, never the rendering).
-bool WebServer::send(mg_connection* conn, int opcode, const std::string& bytes) {
-  mg_lock_connection(conn);
-  const int r = mg_websocket_write(conn, opcode, bytes.data(), bytes.size());
-  mg_unlock_connection(conn);
-  return r > 0;
+  s->skipped_by_gone_ += peer->outbox.frames_skipped();
 }
 
 bool WebServer::send_text(int client, const std::string& text) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = clients_.find(client);
-  return it != clients_.end() && send(it->second, MG_WEBSOCKET_OPCODE_TEXT, text);
+  return it != clients_.end() && it->second->outbox.push_text(text);
 }
 
-void WebServer::broadcast_text(const std::string& text) {
+void WebServer::broadcast_frame(std::shared_ptr<const OutFrame> frame) {
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const auto& [id, conn] : clients_) send(conn, MG_WEBSOCKET_OPCODE_TEXT, text);
+  for (const auto& [id, peer] : clients_) peer->outbox.push_frame(frame);
 }
 
-void WebServer::broadcast_binary(const std::string& bytes) {
+uint64_t WebServer::frames_skipped() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const auto& [id, conn] : clients_) send(conn, MG_WEBSOCKET_OPCODE_BINARY, bytes);
+  uint64_t n = skipped_by_gone_;
+  for (const auto& [id, peer] : clients_) n += peer->outbox.frames_skipped();
+  return n;
 }
 
 }  // namespace multiray::app::viewer

@@ -1,13 +1,26 @@
 // The live viewer's web server: one page at "/" and a WebSocket at "/ws", on civetweb
 // (Debian's libcivetweb). Clients are numbered; messages from them arrive on civetweb's
-// threads through `on_message`. Sends are serialised per connection; a client that
-// vanished is simply gone from the set.
+// threads through `on_message`.
+//
+// Nothing a client does holds up the others or the render: each client has its own
+// bounded Outbox and a writer thread that sends from it, so a client that reads slowly
+// skips frames and one that stops reading is dropped (its writes time out), while the
+// others keep receiving. At most `max_clients` WebSockets are open at once; one more is
+// refused with HTTP 503 and a one-line reason. civetweb serves each connection on a thread
+// of its own, so it gets max_clients + kSpareThreads threads: the spare ones serve the page,
+// refusals and sockets that connect and send nothing (closed after kRequestTimeoutMs).
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
+#include <set>
 #include <string>
+
+#include "app/viewer/listen_address.h"
+#include "app/viewer/outbox.h"
 
 struct mg_context;
 struct mg_connection;
@@ -17,38 +30,64 @@ namespace multiray::app::viewer {
 class WebServer {
  public:
   using OnMessage = std::function<void(int client, const std::string& text)>;
-  using OnConnect = std::function<void(int client)>;
+  using Greeting = std::function<std::string()>;  // the first message to every client
 
-  // Listens on `bind`:`port` (port 0: any free port). Throws InputError when it cannot.
-  WebServer(const std::string& bind, int port, std::string page, OnConnect on_connect,
-            OnMessage on_message);
+  static constexpr int kMaxClientsLimit = 256;  // --max-clients range: 1..kMaxClientsLimit
+  static constexpr int kSpareThreads = 8;
+  // A connection's request must arrive within this, and a write that makes no progress
+  // for this long fails (the client is dropped).
+  static constexpr int kRequestTimeoutMs = 5000;
+  // An open WebSocket silent this long is pinged; civetweb closes it after 6 unanswered.
+  static constexpr int kPingIntervalMs = 5000;
+
+  // Whether the civetweb library can listen on IPv6 addresses.
+  static bool has_ipv6();
+
+  // Listens on `address`:`port` (port 0: any free port). Throws InputError when it cannot.
+  WebServer(const ListenAddress& address, int port, int max_clients, std::string page,
+            Greeting greeting, OnMessage on_message);
   ~WebServer();
   WebServer(const WebServer&) = delete;
   WebServer& operator=(const WebServer&) = delete;
 
   int port() const { return port_; }
   size_t clients() const;
-  // False when the client is gone.
+  // Queues `text` for `client`; false when the client is gone or its queue is full.
   bool send_text(int client, const std::string& text);
-  void broadcast_text(const std::string& text);
-  void broadcast_binary(const std::string& bytes);
+  // Queues `frame` for every client, replacing a frame a client has not started to send.
+  void broadcast_frame(std::shared_ptr<const OutFrame> frame);
+  // Frames not sent to a client because a newer one replaced them, summed over clients.
+  uint64_t frames_skipped() const;
+
+  // What the server does with one WebSocket frame from `client` (`bits`: FIN and opcode,
+  // as civetweb passes them): a text message goes to `on_message`, or gets an error reply
+  // when longer than 4096 bytes; other opcodes are ignored. False to close the connection
+  // (a close frame). Public so that the fuzz target drives the same path.
+  bool receive(int client, int bits, const char* data, size_t len);
 
  private:
+  struct Peer;
   static int on_page(mg_connection* conn, void* self);
   static int on_ws_connect(const mg_connection* conn, void* self);
   static void on_ws_ready(mg_connection* conn, void* self);
   static int on_ws_data(mg_connection* conn, int bits, char* data, size_t len, void* self);
   static void on_ws_close(const mg_connection* conn, void* self);
-  bool send(mg_connection* conn, int opcode, const std::string& bytes);
+  static void on_end_request(const mg_connection* conn, int status);
+  static void write_loop(Peer& peer);
 
   std::string page_;
-  OnConnect on_connect_;
+  Greeting greeting_;
   OnMessage on_message_;
+  int max_clients_ = 0;
   mg_context* ctx_ = nullptr;
   int port_ = 0;
-  mutable std::mutex mutex_;
-  std::map<int, mg_connection*> clients_;
+  mutable std::mutex mutex_;  // guards the fields below
+  std::map<int, std::shared_ptr<Peer>> clients_;
   std::map<const mg_connection*, int> ids_;
+  // WebSocket requests let in by on_ws_connect and not yet ended (on_end_request): what
+  // --max-clients counts, so that a handshake in progress holds its place.
+  std::set<const mg_connection*> admitted_;
+  uint64_t skipped_by_gone_ = 0;  // frames_skipped() of clients that left
   int next_id_ = 1;
 };
 
