@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/stats_json.h"
 #include "balance/balancer.h"
 #include "core/error.h"
 #include "engine/volume_advisor.h"
@@ -15,7 +16,7 @@ namespace multiray::app::viewer {
 
 namespace {
 std::string error_json(const std::string& message) {
-  return nlohmann::json{{"type", "error"}, {"message", message}}.dump();
+  return dump_json(nlohmann::json{{"type", "error"}, {"message", message}}, -1);
 }
 }  // namespace
 
@@ -51,15 +52,17 @@ LiveView::~LiveView() {
 std::string LiveView::hello() const {
   nlohmann::json devices = nlohmann::json::array();
   for (const std::string& n : device_names_) devices.push_back(n);
-  return nlohmann::json{{"type", "hello"},
-                        {"balancers", balance::balancer_names()},
-                        {"balancer", session_.engine(0).balancer().name()},
-                        {"devices", devices},
-                        {"views", session_.views().rig().view_count()},
-                        {"volume", options_.volume != nullptr},
-                        {"presets", transfer_presets()},
-                        {"target_ms", options_.volume ? options_.volume->options().target_ms : 0}}
-      .dump();
+  // dump_json: names (devices, a message quoting a client's text) may be any bytes.
+  return dump_json(
+      nlohmann::json{{"type", "hello"},
+                     {"balancers", balance::balancer_names()},
+                     {"balancer", session_.engine(0).balancer().name()},
+                     {"devices", devices},
+                     {"views", session_.views().rig().view_count()},
+                     {"volume", options_.volume != nullptr},
+                     {"presets", transfer_presets()},
+                     {"target_ms", options_.volume ? options_.volume->options().target_ms : 0}},
+      -1);
 }
 
 void LiveView::handle(int client, const std::string& text) {
@@ -164,19 +167,19 @@ std::string LiveView::frame_json(const FrameResult& r, int view,
   const Framebuffer& img = r.images.at(size_t(view));
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)image_hash(img));
-  return nlohmann::json{{"type", "frame"},
-                        {"frame", r.frame},
-                        {"view", view},
-                        {"width", img.width},
-                        {"height", img.height},
-                        {"image_hash", hash},
-                        {"frame_ms", rec.frame_ms},
-                        {"imbalance", rec.imbalance},
-                        {"balancer", balancer},
-                        {"dropped", dropped_.load()},
-                        {"devices", devices},
-                        {"items", items}}
-      .dump();
+  return dump_json(nlohmann::json{{"type", "frame"},
+                                  {"frame", r.frame},
+                                  {"view", view},
+                                  {"width", img.width},
+                                  {"height", img.height},
+                                  {"image_hash", hash},
+                                  {"frame_ms", rec.frame_ms},
+                                  {"imbalance", rec.imbalance},
+                                  {"balancer", balancer},
+                                  {"dropped", dropped_.load()},
+                                  {"devices", devices},
+                                  {"items", items}},
+                   -1);
 }
 
 void LiveView::send_loop() {
