@@ -45,8 +45,8 @@ constexpr float kMinSpacing = 1e-6f, kMaxSpacing = 1e6f;
 // dimension 3 only; types uchar/char/ushort/short (any NRRD spelling: uint8, int16, ...);
 // encodings raw and gzip; either byte order; "spacings" or axis-aligned "space
 // directions" (their lengths; missing: 1; orientation ignored). Raw data must be exactly
-// as long as the header says; gzip data must decode to at least that (trailing bytes
-// after the stream are not detected).
+// as long as the header says; gzip data must pass zlib's checks (CRC and length included)
+// and decode to exactly that, with nothing after the last gzip member.
 Volume load_volume(const std::string& path, const VolumeLoadOptions& options = {});
 
 // Reads a raw file described by `spec`; its size must be exactly nx*ny*nz voxels.
