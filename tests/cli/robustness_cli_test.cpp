@@ -14,9 +14,11 @@
 #include <fstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "support/png_bytes.h"
 #include "support/run_cli.h"
 
 namespace robustness_cli_test {
@@ -126,6 +128,32 @@ TEST(Hostile, SigintKeepsTheFramesDoneAndTheirStats) {
     (e.path().extension() == ".png" ? pngs : others) += 1;
   EXPECT_EQ(pngs, frames);  // every frame in stats.json has its image, and no other
   EXPECT_EQ(others, 1u);    // stats.json; no temporary file left
+}
+
+// Round two (issue 31), data and memory: decoded images and simulations are estimated
+// before they take memory; raw volumes say what cannot be checked.
+
+void write_text(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+TEST(DataAndMemory, DecodedImagesAreInTheMemoryEstimate) {
+  const std::string dir = fresh_dir("images");
+  fs::create_directories(dir);
+  // 16 KB that stb_image would decode to 16000 x 16000 RGBA (1 GB, 2 GB at the peak).
+  write_text(dir + "/big.png", multiray::test::png_claiming(16000, 16000));
+  write_text(dir + "/t.mtl", "newmtl a\nmap_Kd big.png\n");
+  write_text(dir + "/t.obj",
+             "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl a\n"
+             "f 1/1 2/1 3/1\n");
+  const std::string out = " --res 8x8 --spp 1 --max-memory 1G --out " + dir + "/o";
+  expect_refused("render " + dir + "/t.obj" + out, "t.obj: texture 'big.png' (16000 x 16000");
+  expect_refused("render " + dir + "/t.obj" + out, "GB of decoded images), more than the 1.1 GB");
+  // An environment map too (a Radiance header claiming as much).
+  write_text(dir + "/sky.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16000 +X 16000\n" +
+                                   std::string(64, '\x01'));
+  expect_refused("render --env " + dir + "/sky.hdr" + out,
+                 "sky.hdr: environment map (16000 x 16000 pixels): this run needs about");
 }
 
 }  // namespace robustness_cli_test
