@@ -218,9 +218,10 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   } else {
     s.scene = std::make_unique<Scene>(
         o.scene_path.empty() ? make_cornell_box()
-        : volume_input       ? load_volume_scene(o.scene_path, o.volume, o.allow_outside_paths,
-                                                 uint64_t(std::max(limit - need.frame_bytes, 0.0)))
-                             : load_scene(o.scene_path, load));
+        : volume_input
+            ? load_volume_scene(o.scene_path, o.volume, o.allow_outside_paths,
+                                uint64_t(std::max(limit - need.frame_bytes, 0.0)), &s.notes)
+            : load_scene(o.scene_path, load));
     s.scene->up = s.up;
     apply_lighting({o.env, o.env_scale, o.sun}, volume_input, load, *s.scene, s.notes);
     if (sent) s.cluster->send_scene(*s.scene);

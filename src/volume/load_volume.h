@@ -53,6 +53,12 @@ Volume load_volume(const std::string& path, const VolumeLoadOptions& options = {
 Volume load_raw_volume(const std::string& path, const RawVolumeSpec& spec,
                        const VolumeLoadOptions& options = {});
 
+// A raw file's bytes cannot say what they are, but its name often does, in the common
+// "<name>_<NX>x<NY>x<NZ>_<type>.raw" convention (bonsai_256x256x256_uint8.raw). Returns
+// one line saying how the name's grid or type differs from `spec`, or "" when the name
+// gives neither or agrees; *described tells whether it gives either.
+std::string raw_name_mismatch(const std::string& path, const RawVolumeSpec& spec, bool* described);
+
 // Parses "NXxNYxNZ:TYPE[:be|:le][:spacing=SX,SY,SZ]", e.g. "256x256x108:int16:le"
 // or "256x256x256:uint8:spacing=0.96,0.96,1.5". TYPE: uint8, int8, uint16, int16.
 // Throws InputError "raw volume spec '<text>': <problem>".

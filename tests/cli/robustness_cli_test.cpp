@@ -202,4 +202,27 @@ TEST(DataAndMemory, SimulateKeepsOneFrameAtATime) {
   EXPECT_LT(kb, 150 * 1024) << "peak " << kb / 1024 << " MB";
 }
 
+TEST(DataAndMemory, RawVolumesSayWhatCannotBeChecked) {
+  const std::string dir = fresh_dir("raw");
+  fs::create_directories(dir);
+  // 2x2x2 int16 by its name, 16 bytes: --raw 4x2x2:uint8 reads the same bytes otherwise.
+  write_text(dir + "/cube_2x2x2_int16.raw", std::string(16, '\x01'));
+  write_text(dir + "/cube.raw", std::string(16, '\x01'));
+  const std::string out = " --raw 4x2x2:uint8 --res 8x8 --out " + dir + "/o --overwrite";
+  auto r = run_cli(MULTIRAY_BIN, "render " + dir + "/cube_2x2x2_int16.raw" + out);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("warning: " + dir +
+                                          "/cube_2x2x2_int16.raw: its name "
+                                          "says 2x2x2 int16, but --raw reads it as 4x2x2 uint8"));
+  r = run_cli(MULTIRAY_BIN, "render " + dir + "/cube.raw" + out);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("note: 'cube.raw' is read as --raw 4x2x2:uint8 says"));
+  // A name that agrees gives neither.
+  write_text(dir + "/cube_4x2x2_uint8.raw", std::string(16, '\x01'));
+  r = run_cli(MULTIRAY_BIN, "render " + dir + "/cube_4x2x2_uint8.raw" + out);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("--raw reads")));
+  EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("cannot confirm")));
+}
+
 }  // namespace robustness_cli_test
