@@ -110,9 +110,14 @@ std::string raw_name_mismatch(const std::string& path, const RawVolumeSpec& spec
     if (dims.size() == 3 && parse_count(dims[0], &d[0]) && parse_count(dims[1], &d[1]) &&
         parse_count(dims[2], &d[2]))
       grid = std::string(token), n[0] = d[0], n[1] = d[1], n[2] = d[2];
+    // A byte order may follow the type: int16le, uint16be.
+    const std::string_view bare = token.size() > 2 && (token.substr(token.size() - 2) == "le" ||
+                                                       token.substr(token.size() - 2) == "be")
+                                      ? token.substr(0, token.size() - 2)
+                                      : token;
     for (const char* t : {"uint8", "int8", "uint16", "int16", "uint32", "int32", "float32",
                           "float64", "float", "double"})
-      if (token == t) type = t;
+      if (token == t || bare == t) type = t;
   }
   *described = !grid.empty() || !type.empty();
   const bool grid_differs =

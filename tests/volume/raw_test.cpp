@@ -112,6 +112,10 @@ TEST(RawSpec, TheFileNameIsCheckedWhereItDescribesTheData) {
   EXPECT_NE(raw_name_mismatch("ct_int16.raw", bytes, &described).find("says int16"),
             std::string::npos);
   EXPECT_EQ(raw_name_mismatch("scan_4x4x2_1x2xA.raw", bytes, &described), "");  // not a grid
+  // The shared volumes' spelling: a byte order after the type.
+  EXPECT_EQ(raw_name_mismatch("ct_4x4x2_uint8le.raw", bytes, &described), "");
+  EXPECT_NE(raw_name_mismatch("cranium_ct_4x4x2_int16le.raw", bytes, &described).find("int16"),
+            std::string::npos);
   EXPECT_EQ(raw_name_mismatch("/d/plain.raw", bytes, &described), "");
   EXPECT_FALSE(described);
 }
