@@ -11,8 +11,8 @@
 #
 # FUZZ_TARGETS="ply obj" picks targets; JOBS sets the build's parallelism;
 # FUZZ_KNOWN=1 sets MULTIRAY_FUZZ_KNOWN=1, which a target may read to keep inputs of a
-# known, still open finding (docs/reliability.md); no target skips any today. Crashes, leaks,
-# timeouts and out-of-memory inputs are kept in FUZZ_CRASH_DIR/<target>/ (default
+# known, still open finding (docs/reliability.md); fuzz_assimp skips Quick3D (F6).
+# Crashes, leaks, timeouts and out-of-memory inputs are kept in FUZZ_CRASH_DIR/<target>/ (default
 # fuzz/crashes/, not committed); the exit status is 1 when a target found one. Without
 # clang++-15 and its libFuzzer runtime (scripts/install-deps.sh installs them) it says so
 # and exits 0.
@@ -24,7 +24,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 preset=fuzz
 [ "$mode" = smoke ] && preset=fuzz-smoke
 build="$root/build-$preset"
-targets=${FUZZ_TARGETS:-"ply obj gltf glb camera_json camera_render trace cli volume transfer messages viewer"}
+targets=${FUZZ_TARGETS:-"ply obj gltf glb camera_json camera_render trace cli volume transfer messages viewer sequence assimp"}
 crashes=${FUZZ_CRASH_DIR:-"$root/fuzz/crashes"}
 case "$mode" in
   smoke) seconds=${FUZZ_SMOKE_SECONDS:-5} ;;

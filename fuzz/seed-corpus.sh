@@ -16,7 +16,7 @@ MAX_BYTES=131072   # whole files up to this size
 HEAD_BYTES=32768   # the head of larger ones
 PART_BYTES=65536   # companion files (MTL, buffers, images) up to this size
 
-targets="ply obj gltf glb camera_json camera_render trace cli volume transfer messages viewer"
+targets="ply obj gltf glb camera_json camera_render trace cli volume transfer messages viewer sequence assimp"
 for t in $targets; do
   mkdir -p "$out/$t"
   cp "$here/corpus/$t/"* "$out/$t/" 2>/dev/null || true
@@ -70,6 +70,24 @@ add_plain() {  # add_plain TARGET PREFIX ROOT FILE
   emit "$4" > "$out/$1/$(seed_name "$2" "${4#"$3"/}")"
 }
 
+# kAssimpExtensions (src/scene/loaders.h), in its order: fuzz_assimp reads the first byte
+# of an input as an index into it.
+assimp_exts=".3ds .3mf .ac .ase .b3d .blend .cob .dae .dxf .fbx .ifc .lwo .lxo .md2 .ms3d .off \
+.q3o .q3s .smd .stl .x .x3d"
+
+add_assimp() {  # add_assimp PREFIX ROOT FILE: its extension's index as a byte, then the file
+  ext=.$(printf '%s' "${3##*.}" | tr '[:upper:]' '[:lower:]')
+  i=0
+  for e in $assimp_exts; do
+    if [ "$e" = "$ext" ]; then
+      # shellcheck disable=SC2059  # the format is the octal escape of the index
+      { printf "\\$(printf '%03o' $i)"; emit "$3"; } > "$out/assimp/$(seed_name "$1" "${3#"$2"/}")"
+      return 0
+    fi
+    i=$((i + 1))
+  done
+}
+
 # from PREFIX ROOT: every scene file under ROOT.
 from() {
   [ -d "$2" ] || return 0
@@ -79,6 +97,7 @@ from() {
   find "$2" -type f -iname '*.glb' | while IFS= read -r f; do add_plain glb "$1" "$2" "$f"; done
   find "$2" -type f -iname '*.trace' | while IFS= read -r f; do add_plain trace "$1" "$2" "$f"; done
   find "$2" -type f -iname '*.nhdr' | while IFS= read -r f; do add_plain volume "$1" "$2" "$f"; done
+  find "$2" -type f -size -512k | while IFS= read -r f; do add_assimp "$1" "$2" "$f"; done
 }
 
 from assimp "$ASSIMP"

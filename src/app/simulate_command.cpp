@@ -1,5 +1,6 @@
 // `multiray simulate`: a recorded trace replayed on many virtual devices, behind an
 // emulated link, with every balancer, in virtual time (balance/sim_study.h).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include "balance/sim_study.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "run/run.h"
 #include "util/parse.h"
 #include "util/spec.h"
 
@@ -35,7 +37,29 @@ struct SimulateOptions {
   uint64_t seed = 0;
   std::string json_path, plot_path;
   bool validate = false;
+  std::string max_memory = "auto";  // as render's --max-memory
 };
+
+// Refuses a simulation estimated to need more memory than --max-memory allows, before
+// it runs: every study's frame times are kept for the summary (and the JSON), and the
+// largest study holds its cost tables and one frame of `most` devices at a time.
+void check_memory(const SimulateOptions& o, const balance::Trace& trace, int most, double runs,
+                  int frames) {
+  const double limit = parse_memory_limit(o.max_memory);
+  const double times = runs * frames * 8.0;
+  const double study = balance::study_memory_bytes(trace, most, frames);
+  // nlohmann::json holds each time as a 16-byte value, then the text is built: measured,
+  // 2 x 10^6 frame times took 111 MB with --json, 48 bytes each beyond the 8 kept.
+  const double json = o.json_path.empty() ? 0 : runs * frames * 48.0;
+  const double need = times + study + json;
+  if (need > limit)
+    throw InputError(memory_refusal(
+        need,
+        fmt::format("{:.1f} GB of frame times of {:g} simulations x {} frames, {:.1f} GB for the "
+                    "largest simulation, {:.1f} GB of JSON",
+                    times / 1e9, runs, frames, study / 1e9, json / 1e9),
+        limit));
+}
 
 // --validate: the trace replayed with the balancer and devices that recorded it; the
 // simulated frame times against the recorded ones (the slowest device's time per frame).
@@ -122,6 +146,10 @@ Runner add_simulate_command(CLI::App& app) {
                 "Replay the trace with the balancer and devices that recorded it and compare "
                 "the simulated frame times with the recorded ones");
   cmd->add_option("--plot", o->plot_path, "Write efficiency vs device count as SVG");
+  cmd->add_option("--max-memory", o->max_memory,
+                  "Refuse simulations estimated to need more memory than this: auto (half of "
+                  "physical memory) or a size such as 8G or 512M")
+      ->capture_default_str();
   return [o]() -> int {
     if (!o->json_path.empty()) check_output_file(o->json_path, "--json");
     if (!o->plot_path.empty()) check_output_file(o->plot_path, "--plot");
@@ -156,6 +184,8 @@ Runner add_simulate_command(CLI::App& app) {
       }
       for (const std::string& spec : specs) make_balancer_or_throw(spec, n, "--balancers");
     }
+    check_memory(*o, trace, *std::max_element(counts.begin(), counts.end()),
+                 double(counts.size() * specs.size()), frames);
     print_out("trace {} ({} frames of {}x{} x {} views, recorded with {} on {} devices)\n",
               o->trace_path, trace.frames.size(), trace.frames[0].shape.width,
               trace.frames[0].shape.height, trace.frames[0].shape.views, trace.balancer,

@@ -72,6 +72,18 @@ SimLink simulated_link(const std::string& text) {
   return l;
 }
 
+double study_memory_bytes(const Trace& trace, int devices, int frames) {
+  double tables = 0, largest = 0;
+  for (const FrameStats& f : trace.frames) {
+    const double pixels = double(f.shape.pixels());
+    tables += 8 * pixels;
+    largest = std::max(largest, pixels);
+  }
+  // Per device: SimDevice, DeviceFrameStats, the dispatcher's lists and a few ItemReports.
+  constexpr double kDeviceBytes = 2048;
+  return tables + 4 * largest + kDeviceBytes * devices + 8.0 * frames;
+}
+
 StudyResult run_study(const Trace& trace, const std::string& spec, const StudyConfig& cfg) {
   if (cfg.speeds.empty()) throw std::invalid_argument("no devices to simulate");
   if (trace.frames.empty()) throw std::invalid_argument("the trace has no frames");
@@ -89,20 +101,22 @@ StudyResult run_study(const Trace& trace, const std::string& spec, const StudyCo
   const int frames = cfg.frames > 0 ? cfg.frames : int(trace.frames.size());
   if (cfg.warmup < 0 || cfg.warmup >= frames)
     throw std::invalid_argument("warm-up must be in 0.." + std::to_string(frames - 1));
-  const auto run = replay_trace(
-      trace, *balancer, [&](int) { return devices; }, cfg.link, frames, cfg.seed);
   StudyResult r;
   r.balancer = balancer->spec();
   r.devices = n;
+  r.frame_ms.reserve(size_t(frames));
   double actual = 0, ideal = 0;
-  for (int f = 0; f < frames; ++f) {
-    r.frame_ms.push_back(run[size_t(f)].frame_ms);
-    if (f < cfg.warmup) continue;
-    actual += run[size_t(f)].frame_ms;
-    ideal += frame_cost(trace, size_t(f) % trace.frames.size()) / speed_sum;
-    r.mean_imbalance += imbalance(run[size_t(f)].stats);
-    r.mean_deviation += deviation(run[size_t(f)].stats);
-  }
+  // Frame by frame: a study keeps 8 bytes per frame, not every frame's plan and stats.
+  replay_trace_each(
+      trace, *balancer, [&](int) { return devices; }, cfg.link, frames, cfg.seed,
+      [&](int f, SimFrame&& sf) {
+        r.frame_ms.push_back(sf.frame_ms);
+        if (f < cfg.warmup) return;
+        actual += sf.frame_ms;
+        ideal += frame_cost(trace, size_t(f) % trace.frames.size()) / speed_sum;
+        r.mean_imbalance += imbalance(sf.stats);
+        r.mean_deviation += deviation(sf.stats);
+      });
   const int counted = frames - cfg.warmup;
   r.mean_frame_ms = actual / counted;
   r.mean_ideal_ms = ideal / counted;

@@ -45,8 +45,15 @@ struct StudyResult {
   std::vector<double> frame_ms;  // every frame
 };
 
-// Replays `trace` with the balancer `spec` (made for config.speeds.size() devices).
-// Throws std::invalid_argument for a bad spec or config.
+// Replays `trace` with the balancer `spec` (made for config.speeds.size() devices), frame
+// by frame (replay_trace_each): it holds one simulated frame at a time, plus 8 bytes per
+// frame for StudyResult::frame_ms. Throws std::invalid_argument for a bad spec or config.
 StudyResult run_study(const Trace& trace, const std::string& spec, const StudyConfig& config);
+
+// Bytes one run_study() of `frames` frames on `devices` devices holds at its peak,
+// estimated before it runs (a model, not a measurement): the cost tables of the trace's
+// frames (a summed-area table of 8 bytes a pixel, and the density being built), one
+// simulated frame (each device's state, statistics and a few items) and the frame times.
+double study_memory_bytes(const Trace& trace, int devices, int frames);
 
 }  // namespace multiray::balance

@@ -192,12 +192,21 @@ std::vector<SimFrame> replay_trace(
     const Trace& trace, Balancer& balancer,
     const std::function<std::vector<SimDevice>(int frame)>& devices_at, const SimLink& link,
     int frames, uint64_t seed) {
+  std::vector<SimFrame> run;
+  replay_trace_each(trace, balancer, devices_at, link, frames, seed,
+                    [&](int, SimFrame&& sf) { run.push_back(std::move(sf)); });
+  return run;
+}
+
+void replay_trace_each(const Trace& trace, Balancer& balancer,
+                       const std::function<std::vector<SimDevice>(int frame)>& devices_at,
+                       const SimLink& link, int frames, uint64_t seed,
+                       const std::function<void(int f, SimFrame&& frame)>& each) {
   if (trace.frames.empty()) throw std::invalid_argument("the trace has no frames");
   std::vector<SimDevice> recorded;
   for (const TraceDevice& d : trace.devices) recorded.push_back(SimDevice{d.speed});
   if (frames <= 0) frames = int(trace.frames.size());
   std::vector<CostFn> costs(trace.frames.size());  // built when first needed
-  std::vector<SimFrame> run;
   for (int f = 0; f < frames; ++f) {
     const size_t k = size_t(f) % trace.frames.size();
     const FrameShape& shape = trace.frames[k].shape;
@@ -207,9 +216,8 @@ std::vector<SimFrame> replay_trace(
         simulate_linked(balancer.plan(shape, frame), shape,
                         devices_at ? devices_at(frame) : recorded, costs[k], link, frame, seed);
     balancer.update(sf.stats);
-    run.push_back(std::move(sf));
+    each(f, std::move(sf));
   }
-  return run;
 }
 
 }  // namespace multiray::balance

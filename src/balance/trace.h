@@ -67,4 +67,12 @@ std::vector<SimFrame> replay_trace(
     const std::function<std::vector<SimDevice>(int frame)>& devices_at = {},
     const SimLink& link = {}, int frames = 0, uint64_t seed = 0);
 
+// The same replay, each frame handed to `each` (with its index f in 0..frames-1) as soon as
+// the balancer has seen it, and then dropped: memory stays that of one frame however many
+// frames are replayed (`multiray simulate` runs up to 10^6 frames on 4096 devices).
+void replay_trace_each(const Trace& trace, Balancer& balancer,
+                       const std::function<std::vector<SimDevice>(int frame)>& devices_at,
+                       const SimLink& link, int frames, uint64_t seed,
+                       const std::function<void(int f, SimFrame&& frame)>& each);
+
 }  // namespace multiray::balance

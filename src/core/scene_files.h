@@ -27,6 +27,13 @@ struct LoadOptions {
   // image or material library, repaired normals, an unusable camera). Unset: printed to
   // stderr as "multiray: warning: <line>".
   std::function<void(const std::string& line)> warn;
+  // Called before an image (texture, environment map) is decoded, once its header has
+  // given its size: `what` names it ("<scene file>: image 'a.png' (16000 x 16000
+  // pixels)"), `keep` is what its pixels will hold for as long as the scene lives and
+  // `transient` what decoding takes on top of that while it runs, in bytes. Throws
+  // InputError to refuse the load: a run charges images against --max-memory
+  // (run/run.cpp). Unset: only the loaders' pixel cap applies.
+  std::function<void(const std::string& what, uint64_t keep, uint64_t transient)> reserve_image;
 };
 
 // Helpers every loader (scene and volume) shares.

@@ -8,7 +8,10 @@
 
 #include <unistd.h>
 
+#include <fmt/core.h>
+
 #include "core/error.h"
+#include "run/run.h"
 #include "scene/camera_check.h"
 #include "util/parse.h"
 #include "util/spec.h"
@@ -149,6 +152,13 @@ double parse_memory_limit(const std::string& text) {
   if (!(v >= 1 << 20 && v <= 1e15))
     throw InputError("--max-memory '" + text + "' must be auto or a size from 1M to 1e15 bytes");
   return v;
+}
+
+std::string memory_refusal(double need, const std::string& parts, double limit) {
+  return fmt::format(
+      "this run needs about {:.1f} GB ({}), more than the {:.1f} GB allowed (--max-memory; "
+      "default: half of physical memory)",
+      need / 1e9, parts, limit / 1e9);
 }
 
 std::unique_ptr<balance::Balancer> make_balancer_or_throw(const std::string& spec, int devices,

@@ -195,27 +195,37 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   const double limit = parse_memory_limit(o.max_memory);
   const MemoryEstimate need =
       estimate_memory(o, rig.view_count(), s.res.width, s.res.height, lanes);
-  if (need.total() > limit)
-    throw InputError(fmt::format(
-        "this run needs about {:.1f} GB ({:.1f} GB of frames, {:.1f} GB of scene{}), more than "
-        "the {:.1f} GB allowed (--max-memory; default: half of physical memory)",
-        need.total() / 1e9, need.frame_bytes / 1e9, need.scene_bytes / 1e9,
-        need.record_bytes > 0
-            ? fmt::format(", {:.1f} GB of per-frame records", need.record_bytes / 1e9)
-            : "",
-        limit / 1e9));
+  const auto parts = [need](double images) {
+    return fmt::format("{:.1f} GB of frames, {:.1f} GB of scene", need.frame_bytes / 1e9,
+                       need.scene_bytes / 1e9) +
+           (need.record_bytes > 0
+                ? fmt::format(", {:.1f} GB of per-frame records", need.record_bytes / 1e9)
+                : "") +
+           (images > 0 ? fmt::format(", {:.1f} GB of decoded images", images / 1e9) : "");
+  };
+  if (need.total() > limit) throw InputError(memory_refusal(need.total(), parts(0), limit));
   if (before_load) before_load();
   LoadOptions load;
   load.allow_outside = o.allow_outside_paths;
+  // Textures and environment maps are charged from their headers, before they are decoded
+  // (a 275 KB PNG may decode to 1 GB): what each keeps, and what decoding it takes besides.
+  load.reserve_image = [need, limit, parts, kept = std::make_shared<double>(0)](
+                           const std::string& what, uint64_t keep, uint64_t transient) {
+    const double images = *kept + double(keep) + double(transient);
+    if (need.total() + images > limit)
+      throw InputError(what + ": " + memory_refusal(need.total() + images, parts(images), limit));
+    *kept += double(keep);
+  };
   const bool sent = s.cluster && o.distributed.scene_from == "master";
   if (sent && !s.cluster->master()) {
     s.scene = std::make_unique<Scene>(s.cluster->receive_scene());
   } else {
     s.scene = std::make_unique<Scene>(
         o.scene_path.empty() ? make_cornell_box()
-        : volume_input       ? load_volume_scene(o.scene_path, o.volume, o.allow_outside_paths,
-                                                 uint64_t(std::max(limit - need.frame_bytes, 0.0)))
-                             : load_scene(o.scene_path, load));
+        : volume_input
+            ? load_volume_scene(o.scene_path, o.volume, o.allow_outside_paths,
+                                uint64_t(std::max(limit - need.frame_bytes, 0.0)), &s.notes)
+            : load_scene(o.scene_path, load));
     s.scene->up = s.up;
     apply_lighting({o.env, o.env_scale, o.sun}, volume_input, load, *s.scene, s.notes);
     if (sent) s.cluster->send_scene(*s.scene);

@@ -68,6 +68,10 @@ struct MemoryEstimate {
 MemoryEstimate estimate_memory(const RunConfig& o, int views, int width, int height, int lanes);
 // --max-memory: "auto" (half of physical memory) or a size like 8G, 512M, 100000 (bytes).
 double parse_memory_limit(const std::string& text);
+// The one refusal of a command over --max-memory, for an InputError: "this run needs
+// about 51.5 GB (<parts>), more than the 12.6 GB allowed (--max-memory; default: half of
+// physical memory)". `need` and `limit` in bytes; `parts` says what the estimate holds.
+std::string memory_refusal(double need, const std::string& parts, double limit);
 
 // A worker rank of a distributed run (s.cluster, not the master): serves the master over
 // s.devices until it says quit; returns the exit code.

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/scene_files.h"
 #include "render/volume_raycaster.h"
 #include "volume/load_volume.h"
 #include "volume/transfer_function.h"
@@ -47,13 +48,25 @@ void check_volume_options(const VolumeOptions& o) {
 }
 
 Scene load_volume_scene(const std::string& path, const VolumeOptions& o, bool allow_outside,
-                        uint64_t max_bytes) {
+                        uint64_t max_bytes, std::vector<std::string>* notes) {
   VolumeLoadOptions load;
   load.allow_outside = allow_outside;
   load.max_bytes = max_bytes;
-  auto volume =
-      std::make_shared<Volume>(o.raw.empty() ? load_volume(path, load)
-                                             : load_raw_volume(path, parse_raw_spec(o.raw), load));
+  std::shared_ptr<Volume> volume;
+  if (o.raw.empty()) {
+    volume = std::make_shared<Volume>(load_volume(path, load));
+  } else {
+    const RawVolumeSpec spec = parse_raw_spec(o.raw);
+    volume = std::make_shared<Volume>(load_raw_volume(path, spec, load));
+    // Same size, other meaning (2x2x2 int16 or 4x4x2 uint8) cannot be seen in the data.
+    bool described = false;
+    const std::string mismatch = raw_name_mismatch(path, spec, &described);
+    if (!mismatch.empty())
+      detail::warn(LoadOptions{}, path, mismatch);
+    else if (!described && notes)
+      notes->push_back("'" + volume->name + "' is read as --raw " + o.raw +
+                       " says; a raw file's bytes cannot confirm its grid and type");
+  }
   Scene scene;
   scene.name = volume->name;
   scene.volume = std::move(volume);

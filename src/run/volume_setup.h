@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "render/scene_cache.h"
 #include "run/run_config.h"
@@ -24,9 +25,11 @@ bool is_volume_input(const std::string& path, const VolumeOptions& o);
 void check_volume_options(const VolumeOptions& o);
 
 // Loads the volume at `path` into a Scene with no triangles; `max_bytes` bounds the load
-// (0: none). Throws InputError.
+// (0: none). Throws InputError. A raw file (--raw) whose name gives another grid or type
+// gives a warning; one whose name gives none, a note in `notes` (when given) that --raw's
+// reading cannot be checked.
 Scene load_volume_scene(const std::string& path, const VolumeOptions& o, bool allow_outside,
-                        uint64_t max_bytes);
+                        uint64_t max_bytes, std::vector<std::string>* notes = nullptr);
 
 // The style of the frames: the transfer function --tf names (resolved on the volume), the
 // block opacities, the step, `background` behind the volume. Builds the "volume"

@@ -1,5 +1,7 @@
 #include "scene/assimp_files.h"
 
+#include <cctype>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -47,6 +49,50 @@ Assimp::IOStream* SceneFileSystem::Open(const char* path, const char* mode) {
     return nullptr;
   }
   return new ByteStream(std::move(bytes));
+}
+
+namespace {
+
+// Skips spaces, line ends and '#' comment lines, as assimp's OFF reader does.
+void next_token(const std::string& t, size_t* i) {
+  for (;;) {
+    while (*i < t.size() && std::isspace(static_cast<unsigned char>(t[*i]))) ++*i;
+    if (*i >= t.size() || t[*i] != '#') return;
+    while (*i < t.size() && t[*i] != '\n') ++*i;
+  }
+}
+
+// assimp's strtoul10: decimal digits into an unsigned int, wrapping.
+unsigned int wrapped_count(const std::string& t, size_t* i) {
+  unsigned int v = 0;
+  for (; *i < t.size() && t[*i] >= '0' && t[*i] <= '9'; ++*i) v = v * 10u + unsigned(t[*i] - '0');
+  return v;
+}
+
+}  // namespace
+
+void check_off_counts(const std::string& path, const std::string& text) {
+  size_t i = 0;
+  next_token(text, &i);
+  bool dimension = false;
+  for (const char* flag : {"ST", "C", "N", "4", "n"})
+    if (text.compare(i, std::strlen(flag), flag) == 0) {
+      i += std::strlen(flag);
+      dimension = flag[0] == 'n';
+    }
+  if (text.compare(i, 3, "OFF") == 0) i += 3;
+  next_token(text, &i);
+  if (dimension) {
+    wrapped_count(text, &i);
+    next_token(text, &i);
+  }
+  const unsigned int vertices = wrapped_count(text, &i);
+  next_token(text, &i);
+  const unsigned int faces = wrapped_count(text, &i);
+  if (uint64_t(vertices) > text.size() || uint64_t(faces) > text.size())
+    fail(path, "the OFF header announces " + std::to_string(vertices) + " vertices and " +
+                   std::to_string(faces) + " faces, more lines than the file's " +
+                   std::to_string(text.size()) + " bytes can hold");
 }
 
 }  // namespace multiray::detail

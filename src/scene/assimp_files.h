@@ -56,4 +56,12 @@ class SceneFileSystem : public Assimp::IOSystem {
   std::string first_refusal_;
 };
 
+// assimp's OFF reader allocates the vertex and face arrays its header announces before
+// reading a line: a 310-byte file claiming 353535235358 vertices (assimp-testmodels'
+// invalid/OutOfMemory.off) took 16 GB. Reads the counts as assimp does (decimal digits
+// wrapping at 2^32, after an optional [ST][C][N][4][n]OFF keyword and dimension) and
+// throws InputError "<path>: ..." when either exceeds the bytes the file has, since every
+// vertex and face takes a line of its own.
+void check_off_counts(const std::string& path, const std::string& text);
+
 }  // namespace multiray::detail

@@ -136,7 +136,8 @@ int AssimpMaterials::texture(const std::string& name, const std::string& materia
     // mHeight == 0: an encoded file (PNG, JPEG) of mWidth bytes; otherwise raw texels.
     if (embedded->mHeight != 0) return drop("is an uncompressed embedded image (not supported)");
     if (!decode_texture(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth,
-                        &tex))
+                        &tex, files_->options(),
+                        files_->scene_path() + ": texture '" + name + "'"))
       return drop("is not a decodable image");
     return index = add(std::move(tex));
   }
@@ -144,7 +145,8 @@ int AssimpMaterials::texture(const std::string& name, const std::string& materia
   if (file.empty()) return drop("not found");
   std::string bytes, why;
   if (!files_->read(file, &bytes, &why)) return drop("refused: " + why);
-  if (!decode_texture(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), &tex))
+  if (!decode_texture(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), &tex,
+                      files_->options(), files_->scene_path() + ": texture '" + name + "'"))
     return drop("is not a decodable image (or over " + std::to_string(kMaxTexturePixels) +
                 " pixels)");
   return index = add(std::move(tex));

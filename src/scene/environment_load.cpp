@@ -26,13 +26,25 @@ void check_size(const std::string& path, int64_t w, int64_t h) {
                            " pixels)");
 }
 
-void read_hdr(const std::string& path, const std::string& bytes, EnvironmentMap* map) {
+// Charges a map of w x h pixels against options.reserve_image before it is decoded: its
+// radiance keeps 12 bytes a pixel, the decoder's pixels take `decoder_bytes` more.
+void reserve(const std::string& path, const LoadOptions& options, int64_t w, int64_t h,
+             uint64_t decoder_bytes) {
+  const uint64_t pixels = uint64_t(w) * uint64_t(h);
+  if (options.reserve_image)
+    options.reserve_image(path + ": environment map" + detail::pixels_text(w, h),
+                          pixels * sizeof(Vec3), pixels * decoder_bytes);
+}
+
+void read_hdr(const std::string& path, const LoadOptions& options, const std::string& bytes,
+              EnvironmentMap* map) {
   if (bytes.size() > size_t(INT_MAX)) detail::fail(path, "file too large");
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   int w = 0, h = 0, n = 0;
   if (!stbi_info_from_memory(data, int(bytes.size()), &w, &h, &n))
     detail::fail(path, std::string("not a readable image: ") + stbi_failure_reason());
   check_size(path, w, h);
+  reserve(path, options, w, h, 3 * sizeof(float));
   float* px = stbi_loadf_from_memory(data, int(bytes.size()), &w, &h, &n, 3);
   if (px == nullptr) detail::fail(path, std::string("cannot decode: ") + stbi_failure_reason());
   map->width = w, map->height = h;
@@ -42,12 +54,13 @@ void read_hdr(const std::string& path, const std::string& bytes, EnvironmentMap*
   stbi_image_free(px);
 }
 
-void read_exr(const std::string& path, EnvironmentMap* map) {
+void read_exr(const std::string& path, const LoadOptions& options, EnvironmentMap* map) {
   try {
-    Imf::RgbaInputFile file(path.c_str());
+    Imf::RgbaInputFile file(path.c_str());  // reads the header only
     const Imath::Box2i dw = file.dataWindow();
     const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
     check_size(path, w, h);
+    reserve(path, options, w, h, sizeof(Imf::Rgba));
     Imf::Array2D<Imf::Rgba> px(h, w);
     file.setFrameBuffer(&px[0][0] - dw.min.x - dw.min.y * w, 1, size_t(w));
     file.readPixels(dw.min.y, dw.max.y);
@@ -80,9 +93,9 @@ EnvironmentMap load_environment_map(const std::string& path, const LoadOptions& 
   EnvironmentMap map;
   map.name = detail::file_name(path);
   if (ext == ".hdr")
-    read_hdr(path, bytes, &map);
+    read_hdr(path, options, bytes, &map);
   else
-    read_exr(path, &map);
+    read_exr(path, options, &map);
   // Radiance must be finite and non-negative for the sampling tables; anything else
   // (half-float infinities, negative values from some tools) becomes 0, with one warning.
   size_t bad = 0;

@@ -13,7 +13,9 @@
 #include <assimp/Importer.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <vector>
@@ -292,6 +294,9 @@ Scene AssimpReader::read() {
 Scene load_assimp(const std::string& path, const LoadOptions& options) {
   SceneFiles files(path, options);
   const std::string text = files.read_scene_file();
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".off") detail::check_off_counts(path, text);  // counts assimp would trust
   auto* io =
       new detail::SceneFileSystem(&files, std::vector<unsigned char>(text.begin(), text.end()));
   Assimp::Importer importer;

@@ -233,7 +233,8 @@ int GltfReader::texture(const TextureRef& info, TexelCoding coding, const std::s
   int result = -1;
   if (bytes->empty()) {
     warn_once(name + " " + why_unread(m_.images[size_t(image)].uri));
-  } else if (detail::decode_texture(bytes->data(), bytes->size(), &tex, coding)) {
+  } else if (detail::decode_texture(bytes->data(), bytes->size(), &tex, options_,
+                                    path_ + ": " + name, coding)) {
     result = int(scene->textures.size());
     scene->textures.push_back(std::move(tex));
   } else {

@@ -91,8 +91,8 @@ std::string resolve_file(const fs::path& dir, std::string name) {
 
 // `mtllib` reader using resolve_file and SceneFiles (tinyobjloader's own reader is
 // case-sensitive, splits its search path at ':' and opens whatever it finds). A missing
-// MTL file is not an error: the faces then get the default material; so do they when
-// the file is refused, with a warning.
+// or refused MTL file is not an error: the faces then get the default material, with one
+// warning per file name.
 class MtlReader : public tinyobj::MaterialReader {
  public:
   MtlReader(fs::path dir, SceneFiles* files) : dir_(std::move(dir)), files_(files) {}
@@ -100,7 +100,13 @@ class MtlReader : public tinyobj::MaterialReader {
                   std::map<std::string, int>* names, std::string* warn,
                   std::string* err) override {
     const std::string file = resolve_file(dir_, name);
-    if (file.empty()) return false;
+    if (file.empty()) {
+      if (missing_.insert(name).second)
+        detail::warn(files_->options(), files_->scene_path(),
+                     "material library '" + name +
+                         "' not found; its materials' faces get the default material");
+      return false;
+    }
     std::string text, why;
     if (!files_->read(file, &text, &why)) {
       detail::warn(files_->options(), files_->scene_path(),
@@ -115,6 +121,7 @@ class MtlReader : public tinyobj::MaterialReader {
  private:
   fs::path dir_;
   SceneFiles* files_;
+  std::set<std::string> missing_;  // names already warned about
 };
 
 // Element i of a flat xyz array (indices checked by the caller).
@@ -174,7 +181,8 @@ Scene load_obj(const std::string& path, const LoadOptions& options) {
             options, path,
             "texture refused: " + why + "; material '" + m.name + "' keeps its plain colour");
       else if (detail::decode_texture(reinterpret_cast<const unsigned char*>(bytes.data()),
-                                      bytes.size(), &tex)) {
+                                      bytes.size(), &tex, options,
+                                      path + ": texture '" + m.diffuse_texname + "'")) {
         it->second = int(scene.textures.size());
         scene.textures.push_back(std::move(tex));
       } else {

@@ -93,9 +93,15 @@ constexpr uint64_t kMaxTexturePixels = uint64_t(1) << 28;
 
 // Decodes an encoded image (JPEG, PNG, ...) with stb_image into a texture whose bytes
 // mean `coding`. Returns false, leaving `out` untouched, when the data is not a
-// decodable image.
+// decodable image. Its size is read from its header first and, before anything is
+// decoded, passed to options.reserve_image with `what` ("<scene file>: image 'a.png'")
+// naming it; that may throw InputError (the load is then refused, not the texture).
 bool decode_texture(const unsigned char* bytes, size_t size, Texture* out,
+                    const LoadOptions& options, const std::string& what,
                     TexelCoding coding = TexelCoding::srgb);
+
+// " (W x H pixels)", for the `what` of LoadOptions::reserve_image.
+std::string pixels_text(int64_t width, int64_t height);
 
 }  // namespace detail
 }  // namespace multiray

@@ -116,13 +116,24 @@ void validate_loaded(Scene* scene, const std::string& path, const LoadOptions& o
              " shading normal(s) were zero, NaN or infinite; replaced by face normals");
 }
 
-bool decode_texture(const unsigned char* bytes, size_t size, Texture* out, TexelCoding coding) {
+std::string pixels_text(int64_t width, int64_t height) {
+  return " (" + std::to_string(width) + " x " + std::to_string(height) + " pixels)";
+}
+
+bool decode_texture(const unsigned char* bytes, size_t size, Texture* out,
+                    const LoadOptions& options, const std::string& what, TexelCoding coding) {
   if (bytes == nullptr || size == 0 || size > size_t(INT_MAX)) return false;
   int w = 0, h = 0, n = 0;
   // Measure before decoding: a 100-byte PNG may claim 2^31 x 2^31 pixels.
   if (!stbi_info_from_memory(bytes, int(size), &w, &h, &n) || w <= 0 || h <= 0 ||
       uint64_t(w) * uint64_t(h) > kMaxTexturePixels)
     return false;
+  // The texels keep 4 bytes a pixel; while decoding, stb's RGBA copy (4 more) and the
+  // decoder's own pixels in the file's n channels of up to 16 bits are held as well.
+  const uint64_t pixels = uint64_t(w) * uint64_t(h);
+  if (options.reserve_image)
+    options.reserve_image(what + pixels_text(w, h), 4 * pixels,
+                          pixels * (4 + 2 * uint64_t(std::clamp(n, 1, 4))));
   unsigned char* px = stbi_load_from_memory(bytes, int(size), &w, &h, &n, 4);
   if (px == nullptr) return false;
   const bool ok = w > 0 && h > 0;

@@ -2,7 +2,8 @@
 // only from memory (nrrd_header.h says why): the header is parsed first without data to
 // check the grid, type, encoding and memory; only then is the data file read (through
 // core/scene_files.h, which refuses FIFOs, devices and files outside the folder) and
-// decoded by Teem from the header plus the data.
+// decoded by Teem from the header plus the data (raw encoding), or by zlib (gzip, see
+// gzip_data.cpp).
 #include <teem/biff.h>
 #include <teem/nrrd.h>
 
@@ -127,15 +128,22 @@ Volume checked_header(const std::string& path, const TeemRead& r) {
   return v;
 }
 
+// Where the data start after the header's line skip (for gzip data, the lines are
+// skipped before decoding).
+uint64_t after_line_skip(std::string_view data, uint64_t line_skip) {
+  uint64_t offset = 0;
+  for (uint64_t l = 0; l < line_skip && offset < data.size(); ++l) {
+    const size_t eol = data.find('\n', offset);
+    offset = eol == std::string_view::npos ? data.size() : eol + 1;
+  }
+  return offset;
+}
+
 // Raw data must be exactly as long as the grid after the header's line and byte skips
 // (byte skip -1 means "the last bytes of the file": only a shortfall can be seen).
 void check_raw_size(const std::string& path, const std::string& what, std::string_view data,
                     const NrrdHeaderParts& parts, uint64_t need, const std::string& grid) {
-  uint64_t offset = 0;
-  for (uint64_t l = 0; l < parts.line_skip && offset < data.size(); ++l) {
-    const size_t eol = data.find('\n', offset);
-    offset = eol == std::string_view::npos ? data.size() : eol + 1;
-  }
+  uint64_t offset = after_line_skip(data, parts.line_skip);
   if (parts.byte_skip > 0) offset += uint64_t(parts.byte_skip);
   const uint64_t have = offset < data.size() ? data.size() - offset : 0;
   if (parts.byte_skip == -1 && have >= need) return;
@@ -186,7 +194,18 @@ Volume load_volume(const std::string& path, const VolumeLoadOptions& options) {
       attached ? std::string_view(text).substr(parts.data_offset) : std::string_view(detached);
   const std::string what =
       attached ? "the data after the header" : "data file '" + parts.data_file + "'";
-  if (head.nio->encoding == nrrdEncodingRaw) check_raw_size(path, what, data, parts, need, grid);
+  if (head.nio->encoding == nrrdEncodingGzip) {
+    // Decoded here, every zlib status and the decoded length checked (gzip_data.cpp).
+    const std::string voxels =
+        gunzip_voxels(path, what, data.substr(after_line_skip(data, parts.line_skip)),
+                      parts.byte_skip, need, grid);
+    std::string().swap(text);
+    std::string().swap(detached);
+    // Teem's header check has made sure 16-bit data name their byte order.
+    set_values(&v, voxels.data(), voxel_bytes(v.type) > 1 && head.nio->endian != airMyEndian());
+    return v;
+  }
+  check_raw_size(path, what, data, parts, need, grid);
 
   TeemRead full;
   teem_read(path, {parts.header, "\n", data}, /*header_only=*/false, what, &full);

@@ -2,6 +2,7 @@
 // file, which must hold exactly nx*ny*nz voxels.
 #include <bit>
 #include <charconv>
+#include <filesystem>
 #include <string_view>
 #include <vector>
 
@@ -96,6 +97,38 @@ RawVolumeSpec parse_raw_spec(const std::string& text) {
     if (!problem.empty()) fail(where, problem);
   }
   return spec;
+}
+
+std::string raw_name_mismatch(const std::string& path, const RawVolumeSpec& spec,
+                              bool* described) {
+  const std::string stem = std::filesystem::path(path).stem().string();
+  uint64_t n[3] = {};
+  std::string grid, type;  // as the name gives them
+  for (std::string_view token : split(stem, '_')) {
+    const auto dims = split(token, 'x');
+    uint64_t d[3];
+    if (dims.size() == 3 && parse_count(dims[0], &d[0]) && parse_count(dims[1], &d[1]) &&
+        parse_count(dims[2], &d[2]))
+      grid = std::string(token), n[0] = d[0], n[1] = d[1], n[2] = d[2];
+    // A byte order may follow the type: int16le, uint16be.
+    const std::string_view bare = token.size() > 2 && (token.substr(token.size() - 2) == "le" ||
+                                                       token.substr(token.size() - 2) == "be")
+                                      ? token.substr(0, token.size() - 2)
+                                      : token;
+    for (const char* t : {"uint8", "int8", "uint16", "int16", "uint32", "int32", "float32",
+                          "float64", "float", "double"})
+      if (token == t || bare == t) type = t;
+  }
+  *described = !grid.empty() || !type.empty();
+  const bool grid_differs =
+      !grid.empty() &&
+      (n[0] != uint64_t(spec.nx) || n[1] != uint64_t(spec.ny) || n[2] != uint64_t(spec.nz));
+  const bool type_differs = !type.empty() && type != voxel_type_name(spec.type);
+  if (!grid_differs && !type_differs) return "";
+  const std::string named = grid + (grid.empty() || type.empty() ? "" : " ") + type;
+  return "its name says " + named + ", but --raw reads it as " +
+         grid_text(uint64_t(spec.nx), uint64_t(spec.ny), uint64_t(spec.nz), spec.type) +
+         " (the data cannot tell which is right; check --raw)";
 }
 
 Volume load_raw_volume(const std::string& path, const RawVolumeSpec& spec,

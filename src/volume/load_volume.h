@@ -45,13 +45,19 @@ constexpr float kMinSpacing = 1e-6f, kMaxSpacing = 1e6f;
 // dimension 3 only; types uchar/char/ushort/short (any NRRD spelling: uint8, int16, ...);
 // encodings raw and gzip; either byte order; "spacings" or axis-aligned "space
 // directions" (their lengths; missing: 1; orientation ignored). Raw data must be exactly
-// as long as the header says; gzip data must decode to at least that (trailing bytes
-// after the stream are not detected).
+// as long as the header says; gzip data must pass zlib's checks (CRC and length included)
+// and decode to exactly that, with nothing after the last gzip member.
 Volume load_volume(const std::string& path, const VolumeLoadOptions& options = {});
 
 // Reads a raw file described by `spec`; its size must be exactly nx*ny*nz voxels.
 Volume load_raw_volume(const std::string& path, const RawVolumeSpec& spec,
                        const VolumeLoadOptions& options = {});
+
+// A raw file's bytes cannot say what they are, but its name often does, in the common
+// "<name>_<NX>x<NY>x<NZ>_<type>.raw" convention (bonsai_256x256x256_uint8.raw). Returns
+// one line saying how the name's grid or type differs from `spec`, or "" when the name
+// gives neither or agrees; *described tells whether it gives either.
+std::string raw_name_mismatch(const std::string& path, const RawVolumeSpec& spec, bool* described);
 
 // Parses "NXxNYxNZ:TYPE[:be|:le][:spacing=SX,SY,SZ]", e.g. "256x256x108:int16:le"
 // or "256x256x256:uint8:spacing=0.96,0.96,1.5". TYPE: uint8, int8, uint16, int16.

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "volume/load_volume.h"
 
@@ -40,6 +41,19 @@ uint64_t data_file_slack(uint64_t data_bytes);
 // (or "too long"). `what` names the data ("data file 'x.raw'", "the file").
 void check_data_size(const std::string& path, const std::string& what, uint64_t have,
                      uint64_t need, const std::string& grid);
+
+// The `need` voxel bytes of gzip data `gz` (one or more gzip members, as NRRD's "gzip"
+// encoding writes them), after `byte_skip` decoded bytes (-1: the voxels are the last
+// `need` decoded bytes). Every zlib status is checked: corrupt data (a failed CRC or
+// length check included), a truncated stream, bytes after the last member, and data
+// decoding to more or less than described are refused with one line naming `what`. The
+// buffer grows with the decoded data, up to skip + need, so data that cannot hold the
+// grid never allocate it.
+std::string gunzip_voxels(const std::string& path, const std::string& what, std::string_view gz,
+                          int64_t byte_skip, uint64_t need, const std::string& grid);
+
+// The most bytes `gzip_bytes` of gzip data can decode to (deflate's ratio bound).
+uint64_t max_gunzip_bytes(uint64_t gzip_bytes);
 
 // "256x256x108 int16", for messages.
 std::string grid_text(uint64_t nx, uint64_t ny, uint64_t nz, VoxelType type);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <sys/mount.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,9 +15,11 @@
 #include <fstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "support/png_bytes.h"
 #include "support/run_cli.h"
 
 namespace robustness_cli_test {
@@ -126,6 +129,100 @@ TEST(Hostile, SigintKeepsTheFramesDoneAndTheirStats) {
     (e.path().extension() == ".png" ? pngs : others) += 1;
   EXPECT_EQ(pngs, frames);  // every frame in stats.json has its image, and no other
   EXPECT_EQ(others, 1u);    // stats.json; no temporary file left
+}
+
+// Round two (issue 31), data and memory: decoded images and simulations are estimated
+// before they take memory; raw volumes say what cannot be checked.
+
+void write_text(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+TEST(DataAndMemory, DecodedImagesAreInTheMemoryEstimate) {
+  const std::string dir = fresh_dir("images");
+  fs::create_directories(dir);
+  // 16 KB that stb_image would decode to 16000 x 16000 RGBA (1 GB, 2 GB at the peak).
+  write_text(dir + "/big.png", multiray::test::png_claiming(16000, 16000));
+  write_text(dir + "/t.mtl", "newmtl a\nmap_Kd big.png\n");
+  write_text(dir + "/t.obj",
+             "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl a\n"
+             "f 1/1 2/1 3/1\n");
+  const std::string out = " --res 8x8 --spp 1 --max-memory 1G --out " + dir + "/o";
+  expect_refused("render " + dir + "/t.obj" + out, "t.obj: texture 'big.png' (16000 x 16000");
+  expect_refused("render " + dir + "/t.obj" + out, "GB of decoded images), more than the 1.1 GB");
+  // An environment map too (a Radiance header claiming as much).
+  write_text(dir + "/sky.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16000 +X 16000\n" +
+                                   std::string(64, '\x01'));
+  expect_refused("render --env " + dir + "/sky.hdr" + out,
+                 "sky.hdr: environment map (16000 x 16000 pixels): this run needs about");
+}
+
+TEST(DataAndMemory, SimulateIsEstimatedBeforeItRuns) {
+  const std::string dir = fresh_dir("simulate");
+  fs::create_directories(dir);
+  write_text(dir + "/t.trace",
+             "multiray-trace 1\nbalancer uniform\ndevice 0 1 a\ndevice 1 0.5 b\n"
+             "frame 0 8 4 1\ntime 0 1 2.5 2.5\nitem 0 0 0 0 0 8 2 16 2.5 2.5\n"
+             "time 1 1 2.5 2.5\nitem 1 1 0 0 2 8 4 16 2.5 2.5\n");
+  expect_refused("simulate " + dir + "/t.trace --devices 4096 --frames 1000000 --max-memory 1M",
+                 "this run needs about");
+  expect_refused("simulate " + dir + "/t.trace --max-memory lots", "--max-memory");
+}
+
+// Peak resident memory of `multiray args...` in KB (ru_maxrss of the child), -1 if it
+// did not exit 0.
+long peak_rss_kb(const std::vector<std::string>& args) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    freopen("/dev/null", "w", stdout);
+    std::vector<char*> argv{const_cast<char*>(MULTIRAY_BIN)};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(MULTIRAY_BIN, argv.data());
+    _exit(127);
+  }
+  int status = 0;
+  rusage use{};
+  if (pid < 0 || wait4(pid, &status, 0, &use) != pid) return -1;
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? use.ru_maxrss : -1;
+}
+
+TEST(DataAndMemory, SimulateKeepsOneFrameAtATime) {
+  // Issue 31: every simulated frame was kept until the end (4096 devices x 1000 frames of
+  // this trace: 400 MB; 10^6 frames grew past 12 GB). Frame by frame it stays small.
+  const std::string dir = fresh_dir("simulate_rss");
+  fs::create_directories(dir);
+  write_text(dir + "/t.trace",
+             "multiray-trace 1\nbalancer uniform\ndevice 0 1 a\ndevice 1 0.5 b\n"
+             "frame 0 8 4 1\ntime 0 1 2.5 2.5\nitem 0 0 0 0 0 8 2 16 2.5 2.5\n"
+             "time 1 1 2.5 2.5\nitem 1 1 0 0 2 8 4 16 2.5 2.5\n");
+  const long kb = peak_rss_kb({"simulate", dir + "/t.trace", "--devices", "4096", "--frames",
+                               "1000", "--balancers", "uniform"});
+  ASSERT_GT(kb, 0) << "simulate failed";
+  EXPECT_LT(kb, 150 * 1024) << "peak " << kb / 1024 << " MB";
+}
+
+TEST(DataAndMemory, RawVolumesSayWhatCannotBeChecked) {
+  const std::string dir = fresh_dir("raw");
+  fs::create_directories(dir);
+  // 2x2x2 int16 by its name, 16 bytes: --raw 4x2x2:uint8 reads the same bytes otherwise.
+  write_text(dir + "/cube_2x2x2_int16.raw", std::string(16, '\x01'));
+  write_text(dir + "/cube.raw", std::string(16, '\x01'));
+  const std::string out = " --raw 4x2x2:uint8 --res 8x8 --out " + dir + "/o --overwrite";
+  auto r = run_cli(MULTIRAY_BIN, "render " + dir + "/cube_2x2x2_int16.raw" + out);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("warning: " + dir +
+                                          "/cube_2x2x2_int16.raw: its name "
+                                          "says 2x2x2 int16, but --raw reads it as 4x2x2 uint8"));
+  r = run_cli(MULTIRAY_BIN, "render " + dir + "/cube.raw" + out);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("note: 'cube.raw' is read as --raw 4x2x2:uint8 says"));
+  // A name that agrees gives neither.
+  write_text(dir + "/cube_4x2x2_uint8.raw", std::string(16, '\x01'));
+  r = run_cli(MULTIRAY_BIN, "render " + dir + "/cube_4x2x2_uint8.raw" + out);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("--raw reads")));
+  EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("cannot confirm")));
 }
 
 }  // namespace robustness_cli_test

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "scene/loaders.h"
 
@@ -76,12 +77,21 @@ TEST_F(Obj, PolygonsAttributesAndMaterials) {
 }
 
 TEST_F(Obj, MissingMtlFileMeansDefaultMaterial) {
+  // Issue 31: the missing library was dropped without a word; now one warning per name.
+  LoadOptions options;
+  std::vector<std::string> warnings;
+  options.warn = [&](const std::string& line) { warnings.push_back(line); };
   const Scene s = load_obj(write("nomtl.obj",
                                  "mtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
-                                 "usemtl red\nf 1 2 3\n"));
+                                 "usemtl red\nf 1 2 3\nmtllib gone.mtl\n"),
+                           options);
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_TRUE(s.normals.empty());
   EXPECT_TRUE(s.uvs.empty());
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("nomtl.obj: material library 'gone.mtl' not found"),
+            std::string::npos)
+      << warnings[0];
 }
 
 TEST_F(Obj, LoadSceneDispatchIgnoresExtensionCase) {

@@ -1,7 +1,8 @@
 // What every loader refuses or repairs after reading: coordinates beyond 1e18 (refused),
 // unusable shading normals (replaced by face normals, with a warning), non-finite uvs
-// (refused), and glTF node graphs that would instance too much (refused before any
-// instance is built).
+// (refused), glTF node graphs that would instance too much (refused before any
+// instance is built), and images charged against the run's memory before they are
+// decoded.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -15,6 +16,7 @@
 
 #include "scene/load_guard.h"
 #include "scene/loaders.h"
+#include "support/png_bytes.h"
 
 namespace multiray {
 namespace scene_limits_test {
@@ -204,6 +206,54 @@ TEST_F(SceneLimits, SharedSubtreesWithinTheLimitsLoad) {
   expect_input_error(
       load(write("cycle.gltf", gltf(R"([{"children": [1]}, {"mesh": 0, "children": [0]}])"))),
       {"cycle"});
+}
+
+TEST_F(SceneLimits, ImagesAreChargedFromTheirHeadersBeforeDecoding) {
+  // Issue 31: a 16 KB PNG of 16000 x 16000 pixels decoded to 2 GB under --max-memory 1G.
+  write("big.png", test::png_claiming(16000, 16000));
+  write("small.png", test::png_bytes(4, 3));
+  write("m.mtl",
+        "newmtl a\nmap_Kd small.png\nnewmtl b\nmap_Kd small2.png\n"
+        "newmtl c\nmap_Kd big.png\n");
+  write("small2.png", test::png_bytes(2, 2));
+  const std::string obj = write("t.obj",
+                                "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                "usemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\nusemtl c\nf 1 2 3\n");
+  std::vector<std::string> charged;
+  uint64_t kept = 0;
+  options_.reserve_image = [&](const std::string& what, uint64_t keep, uint64_t transient) {
+    charged.push_back(what);
+    EXPECT_GE(transient, keep);  // stb's copy at least, while decoding
+    if (kept + keep + transient > (uint64_t(1) << 30))
+      throw InputError(what + ": over the test's 1 GiB");
+    kept += keep;
+  };
+  expect_input_error(load(obj), {"t.obj: texture 'big.png' (16000 x 16000 pixels)", "1 GiB"});
+  ASSERT_EQ(charged.size(), 3u);
+  EXPECT_NE(charged[0].find("t.obj: texture 'small.png' (4 x 3 pixels)"), std::string::npos)
+      << charged[0];
+  EXPECT_EQ(kept, 4u * (12 + 4));  // the two small textures, 4 bytes a texel
+  // Without the big texture, the same accounting lets the scene load.
+  write("m.mtl", "newmtl a\nmap_Kd small.png\nnewmtl b\nmap_Kd small2.png\n");
+  kept = 0;
+  EXPECT_TRUE(load(obj).returned);
+  EXPECT_EQ(scene_.textures.size(), 2u);
+}
+
+TEST_F(SceneLimits, EnvironmentMapsAreChargedFromTheirHeaders) {
+  // A Radiance header claiming 16000 x 16000 (3 GB of float pixels to stb_image).
+  const std::string hdr =
+      write("sky.hdr",
+            "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16000 +X 16000\n" + std::string(64, '\x01'));
+  std::string what;
+  uint64_t keep = 0;
+  options_.reserve_image = [&](const std::string& w, uint64_t k, uint64_t) {
+    what = w, keep = k;
+    throw InputError(w + ": too big for the test");
+  };
+  expect_input_error(within_10s([&] { load_environment_map(hdr, options_); }),
+                     {"sky.hdr: environment map (16000 x 16000 pixels)"});
+  EXPECT_EQ(keep, uint64_t(16000) * 16000 * 12);
 }
 
 }  // namespace scene_limits_test

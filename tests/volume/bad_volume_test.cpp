@@ -51,6 +51,96 @@ TEST_F(BadVolume, GzipDataThatDecodesShort) {
   expect_input_error(load("vol/g.nhdr"), {"g.nhdr", "data file 'g.gz'", "1000", "999"});
 }
 
+// `data` as one gzip member (zlib's deflate at `level` with a gzip wrapper), in memory.
+std::string gzip_bytes(const std::string& data, int level = 9) {
+  z_stream z{};
+  EXPECT_EQ(deflateInit2(&z, level, Z_DEFLATED, 16 + MAX_WBITS, 8, Z_DEFAULT_STRATEGY), Z_OK);
+  std::string out(deflateBound(&z, uLong(data.size())), '\0');
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
+  z.avail_in = uInt(data.size());
+  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  z.avail_out = uInt(out.size());
+  EXPECT_EQ(deflate(&z, Z_FINISH), Z_STREAM_END);
+  out.resize(z.total_out);
+  deflateEnd(&z);
+  return out;
+}
+
+// 1000 bytes that compress to a few hundred: every corruption shows in the stream.
+std::string varied_bytes() {
+  std::string s;
+  for (int i = 0; i < 1000; ++i) s.push_back(char((i * 37 + i / 7) % 251));
+  return s;
+}
+
+TEST_F(BadVolume, CorruptGzipDataAreRefused) {
+  // Issue 31: 8 bytes overwritten rendered with exit 0. Teem stops reading once it has the
+  // voxels, so a corruption that decodes into valid but wrong (or more) bytes was never
+  // noticed: zlib's CRC and length check at the end of the stream was not reached.
+  std::string smooth;
+  for (int z = 0; z < 32; ++z)
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x) smooth.push_back(char((x * x + y * 3 + z) / 7 % 256));
+  std::string gz = gzip_bytes(smooth, 6);                   // 1573 bytes
+  for (size_t i = 837; i < 845; ++i) gz[i] = char(~gz[i]);  // one of the places Teem missed
+  write("vol/s.gz", gz);
+  std::string n = nrrd_header("uint8", "32 32 32", "data file: s.gz\n");
+  n.replace(n.find("encoding: raw"), 13, "encoding: gzip");
+  write("vol/s.nhdr", n);
+  expect_input_error(load("vol/s.nhdr"), {"s.nhdr", "data file 's.gz'", "gzip data are corrupt"});
+  // Small streams, corrupted at the end (the CRC and length), in the middle, cut short,
+  // or followed by other bytes.
+  std::string h = nrrd_header("uint8", "10 10 10", "data file: g.gz\n");
+  h.replace(h.find("encoding: raw"), 13, "encoding: gzip");
+  write("vol/g.nhdr", h);
+  const std::string good = gzip_bytes(varied_bytes());
+  write("vol/g.gz", good);
+  EXPECT_TRUE(load("vol/g.nhdr").returned);
+  std::string bad = good;
+  for (size_t i = bad.size() - 8; i < bad.size(); ++i) bad[i] = char(~bad[i]);  // CRC, length
+  write("vol/g.gz", bad);
+  expect_input_error(load("vol/g.nhdr"),
+                     {"g.nhdr", "data file 'g.gz'", "corrupt", "incorrect data check"});
+  bad = good;
+  for (size_t i = 40; i < 48; ++i) bad[i] = '\x55';  // inside the deflate data
+  write("vol/g.gz", bad);
+  expect_input_error(load("vol/g.nhdr"), {"g.nhdr", "data file 'g.gz'", "gzip"});
+  write("vol/g.gz", good.substr(0, good.size() - 5));
+  expect_input_error(load("vol/g.nhdr"), {"g.nhdr", "data file 'g.gz'", "truncated"});
+  write("vol/g.gz", good + "trailing");
+  expect_input_error(load("vol/g.nhdr"),
+                     {"g.nhdr", "data file 'g.gz'", "8 bytes after the end of its gzip data"});
+  // Two gzip members (cat a.gz b.gz) are one stream of data.
+  const std::string v = varied_bytes();
+  write("vol/g.gz", gzip_bytes(v.substr(0, 300)) + gzip_bytes(v.substr(300)));
+  EXPECT_TRUE(load("vol/g.nhdr").returned);
+}
+
+TEST_F(BadVolume, GzipDataThatDecodeLongAreRefusedAsRawDataAre) {
+  // Issue 31: raw data one byte too long were refused, gzip data were not.
+  std::string h = nrrd_header("uint8", "10 10 10", "data file: g.gz\n");
+  h.replace(h.find("encoding: raw"), 13, "encoding: gzip");
+  write("vol/g.nhdr", h);
+  write("vol/g.gz", gzip_bytes(std::string(1001, '\x01')));
+  expect_input_error(load("vol/g.nhdr"), {"g.nhdr", "data file 'g.gz'", "too long", "1000"});
+  // A byte skip counts decoded bytes: 1 skipped + 1000 voxels is exactly right.
+  write("vol/s.nhdr", h + "byte skip: 1\n");
+  write("vol/g.gz", gzip_bytes(std::string(1001, '\x01')));
+  EXPECT_TRUE(load("vol/s.nhdr").returned);
+  // Byte skip -1: the voxels are the last bytes; a little before them is fine.
+  write("vol/m.nhdr", h + "byte skip: -1\n");
+  EXPECT_TRUE(load("vol/m.nhdr").returned);
+}
+
+TEST_F(BadVolume, TinyGzipClaimingHugeGridIsRefusedBeforeAllocating) {
+  // Issue 31: a 100-byte gzip volume claiming 2^31 voxels had Teem allocate 2.1 GB first.
+  std::string h = nrrd_header("uint8", "2048 1024 1024");
+  h.replace(h.find("encoding: raw"), 13, "encoding: gzip");
+  write("vol/big.nrrd", h + "\n" + gzip_bytes(std::string(4000, '\0')));
+  expect_input_error(load("vol/big.nrrd"),
+                     {"big.nrrd", "too short for 2048x1024x1024 uint8", "decode to at most"});
+}
+
 TEST_F(BadVolume, AbsurdDimensionsAreRefusedBeforeAllocating) {
   write("vol/d.raw", "x");
   write("vol/h.nhdr", nrrd_header("uint8", "100000 100000 100000", "data file: d.raw\n"));

@@ -98,5 +98,27 @@ TEST_F(RawRead, FifoAndMemoryLimitAreRefused) {
   expect_input_error(within_10s([&] { load_raw_volume(p, bad); }), {"-5x10x10", "negative"});
 }
 
+TEST(RawSpec, TheFileNameIsCheckedWhereItDescribesTheData) {
+  // Issue 31: 2x2x2 float32 and 4x4x2 uint8 are the same 32 bytes; only a name can tell.
+  const RawVolumeSpec bytes = parse_raw_spec("4x4x2:uint8");
+  bool described = false;
+  const std::string m = raw_name_mismatch("/d/x_2x2x2_float32.raw", bytes, &described);
+  EXPECT_TRUE(described);
+  EXPECT_NE(m.find("its name says 2x2x2 float32, but --raw reads it as 4x4x2 uint8"),
+            std::string::npos)
+      << m;
+  EXPECT_EQ(raw_name_mismatch("/d/bonsai_4x4x2_uint8.raw", bytes, &described), "");
+  EXPECT_TRUE(described);
+  EXPECT_NE(raw_name_mismatch("ct_int16.raw", bytes, &described).find("says int16"),
+            std::string::npos);
+  EXPECT_EQ(raw_name_mismatch("scan_4x4x2_1x2xA.raw", bytes, &described), "");  // not a grid
+  // The shared volumes' spelling: a byte order after the type.
+  EXPECT_EQ(raw_name_mismatch("ct_4x4x2_uint8le.raw", bytes, &described), "");
+  EXPECT_NE(raw_name_mismatch("cranium_ct_4x4x2_int16le.raw", bytes, &described).find("int16"),
+            std::string::npos);
+  EXPECT_EQ(raw_name_mismatch("/d/plain.raw", bytes, &described), "");
+  EXPECT_FALSE(described);
+}
+
 }  // namespace raw_test
 }  // namespace multiray
