@@ -34,6 +34,10 @@ struct LoadOptions {
   // InputError to refuse the load: a run charges images against --max-memory
   // (run/run.cpp). Unset: only the loaders' pixel cap applies.
   std::function<void(const std::string& what, uint64_t keep, uint64_t transient)> reserve_image;
+  // Bytes a third-party parser that cannot be checked first (assimp) may take while it
+  // reads the scene: it reads it first in a child process limited to this much
+  // (scene/assimp_trial.h). 0: no limit, no child. A run sets --max-memory's budget.
+  uint64_t parser_memory_limit = 0;
 };
 
 // Helpers every loader (scene and volume) shares.

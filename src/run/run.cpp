@@ -207,6 +207,7 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   if (before_load) before_load();
   LoadOptions load;
   load.allow_outside = o.allow_outside_paths;
+  load.parser_memory_limit = uint64_t(std::max(limit - need.total(), 64.0 * (1 << 20)));
   // Textures and environment maps are charged from their headers, before they are decoded
   // (a 275 KB PNG may decode to 1 GB): what each keeps, and what decoding it takes besides.
   load.reserve_image = [need, limit, parts, kept = std::make_shared<double>(0)](

@@ -17,11 +17,15 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <new>
 #include <optional>
 #include <vector>
 
+#include <fmt/core.h>
+
 #include "scene/assimp_files.h"
 #include "scene/assimp_material.h"
+#include "scene/assimp_trial.h"
 #include "scene/camera_check.h"
 #include "scene/loaders.h"
 
@@ -291,25 +295,63 @@ Scene AssimpReader::read() {
 
 }  // namespace
 
+namespace {
+// One assimp read of the scene file `text` (its named files through `files`). The importer
+// owns the scene it returns (nullptr: assimp refused the file, GetErrorString() says why).
+const aiScene* read_with_assimp(Assimp::Importer& importer, const std::string& path,
+                                const std::string& text, SceneFiles& files,
+                                detail::SceneFileSystem** io_out) {
+  auto* io =
+      new detail::SceneFileSystem(&files, std::vector<unsigned char>(text.begin(), text.end()));
+  importer.SetIOHandler(io);  // the importer owns and deletes it
+  if (io_out) *io_out = io;
+  // Drop point and line primitives (not surfaces), and do not invent bone meshes for
+  // files that hold only a skeleton.
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
+  return importer.ReadFile(path, aiProcess_Triangulate | aiProcess_SortByPType);
+}
+
+// The read in a child process limited to options.parser_memory_limit (scene/assimp_trial.h);
+// throws InputError when it did not fit or crashed.
+void trial_read_with_assimp(const std::string& path, const std::string& text, SceneFiles& files,
+                            const LoadOptions& options) {
+  int signal = 0;
+  const detail::TrialResult r = detail::trial_read(
+      options.parser_memory_limit,
+      [&] {
+        Assimp::Importer importer;
+        // assimp turns exceptions (bad_alloc too) into a null scene and an error string.
+        if (!read_with_assimp(importer, path, text, files, nullptr) &&
+            std::string(importer.GetErrorString()).find("bad_alloc") != std::string::npos)
+          throw std::bad_alloc();
+      },
+      &signal);
+  if (r == detail::TrialResult::too_large)
+    detail::fail(path, fmt::format("assimp needs more than the {:.1f} GB this run has left to "
+                                   "read it (--max-memory); the file claims more than it holds, "
+                                   "or the limit is too low",
+                                   double(options.parser_memory_limit) / 1e9));
+  if (r == detail::TrialResult::crashed)
+    detail::fail(path, fmt::format("assimp crashed reading it (signal {}, in a trial read in "
+                                   "a separate process)",
+                                   signal));
+}
+}  // namespace
+
 Scene load_assimp(const std::string& path, const LoadOptions& options) {
   SceneFiles files(path, options);
   const std::string text = files.read_scene_file();
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".off") detail::check_off_counts(path, text);  // counts assimp would trust
-  auto* io =
-      new detail::SceneFileSystem(&files, std::vector<unsigned char>(text.begin(), text.end()));
+  if (options.parser_memory_limit > 0) trial_read_with_assimp(path, text, files, options);
   Assimp::Importer importer;
-  importer.SetIOHandler(io);  // the importer owns and deletes it
-  // Drop point and line primitives (not surfaces), and do not invent bone meshes for
-  // files that hold only a skeleton.
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
-                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
-  const unsigned steps = aiProcess_Triangulate | aiProcess_SortByPType;
+  detail::SceneFileSystem* io = nullptr;
   const aiScene* ai = nullptr;
   try {
-    ai = importer.ReadFile(path, steps);
+    ai = read_with_assimp(importer, path, text, files, &io);
   } catch (const std::exception& e) {  // assimp catches its own; this is for bad_alloc & co.
     detail::fail(path, std::string("assimp failed: ") + e.what());
   }

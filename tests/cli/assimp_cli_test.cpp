@@ -4,8 +4,12 @@
 #include <gtest/gtest.h>
 #include <stb_image.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
+#include <vector>
 
 #include "support/run_cli.h"
 
@@ -36,6 +40,34 @@ TEST(AssimpCli, RendersADaeFileNotBlack) {
   EXPECT_EQ(w, 48);
   EXPECT_GT(sum / (3.0 * w * h), 20.0) << "mean 8-bit value";
   EXPECT_GT(lit, w * h / 4) << "pixels above near-black";
+}
+
+// docs/reliability.md F6: assimp's Quick3D reader, given earth.q3o with two bytes changed,
+// took 22 GB of a 23 GB machine. The trial read in a limited child process
+// (scene/assimp_trial.h) now stops it at --max-memory's budget. The whole run is also held
+// to 4 GB of address space (ulimit -v) so that a build without the trial read fails this
+// test (its message says "assimp failed: std::bad_alloc") instead of taking the machine.
+TEST(AssimpCli, AParserThatClaimsAllMemoryIsStoppedAtTheLimit) {
+#ifndef MULTIRAY_HAS_ASSIMP
+  GTEST_SKIP() << "built without assimp (MULTIRAY_WITH_ASSIMP)";
+#endif
+  const std::string earth = std::string(MULTIRAY_ASSIMP_MODELS_DIR) + "/Q3D/earth.q3o";
+  if (!std::filesystem::exists(earth)) GTEST_SKIP() << "test file missing: " << earth;
+  std::ifstream in(earth, std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 79424u);
+  bytes[29683] = char(0x10);
+  bytes[79424] = char(0x80);
+  const std::string dir = ::testing::TempDir() + "/assimp_cli_q3o";
+  std::filesystem::create_directories(dir);
+  const std::string bomb = dir + "/earth_bomb.q3o";
+  std::ofstream(bomb, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+  const auto r = multiray::testing::run_cli(
+      MULTIRAY_BIN, "render -q " + bomb + " --res 8x8 --max-memory 1G --out " + dir + "/out",
+      "ulimit -v 4000000;");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("--max-memory"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
 }  // namespace assimp_cli_test
