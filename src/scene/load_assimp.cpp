@@ -15,13 +15,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <new>
 #include <optional>
 #include <vector>
-
-#include <fmt/core.h>
 
 #include "scene/assimp_files.h"
 #include "scene/assimp_material.h"
@@ -328,15 +327,16 @@ void trial_read_with_assimp(const std::string& path, const std::string& text, Sc
           throw std::bad_alloc();
       },
       &signal);
-  if (r == detail::TrialResult::too_large)
-    detail::fail(path, fmt::format("assimp needs more than the {:.1f} GB this run has left to "
-                                   "read it (--max-memory); the file claims more than it holds, "
-                                   "or the limit is too low",
-                                   double(options.parser_memory_limit) / 1e9));
+  if (r == detail::TrialResult::too_large) {
+    char gb[32];
+    std::snprintf(gb, sizeof gb, "%.1f", double(options.parser_memory_limit) / 1e9);
+    detail::fail(path, std::string("assimp needs more than the ") + gb +
+                           " GB this run has left to read it (--max-memory); the file claims "
+                           "more than it holds, or the limit is too low");
+  }
   if (r == detail::TrialResult::crashed)
-    detail::fail(path, fmt::format("assimp crashed reading it (signal {}, in a trial read in "
-                                   "a separate process)",
-                                   signal));
+    detail::fail(path, "assimp crashed reading it (signal " + std::to_string(signal) +
+                           ", in a trial read in a separate process)");
 }
 }  // namespace
 
