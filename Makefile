@@ -21,7 +21,7 @@ deps:
 # headers (CLI11, nlohmann/json, GoogleTest, Embree) again for every file (docs/testing.md).
 build: deps
 	@mkdir -p $(BUILD)
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DMULTIRAY_WERROR=$(WERROR) -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 > $(BUILD)/configure.log 2>&1 || (cat $(BUILD)/configure.log; false)
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DMULTIRAY_WERROR=$(WERROR) -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8 > $(BUILD)/configure.log 2>&1 || (cat $(BUILD)/configure.log; false)
 	cmake --build $(BUILD) -j$(JOBS)
 
 run: build
