@@ -1,9 +1,12 @@
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <thread>
 
 #include <fmt/core.h>
@@ -13,6 +16,7 @@
 #include "app/console.h"
 #include "app/frame_spool.h"
 #include "app/interrupt.h"
+#include "app/progress.h"
 #include "app/stats_json.h"
 #include "app/trace_file.h"
 #include "balance/registry.h"
@@ -25,6 +29,13 @@ namespace multiray::app {
 bool stderr_is_tty() { return isatty(STDERR_FILENO) == 1; }
 
 namespace {
+
+// What the progress line reads while frames finish (written by RenderOutput).
+struct RenderCounters {
+  std::atomic<int> frames{0};
+  std::atomic<uint64_t> samples{0};
+  std::atomic<uint64_t> frame_us{0};  // the finished frames' times, microseconds
+};
 
 // Writes each finished frame (PNG, EXR, quilt), prints its line, keeps its JSON record on
 // disk (FrameSpool: memory stays flat however many frames) and, with --trace, its per-item
@@ -82,7 +93,12 @@ class RenderOutput : public FrameObserver {
     record["image_hash"] = fmt::format("{:016x}", hash);
     records_.add(record);
     if (trace_) trace_->frame(r->stats);
+    counters_.samples += samples;
+    counters_.frame_us += uint64_t(std::max(0.0, rec.frame_ms) * 1e3);
+    counters_.frames += 1;
   }
+
+  const RenderCounters& counters() const { return counters_; }
 
   // Writes stats.json: `head` with every frame's record as "frames".
   void write_stats(const nlohmann::json& head) { records_.write(dir_ + "/stats.json", head); }
@@ -90,32 +106,58 @@ class RenderOutput : public FrameObserver {
  private:
   std::string dir_;
   FrameSpool records_;
+  RenderCounters counters_;
   bool exr_, quiet_;
   int columns_, frames_;
   Display display_;
   TraceFile* trace_;
 };
 
-// On a terminal, a line shows how much of the frame has been handed to devices.
+// Progress of a render (app/progress.h): on a terminal, a line redrawn five times a second;
+// otherwise (a pipe, a log file), unless --quiet, a line every 10 s, so that a long run
+// is never silent for long.
 class ProgressLine {
  public:
-  ProgressLine(const Session& session, int frames) {
-    if (!stderr_is_tty()) return;
-    thread_ = std::thread([this, &session, frames] {
-      while (running_) {
-        print_err("\rrendering {} frame(s) ... {:3.0f}% of the current one", frames,
-                  100.0 * session.progress());
-        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ProgressLine(const Session& session, int frames, const RenderCounters& counters, bool quiet) {
+    const bool terminal = stderr_is_tty();
+    if (!terminal && quiet) return;
+    thread_ = std::thread([this, &session, &counters, frames, terminal] {
+      const auto start = std::chrono::steady_clock::now();
+      auto last_line = start;
+      while (!stop_.load()) {
+        {
+          std::unique_lock<std::mutex> lock(mutex_);
+          wake_.wait_for(lock, std::chrono::milliseconds(200), [this] { return stop_.load(); });
+        }
+        if (stop_) break;
+        const auto now = std::chrono::steady_clock::now();
+        if (!terminal && now - last_line < std::chrono::seconds(10)) continue;
+        last_line = now;
+        ProgressSnapshot p;
+        p.frames_done = counters.frames.load();
+        p.frames_total = frames;
+        p.current = session.progress();
+        p.elapsed_s = std::chrono::duration<double>(now - start).count();
+        p.samples = double(counters.samples.load());
+        p.samples_elapsed_s = double(counters.frame_us.load()) / 1e6;
+        if (terminal)
+          print_err("\r{}\033[K", progress_line(p, true));
+        else
+          print_err("{}\n", progress_line(p, false));
       }
+      if (terminal) print_err("\r\033[K");
     });
   }
   ~ProgressLine() {
-    running_ = false;
+    stop_ = true;
+    wake_.notify_all();
     if (thread_.joinable()) thread_.join();
   }
 
  private:
-  std::atomic<bool> running_{true};
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::condition_variable wake_;
   std::thread thread_;
 };
 
@@ -158,7 +200,8 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
   cmd->add_option("--trace", *trace_path,
                   "Write every work item's device, view, rect, samples, busy and wall time to "
                   "this file (format: docs/traces.md), for `multiray simulate` and analysis");
-  cmd->add_flag("-q,--quiet", *quiet, "No per-frame lines");
+  cmd->add_flag("-q,--quiet", *quiet,
+                "No per-frame lines, and no progress lines when stderr is not a terminal");
   return [=]() -> int {
     Display display;
     display.exposure_ev = parse_exposure(*exposure);
@@ -190,7 +233,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     std::string signal_name;
     {
       InterruptWatch watch(*session);
-      ProgressLine progress(*session, o->frames);
+      ProgressLine progress(*session, o->frames, output.counters(), *quiet);
       done = session->run(0, o->frames, output);
       interrupted = watch.signal();
       signal_name = watch.signal_name();
