@@ -1,7 +1,10 @@
 // The multiray command line (app/cli.h): parse, dispatch, exit codes.
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <exception>
+#include <string>
+#include <vector>
 
 #include <fmt/core.h>
 #include <oneapi/tbb/global_control.h>
@@ -13,6 +16,45 @@
 #include "core/error.h"
 
 namespace multiray::app {
+
+namespace {
+// Levenshtein distance (insertions, deletions, substitutions), for option names.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// " (did you mean --spp?)" when an argument the parsed command did not expect is within
+// two edits of one of its long options (one edit, or fewer than half its length); else "".
+std::string did_you_mean(const CLI::App& app) {
+  for (const CLI::App* sub : app.get_subcommands()) {
+    for (const std::string& extra : sub->remaining()) {
+      if (extra.rfind("--", 0) != 0) continue;
+      const std::string name = extra.substr(2, extra.find('=') - 2);
+      std::string best;
+      size_t best_distance = 3;
+      for (const CLI::Option* opt : sub->get_options())
+        for (const std::string& candidate : opt->get_lnames()) {
+          const size_t d = edit_distance(name, candidate);
+          if (d < best_distance && (d <= 1 || 2 * d < name.size()))
+            best = candidate, best_distance = d;
+        }
+      if (!best.empty()) return " (did you mean --" + best + "?)";
+    }
+  }
+  return "";
+}
+}  // namespace
 
 int run_cli(int argc, char** argv, const CliHooks& hooks) {
   // A reader that goes away (`multiray render ... | head -1`) must not end the run by
@@ -46,7 +88,8 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    if (!hooks.quiet) print_err("multiray: error: {} (see multiray --help)\n", e.what());
+    if (!hooks.quiet)
+      print_err("multiray: error: {}{} (see multiray --help)\n", e.what(), did_you_mean(app));
     return 2;
   }
   if (hooks.skip && hooks.skip(app)) return -1;

@@ -131,6 +131,13 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
                      "one-core devices opencl:0 and opencl:1; POCL_MAX_PTHREAD_COUNT=N limits "
                      "its default pthread device to N threads")
       ->capture_default_str();
+  // The common case in one word, as other renderers have it (pbrt --nthreads, Blender -t).
+  cmd.add_option_function<int>(
+         "--threads", [&o](const int& n) { o.devices = "cpu:threads=" + std::to_string(n); },
+         "Shorthand for --devices cpu:threads=N: one CPU device of N threads (0: every "
+         "hardware thread)")
+      ->check(CLI::Range(0, 4096))
+      ->excludes("--devices");
   cmd.add_option(
          "--env", o.env,
          "Light from outside the scene: a constant sky radiance V or R,G,B, or an "

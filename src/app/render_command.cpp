@@ -173,7 +173,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
   auto quiet = std::make_shared<bool>(false);
   add_common_options(*cmd, *o);
   auto overwrite = std::make_shared<bool>(false);
-  cmd->add_option("--out", *out_dir,
+  cmd->add_option("-o,--out", *out_dir,
                   "Output folder (created if missing). A folder with an earlier run's outputs "
                   "(stats.json, frame_*) is refused unless --overwrite is given")
       ->capture_default_str();

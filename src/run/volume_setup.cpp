@@ -86,6 +86,11 @@ std::shared_ptr<const VolumeStyle> make_style(SceneCache& scenes, const VolumeOp
   }
   const auto& presets = transfer_preset_names();
   const bool preset = std::find(presets.begin(), presets.end(), name) != presets.end();
+  // Not a preset and no such file: most likely a mistyped preset, so say which there are.
+  std::error_code ec;
+  if (!preset && !std::filesystem::exists(name, ec))
+    throw InputError("--tf '" + name + "' is neither a preset (" + preset_list() +
+                     ") nor a transfer-function file");
   const TransferFunction tf =
       preset ? transfer_preset(name, vs.volume) : resolve(load_transfer_function(name), vs.volume);
   auto style = make_volume_style(vs, tf, o.step);

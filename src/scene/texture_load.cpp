@@ -34,6 +34,13 @@ Scene load_scene(const std::string& path, const LoadOptions& options) {
     if (ext == e) return load_assimp(path, options);
     assimp_list += std::string(", ") + e;
   }
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    detail::fail(path, "this is a folder; give a scene file (or a volume) inside it");
+  if (ext == ".raw")
+    detail::fail(path,
+                 "a .raw file has no header: give its layout with --raw "
+                 "NXxNYxNZ:TYPE (e.g. --raw 256x256x128:uint8) to render it as a volume");
   detail::fail(path, "unknown scene file extension '" + ext +
                          "' (supported: .gltf, .glb, .obj, .ply, .xml; through assimp:" +
                          assimp_list.substr(1) + ")");

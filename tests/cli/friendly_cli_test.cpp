@@ -1,0 +1,60 @@
+// Friction a newcomer met (issue "A newcomer's first hour", item 6): a typo gets a
+// suggestion, a mistyped preset the list of presets, a folder or a .raw file given as a
+// scene says what to do, and the common shorthands exist (--threads N, -o).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "support/cli_expect.h"
+
+namespace friendly_cli_test {
+
+using multiray::testing::expect_input_error;
+using multiray::testing::run_cli;
+using multiray::testing::temp_file;
+
+TEST(FriendlyCli, ATypoGetsTheNearestOption) {
+  expect_input_error(run_cli(MULTIRAY_BIN, "render --sp 4"), "render --sp 4",
+                     "did you mean --spp?");
+  expect_input_error(run_cli(MULTIRAY_BIN, "render --bounce 3"), "--bounce",
+                     "did you mean --bounces?");
+  const auto far = run_cli(MULTIRAY_BIN, "render --zzzzzz 3");  // nothing near: no guess
+  EXPECT_EQ(far.code, 2);
+  EXPECT_THAT(far.out, ::testing::Not(::testing::HasSubstr("did you mean")));
+}
+
+TEST(FriendlyCli, AMistypedPresetListsThePresets) {
+  const std::string raw = temp_file("friendly.raw", std::string(8 * 8 * 8, '\x40'));
+  expect_input_error(run_cli(MULTIRAY_BIN, "render " + raw + " --raw 8x8x8:uint8 --tf bone"),
+                     "--tf bone", "ct-bone");
+}
+
+TEST(FriendlyCli, AFolderOrARawFileAsASceneSaysWhatToDo) {
+  const std::string raw = temp_file("friendly2.raw", std::string(64, '\0'));
+  expect_input_error(run_cli(MULTIRAY_BIN, "render " + ::testing::TempDir()), "a folder",
+                     "this is a folder");
+  expect_input_error(run_cli(MULTIRAY_BIN, "render " + raw), ".raw", "--raw NXxNYxNZ:TYPE");
+}
+
+TEST(FriendlyCli, ThreadsAndOAreShorthands) {
+  const std::string dir = ::testing::TempDir() + "/friendly_threads";
+  std::filesystem::remove_all(dir);
+  const auto r = run_cli(MULTIRAY_BIN, "render -q --res 8x8 --threads 2 -o " + dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream in(dir + "/stats.json");
+  ASSERT_TRUE(in);
+  const auto doc = nlohmann::json::parse(in);
+  ASSERT_EQ(doc.at("devices").size(), 1u);
+  EXPECT_THAT(doc.at("devices")[0].at("name").get<std::string>(),
+              ::testing::HasSubstr("2 threads"));
+  expect_input_error(run_cli(MULTIRAY_BIN, "render --threads 2 --devices cpu"), "both",
+                     "excludes");
+  expect_input_error(run_cli(MULTIRAY_BIN, "render --threads -1"), "--threads -1", "--threads");
+}
+
+}  // namespace friendly_cli_test
