@@ -31,7 +31,7 @@ run: build
 check-format: deps
 	@scripts/check-format.sh
 
-# Every test, then a 5-second smoke run of each fuzz target (its -O0 clang build takes
+# Every test, then a 3-second smoke run of each fuzz target (its -O0 clang build takes
 # about 3 minutes the first time; fuzz/README.md).
 test: check-format build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) --timeout 600

@@ -1,9 +1,9 @@
-#!/bin/sh
+#!/bin/bash
 # Builds the libFuzzer targets (clang-15, the `fuzz` CMake preset in build-fuzz/, or the
 # -O0 `fuzz-smoke` preset in build-fuzz-smoke/ for smoke runs) and runs each one.
 # fuzz/README.md describes the targets.
 #
-#   fuzz/run.sh smoke  each target for FUZZ_SMOKE_SECONDS (default 5) from its seed corpus,
+#   fuzz/run.sh smoke  each target for FUZZ_SMOKE_SECONDS (default 3) from its seed corpus,
 #                      with a fixed seed; new inputs are not kept (`make fuzz-smoke`, and
 #                      the last step of `make test`)
 #   fuzz/run.sh long   each target for FUZZ_SECONDS (default 60), growing its corpus in
@@ -27,7 +27,7 @@ build="$root/build-$preset"
 targets=${FUZZ_TARGETS:-"ply obj gltf glb camera_json camera_render trace cli volume transfer messages viewer sequence assimp"}
 crashes=${FUZZ_CRASH_DIR:-"$root/fuzz/crashes"}
 case "$mode" in
-  smoke) seconds=${FUZZ_SMOKE_SECONDS:-5} ;;
+  smoke) seconds=${FUZZ_SMOKE_SECONDS:-3} ;;
   long) seconds=${FUZZ_SECONDS:-60} ;;
   *) echo "usage: fuzz/run.sh smoke|long" >&2; exit 2 ;;
 esac
@@ -124,7 +124,8 @@ run_target() {
   fi
 }
 
-# JOBS targets at a time (each libFuzzer run is one process on one core), reported in
+# JOBS targets at a time (each libFuzzer run is one process on one core): a new one starts
+# as soon as any ends (bash's wait -n), not when the slower of a pair does. Reported in
 # the order of $targets.
 lanes=${JOBS:-$(nproc)}
 running=0
@@ -132,8 +133,8 @@ for t in $targets; do
   run_target "$t" &
   running=$((running + 1))
   if [ "$running" -ge "$lanes" ]; then
-    wait
-    running=0
+    wait -n || true
+    running=$((running - 1))
   fi
 done
 wait
