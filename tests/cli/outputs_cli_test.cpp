@@ -195,13 +195,11 @@ TEST(Outputs, AReadOnlyFolderIsRefusedBeforeAnythingRenders) {
 // Peak memory of a render of `frames` tiny frames into `dir` (the child's maximum
 // resident set, in KiB).
 long peak_kib(int frames, const std::string& dir) {
-  const pid_t pid = spawn({"render", "-q", "--res", "4x4", "--spp", "1", "--devices",
-                           "cpu:threads=1", "--frames", std::to_string(frames), "--out", dir});
-  int status = 0;
-  rusage usage{};
-  wait4(pid, &status, 0, &usage);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
-  return usage.ru_maxrss;
+  const long kib = multiray::testing::peak_rss_kb(
+      MULTIRAY_BIN, {"render", "-q", "--res", "4x4", "--spp", "1", "--devices", "cpu:threads=1",
+                     "--frames", std::to_string(frames), "--out", dir});
+  EXPECT_GE(kib, 0) << "the render of " << frames << " frames did not exit 0";
+  return kib;
 }
 
 TEST(Outputs, MemoryStaysFlatHoweverManyFrames) {

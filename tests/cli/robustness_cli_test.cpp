@@ -157,34 +157,19 @@ TEST(DataAndMemory, DecodedImagesAreInTheMemoryEstimate) {
                  "sky.hdr: environment map (16000 x 16000 pixels): this run needs about");
 }
 
+// One frame of two devices, 8x4 pixels: the smallest trace simulate replays.
+const char* const kTwoDeviceTrace =
+    "multiray-trace 1\nbalancer uniform\ndevice 0 1 a\ndevice 1 0.5 b\n"
+    "frame 0 8 4 1\ntime 0 1 2.5 2.5\nitem 0 0 0 0 0 8 2 16 2.5 2.5\n"
+    "time 1 1 2.5 2.5\nitem 1 1 0 0 2 8 4 16 2.5 2.5\n";
+
 TEST(DataAndMemory, SimulateIsEstimatedBeforeItRuns) {
   const std::string dir = fresh_dir("simulate");
   fs::create_directories(dir);
-  write_text(dir + "/t.trace",
-             "multiray-trace 1\nbalancer uniform\ndevice 0 1 a\ndevice 1 0.5 b\n"
-             "frame 0 8 4 1\ntime 0 1 2.5 2.5\nitem 0 0 0 0 0 8 2 16 2.5 2.5\n"
-             "time 1 1 2.5 2.5\nitem 1 1 0 0 2 8 4 16 2.5 2.5\n");
+  write_text(dir + "/t.trace", kTwoDeviceTrace);
   expect_refused("simulate " + dir + "/t.trace --devices 4096 --frames 1000000 --max-memory 1M",
                  "this run needs about");
   expect_refused("simulate " + dir + "/t.trace --max-memory lots", "--max-memory");
-}
-
-// Peak resident memory of `multiray args...` in KB (ru_maxrss of the child), -1 if it
-// did not exit 0.
-long peak_rss_kb(const std::vector<std::string>& args) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    freopen("/dev/null", "w", stdout);
-    std::vector<char*> argv{const_cast<char*>(MULTIRAY_BIN)};
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(MULTIRAY_BIN, argv.data());
-    _exit(127);
-  }
-  int status = 0;
-  rusage use{};
-  if (pid < 0 || wait4(pid, &status, 0, &use) != pid) return -1;
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? use.ru_maxrss : -1;
 }
 
 TEST(DataAndMemory, SimulateKeepsOneFrameAtATime) {
@@ -192,12 +177,10 @@ TEST(DataAndMemory, SimulateKeepsOneFrameAtATime) {
   // this trace: 400 MB; 10^6 frames grew past 12 GB). Frame by frame it stays small.
   const std::string dir = fresh_dir("simulate_rss");
   fs::create_directories(dir);
-  write_text(dir + "/t.trace",
-             "multiray-trace 1\nbalancer uniform\ndevice 0 1 a\ndevice 1 0.5 b\n"
-             "frame 0 8 4 1\ntime 0 1 2.5 2.5\nitem 0 0 0 0 0 8 2 16 2.5 2.5\n"
-             "time 1 1 2.5 2.5\nitem 1 1 0 0 2 8 4 16 2.5 2.5\n");
-  const long kb = peak_rss_kb({"simulate", dir + "/t.trace", "--devices", "4096", "--frames",
-                               "1000", "--balancers", "uniform"});
+  write_text(dir + "/t.trace", kTwoDeviceTrace);
+  const long kb = multiray::testing::peak_rss_kb(
+      MULTIRAY_BIN, {"simulate", dir + "/t.trace", "--devices", "4096", "--frames", "1000",
+                     "--balancers", "uniform"});
   ASSERT_GT(kb, 0) << "simulate failed";
   EXPECT_LT(kb, 150 * 1024) << "peak " << kb / 1024 << " MB";
 }

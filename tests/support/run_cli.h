@@ -1,11 +1,14 @@
 // Running the multiray binary from a test, as a user would from a shell.
 #pragma once
 
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace multiray::testing {
 
@@ -29,6 +32,24 @@ inline CliResult run_cli(const std::string& binary, const std::string& args,
   const int status = pclose(p);
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return r;
+}
+
+// Peak resident memory of `binary args...` in KB (ru_maxrss of the child; stdout to
+// /dev/null), -1 if it did not exit 0.
+inline long peak_rss_kb(const std::string& binary, const std::vector<std::string>& args) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    freopen("/dev/null", "w", stdout);
+    std::vector<char*> argv{const_cast<char*>(binary.c_str())};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(binary.c_str(), argv.data());
+    _exit(127);
+  }
+  int status = 0;
+  rusage use{};
+  if (pid < 0 || wait4(pid, &status, 0, &use) != pid) return -1;
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? use.ru_maxrss : -1;
 }
 
 }  // namespace multiray::testing
