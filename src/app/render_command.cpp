@@ -14,9 +14,10 @@
 
 #include "app/commands.h"
 #include "app/console.h"
-#include "app/frame_spool.h"
 #include "app/interrupt.h"
+#include "app/output_target.h"
 #include "app/progress.h"
+#include "app/render_output.h"
 #include "app/stats_json.h"
 #include "app/trace_file.h"
 #include "balance/registry.h"
@@ -29,89 +30,6 @@ namespace multiray::app {
 bool stderr_is_tty() { return isatty(STDERR_FILENO) == 1; }
 
 namespace {
-
-// What the progress line reads while frames finish (written by RenderOutput).
-struct RenderCounters {
-  std::atomic<int> frames{0};
-  std::atomic<uint64_t> samples{0};
-  std::atomic<uint64_t> frame_us{0};  // the finished frames' times, microseconds
-};
-
-// Writes each finished frame (PNG, EXR, quilt), prints its line, keeps its JSON record on
-// disk (FrameSpool: memory stays flat however many frames) and, with --trace, its per-item
-// measurements.
-class RenderOutput : public FrameObserver {
- public:
-  RenderOutput(const std::string& dir, bool exr, bool quiet, int columns, int frames,
-               const Display& display, TraceFile* trace)
-      : dir_(dir),
-        records_(dir),
-        exr_(exr),
-        quiet_(quiet),
-        columns_(columns),
-        frames_(frames),
-        display_(display),
-        trace_(trace) {}
-
-  void on_frame(const std::shared_ptr<const FrameResult>& r) override {
-    const std::string base = fmt::format("{}/frame_{:04d}", dir_, r->frame);
-    const auto& images = r->images;
-    for (size_t v = 0; v < images.size(); ++v) {
-      const std::string name = images.size() == 1 ? base : fmt::format("{}_view{:02d}", base, v);
-      write_png(name + ".png", images[v], display_);
-      if (exr_) write_exr(name + ".exr", images[v]);
-    }
-    if (images.size() > 1) write_png(base + "_quilt.png", make_quilt(images, columns_), display_);
-    if (stderr_is_tty()) print_err("\r\033[K");
-    const FrameRecord& rec = r->record;
-    for (const auto& m : rec.messages) print_err("multiray: warning: {}\n", m);
-    uint64_t samples = 0, rays = 0;
-    for (const auto& d : rec.devices) samples += d.samples, rays += d.rays;
-    // Frame-time targeting: the predicted time and the quality the frame was rendered at.
-    const std::string adapted =
-        rec.predicted_ms > 0 || rec.quality.step_scale != 1 || rec.quality.image_scale != 1
-            ? fmt::format("  predicted {:7.1f} ms  step x{:.2f}  image x{:.2f}", rec.predicted_ms,
-                          rec.quality.step_scale, rec.quality.image_scale)
-            : "";
-    // Reprojected sampling: the share of the other views' pixels path-traced as holes.
-    const std::string holes =
-        r->reprojection ? fmt::format("  holes {:4.1f}%", 100.0 * r->reprojection->hole_fraction())
-                        : "";
-    if (!quiet_)
-      print_out(
-          "frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%{}{}  "
-          "-> {}.png\n",
-          r->frame, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
-          100.0 * rec.imbalance, adapted, holes, base + (images.size() > 1 ? "_quilt" : ""));
-    nlohmann::json record = frame_to_json(rec);
-    record["sampling_ms"] = r->sampling_ms;
-    if (r->reprojection)
-      record["reprojection"] =
-          reprojection_to_json(r->reprojection->references, r->reprojection->hole_fraction());
-    uint64_t hash = 0xcbf29ce484222325ull;
-    for (const Framebuffer& img : images) hash = image_hash(img, hash);
-    record["image_hash"] = fmt::format("{:016x}", hash);
-    records_.add(record);
-    if (trace_) trace_->frame(r->stats);
-    counters_.samples += samples;
-    counters_.frame_us += uint64_t(std::max(0.0, rec.frame_ms) * 1e3);
-    counters_.frames += 1;
-  }
-
-  const RenderCounters& counters() const { return counters_; }
-
-  // Writes stats.json: `head` with every frame's record as "frames".
-  void write_stats(const nlohmann::json& head) { records_.write(dir_ + "/stats.json", head); }
-
- private:
-  std::string dir_;
-  FrameSpool records_;
-  RenderCounters counters_;
-  bool exr_, quiet_;
-  int columns_, frames_;
-  Display display_;
-  TraceFile* trace_;
-};
 
 // Progress of a render (app/progress.h): on a terminal, a line redrawn five times a second;
 // otherwise (a pipe, a log file), unless --quiet, a line every 10 s, so that a long run
@@ -173,20 +91,26 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
   auto quiet = std::make_shared<bool>(false);
   add_common_options(*cmd, *o);
   auto overwrite = std::make_shared<bool>(false);
-  cmd->add_option("-o,--out", *out_dir,
-                  "Output folder (created if missing). A folder with an earlier run's outputs "
-                  "(stats.json, frame_*) is refused unless --overwrite is given")
-      ->capture_default_str();
+  auto* out_option =
+      cmd->add_option("-o,--out", *out_dir,
+                      "Where to write: a folder (frame_NNNN.png, stats.json), one file for one "
+                      "frame (render.png, render.exr), or a pattern whose run of # is the frame "
+                      "number (shot_####.png; stats in shot.stats.json). A .exr name writes "
+                      "linear OpenEXR only. Not given: out/, or out-2/, out-3/, ... when out/ "
+                      "holds an earlier run. Earlier outputs at a given -o are refused unless "
+                      "--overwrite")
+          ->capture_default_str();
   cmd->add_flag("--overwrite", *overwrite,
-                "Replace an earlier run's outputs in --out (its stats.json and frame_* files "
-                "are deleted first; other files are kept)");
+                "Replace an earlier run's outputs at -o (exactly the files this run would write "
+                "and its stats file are deleted first; other files are kept)");
   cmd->add_flag("--exr", *exr,
                 "Also write linear-light OpenEXR files (raw radiance: no --exposure, no --tone)");
-  auto exposure = std::make_shared<double>(0.0);
+  auto exposure = std::make_shared<std::string>("auto");
   auto tone = std::make_shared<std::string>("auto");
   cmd->add_option("--exposure", *exposure,
-                  "Exposure of the PNG files in stops, [-20, 20]: radiance is multiplied by "
-                  "2^EV before the tone curve")
+                  "Exposure of the PNG files: auto (metered on the first frame's radiance to "
+                  "middle grey, then held; volumes: 0) or EV in stops, [-20, 20]: radiance is "
+                  "multiplied by 2^EV before the tone curve")
       ->capture_default_str();
   cmd->add_option("--tone", *tone,
                   "Tone curve of the PNG files: filmic (ACES fit by Narkowicz 2015; highlights "
@@ -204,9 +128,17 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                 "No per-frame lines, and no progress lines when stderr is not a terminal");
   return [=]() -> int {
     Display display;
-    display.exposure_ev = parse_exposure(*exposure);
     const bool volume_input = is_volume_input(o->scene_path, o->volume);
+    const bool fixed_exposure = *exposure != "auto" || volume_input;
+    if (*exposure != "auto") {
+      const std::optional<double> ev = parse_number(*exposure);
+      if (!ev)
+        throw InputError("--exposure '" + *exposure + "' must be auto or stops in [-20, 20]");
+      display.exposure_ev = parse_exposure(*ev);
+    }
     display.tone = parse_tone(*tone, volume_input);
+    const OutputTarget target = parse_output_target(
+        out_option->count() ? *out_dir : first_free_folder(*out_dir), o->frames, *exr);
     Run s;
     int worker_exit = 0;
     std::vector<std::string> specs{*balancer};  // --mapping applied by start_run
@@ -215,7 +147,8 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
         s, *o, specs, "--balancer", &worker_exit,
         [&] {
           if (!trace_path->empty()) check_output_file(*trace_path, "--trace");
-          folder = std::make_unique<OutputFolder>(*out_dir, *overwrite);
+          folder = std::make_unique<OutputFolder>(
+              target.dir, *overwrite, "-o", [&](const std::string& n) { return target.owns(n); });
         },
         [](const Run& run) {
           if (run.volume && run.volume->modes().size() > 1)
@@ -226,7 +159,10 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     if (!trace_path->empty())
       trace = std::make_unique<TraceFile>(*trace_path, session->engine(0).balancer().spec(),
                                           s.devices);
-    RenderOutput output(*out_dir, *exr, *quiet, s.views->rig().columns, o->frames, display,
+    if (!out_option->count() && target.dir != *out_dir && !*quiet)
+      print_err("multiray: note: {}/ holds an earlier run; writing to {}/ (-o chooses)\n",
+                *out_dir, target.dir);
+    RenderOutput output(target, fixed_exposure, *quiet, s.views->rig().columns, display,
                         trace.get());
     int done = 0;
     int interrupted = 0;
@@ -240,9 +176,11 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     }
     nlohmann::json settings = settings_to_json(*o, s, command_line);
     settings["balancer"] = specs[0];  // as asked; "balancer" below has every parameter
-    settings["exposure_ev"] = display.exposure_ev;
+    settings["exposure_ev"] = output.exposure_ev();
+    settings["exposure"] = output.metered() ? "auto" : "fixed";
+    settings["output"] = target.pattern ? *out_dir : target.dir;
     settings["tone"] = display.tone == ToneCurve::Filmic ? "filmic" : "clamp";
-    settings["exr"] = *exr;
+    settings["exr"] = target.exr;
     nlohmann::json doc{{"scene", s.scene->name},
                        {"settings", settings},
                        {"devices", devices_to_json(s.devices)},

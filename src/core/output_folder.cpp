@@ -26,13 +26,14 @@ void check_writable(const std::string& dir, const std::string& option) {
   unlink(probe.c_str());
 }
 
-// The earlier run's outputs in `dir`: stats.json and frame_*.
-std::vector<fs::path> earlier_outputs(const std::string& dir, const std::string& option) {
+// The earlier run's outputs in `dir`: the files `is_output` accepts.
+std::vector<fs::path> earlier_outputs(const std::string& dir, const std::string& option,
+                                      const OutputFolder::NameFilter& is_output) {
   std::error_code ec;
   std::vector<fs::path> earlier;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
-    if (name == "stats.json" || name.rfind("frame_", 0) == 0) earlier.push_back(e.path());
+    if (is_output(name)) earlier.push_back(e.path());
   }
   if (ec) throw InputError("cannot read " + option + " '" + dir + "': " + ec.message());
   return earlier;
@@ -40,8 +41,12 @@ std::vector<fs::path> earlier_outputs(const std::string& dir, const std::string&
 
 }  // namespace
 
-OutputFolder::OutputFolder(const std::string& dir, bool overwrite, const std::string& option)
+OutputFolder::OutputFolder(const std::string& dir, bool overwrite, const std::string& option,
+                           const NameFilter& is_output)
     : dir_(dir) {
+  const NameFilter outputs = is_output ? is_output : [](const std::string& name) {
+    return name == "stats.json" || name.rfind("frame_", 0) == 0;
+  };
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError("cannot create " + option + " folder '" + dir + "': " + ec.message());
@@ -59,7 +64,7 @@ OutputFolder::OutputFolder(const std::string& dir, bool overwrite, const std::st
   }
   try {
     check_writable(dir, option);
-    const std::vector<fs::path> earlier = earlier_outputs(dir, option);
+    const std::vector<fs::path> earlier = earlier_outputs(dir, option, outputs);
     if (earlier.empty()) return;
     if (!overwrite)
       throw InputError(option + " '" + dir + "' holds an earlier run's outputs (" +

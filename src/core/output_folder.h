@@ -1,6 +1,7 @@
 // The folder a run writes its frames and stats.json into, held for the whole run.
 #pragma once
 
+#include <functional>
 #include <string>
 
 namespace multiray {
@@ -12,12 +13,15 @@ namespace multiray {
 //     same folder is refused at once instead of interleaving its frames with the first's;
 //  3. checked writable, by creating and removing a file in it (permissions alone do not
 //     tell: root ignores them, and a read-only mount or a full quota is only seen by trying);
-//  4. an earlier run's outputs (stats.json, frame_*) are refused, or with `overwrite`
-//     removed (exactly those files), so the folder never mixes two runs.
+//  4. an earlier run's outputs (the files whose names `is_output` accepts: by default
+//     stats.json and frame_*) are refused, or with `overwrite` removed (exactly those
+//     files), so the folder never mixes two runs.
 // Every failure is an InputError naming the folder (and `option`) with the cause.
 class OutputFolder {
  public:
-  OutputFolder(const std::string& dir, bool overwrite, const std::string& option = "--out");
+  using NameFilter = std::function<bool(const std::string& file_name)>;
+  OutputFolder(const std::string& dir, bool overwrite, const std::string& option = "--out",
+               const NameFilter& is_output = {});
   ~OutputFolder();
   OutputFolder(const OutputFolder&) = delete;
   OutputFolder& operator=(const OutputFolder&) = delete;

@@ -182,8 +182,8 @@ TEST(Cli, StatsJsonRecordsTheRunSettings) {
   EXPECT_EQ(s2.at("camera").at("source"), "default");
   EXPECT_EQ(s2.at("up"), nlohmann::json({0.0, 0.0, 1.0}));
   EXPECT_EQ(s2.at("camera").at("up"), nlohmann::json({0.0, 0.0, 1.0}));
-  EXPECT_EQ(s2.at("tone"), "filmic");  // meshes' default
-  EXPECT_EQ(s2.at("exposure_ev"), 0.0);
+  EXPECT_EQ(s2.at("tone"), "filmic");    // meshes' default
+  EXPECT_EQ(s2.at("exposure"), "auto");  // metered (tests/cli/output_names_cli_test.cpp)
   EXPECT_EQ(s2.at("scene"), obj);
 
   // A volume: viewed about z, PNGs clamped (the raycaster writes display colours).
@@ -196,6 +196,8 @@ TEST(Cli, StatsJsonRecordsTheRunSettings) {
   const auto doc3 = nlohmann::json::parse(std::ifstream(dir + "/stats.json"));
   const auto& s3 = doc3.at("settings");
   EXPECT_EQ(s3.at("tone"), "clamp");
+  EXPECT_EQ(s3.at("exposure"), "fixed");  // display colours: auto leaves them alone
+  EXPECT_EQ(s3.at("exposure_ev"), 0.0);
   EXPECT_EQ(s3.at("integrator"), "volume");
   EXPECT_EQ(s3.at("up"), nlohmann::json({0.0, 0.0, 1.0}));
   EXPECT_EQ(s3.at("camera").at("source"), "default");

@@ -1,0 +1,91 @@
+#include "app/render_output.h"
+
+#include <algorithm>
+
+#include <fmt/core.h>
+
+#include "app/commands.h"
+#include "app/console.h"
+#include "app/stats_json.h"
+#include "core/exposure.h"
+
+namespace multiray::app {
+
+RenderOutput::RenderOutput(OutputTarget target, bool fixed_exposure, bool quiet, int columns,
+                           const Display& display, TraceFile* trace)
+    : target_(std::move(target)),
+      records_(target_.dir),
+      fixed_exposure_(fixed_exposure),
+      quiet_(quiet),
+      columns_(columns),
+      display_(display),
+      trace_(trace) {}
+
+void RenderOutput::write_images(const FrameResult& r) {
+  const auto& images = r.images;
+  const bool views = images.size() > 1;
+  for (size_t v = 0; v < images.size(); ++v) {
+    const std::string name =
+        target_.image_base(r.frame, views ? fmt::format("_view{:02d}", v) : "");
+    if (target_.png) write_png(name + ".png", images[v], display_);
+    if (target_.exr) write_exr(name + ".exr", images[v]);
+  }
+  if (views) {
+    const Framebuffer quilt = make_quilt(images, columns_);
+    const std::string name = target_.image_base(r.frame, "_quilt");
+    if (target_.png) write_png(name + ".png", quilt, display_);
+    if (target_.exr) write_exr(name + ".exr", quilt);
+  }
+}
+
+void RenderOutput::on_frame(const std::shared_ptr<const FrameResult>& r) {
+  if (!fixed_exposure_ && !metered_ && !r->images.empty()) {
+    display_.exposure_ev = metered_exposure_ev(
+        r->images.size() > 1 ? make_quilt(r->images, columns_) : r->images.front());
+    metered_ = true;
+    if (!quiet_)
+      print_err(
+          "{}multiray: note: exposure {:+.1f} EV, metered on frame {} and held "
+          "(--exposure auto; --exposure EV sets it)\n",
+          stderr_is_tty() ? "\r\033[K" : "", display_.exposure_ev, r->frame);
+  }
+  write_images(*r);
+  if (stderr_is_tty()) print_err("\r\033[K");
+  const FrameRecord& rec = r->record;
+  for (const auto& m : rec.messages) print_err("multiray: warning: {}\n", m);
+  uint64_t samples = 0, rays = 0;
+  for (const auto& d : rec.devices) samples += d.samples, rays += d.rays;
+  // Frame-time targeting: the predicted time and the quality the frame was rendered at.
+  const std::string adapted =
+      rec.predicted_ms > 0 || rec.quality.step_scale != 1 || rec.quality.image_scale != 1
+          ? fmt::format("  predicted {:7.1f} ms  step x{:.2f}  image x{:.2f}", rec.predicted_ms,
+                        rec.quality.step_scale, rec.quality.image_scale)
+          : "";
+  // Reprojected sampling: the share of the other views' pixels path-traced as holes.
+  const std::string holes =
+      r->reprojection ? fmt::format("  holes {:4.1f}%", 100.0 * r->reprojection->hole_fraction())
+                      : "";
+  const std::string shown = target_.image_base(r->frame, r->images.size() > 1 ? "_quilt" : "") +
+                            (target_.png ? ".png" : ".exr");
+  if (!quiet_)
+    print_out(
+        "frame {:4d}  {:9.1f} ms  {:7.2f} Msamples/s  {:7.2f} Mrays/s  imbalance {:5.1f}%{}{}  "
+        "-> {}\n",
+        r->frame, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
+        100.0 * rec.imbalance, adapted, holes, shown);
+  nlohmann::json record = frame_to_json(rec);
+  record["sampling_ms"] = r->sampling_ms;
+  if (r->reprojection)
+    record["reprojection"] =
+        reprojection_to_json(r->reprojection->references, r->reprojection->hole_fraction());
+  uint64_t hash = 0xcbf29ce484222325ull;
+  for (const Framebuffer& img : r->images) hash = image_hash(img, hash);
+  record["image_hash"] = fmt::format("{:016x}", hash);
+  records_.add(record);
+  if (trace_) trace_->frame(r->stats);
+  counters_.samples += samples;
+  counters_.frame_us += uint64_t(std::max(0.0, rec.frame_ms) * 1e3);
+  counters_.frames += 1;
+}
+
+}  // namespace multiray::app
