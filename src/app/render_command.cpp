@@ -24,6 +24,7 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/output_folder.h"
+#include "run/sequence.h"
 
 namespace multiray::app {
 
@@ -126,7 +127,11 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                   "this file (format: docs/traces.md), for `multiray simulate` and analysis");
   cmd->add_flag("-q,--quiet", *quiet,
                 "No per-frame lines, and no progress lines when stderr is not a terminal");
+  const CLI::Option* frames_option = cmd->get_option("--frames");
   return [=]() -> int {
+    // A sequence file that says how many frames it lasts sets --frames unless it is given.
+    if (!frames_option->count() && !o->volume.sequence.empty())
+      if (const int n = load_sequence(o->volume.sequence).frames; n > 0) o->frames = n;
     Display display;
     const bool volume_input = is_volume_input(o->scene_path, o->volume);
     const bool fixed_exposure = *exposure != "auto" || volume_input;
