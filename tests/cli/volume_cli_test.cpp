@@ -88,6 +88,22 @@ TEST(VolumeCli, BadVolumesAndOptionsAreOneLine) {
   expect_input_error("render --integrator volume --res 8x8", "volume");
 }
 
+// A sequence that says how many frames it lasts renders all of them unless --frames says
+// otherwise (issue 32: a 6-frame sequence rendered 1 frame without --frames 6).
+TEST(VolumeCli, ASequenceSetsTheFrameCountUnlessFramesIsGiven) {
+  const std::string raw = ball_raw();
+  const std::string seq =
+      temp_file("seq6.json", R"({"frames": 4, "orbit_degrees_per_frame": 10})");
+  const std::string dir = ::testing::TempDir() + "/vol_seq_frames";
+  for (const char* frames : {"", "--frames 2"}) {
+    std::filesystem::remove_all(dir);
+    const Result r = run("render " + raw + " --raw 24x24x24:uint8 --res 16x12 -q --sequence " +
+                         seq + " " + frames + " -o " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(read_json(dir + "/stats.json")["frames"].size(), *frames ? 2u : 4u) << frames;
+  }
+}
+
 TEST(VolumeCli, BenchComparesAdaptationModesOnASequence) {
   const std::string raw = ball_raw();
   const std::string seq =
