@@ -12,6 +12,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "app/console.h"
+#include "app/help_groups.h"
 #include "app/stats_json.h"
 #include "core/error.h"
 
@@ -63,7 +64,7 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
   CLI::App app{
       "multiray: a ray tracer that splits every frame across CPU cores and other devices and "
       "balances the work so they all finish together.\n\nExamples:\n"
-      "  multiray render --res 640x360 --spp 16 --out out\n"
+      "  multiray render --res 640x360 --spp 16 -o render.png\n"
       "  multiray render scene.gltf --frames 100 --camera-path orbit --devices "
       "cpu:threads=1:cores=0,cpu:threads=1:cores=1\n"
       "  multiray bench --devices cpu:threads=1,cpu:threads=1:speed=0.33 --frames 100 "
@@ -79,6 +80,7 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
   Runner devices = add_devices_command(app);
   Runner simulate = add_simulate_command(app);
   Runner view = add_view_command(app);
+  for (const char* name : {"render", "bench", "view"}) group_options(*app.get_subcommand(name));
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
