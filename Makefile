@@ -1,7 +1,7 @@
 # The two commands of the README:
 #   make run   installs what is missing, builds Release, renders the default scene
-#   make test  installs what is missing, builds, checks formatting, runs every test and a
-#              smoke run of every fuzz target
+#   make test  installs what is missing, builds, checks formatting, runs every test (the
+#              fuzz targets' seed corpora replayed among them)
 BUILD ?= build
 JOBS ?= $(shell nproc)
 MULTIRAY = $(BUILD)/src/app/multiray
@@ -31,13 +31,14 @@ run: build
 check-format: deps
 	@scripts/check-format.sh
 
-# Every test, then a 3-second smoke run of each fuzz target (its -O0 clang build takes
-# about 3 minutes the first time; fuzz/README.md).
+# Every test, among them FuzzReplay.<target>: each fuzz target run once on every input of
+# its seed corpus, built by the Release build (fuzz/README.md). The libFuzzer runs are not
+# part of it: their clang build alone took about 150 s on a fresh clone (docs/testing.md).
 test: check-format build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) --timeout 600
-	@JOBS=$(JOBS) fuzz/run.sh smoke
 
-# The smoke run alone (skipped with a message when clang-15 is missing).
+# A 3-second libFuzzer run of each fuzz target from its seeds (clang-15, -O0, ASan + UBSan,
+# in build-fuzz-smoke/; skipped with a message when clang-15 is missing).
 fuzz-smoke: deps
 	@JOBS=$(JOBS) fuzz/run.sh smoke
 
@@ -48,7 +49,7 @@ bench: build
 	cmake --build $(BUILD) --target multiray_bench -j$(JOBS)
 	$(BUILD)/bench/bench_throughput
 
-# ASan + UBSan build of everything, tests run under it.
+# ASan + UBSan build of everything, tests run under it (the fuzz replays too).
 sanitize: deps
 	cmake --preset sanitize > /dev/null
 	cmake --build --preset sanitize -j$(JOBS)

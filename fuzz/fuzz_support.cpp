@@ -52,12 +52,15 @@ void remove_scratch() {
 }  // namespace
 
 const fs::path& scratch_dir() {
-  static const fs::path dir = [] {
-    fs::path d = make_scratch_dir();
+  // Never destroyed: remove_scratch() reads it at exit. A static path, complete only after
+  // that registration, was destroyed before it ran, and the folder stayed (unseen under
+  // libFuzzer, whose runs end with _Exit(); replay_main.cpp's return from main()).
+  static const fs::path* dir = [] {
+    auto* d = new fs::path(make_scratch_dir());
     std::atexit(remove_scratch);
     return d;
   }();
-  return dir;
+  return *dir;
 }
 
 void clear_scratch() {

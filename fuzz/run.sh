@@ -4,8 +4,7 @@
 # fuzz/README.md describes the targets.
 #
 #   fuzz/run.sh smoke  each target for FUZZ_SMOKE_SECONDS (default 3) from its seed corpus,
-#                      with a fixed seed; new inputs are not kept (`make fuzz-smoke`, and
-#                      the last step of `make test`)
+#                      with a fixed seed; new inputs are not kept (`make fuzz-smoke`)
 #   fuzz/run.sh long   each target for FUZZ_SECONDS (default 60), growing its corpus in
 #                      build-fuzz/corpus/<target>/ (`make fuzz`)
 #
@@ -20,7 +19,7 @@ set -eu
 mode=${1:-smoke}
 root=$(cd "$(dirname "$0")/.." && pwd)
 # Smoke runs use their own -O0 build (the `fuzz-smoke` preset, build-fuzz-smoke/): it
-# builds in about 60% of the time of the -O1 one, which matters inside `make test`.
+# builds in about 60% of the time of the -O1 one.
 preset=fuzz
 [ "$mode" = smoke ] && preset=fuzz-smoke
 build="$root/build-$preset"

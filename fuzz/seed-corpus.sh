@@ -22,52 +22,57 @@ for t in $targets; do
   cp "$here/corpus/$t/"* "$out/$t/" 2>/dev/null || true
 done
 
-size() { wc -c < "$1" | tr -d ' '; }
+# Every file costs one process at most (cat or head; an OBJ or glTF a few more for its
+# companions): starting a process takes 10-25 ms on a loaded two-core machine, and this
+# runs inside `make test` (FuzzReplay.seeds) over about 600 files.
 
-# emit FILE: the file, or its head when it is large.
+# list ROOT FIND-TESTS...: a line "SIZE<tab>PATH<tab>NAME" for every file under ROOT the
+# tests select, NAME being its path below ROOT with each byte outside [A-Za-z0-9._-]
+# made '_' (a flat, unique seed name).
+list() {
+  root=$1
+  shift
+  find "$root" -type f "$@" -printf '%s\t%p\t%P\n' |
+    LC_ALL=C awk -F '\t' '{ n = $3; gsub(/[^A-Za-z0-9._-]/, "_", n); print $1 "\t" $2 "\t" n }'
+}
+
+# emit SIZE FILE: the file, or its head when it is large.
 emit() {
-  if [ "$(size "$1")" -le $MAX_BYTES ]; then cat "$1"; else head -c $HEAD_BYTES "$1"; fi
+  if [ "$1" -le $MAX_BYTES ]; then cat "$2"; else head -c $HEAD_BYTES "$2"; fi
 }
 
-# part DIR NAME: appends a "@@file" section for DIR/NAME when it is a small file.
-part() {
-  f="$1/$2"
-  [ -f "$f" ] || return 0
-  [ "$(size "$f")" -le $PART_BYTES ] || return 0
-  printf '\n@@file %s\n' "$(basename "$2")"
-  cat "$f"
+# parts DIR: for each name read (one a line), a "@@file" section for DIR/NAME when it is a
+# small file.
+parts() {
+  while IFS= read -r name; do
+    f="$1/$name"
+    [ -f "$f" ] || continue
+    [ "$(wc -c < "$f")" -le $PART_BYTES ] || continue
+    printf '\n@@file %s\n' "${name##*/}"
+    cat "$f"
+  done
 }
 
-# seed_name PREFIX FILE: a flat, unique file name for a seed.
-seed_name() { printf '%s-%s' "$1" "$(printf '%s' "$2" | tr -c 'A-Za-z0-9._-' '_')"; }
-
-add_obj() {  # add_obj PREFIX ROOT FILE
-  dir=$(dirname "$3")
-  dest="$out/obj/$(seed_name "$1" "${3#"$2"/}")"
+add_obj() {  # add_obj PREFIX SIZE FILE NAME: with its MTL files (4) and their textures (4 each)
+  dir=${3%/*}
   {
-    emit "$3"
-    sed -n 's/^[[:space:]]*mtllib[[:space:]]\{1,\}//p' "$3" | tr -d '\r' | head -n 4 |
+    emit "$2" "$3"
+    sed -n 's/^[[:space:]]*mtllib[[:space:]]\{1,\}//; T; s/\r//g; p' "$3" | head -n 4 |
       while IFS= read -r mtl; do
-        part "$dir" "$mtl"
+        printf '%s\n' "$mtl" | parts "$dir"
         [ -f "$dir/$mtl" ] || continue
-        sed -n 's/^[[:space:]]*map_Kd[[:space:]]\{1,\}//p' "$dir/$mtl" | tr -d '\r' | sort -u |
-          head -n 4 | while IFS= read -r tex; do part "$dir" "$tex"; done
+        sed -n 's/^[[:space:]]*map_Kd[[:space:]]\{1,\}//; T; s/\r//g; p' "$dir/$mtl" | sort -u |
+          head -n 4 | parts "$dir"
       done
-  } > "$dest"
+  } > "$out/obj/$1-$4"
 }
 
-add_gltf() {  # add_gltf PREFIX ROOT FILE
-  dir=$(dirname "$3")
-  dest="$out/gltf/$(seed_name "$1" "${3#"$2"/}")"
+add_gltf() {  # add_gltf PREFIX SIZE FILE NAME: with its external buffers and images (8)
   {
-    emit "$3"
-    grep -o '"uri"[[:space:]]*:[[:space:]]*"[^"]*"' "$3" | sed 's/.*"\([^"]*\)"$/\1/' |
-      grep -v '^data:' | sort -u | head -n 8 | while IFS= read -r uri; do part "$dir" "$uri"; done
-  } > "$dest"
-}
-
-add_plain() {  # add_plain TARGET PREFIX ROOT FILE
-  emit "$4" > "$out/$1/$(seed_name "$2" "${4#"$3"/}")"
+    emit "$2" "$3"
+    grep -o '"uri"[[:space:]]*:[[:space:]]*"[^"]*"' "$3" |
+      sed -e 's/.*"\([^"]*\)"$/\1/' -e '/^data:/d' | sort -u | head -n 8 | parts "${3%/*}"
+  } > "$out/gltf/$1-$4"
 }
 
 # kAssimpExtensions (src/scene/loaders.h), in its order: fuzz_assimp reads the first byte
@@ -75,29 +80,34 @@ add_plain() {  # add_plain TARGET PREFIX ROOT FILE
 assimp_exts=".3ds .3mf .ac .ase .b3d .blend .cob .dae .dxf .fbx .ifc .lwo .lxo .md2 .ms3d .off \
 .q3o .q3s .smd .stl .x .x3d"
 
-add_assimp() {  # add_assimp PREFIX ROOT FILE: its extension's index as a byte, then the file
-  ext=.$(printf '%s' "${3##*.}" | tr '[:upper:]' '[:lower:]')
-  i=0
-  for e in $assimp_exts; do
-    if [ "$e" = "$ext" ]; then
-      # shellcheck disable=SC2059  # the format is the octal escape of the index
-      { printf "\\$(printf '%03o' $i)"; emit "$3"; } > "$out/assimp/$(seed_name "$1" "${3#"$2"/}")"
-      return 0
-    fi
-    i=$((i + 1))
-  done
-}
-
 # from PREFIX ROOT: every scene file under ROOT.
 from() {
   [ -d "$2" ] || return 0
-  find "$2" -type f -iname '*.ply' | while IFS= read -r f; do add_plain ply "$1" "$2" "$f"; done
-  find "$2" -type f -iname '*.obj' | while IFS= read -r f; do add_obj "$1" "$2" "$f"; done
-  find "$2" -type f -iname '*.gltf' | while IFS= read -r f; do add_gltf "$1" "$2" "$f"; done
-  find "$2" -type f -iname '*.glb' | while IFS= read -r f; do add_plain glb "$1" "$2" "$f"; done
-  find "$2" -type f -iname '*.trace' | while IFS= read -r f; do add_plain trace "$1" "$2" "$f"; done
-  find "$2" -type f -iname '*.nhdr' | while IFS= read -r f; do add_plain volume "$1" "$2" "$f"; done
-  find "$2" -type f -size -512k | while IFS= read -r f; do add_assimp "$1" "$2" "$f"; done
+  tab=$(printf '\t')
+  for t in ply glb trace; do
+    list "$2" -iname "*.$t" | while IFS=$tab read -r size f name; do
+      emit "$size" "$f" > "$out/$t/$1-$name"
+    done
+  done
+  list "$2" -iname '*.nhdr' | while IFS=$tab read -r size f name; do
+    emit "$size" "$f" > "$out/volume/$1-$name"
+  done
+  list "$2" -iname '*.obj' | while IFS=$tab read -r size f name; do
+    add_obj "$1" "$size" "$f" "$name"
+  done
+  list "$2" -iname '*.gltf' | while IFS=$tab read -r size f name; do
+    add_gltf "$1" "$size" "$f" "$name"
+  done
+  # Files under 512 KB of the formats fuzz_assimp reads, its extension's index as a byte first.
+  i=0
+  for e in $assimp_exts; do
+    byte=$(printf '%03o' $i)
+    list "$2" -size -512k -iname "*$e" | while IFS=$tab read -r size f name; do
+      # shellcheck disable=SC2059  # the format is the octal escape of the index
+      { printf "\\$byte"; emit "$size" "$f"; } > "$out/assimp/$1-$name"
+    done
+    i=$((i + 1))
+  done
 }
 
 from assimp "$ASSIMP"
