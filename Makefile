@@ -25,7 +25,7 @@ build: deps
 	cmake --build $(BUILD) -j$(JOBS)
 
 run: build
-	$(MULTIRAY) render --res 640x360 --spp 16 --out out
+	$(MULTIRAY) render --res 640x360 --spp 16 --out out --overwrite
 	@echo "multiray: wrote out/frame_0000.png and out/stats.json"
 
 check-format: deps
