@@ -33,8 +33,11 @@ void RenderOutput::write_images(const FrameResult& r) {
   if (views) {
     const Framebuffer quilt = make_quilt(images, columns_);
     const std::string name = target_.image_base(r.frame, "_quilt");
-    if (target_.png) write_png(name + ".png", quilt, display_);
-    if (target_.exr) write_exr(name + ".exr", quilt);
+    // The quilt is for looking at: a PNG, or an EXR where only EXR files are asked for.
+    if (target_.png)
+      write_png(name + ".png", quilt, display_);
+    else
+      write_exr(name + ".exr", quilt);
   }
 }
 
