@@ -177,4 +177,17 @@ void write_prediction_svg(const std::string& path, const std::string& title,
   chart.write(path);
 }
 
+std::string degraded_quality_warning(double step_scale, double image_scale, double frame_ms,
+                                     double target_ms) {
+  const double cost = image_scale * image_scale / step_scale;
+  if (!(cost < kVisibleCost) || !(frame_ms > 0) || !(target_ms > 0)) return "";
+  const double keep_ms = std::max(target_ms, frame_ms) * kVisibleCost / cost;
+  return fmt::format(
+      "--target-ms {:g} made a frame do {:.0f}x less than the full work (step x{:.2f}, image "
+      "x{:.2f}); past {:.0f}x it shows as slabs and blur. About --target-ms {:.0f} keeps it "
+      "within {:.0f}x (time taken as proportional to the work), or add devices",
+      target_ms, 1.0 / cost, step_scale, image_scale, 1.0 / kVisibleCost, std::ceil(keep_ms),
+      1.0 / kVisibleCost);
+}
+
 }  // namespace multiray::app

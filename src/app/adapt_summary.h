@@ -36,6 +36,16 @@ struct TargetingSummary {
 TargetingSummary targeting_summary(const std::vector<FrameRecord>& records, int warmup,
                                    double target_ms, const std::vector<ImageError>& errors = {});
 nlohmann::json targeting_to_json(const TargetingSummary& t);
+
+// Frame-time targeting past this share of the full work (the cost factor
+// image_scale^2 / step_scale, balance/targeting.h) shows: a step 4x the user's slices a
+// volume into visible slabs, half the pixels per side blurs it.
+constexpr double kVisibleCost = 0.25;
+// When a frame rendered at quality `q` (taking `frame_ms`) did less than kVisibleCost of
+// the full work to hold `target_ms`: one line saying so and the target that would keep the
+// quality within kVisibleCost, taking the frame time as proportional to the work. Else "".
+std::string degraded_quality_warning(double step_scale, double image_scale, double frame_ms,
+                                     double target_ms);
 void print_targeting(const std::vector<std::string>& lanes,
                      const std::vector<TargetingSummary>& summaries, double target_ms);
 

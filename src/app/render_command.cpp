@@ -169,6 +169,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                 *out_dir, target.dir);
     RenderOutput output(target, fixed_exposure, *quiet, s.views->rig().columns, display,
                         trace.get());
+    output.set_target_ms(o->volume.target_ms);
     int done = 0;
     int interrupted = 0;
     std::string signal_name;

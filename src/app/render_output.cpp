@@ -4,6 +4,7 @@
 
 #include <fmt/core.h>
 
+#include "app/adapt_summary.h"
 #include "app/commands.h"
 #include "app/console.h"
 #include "app/stats_json.h"
@@ -56,6 +57,12 @@ void RenderOutput::on_frame(const std::shared_ptr<const FrameResult>& r) {
   if (stderr_is_tty()) print_err("\r\033[K");
   const FrameRecord& rec = r->record;
   for (const auto& m : rec.messages) print_err("multiray: warning: {}\n", m);
+  if (target_ms_ > 0 && !warned_quality_) {
+    const std::string w = degraded_quality_warning(rec.quality.step_scale, rec.quality.image_scale,
+                                                   rec.frame_ms, target_ms_);
+    if (!w.empty()) print_err("multiray: warning: {}\n", w);
+    warned_quality_ = !w.empty();
+  }
   uint64_t samples = 0, rays = 0;
   for (const auto& d : rec.devices) samples += d.samples, rays += d.rays;
   // Frame-time targeting: the predicted time and the quality the frame was rendered at.

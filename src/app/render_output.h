@@ -35,6 +35,9 @@ class RenderOutput : public FrameObserver {
                const Display& display, TraceFile* trace);
 
   void on_frame(const std::shared_ptr<const FrameResult>& r) override;
+  // With frame-time targeting: warn once when a frame's quality drops past what shows
+  // (app/adapt_summary.h degraded_quality_warning).
+  void set_target_ms(double target_ms) { target_ms_ = target_ms; }
 
   const RenderCounters& counters() const { return counters_; }
   // The exposure the PNG files were written with (metered or given), in stops; the metered
@@ -51,7 +54,8 @@ class RenderOutput : public FrameObserver {
   OutputTarget target_;
   FrameSpool records_;
   RenderCounters counters_;
-  bool fixed_exposure_, metered_ = false, quiet_;
+  bool fixed_exposure_, metered_ = false, quiet_, warned_quality_ = false;
+  double target_ms_ = 0;
   int columns_;
   Display display_;
   TraceFile* trace_;
