@@ -1,7 +1,8 @@
 // The viewer's page in headless Chromium (Debian's `chromium`): it loads, a frame arrives,
 // a mouse drag moves the camera, the balancer switch (to uniform) takes effect and the
-// overlay shows one colour per device (the page's ?selftest=1 mode does what a user would and
-// reports in its title); a screenshot is written. Skipped with a message where Chromium is absent.
+// overlay shows one colour per device, the frame is scaled to fit the window (the page's
+// ?selftest=1 mode does what a user would and reports in its title); a screenshot is written.
+// Skipped with a message where Chromium is absent.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -31,7 +32,7 @@ TEST(ViewerBrowser, PageLoadsStreamsAndResponds) {
       "--headless=new --no-sandbox --disable-gpu --virtual-time-budget=20000 ";
   const auto r =
       multiray::testing::run_cli(browser, flags + "--dump-dom '" + url + "?selftest=1'");
-  EXPECT_THAT(r.out, ::testing::HasSubstr("selftest frame=1 drag=1 balancer=1 colors=2"))
+  EXPECT_THAT(r.out, ::testing::HasSubstr("selftest frame=1 drag=1 balancer=1 colors=2 fits=1"))
       << r.out.substr(0, 2000);
   const std::string shot = ::testing::TempDir() + "/viewer.png";
   std::filesystem::remove(shot);

@@ -13,12 +13,15 @@ const std::string& viewer_page() {
   static const std::string page = R"PAGE(<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>multiray view</title>
 <style>
-body { font: 13px system-ui, sans-serif; margin: 0; background: #1e1f22; color: #ddd; }
+body { font: 13px system-ui, sans-serif; margin: 0; background: #1e1f22; color: #ddd;
+       height: 100vh; display: flex; flex-direction: column; overflow: hidden; }
 header { padding: 6px 10px; background: #2b2d31; display: flex; gap: 14px; align-items: center; flex-wrap: wrap; }
-#stage { position: relative; display: inline-block; margin: 10px; cursor: grab; }
-#stage canvas { display: block; }
-#overlay { position: absolute; left: 0; top: 0; pointer-events: none; }
-#side { display: inline-block; vertical-align: top; margin: 10px; }
+main { flex: 1; display: flex; min-height: 0; }
+/* The frame fills the space the window leaves, scaled to fit with its aspect kept. */
+#stage { position: relative; flex: 1; min-width: 0; margin: 10px; cursor: grab; }
+#stage canvas { position: absolute; left: 0; top: 0; width: 100%; height: 100%; object-fit: contain; }
+#overlay { pointer-events: none; }
+#side { flex: 0 0 370px; margin: 10px; overflow: auto; }
 .dev { display: flex; gap: 6px; align-items: center; }
 .sw { width: 12px; height: 12px; display: inline-block; }
 #err { color: #f88; }
@@ -35,15 +38,16 @@ header { padding: 6px 10px; background: #2b2d31; display: flex; gap: 14px; align
  <span id="stats">waiting for the first frame ...</span>
  <span id="err"></span>
 </header>
-<div id="stage"><canvas id="image" width="640" height="360"></canvas><canvas id="overlay" width="640" height="360"></canvas></div>
-<div id="tfPanel" hidden style="margin:0 10px">transfer function (JSON, docs/volumes.md):<br>
-<textarea id="tfJson" rows="7" cols="70">{"units": "fraction", "points": [
+<main><div id="stage"><canvas id="image" width="640" height="360"></canvas><canvas id="overlay" width="640" height="360"></canvas></div>
+<div id="side"><div id="devices"></div><canvas id="plot" width="360" height="200"></canvas>
+<div>drag: orbit &middot; shift+drag or right drag: pan &middot; wheel: zoom</div>
+<div id="tfPanel" hidden style="margin-top:10px">transfer function (JSON, docs/volumes.md):<br>
+<textarea id="tfJson" rows="9" style="width:100%;box-sizing:border-box">{"units": "fraction", "points": [
  {"value": 0.0, "color": [0, 0, 0], "opacity": 0},
  {"value": 0.3, "color": [0.9, 0.5, 0.3], "opacity": 0.02},
  {"value": 1.0, "color": [1, 1, 1], "opacity": 0.6}]}</textarea>
 <button id="tfApply">apply</button></div>
-<div id="side"><div id="devices"></div><canvas id="plot" width="360" height="200"></canvas>
-<div>drag: orbit &middot; shift+drag or right drag: pan &middot; wheel: zoom</div></div>
+</div></main>
 <script>
 "use strict";
 const colors = ["#e6194b","#3cb44b","#4363d8","#f58231","#911eb4","#42d4f4","#f032e6","#bfef45","#fabed4","#469990","#dcbeff","#9a6324"];
@@ -128,13 +132,21 @@ function flush() {
 }
 function queue() { if (!queued) { queued = true; requestAnimationFrame(flush); } }
 const stage = $("stage");
+// The size the frame is shown at on the page (object-fit: contain inside the stage).
+function shownSize() {
+  const r = stage.getBoundingClientRect(), s = Math.min(r.width / image.width, r.height / image.height);
+  return { w: image.width * s, h: image.height * s, r };
+}
+// Before the first frame: say so where the plot will be.
+(() => { const g = plot.getContext("2d"); g.fillStyle = "#26282c"; g.fillRect(0, 0, plot.width, plot.height);
+  g.fillStyle = "#aaa"; g.fillText("device times appear with the first frame", 10, 20); })();
 stage.addEventListener("contextmenu", (e) => e.preventDefault());
 stage.addEventListener("mousedown", (e) => { drag = { x: e.clientX, y: e.clientY, pan: e.shiftKey || e.button === 2 }; });
 window.addEventListener("mouseup", () => { drag = null; });
 window.addEventListener("mousemove", (e) => {
   if (!drag) return;
   const dx = e.clientX - drag.x, dy = e.clientY - drag.y; drag.x = e.clientX; drag.y = e.clientY;
-  if (drag.pan) { acc.pan[0] -= dx / image.height; acc.pan[1] += dy / image.height; }
+  if (drag.pan) { const h = shownSize().h; acc.pan[0] -= dx / h; acc.pan[1] += dy / h; }
   else { acc.orbit[0] -= dx * 0.3; acc.orbit[1] += dy * 0.3; }
   acc.orbit = acc.orbit.map((v) => Math.max(-360, Math.min(360, v)));
   acc.pan = acc.pan.map((v) => Math.max(-10, Math.min(10, v)));
@@ -161,11 +173,16 @@ connect();
 
 // ?selftest=1: what a user would do, checked; the result goes into the title.
 if (new URLSearchParams(location.search).get("selftest")) {
-  const result = { frame: 0, drag: 0, balancer: 0, colors: 0 };
+  const result = { frame: 0, drag: 0, balancer: 0, colors: 0, fits: 0 };
   const report = () => { document.title = "selftest " + Object.entries(result).map(([k, v]) => k + "=" + v).join(" "); };
   const nextFrame = (pred) => new Promise((ok) => { window.onFrameForTest = (m) => { if (!pred || pred(m)) { window.onFrameForTest = null; ok(m); } }; });
   (async () => {
     const first = await nextFrame(); result.frame = 1; report();
+    // The frame is scaled to the space the window leaves: inside the window, and filling
+    // the stage across or down (a 96x54 frame is shown larger than its pixels).
+    const shown = shownSize();
+    result.fits = shown.r.right <= innerWidth + 1 && shown.r.bottom <= innerHeight + 1 &&
+      (Math.abs(shown.w - shown.r.width) < 2 || Math.abs(shown.h - shown.r.height) < 2) && shown.w > image.width ? 1 : 0;
     const r = stage.getBoundingClientRect(), cx = r.left + 50, cy = r.top + 50;
     stage.dispatchEvent(new MouseEvent("mousedown", { clientX: cx, clientY: cy, bubbles: true }));
     window.dispatchEvent(new MouseEvent("mousemove", { clientX: cx + 80, clientY: cy + 10, bubbles: true }));
