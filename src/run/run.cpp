@@ -236,13 +236,19 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
         make_foveation_pattern(s.res.width, s.res.height, o.foveation));
   s.scenes = std::make_unique<SceneCache>(*s.scene);
   // The camera: --camera, the scene's own, or a default that frames it (for a mesh, the
-  // view that sees the most front faces; render/default_view.h).
+  // view that sees the most front faces, or one inside an interior; render/default_view.h).
   const float aspect = float(s.res.width) / float(s.res.height);
-  s.camera_source = cli_camera ? "--camera" : !s.scene->cameras.empty() ? "scene" : "default";
-  const Camera base = cli_camera                  ? *cli_camera
-                      : !s.scene->cameras.empty() ? s.scene->cameras.front()
-                      : volume_input              ? s.scene->default_camera(aspect, s.up)
-                                     : choose_default_camera(s.scenes->embree(), aspect, s.up);
+  DefaultView chosen{Camera{}, cli_camera ? "--camera" : "scene"};
+  if (cli_camera)
+    chosen.camera = *cli_camera;
+  else if (!s.scene->cameras.empty())
+    chosen.camera = s.scene->cameras.front();
+  else if (volume_input)
+    chosen = {s.scene->default_camera(aspect, s.up), "default"};
+  else
+    chosen = choose_default_view(s.scenes->embree(), aspect, s.up);
+  s.camera_source = chosen.source;
+  const Camera base = chosen.camera;
   s.camera = base;
   const std::string& cp = o.camera_path;
   if (cp == "fixed") {

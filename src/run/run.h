@@ -40,7 +40,9 @@ struct Run {
   std::vector<Perturbation> perturbations;
   std::vector<std::string> notes;     // things the user should know (e.g. a sky was added)
   Camera camera;                      // the base camera of the path (before any animation)
-  std::string camera_source;          // "--camera", "scene" (its first camera) or "default"
+  // "--camera", "scene" (its first camera), "default" (framed from outside) or
+  // "default-interior" (inside an enclosed scene; render/default_view.h).
+  std::string camera_source;
   Vec3 up{0, 1, 0};                   // the up axis --up resolved to
   std::shared_ptr<VolumeRun> volume;  // volumes only: styles, adaptation, sequence
 
