@@ -170,7 +170,10 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
                  "Light-field grid of parallel views KxL (e.g. 3x3, 5x5), following the camera "
                  "path")
       ->capture_default_str();
-  cmd.add_option("--view-spacing", o.view_spacing, "Distance between grid views (scene units)")
+  cmd.add_option("--view-spacing", o.view_spacing,
+                 "Distance between neighbouring grid views: auto (1/30 of the camera's "
+                 "distance to its target, the stereographers' 1/30 rule; stats.json's "
+                 "view_spacing says what it came to) or a distance in scene units")
       ->capture_default_str();
   cmd.add_option("--stereo", o.stereo, "Render a stereo pair with this eye separation instead");
   cmd.add_option("--mapping", o.mapping,

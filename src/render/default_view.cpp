@@ -210,4 +210,13 @@ DefaultView choose_default_view(const RenderScene& rs, float aspect, Vec3 up) {
   return {choose_default_camera(rs, aspect, up), "default"};
 }
 
+Camera default_volume_camera(const Scene& scene, float aspect, Vec3 up, Vec3 front) {
+  // front's azimuth in view_direction's frame (0 for view_direction's own front).
+  const float ahead = dot(front, view_direction(up, 0, 0)),
+              right = dot(front, view_direction(up, 90, 0));
+  const float turn =
+      std::abs(ahead) + std::abs(right) > 0.5f ? std::atan2(right, ahead) * 180.0f / kPi : 0.0f;
+  return scene.default_camera(aspect, up, turn + kDefaultAzimuthDeg, kDefaultElevationDeg);
+}
+
 }  // namespace multiray

@@ -79,4 +79,10 @@ struct DefaultView {
 };
 DefaultView choose_default_view(const RenderScene& rs, float aspect, Vec3 up);
 
+// The default camera of a volume: Scene::default_camera's three-quarter view round `up`,
+// with azimuth 0 at the side `front` (a signed world axis) faces: for a CT the patient's
+// anterior (VolumeOrientation in volume/volume.h). A `front` along `up` is ignored
+// (view_direction's front is used).
+Camera default_volume_camera(const Scene& scene, float aspect, Vec3 up, Vec3 front);
+
 }  // namespace multiray
