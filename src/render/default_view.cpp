@@ -111,22 +111,26 @@ InteriorProbe probe_interior(const RenderScene& rs, Vec3 up) {
   const float tol = kSideTolerance * 2.0f * std::max(f.half_along, f.half_across);
   int rays = 0, hits = 0, front = 0, side = 0;
   // Six points along the long axis, low and at mid height (a room's air; a closed object's
-  // inside and the space round it).
+  // inside and the space round it). A point whose hits are mostly back faces is inside a
+  // solid (a column, a wall) and left out.
   for (float x : {-0.5f, 0.0f, 0.5f})
-    for (float h : {-0.5f, 0.0f})
+    for (float h : {-0.5f, 0.0f}) {
+      const Vec3 org = f.at(x, 0.0f, h);
+      int n = 0, nf = 0, ns = 0;
       for (Vec3 d : dirs) {
-        const Vec3 org = f.at(x, 0.0f, h);
         const Probe p = cast(rs, org, d);
-        ++rays;
         if (!std::isfinite(p.t)) continue;
-        ++hits;
-        front += p.front;
+        ++n;
+        nf += p.front;
         const Vec3 q = org + d * p.t - f.centre;
-        side += f.half_along - std::abs(dot(q, f.along)) < tol ||
-                f.half_across - std::abs(dot(q, f.across)) < tol;
+        ns += f.half_along - std::abs(dot(q, f.along)) < tol ||
+              f.half_across - std::abs(dot(q, f.across)) < tol;
       }
+      if (2 * nf < n) continue;
+      rays += int(dirs.size()), hits += n, front += nf, side += ns;
+    }
   InteriorProbe out;
-  out.hit_share = float(hits) / float(rays);
+  out.hit_share = rays > 0 ? float(hits) / float(rays) : 0.0f;
   out.front_share = hits > 0 ? float(front) / float(hits) : 0.0f;
   out.side_share = hits > 0 ? float(side) / float(hits) : 0.0f;
   const float aspect = 16.0f / 9.0f;  // the probe's own: only the share matters

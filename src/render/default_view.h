@@ -42,10 +42,11 @@ constexpr float kFrontShareSlack = 0.1f;
 // comment).
 Camera choose_default_camera(const RenderScene& rs, float aspect, Vec3 up);
 
-// What rays cast from inside the bounds, within kProbeElevationDeg of the horizon, see:
-// the share of them that hit anything, the share of those hits on front faces, and the
-// share of those on the bounds' vertical sides (within kSideTolerance of the horizontal
-// extent); with the share of front faces the outside three-quarter view sees.
+// What rays cast from points inside the bounds (but not inside a solid), within
+// kProbeElevationDeg of the horizon, see: the share of them that hit anything, the share
+// of those hits on front faces, and the share of those on the bounds' vertical sides
+// (within kSideTolerance of the horizontal extent); with the share of front faces the
+// outside three-quarter view sees.
 struct InteriorProbe {
   float hit_share = 0, front_share = 0, side_share = 0, outside_front_share = 0;
 };
