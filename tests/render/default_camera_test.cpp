@@ -134,6 +134,20 @@ TEST(DefaultCamera, UpAxisNames) {
     EXPECT_FALSE(up_axis_vector(bad, up)) << "'" << bad << "'";
 }
 
+// FBX's GlobalSettings name the up axis by index and sign (assimp's "UpAxis" and
+// "UpAxisSign" metadata); anything else says nothing.
+TEST(DefaultCamera, FbxUpAxisMetadata) {
+  Vec3 up;
+  ASSERT_TRUE(fbx_up_axis(2, 1, up));
+  EXPECT_TRUE(same(up, Vec3(0, 0, 1)));
+  ASSERT_TRUE(fbx_up_axis(1, 1, up));
+  EXPECT_TRUE(same(up, Vec3(0, 1, 0)));
+  ASSERT_TRUE(fbx_up_axis(0, -1, up));
+  EXPECT_TRUE(same(up, Vec3(-1, 0, 0)));
+  for (auto [axis, sign] : {std::pair{3, 1}, {-1, 1}, {1, 0}, {2, 2}})
+    EXPECT_FALSE(fbx_up_axis(axis, sign, up)) << axis << " " << sign;
+}
+
 // The built-in Cornell box keeps its own camera; the default is only for scenes without.
 TEST(DefaultCamera, TheCornellBoxKeepsItsCamera) {
   const Scene s = make_cornell_box();
