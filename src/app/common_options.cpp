@@ -112,11 +112,13 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
   cmd.add_option("--camera", o.camera,
                  "Camera as ex,ey,ez,tx,ty,tz,ux,uy,uz,fov (eye, target, up, vertical fov in "
                  "degrees); default: the scene's first camera, else a three-quarter view from "
-                 "outside that frames the scene's bounding box (see --up), or a straight view "
-                 "into a box that is open on one side");
+                 "outside that frames the scene's bounding box (see --up), a straight view "
+                 "into a box that is open on one side, or a view from inside an enclosed "
+                 "scene (Sponza); volumes: from the patient's front (docs/volumes.md)");
   cmd.add_option("--up", o.up,
                  "The scene's up axis for the default camera and orbits: x, y or z, optionally "
-                 "signed (+z, -y); auto: y for meshes (glTF's convention), z for volumes")
+                 "signed (+z, -y); auto: the file's own where it says (FBX UpAxis), else y for "
+                 "meshes (glTF's convention), the superior axis (z) for volumes")
       ->capture_default_str();
   cmd.add_option("--camera-path", o.camera_path,
                  "Animation: fixed, orbit (100 frames per turn), orbit:PERIOD, or a keyframe "
@@ -170,7 +172,10 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
                  "Light-field grid of parallel views KxL (e.g. 3x3, 5x5), following the camera "
                  "path")
       ->capture_default_str();
-  cmd.add_option("--view-spacing", o.view_spacing, "Distance between grid views (scene units)")
+  cmd.add_option("--view-spacing", o.view_spacing,
+                 "Distance between neighbouring grid views: auto (1/30 of the camera's "
+                 "distance to its target, the stereographers' 1/30 rule; stats.json's "
+                 "view_spacing says what it came to) or a distance in scene units")
       ->capture_default_str();
   cmd.add_option("--stereo", o.stereo, "Render a stereo pair with this eye separation instead");
   cmd.add_option("--mapping", o.mapping,

@@ -92,6 +92,7 @@ nlohmann::json settings_to_json(const RunConfig& o, const Run& s,
                                                  {"half_angle_rad", s.scene->sun.half_angle_rad}}
                                 : nlohmann::json(nullptr)},
       {"views", o.stereo > 0 ? "stereo" : o.views},
+      {"view_spacing", s.view_spacing},
       {"devices", o.devices},
       {"distributed", distributed_to_json(s)}};
 }

@@ -1,5 +1,7 @@
 #include "distributed/scene_codec.h"
 
+#include <cmath>
+
 #include "core/error.h"
 #include "distributed/wire.h"
 #include "volume/volume.h"
@@ -71,6 +73,8 @@ void put_volume(ByteWriter& w, const Volume& v) {
   w.put_string(v.name);
   w.put(int32_t(v.nx)), w.put(int32_t(v.ny)), w.put(int32_t(v.nz)), w.put(v.spacing);
   w.put(uint8_t(v.type)), w.put_array(v.values), w.put(v.min_value), w.put(v.max_value);
+  w.put(v.orientation.anterior), w.put(v.orientation.superior);
+  w.put(uint8_t(v.orientation.from_file));
 }
 
 std::shared_ptr<const Volume> get_volume(ByteReader& r) {
@@ -83,6 +87,13 @@ std::shared_ptr<const Volume> get_volume(ByteReader& r) {
   v->type = VoxelType(type);
   v->values = r.get_array<float>();
   v->min_value = r.get<float>(), v->max_value = r.get<float>();
+  v->orientation.anterior = r.get<Vec3>(), v->orientation.superior = r.get<Vec3>();
+  v->orientation.from_file = r.get<uint8_t>() != 0;
+  for (Vec3 axis : {v->orientation.anterior, v->orientation.superior}) {
+    const Vec3 a{std::abs(axis.x), std::abs(axis.y), std::abs(axis.z)};
+    if (a.x + a.y + a.z != 1.0f || max_component(a) != 1.0f)
+      throw WireError("volume orientation is not a signed world axis");
+  }
   for (int n : {v->nx, v->ny, v->nz})
     if (n < 1 || n > kMaxVolumeDimension) throw WireError("volume size out of range");
   if (v->values.size() != v->voxel_count()) throw WireError("volume size does not match");

@@ -6,8 +6,17 @@
 // So a few views are tried, each framing the bounding box, and the first in order of
 // preference whose share of front faces (by winding: the side emission and the loaders'
 // normals face) is close to the best share is taken.
+//
+// Nor does it suit interiors (Sponza's atrium, a room): from outside they are a closed
+// box. An interior is told by rays cast roughly horizontally from points inside the
+// bounds: in a room nearly all of them hit, and hit the front faces of walls facing in.
+// Inside a closed object (a bunny) they hit back faces; from a box open on one side (a
+// Cornell box) a quarter of them escape. An interior gets a camera inside, at a free spot
+// (interior_camera), looking along its longest horizontal axis.
 #pragma once
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "render/render_types.h"
@@ -29,7 +38,52 @@ float front_face_share(const RenderScene& rs, const Camera& camera, float aspect
 // A candidate is taken when its share is within this of the best one's.
 constexpr float kFrontShareSlack = 0.1f;
 
-// The default camera for the mesh `rs.scene` with up axis `up` (see the file comment).
+// The default outside camera for the mesh `rs.scene` with up axis `up` (see the file
+// comment).
 Camera choose_default_camera(const RenderScene& rs, float aspect, Vec3 up);
+
+// What rays cast from points inside the bounds (but not inside a solid), within
+// kProbeElevationDeg of the horizon, see: the share of them that hit anything, the share
+// of those hits on front faces, and the share of those on the bounds' vertical sides
+// (within kSideTolerance of the horizontal extent); with the share of front faces the
+// outside three-quarter view sees.
+struct InteriorProbe {
+  float hit_share = 0, front_share = 0, side_share = 0, outside_front_share = 0;
+};
+constexpr float kProbeElevationDeg = 10.0f, kSideTolerance = 0.02f;
+InteriorProbe probe_interior(const RenderScene& rs, Vec3 up);
+// An interior: rays nearly all hit (kInteriorHitShare; a box open on one side lets about
+// a seventh escape) and mostly the front faces of walls (kInteriorFrontShare). Winding
+// alone cannot tell a room from a closed object wound inwards (the Stanford bunny's
+// faces all face in), so besides, the walls must either have an outside that faces out
+// too (a building's thick walls: the outside view sees front faces) or be the bounds'
+// sides themselves (a room modelled as one inward-facing shell).
+constexpr float kInteriorHitShare = 0.95f, kInteriorFrontShare = 0.7f;
+bool is_interior(const InteriorProbe& probe);
+
+// The vertical field of view inside, degrees: a room is seen from within it, so wider
+// than kDefaultFovDeg.
+constexpr float kInteriorFovDeg = 60.0f;
+// A camera inside the scene's bounds at a free spot: not inside a solid (every probe ray
+// from it hits a front face or nothing, none nearer than a clearance), above a floor, at a
+// quarter of the height from that floor to the ceiling (or the bounds' top), looking
+// horizontally along whichever direction of the longer horizontal axis is open the
+// furthest. Its target is where an orbit turns: close enough that the orbit's circle
+// fits the room's shorter side. Empty when no candidate spot is free.
+std::optional<Camera> interior_camera(const RenderScene& rs, Vec3 up);
+
+// The default camera and where it came from: "default" (outside, choose_default_camera)
+// or "default-interior" (interior_camera, when is_interior(probe_interior())).
+struct DefaultView {
+  Camera camera;
+  std::string source;
+};
+DefaultView choose_default_view(const RenderScene& rs, float aspect, Vec3 up);
+
+// The default camera of a volume: Scene::default_camera's three-quarter view round `up`,
+// with azimuth 0 at the side `front` (a signed world axis) faces: for a CT the patient's
+// anterior (VolumeOrientation in volume/volume.h). A `front` along `up` is ignored
+// (view_direction's front is used).
+Camera default_volume_camera(const Scene& scene, float aspect, Vec3 up, Vec3 front);
 
 }  // namespace multiray

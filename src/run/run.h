@@ -38,10 +38,13 @@ struct Run {
   Resolution res;
   RenderSettings settings;
   std::vector<Perturbation> perturbations;
-  std::vector<std::string> notes;     // things the user should know (e.g. a sky was added)
-  Camera camera;                      // the base camera of the path (before any animation)
-  std::string camera_source;          // "--camera", "scene" (its first camera) or "default"
+  std::vector<std::string> notes;  // things the user should know (e.g. a sky was added)
+  Camera camera;                   // the base camera of the path (before any animation)
+  // "--camera", "scene" (its first camera), "default" (framed from outside) or
+  // "default-interior" (inside an enclosed scene; render/default_view.h).
+  std::string camera_source;
   Vec3 up{0, 1, 0};                   // the up axis --up resolved to
+  float view_spacing = 0;             // between grid views, scene units (0: one view)
   std::shared_ptr<VolumeRun> volume;  // volumes only: styles, adaptation, sequence
 
   std::vector<Device*> device_ptrs() const;

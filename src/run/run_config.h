@@ -44,11 +44,13 @@ struct RunConfig {
   std::string sun = "auto";          // auto | off | AZ,EL[,IRRADIANCE[,DIAMETER]]
   std::vector<std::string> perturb;  // FRAME:DEVICE:SPEED
   std::string views = "1x1";         // KxL light-field grid
-  float view_spacing = 0.2f;         // between grid views, scene units
-  float stereo = 0.0f;               // > 0: a stereo pair this far apart (overrides views)
-  std::string mapping;               // strips | views | empty (the balancer's own layout)
-  std::string integrator;            // a CPU kernel's name (render/kernel.h); empty: by scene
-  VolumeOptions volume;              // --tf, --step, --raw
+  // Between grid views: "auto" (kViewSpacingOfDistance of the camera's distance to its
+  // target, run.cpp) or a distance in scene units.
+  std::string view_spacing = "auto";
+  float stereo = 0.0f;     // > 0: a stereo pair this far apart (overrides views)
+  std::string mapping;     // strips | views | empty (the balancer's own layout)
+  std::string integrator;  // a CPU kernel's name (render/kernel.h); empty: by scene
+  VolumeOptions volume;    // --tf, --step, --raw
   int ao_rays = 2;
   float ao_distance = 0.0f;          // 0: 0.3 of the scene size
   std::string sampling = "uniform";  // uniform | adaptive | foveated

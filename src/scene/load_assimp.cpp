@@ -340,6 +340,18 @@ void trial_read_with_assimp(const std::string& path, const std::string& text, Sc
 }
 }  // namespace
 
+namespace {
+// The up axis FBX files declare (assimp passes GlobalSettings on as scene metadata and
+// leaves the geometry as it is), into scene->file_up. COLLADA's <up_axis> needs nothing:
+// assimp rotates the root node into Y-up itself.
+void read_up_axis(const aiScene& ai, Scene* scene) {
+  int32_t axis = 0, sign = 1;
+  if (ai.mMetaData == nullptr || !ai.mMetaData->Get("UpAxis", axis)) return;
+  ai.mMetaData->Get("UpAxisSign", sign);  // absent: +1
+  if (fbx_up_axis(axis, sign, scene->file_up)) scene->file_up_from = "the file's UpAxis";
+}
+}  // namespace
+
 Scene load_assimp(const std::string& path, const LoadOptions& options) {
   SceneFiles files(path, options);
   const std::string text = files.read_scene_file();
@@ -360,7 +372,9 @@ Scene load_assimp(const std::string& path, const LoadOptions& options) {
     if (!io->first_refusal().empty()) why += " (" + io->first_refusal() + ")";
     detail::fail(path, "assimp cannot read it: " + why);
   }
-  return AssimpReader(*ai, &files).read();
+  Scene scene = AssimpReader(*ai, &files).read();
+  read_up_axis(*ai, &scene);
+  return scene;
 }
 
 }  // namespace multiray

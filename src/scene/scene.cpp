@@ -161,6 +161,13 @@ bool up_axis_vector(const std::string& name, Vec3& up) {
   return true;
 }
 
+bool fbx_up_axis(int up_axis, int up_axis_sign, Vec3& up) {
+  if (up_axis < 0 || up_axis > 2 || (up_axis_sign != 1 && up_axis_sign != -1)) return false;
+  up = Vec3(0.0f);
+  up[up_axis] = float(up_axis_sign);
+  return true;
+}
+
 Vec3 view_direction(Vec3 up, float azimuth_deg, float elevation_deg) {
   // Right is +x (+y when up is along x), flipped with up's sign; front = right x up is then
   // +z for +y up (glTF's convention) and -y for +z up (Blender's).

@@ -149,6 +149,12 @@ struct Scene {
   Vec3 up{0, 1, 0};  // the world axis the environment map and the sun take as up
   Sun sun;
   std::vector<Camera> cameras;  // cameras found in the file (may be empty)
+  // The up axis the file declares (a signed world axis) for --up auto, or zero where its
+  // format says nothing; `file_up_from` names what said it (for the note). Only FBX does,
+  // among the formats read: glTF is Y-up by definition and assimp already turns COLLADA's
+  // <up_axis> into Y-up (scene/load_assimp.cpp).
+  Vec3 file_up{0, 0, 0};
+  std::string file_up_from;
   // A volume for the raycaster (kernel "volume"), or null. A scene read from a volume file
   // has a volume and no triangles; mesh kernels refuse it and the volume kernel refuses a
   // scene without one.
@@ -179,6 +185,11 @@ Vec3 view_direction(Vec3 up, float azimuth_deg, float elevation_deg);
 // The unit world axis named by `name`: x, y, z with an optional sign (+x, -z, ...).
 // Returns false for anything else.
 bool up_axis_vector(const std::string& name, Vec3& up);
+
+// The up axis of FBX's GlobalSettings (as assimp's scene metadata passes them on):
+// `up_axis` 0, 1, 2 for x, y, z and `up_axis_sign` +1 or -1. Returns false for anything
+// else (the file is then taken to say nothing).
+bool fbx_up_axis(int up_axis, int up_axis_sign, Vec3& up);
 
 // Largest coordinate magnitude of a scene vertex, scene units. Keeps the scene's bounds,
 // their extent and the products Embree forms from them finite in float (max ~3.4e38);

@@ -111,7 +111,31 @@ Vec3 header_spacing(const std::string& path, const Nrrd* n, const NrrdIoState* n
   return checked_spacing(path, s, "spacings");
 }
 
-// The grid, type and spacing of a parsed header, each checked.
+// The orientation `space` and the signs of axis-aligned `space directions` give
+// (volume.h); the assumed one without an anatomical space.
+VolumeOrientation header_orientation(const Nrrd* n, const NrrdIoState* nio) {
+  AnatomicalSpace space = AnatomicalSpace::none;
+  if (nio->seen[nrrdField_space]) switch (n->space) {
+      case nrrdSpaceRightAnteriorSuperior:
+        space = AnatomicalSpace::ras;
+        break;
+      case nrrdSpaceLeftAnteriorSuperior:
+        space = AnatomicalSpace::las;
+        break;
+      case nrrdSpaceLeftPosteriorSuperior:
+      case nrrdSpaceScannerXYZ:
+        space = AnatomicalSpace::lps;
+        break;
+      default:
+        break;
+    }
+  Vec3 signs{1, 1, 1};
+  if (nio->seen[nrrdField_space_directions] && n->spaceDim == 3)
+    for (int a = 0; a < 3; ++a) signs[a] = n->axis[a].spaceDirection[a] < 0 ? -1.0f : 1.0f;
+  return orientation_from_space(space, signs);
+}
+
+// The grid, type, spacing and orientation of a parsed header, each checked.
 Volume checked_header(const std::string& path, const TeemRead& r) {
   const Nrrd* n = r.nrrd;
   if (n->dim != 3)
@@ -122,6 +146,7 @@ Volume checked_header(const std::string& path, const TeemRead& r) {
   v.nx = int(n->axis[0].size), v.ny = int(n->axis[1].size), v.nz = int(n->axis[2].size);
   v.type = voxel_type(path, n->type);
   v.spacing = header_spacing(path, n, r.nio);
+  v.orientation = header_orientation(n, r.nio);
   const NrrdEncoding* e = r.nio->encoding;
   if (e != nrrdEncodingRaw && e != nrrdEncodingGzip)
     fail(path, "encoding '" + lower(e->name) + "' is not supported (raw, gzip are)");

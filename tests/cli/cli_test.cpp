@@ -127,6 +127,24 @@ TEST(Cli, ReprojectedSamplingRendersEveryViewAndChecksItsOptions) {
                      "--reference-spacing");
 }
 
+// --view-spacing auto is a thirtieth of the camera's distance to its target (3.9 for the
+// built-in Cornell box); an explicit value stays in scene units; stats.json says which.
+TEST(Cli, ViewSpacingIsRelativeUnlessGiven) {
+  const std::string dir = ::testing::TempDir() + "/cli_view_spacing";
+  const auto spacing = [&](const std::string& extra) {
+    std::filesystem::remove_all(dir);
+    const Result r = run("render --res 16x12 --spp 1 --views 2x2 --out " + dir + extra);
+    EXPECT_EQ(r.code, 0) << r.out;
+    return nlohmann::json::parse(std::ifstream(dir + "/stats.json"))["settings"]["view_spacing"]
+        .get<double>();
+  };
+  EXPECT_NEAR(spacing(""), 3.9 / 30, 1e-5);
+  EXPECT_NEAR(spacing(" --view-spacing 0.3"), 0.3, 1e-6);
+  EXPECT_NEAR(spacing(" --view-spacing auto"), 3.9 / 30, 1e-5);
+  expect_input_error("render --views 2x2 --view-spacing -1", "--view-spacing");
+  expect_input_error("render --views 2x2 --view-spacing far", "--view-spacing");
+}
+
 TEST(Cli, UpExposureAndToneAreChecked) {
   expect_input_error("render --res 8x8 --up w", "--up");
   expect_input_error("render --res 8x8 --up yz", "--up");

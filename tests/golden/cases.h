@@ -18,7 +18,8 @@ inline const std::vector<GoldenCase>& golden_cases() {
       {"default", "", "--res 64x40 --spp 16 --frames 2 --camera-path orbit:8"},
       {"ao", "",
        "--res 48x32 --frames 2 --camera-path orbit:8 --integrator ao --sampling adaptive"},
-      {"views", "", "--res 32x20 --spp 16 --frames 2 --views 2x2 --camera-path orbit:8"},
+      {"views", "",
+       "--res 32x20 --spp 16 --frames 2 --views 2x2 --view-spacing 0.2 --camera-path orbit:8"},
       {"foveated", "",
        "--res 64x40 --frames 2 --camera-path orbit:8 --integrator ao --sampling foveated "
        "--fovea-spp 16 --periphery-spp 0.5"},

@@ -134,6 +134,20 @@ TEST(DefaultCamera, UpAxisNames) {
     EXPECT_FALSE(up_axis_vector(bad, up)) << "'" << bad << "'";
 }
 
+// FBX's GlobalSettings name the up axis by index and sign (assimp's "UpAxis" and
+// "UpAxisSign" metadata); anything else says nothing.
+TEST(DefaultCamera, FbxUpAxisMetadata) {
+  Vec3 up;
+  ASSERT_TRUE(fbx_up_axis(2, 1, up));
+  EXPECT_TRUE(same(up, Vec3(0, 0, 1)));
+  ASSERT_TRUE(fbx_up_axis(1, 1, up));
+  EXPECT_TRUE(same(up, Vec3(0, 1, 0)));
+  ASSERT_TRUE(fbx_up_axis(0, -1, up));
+  EXPECT_TRUE(same(up, Vec3(-1, 0, 0)));
+  for (auto [axis, sign] : {std::pair{3, 1}, {-1, 1}, {1, 0}, {2, 2}})
+    EXPECT_FALSE(fbx_up_axis(axis, sign, up)) << axis << " " << sign;
+}
+
 // The built-in Cornell box keeps its own camera; the default is only for scenes without.
 TEST(DefaultCamera, TheCornellBoxKeepsItsCamera) {
   const Scene s = make_cornell_box();
@@ -193,6 +207,114 @@ TEST(DefaultCamera, OrbitsTurnAboutTheUpAxis) {
       EXPECT_NEAR(length(c.eye - base.target), length(base.eye - base.target), 1e-3f);
     }
   }
+}
+
+// A room 10 x 3 x 6 (long along x) built as a building is: floor, ceiling and four walls
+// each a solid slab (every face facing out of its slab, so the room's air sees front
+// faces and so does the outside view), with a column in the middle of the floor.
+Scene room_scene() {
+  Scene s;
+  s.name = "room";
+  const uint32_t m = add_material(s, Material{.name = "plaster"});
+  const float t = 0.2f;                                                   // slab thickness
+  add_box(s, Vec3(0, -t / 2, 0), Vec3(5 + t, t / 2, 3 + t), 0.0f, m);     // floor
+  add_box(s, Vec3(0, 3 + t / 2, 0), Vec3(5 + t, t / 2, 3 + t), 0.0f, m);  // ceiling
+  add_box(s, Vec3(-5 - t / 2, 1.5f, 0), Vec3(t / 2, 1.5f, 3), 0.0f, m);   // walls
+  add_box(s, Vec3(5 + t / 2, 1.5f, 0), Vec3(t / 2, 1.5f, 3), 0.0f, m);
+  add_box(s, Vec3(0, 1.5f, -3 - t / 2), Vec3(5, 1.5f, t / 2), 0.0f, m);
+  add_box(s, Vec3(0, 1.5f, 3 + t / 2), Vec3(5, 1.5f, t / 2), 0.0f, m);
+  add_box(s, Vec3(0, 1.5f, 0), Vec3(0.4f, 1.5f, 0.4f), 0.0f, m);  // column
+  return s;
+}
+
+// `s` with every triangle's winding reversed: faces that faced out now face in.
+Scene flipped(Scene s) {
+  for (size_t i = 0; i + 2 < s.indices.size(); i += 3)
+    std::swap(s.indices[i + 1], s.indices[i + 2]);
+  for (Vec3& n : s.normals) n = -n;
+  return s;
+}
+
+// A camera inside the room: in its air (not in a slab or the column, eye height a
+// quarter of the way up), looking along the long axis (x), wider than the outside view,
+// and recorded as "default-interior".
+TEST(DefaultCamera, AnInteriorIsSeenFromInside) {
+  const Scene room = room_scene();
+  const RenderScene rs(room);
+  const InteriorProbe probe = probe_interior(rs, Vec3(0, 1, 0));
+  EXPECT_TRUE(is_interior(probe)) << probe.hit_share << " " << probe.front_share;
+  const DefaultView v = choose_default_view(rs, 16.0f / 9.0f, Vec3(0, 1, 0));
+  EXPECT_EQ(v.source, "default-interior");
+  const Camera& c = v.camera;
+  EXPECT_GT(c.eye.y, 0.5f);
+  EXPECT_LT(c.eye.y, 1.0f) << "a quarter of the way up";
+  EXPECT_LT(std::abs(c.eye.x), 5.0f);
+  EXPECT_LT(std::abs(c.eye.z), 3.0f);
+  EXPECT_FALSE(std::abs(c.eye.x) < 0.4f && std::abs(c.eye.z) < 0.4f) << "inside the column";
+  const Vec3 dir = normalize(c.target - c.eye);
+  EXPECT_GT(std::abs(dir.x), 0.99f) << "along the long axis";
+  EXPECT_GT(dot(dir, Vec3(-c.eye.x, 0, 0)), 0.0f) << "towards the far end";
+  EXPECT_EQ(c.fov_y_deg, kInteriorFovDeg);
+  EXPECT_GT(front_face_share(rs, c, 16.0f / 9.0f), 0.95f);
+  // The same room turned Z-up (--up z) is found the same way.
+  Scene z_up = room;
+  for (Vec3& p : z_up.positions) p = Vec3(p.x, -p.z, p.y);
+  const DefaultView vz = choose_default_view(RenderScene(z_up), 1.5f, Vec3(0, 0, 1));
+  EXPECT_EQ(vz.source, "default-interior");
+  EXPECT_GT(vz.camera.eye.z, 0.5f);
+  EXPECT_LT(vz.camera.eye.z, 1.0f);
+}
+
+// A room modelled as one shell whose faces face in (its outside view sees only backs) is
+// an interior too: its walls are the bounds' sides.
+TEST(DefaultCamera, AnInwardFacingShellRoomIsAnInterior) {
+  const Scene shell = flipped(box_scene({-5, 0, -3}, {5, 3, 3}));
+  const DefaultView v = choose_default_view(RenderScene(shell), 16.0f / 9.0f, Vec3(0, 1, 0));
+  EXPECT_EQ(v.source, "default-interior");
+}
+
+// Objects keep the outside view: a closed box, a blob wound inwards like the Stanford
+// bunny (its centre is inside and its rays see front faces, but its outside sees backs
+// and its surface is not the bounds' sides), and the Cornell box open on one side.
+TEST(DefaultCamera, ObjectsAndOpenBoxesStayOutside) {
+  const float aspect = 16.0f / 9.0f;
+  Scene blob;
+  blob.name = "blob";
+  const uint32_t m = add_material(blob, Material{.name = "grey"});
+  // Two boxes, one turned 45 degrees: a union whose surface mostly lies inside its bounds.
+  add_box(blob, Vec3(0, 0, 0), Vec3(1, 1, 1), 0.0f, m);
+  add_box(blob, Vec3(0, 0, 0), Vec3(1.3f, 0.7f, 1.3f), 45.0f, m);
+  Scene cornell = make_cornell_box();
+  cornell.cameras.clear();
+  const std::pair<std::string, Scene> objects[] = {
+      {"closed box", box_scene({-1, 0, -2}, {3, 1, 1})},
+      {"inward blob", flipped(blob)},
+      {"cornell box", cornell}};
+  for (const auto& [what, s] : objects) {
+    const RenderScene rs(s);
+    const DefaultView v = choose_default_view(rs, aspect, Vec3(0, 1, 0));
+    EXPECT_EQ(v.source, "default") << what;
+    EXPECT_FALSE(inside(s.bounds(), v.camera.eye)) << what;
+  }
+}
+
+// A volume's default view looks at the side `front` names (a CT's anterior), from the
+// three-quarter direction round it, for either sign and axis.
+TEST(DefaultCamera, VolumesAreSeenFromTheirFront) {
+  const Scene s = box_scene({-2, -2, -1}, {2, 2, 1});
+  for (Vec3 front : {Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(1, 0, 0), Vec3(-1, 0, 0)}) {
+    const Camera c = default_volume_camera(s, 1.5f, Vec3(0, 0, 1), front);
+    const Vec3 to_eye = normalize(c.eye - c.target);
+    const float horizontal = std::sqrt(to_eye.x * to_eye.x + to_eye.y * to_eye.y);
+    EXPECT_NEAR(dot(to_eye, front) / horizontal, std::cos(kDefaultAzimuthDeg * kPi / 180.0f),
+                1e-4f)
+        << front.x << "," << front.y;
+    EXPECT_GT(to_eye.z, 0.0f);
+    check_framing(s, c, 150, 100, "volume");
+  }
+  // Without a horizontal front, view_direction's convention (-y for +z up).
+  const Camera c = default_volume_camera(s, 1.5f, Vec3(0, 0, 1), Vec3(0, 0, 1));
+  EXPECT_LT(c.eye.y, 0.0f);
 }
 
 }  // namespace default_camera_test

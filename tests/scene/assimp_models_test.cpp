@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <string>
 
@@ -163,6 +165,33 @@ TEST(AssimpModels, BoxFbx) {
   // PreTransformVertices step), measured over its `v` lines.
   expect_bounds(s, Vec3(-0.2260957f, -0.1618642f, -0.0646463f),
                 Vec3(0.2844616f, 0.2443484f, 0.4646601f));
+}
+
+// FBX says its up axis (GlobalSettings UpAxis/UpAxisSign, which assimp passes on as
+// scene metadata): the samples are all Y-up; the same ASCII file with UpAxis 2 is Z-up.
+// (No Z-up FBX ships with assimp-testmodels; COLLADA's Z_UP files arrive turned Y-up.)
+TEST(AssimpModels, FbxUpAxisComesFromTheFile) {
+  const std::string p = model("FBX/cubes_nonames.fbx");
+  SKIP_UNLESS_READABLE(p);
+  const Scene y_up = load_scene(p);
+  EXPECT_EQ(y_up.file_up.y, 1.0f);
+  EXPECT_FALSE(y_up.file_up_from.empty());
+  std::ifstream in(p, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string field = "\"UpAxis\", \"int\", \"Integer\", \"\",";
+  const size_t at = text.find(field + "1");
+  ASSERT_NE(at, std::string::npos) << "an ASCII FBX with UpAxis 1";
+  text[at + field.size()] = '2';
+  const std::string z_path = ::testing::TempDir() + "/cubes_z_up.fbx";
+  std::ofstream(z_path, std::ios::binary) << text;
+  const Scene z_up = load_scene(z_path);
+  EXPECT_EQ(z_up.file_up.z, 1.0f);
+  EXPECT_EQ(z_up.file_up.x + z_up.file_up.y, 0.0f);
+  // COLLADA: assimp applies <up_axis>Z_UP</up_axis> itself; nothing is declared to us.
+  const std::string dae = model("Collada/cube_tristrips.dae");
+  if (std::filesystem::exists(dae)) {
+    EXPECT_EQ(dot(load_scene(dae).file_up, Vec3(1, 1, 1)), 0.0f);
+  }
 }
 
 // TEST.PNG is named in upper case in the file; the folder has test.png.

@@ -93,6 +93,38 @@ TEST_F(NrrdRead, SpacingsAndSpaceDirections) {
   EXPECT_EQ(b.hi.z, 3.0f);
 }
 
+// Where the patient's front and head are: from `space` and the signs of `space
+// directions` where the header has them, else the assumed convention (LAS: +y anterior,
+// +z superior; volume.h says why).
+TEST_F(NrrdRead, OrientationFromSpaceOrAssumed) {
+  write("vol/o.raw", std::string(8, '\x05'));
+  const auto read = [&](const std::string& fields) {
+    return load_volume(
+        write("vol/o.nhdr", nrrd_header("uint8", "2 2 2", fields) + "data file: o.raw\n"));
+  };
+  const auto same = [](Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
+  Volume v = read("spacings: 1 1 1\n");
+  EXPECT_FALSE(v.orientation.from_file);
+  EXPECT_TRUE(same(v.orientation.anterior, Vec3(0, 1, 0)));
+  EXPECT_TRUE(same(v.orientation.superior, Vec3(0, 0, 1)));
+  v = read("space: left-posterior-superior\nspace directions: (1,0,0) (0,1,0) (0,0,1)\n");
+  EXPECT_TRUE(v.orientation.from_file);
+  EXPECT_TRUE(same(v.orientation.anterior, Vec3(0, -1, 0))) << "LPS: +y is posterior";
+  EXPECT_TRUE(same(v.orientation.superior, Vec3(0, 0, 1)));
+  // Rows stored towards anterior and slices from the head down, in LPS.
+  v = read("space: LPS\nspace directions: (1,0,0) (0,-1,0) (0,0,-2)\n");
+  EXPECT_TRUE(same(v.orientation.anterior, Vec3(0, 1, 0)));
+  EXPECT_TRUE(same(v.orientation.superior, Vec3(0, 0, -1)));
+  v = read("space: right-anterior-superior\nspace directions: (-1,0,0) (0,1,0) (0,0,1)\n");
+  EXPECT_TRUE(same(v.orientation.anterior, Vec3(0, 1, 0)));
+  v = read("space: scanner-xyz\nspace directions: (1,0,0) (0,1,0) (0,0,1)\n");
+  EXPECT_TRUE(same(v.orientation.anterior, Vec3(0, -1, 0))) << "scanner-xyz is LPS";
+  // A space without anatomy: the assumed convention.
+  v = read("space: 3D-right-handed\nspace directions: (1,0,0) (0,1,0) (0,0,1)\n");
+  EXPECT_FALSE(v.orientation.from_file);
+  EXPECT_TRUE(same(v.orientation.anterior, Vec3(0, 1, 0)));
+}
+
 TEST_F(NrrdRead, LineAndByteSkips) {
   write("vol/d.raw", "# text header\nXY" + std::string("\x01\x02", 2));
   const Volume v = load_volume(
