@@ -1,6 +1,7 @@
 #!/bin/sh
 # Renders docs/gallery/: every scene of ../shared/data/meshes and the Cornell boxes with
-# default options, then Sponza and the helmets with a chosen camera, at 480x270.
+# default options (the volumes too), then Sponza and the helmets with a chosen camera, at
+# 480x270.
 # Usage: scripts/gallery.sh [BUILD_DIR] [SPP]   (defaults: build, 64)
 set -eu
 cd "$(dirname "$0")/.."
@@ -42,9 +43,13 @@ render clearcoat "$DATA/meshes/assimp/ClearCoatTest/ClearCoatTest.gltf"
 render wuson-obj "$DATA/meshes/assimp/WusonOBJ.obj"
 render wuson-ply "$DATA/meshes/assimp/Wuson.ply"
 render regr01 "$DATA/meshes/assimp/regr01.obj"
+render aneurism "$DATA/volumes/aneurism_256x256x256_uint8.nhdr"
+render cranium "$DATA/volumes/cranium_ct_256x256x108_int16le.nhdr"
+render neghip "$DATA/volumes/neghip_64x64x64_uint8.nhdr"
 
 # Chosen cameras (eye, target, up, vertical fov).
-render sponza-inside "$DATA/meshes/dabrovic_sponza/sponza.obj" \
+render engine-framed "$DATA/meshes/assimp/2CylinderEngine.glb" --camera default
+render sponza-hall "$DATA/meshes/dabrovic_sponza/sponza.obj" \
   --camera -11,3.5,0.5,10,6,-0.5,0,1,0,65 --env 1 --sun 30,70,4
 render damaged-helmet-close "$DATA/meshes/damaged_helmet/DamagedHelmet.gltf" \
   --camera 1.3,0.3,3.8,0,0,0,0,1,0,38 --env 0.6 --sun 40,45,3

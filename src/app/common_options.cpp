@@ -114,7 +114,9 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
                  "degrees); default: the scene's first camera, else a three-quarter view from "
                  "outside that frames the scene's bounding box (see --up), a straight view "
                  "into a box that is open on one side, or a view from inside an enclosed "
-                 "scene (Sponza); volumes: from the patient's front (docs/volumes.md)");
+                 "scene (Sponza); volumes: from the patient's front (docs/volumes.md). "
+                 "`--camera default` takes that framing view even where the file has a "
+                 "camera of its own");
   cmd.add_option("--up", o.up,
                  "The scene's up axis for the default camera and orbits: x, y or z, optionally "
                  "signed (+z, -y); auto: the file's own where it says (FBX UpAxis), else y for "

@@ -199,7 +199,9 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   }
   s.settings.seed = parse_seed(o.seed);
   std::optional<Camera> cli_camera;
-  if (!o.camera.empty()) cli_camera = parse_camera(o.camera);
+  // --camera default: the framing default even where the file has a camera of its own.
+  const bool framing_default = o.camera == "default";
+  if (!o.camera.empty() && !framing_default) cli_camera = parse_camera(o.camera);
   s.up = parse_up(o.up, volume_input);
   // "threads=0" means every hardware thread; resolved here so the spec stays readable.
   std::string devices = s.cluster ? s.cluster->devices_of_this_rank(o.devices) : o.devices;
@@ -269,7 +271,7 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   DefaultView chosen{Camera{}, cli_camera ? "--camera" : "scene"};
   if (cli_camera)
     chosen.camera = *cli_camera;
-  else if (!s.scene->cameras.empty())
+  else if (!s.scene->cameras.empty() && !framing_default)
     chosen.camera = s.scene->cameras.front();
   else if (volume_input)
     chosen = {default_volume_camera(*s.scene, aspect, s.up, s.scene->volume->orientation.anterior),

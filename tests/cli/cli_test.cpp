@@ -221,6 +221,17 @@ TEST(Cli, StatsJsonRecordsTheRunSettings) {
   EXPECT_EQ(s3.at("camera").at("source"), "default");
 }
 
+// `--camera default` frames the scene even where the file has a camera of its own (the
+// built-in Cornell box has one).
+TEST(Cli, CameraDefaultOverridesTheFilesCamera) {
+  const std::string dir = ::testing::TempDir() + "/cli_camera_default";
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(run("render --res 16x8 --spp 1 -q --camera default --out " + dir).code, 0);
+  const auto doc = nlohmann::json::parse(std::ifstream(dir + "/stats.json"));
+  EXPECT_EQ(doc.at("settings").at("camera").at("source"), "default");
+  EXPECT_NE(doc.at("settings").at("camera").at("eye"), nlohmann::json({0.0, 1.0, 3.9f}));
+}
+
 TEST(Cli, BadSceneFiles) {
   expect_input_error("render /nonexistent/scene.obj --res 8x8", "scene.obj");
   expect_input_error("render " + temp_file("bad.xyz", "hello") + " --res 8x8", "bad.xyz");
