@@ -25,7 +25,7 @@ Runner add_view_command(CLI::App& app) {
   auto port = std::make_shared<int>(8080);
   auto max_clients = std::make_shared<int>(16);
   auto max_frames = std::make_shared<int>(0);
-  auto exposure = std::make_shared<double>(0.0);
+  auto exposure = std::make_shared<std::string>("auto");
   auto tone = std::make_shared<std::string>("auto");
   cmd->add_option("--balancer", *balancer, "The balancer to start with (switchable in the page)")
       ->capture_default_str();
@@ -41,7 +41,9 @@ Runner add_view_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--max-frames", *max_frames, "Stop after this many frames (0: at Ctrl-C)")
       ->capture_default_str();
-  cmd->add_option("--exposure", *exposure, "Exposure of the streamed frames in stops, [-20, 20]")
+  cmd->add_option("--exposure", *exposure,
+                  "Exposure of the streamed frames: auto (metered on the first frame, then held; "
+                  "volumes: 0) or stops in [-20, 20]")
       ->capture_default_str();
   cmd->add_option("--tone", *tone, "Tone curve of the streamed frames: filmic, clamp or auto")
       ->capture_default_str();
@@ -62,8 +64,15 @@ Runner add_view_command(CLI::App& app) {
     vo.bind = viewer::parse_listen_address(*bind, viewer::WebServer::has_ipv6());
     vo.port = *port;
     vo.max_clients = *max_clients;
-    vo.display.exposure_ev = parse_exposure(*exposure);
-    vo.display.tone = parse_tone(*tone, is_volume_input(o->scene_path, o->volume));
+    const bool volume_input = is_volume_input(o->scene_path, o->volume);
+    vo.meter_exposure = *exposure == "auto" && !volume_input;
+    if (*exposure != "auto") {
+      const std::optional<double> ev = parse_number(*exposure);
+      if (!ev)
+        throw InputError("--exposure '" + *exposure + "' must be auto or stops in [-20, 20]");
+      vo.display.exposure_ev = parse_exposure(*ev);
+    }
+    vo.display.tone = parse_tone(*tone, volume_input);
     Run s;
     int worker_exit = 0;  // view refuses --distributed above: never a worker
     std::vector<std::string> specs{*balancer};

@@ -125,6 +125,19 @@ TEST(ViewerLimits, MaxClientsOutOfRangeIsRefused) {
   }
 }
 
+// --exposure: auto (the default) or stops; anything else is one line, before any rendering.
+TEST(ViewerLimits, ExposureIsAutoOrStops) {
+  for (const char* bad : {"bright", "21", "nan"}) {
+    const auto r = multiray::testing::run_cli(
+        MULTIRAY_BIN, std::string("view --port 0 --max-frames 1 --exposure ") + bad);
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+    EXPECT_TRUE(has(r.out, "--exposure")) << r.out;
+  }
+  const auto ok = multiray::testing::run_cli(
+      MULTIRAY_BIN, "view --port 0 --max-frames 1 --res 16x8 --spp 1 --exposure -2");
+  EXPECT_EQ(ok.code, 0) << ok.out;
+}
+
 // --bind took what civetweb's parser made of it: 256.0.0.0 listened on 0.0.0.0 while the
 // URL said 256.0.0.0; ::1 was refused as "cannot listen".
 TEST(ViewerBind, InvalidAddressesAreRefusedInOneLine) {

@@ -8,6 +8,7 @@
 #include "app/stats_json.h"
 #include "balance/balancer.h"
 #include "core/error.h"
+#include "core/exposure.h"
 #include "engine/volume_advisor.h"
 #include "run/catalog.h"
 #include "run/volume_run.h"
@@ -197,6 +198,10 @@ void LiveView::send_loop() {
     }
     if (server_->clients() == 0) continue;
     const Framebuffer& img = frame->images.at(size_t(view));
+    if (options_.meter_exposure) {  // this thread alone reads and writes options_.display
+      options_.display.exposure_ev = metered_exposure_ev(img);
+      options_.meter_exposure = false;
+    }
     std::string jpeg;
     try {
       jpeg = encode_jpeg(img.width, img.height, to_srgb8(img, options_.display),

@@ -37,6 +37,9 @@ struct LiveViewOptions {
   int port = 8080;
   int max_clients = 16;  // open WebSockets at once (web_server.h)
   Display display;
+  // Meter the first streamed frame (core/exposure.h) and hold that exposure, instead of
+  // display.exposure_ev as given (--exposure auto).
+  bool meter_exposure = false;
   int jpeg_quality = 85;
 };
 
