@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -118,8 +119,13 @@ constexpr float kViewSpacingOfDistance = 1.0f / 30.0f;
 
 // --up auto from what the loaded file says: a volume's superior axis (volume/volume.h),
 // a mesh's declared up axis (Scene::file_up) with a note; else `up` stays (y, z).
-void resolve_up_from_file(const Scene& scene, bool volume_input, Vec3& up,
+void resolve_up_from_file(const Scene& scene, const std::string& path, bool volume_input, Vec3& up,
                           std::vector<std::string>& notes) {
+  // Formats that carry no up axis but usually come from Z-up tools (3ds Max, Blender, CAD
+  // and 3D printing): y is kept, and the way out is said once.
+  static const char* const zup_formats[] = {".3ds", ".blend", ".stl", ".dxf", ".ifc"};
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (volume_input) {
     up = scene.volume->orientation.superior;
   } else if (dot(scene.file_up, scene.file_up) > 0.5f) {
@@ -128,6 +134,11 @@ void resolve_up_from_file(const Scene& scene, bool volume_input, Vec3& up,
     const int axis = std::abs(up.x) > 0.5f ? 0 : std::abs(up.y) > 0.5f ? 1 : 2;
     notes.push_back(fmt::format("up axis {}{} from {} (--up auto; --up names another)",
                                 up[axis] < 0 ? "-" : "+", names[axis], scene.file_up_from));
+  } else if (std::find(std::begin(zup_formats), std::end(zup_formats), ext) !=
+             std::end(zup_formats)) {
+    notes.push_back(ext +
+                    " files do not say which way is up and are often Z-up; y is "
+                    "assumed: if the model lies on its side, pass --up z");
   }
 }
 
@@ -256,7 +267,7 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
             ? load_volume_scene(o.scene_path, o.volume, o.allow_outside_paths,
                                 uint64_t(std::max(limit - need.frame_bytes, 0.0)), &s.notes)
             : load_scene(o.scene_path, load));
-    if (o.up == "auto") resolve_up_from_file(*s.scene, volume_input, s.up, s.notes);
+    if (o.up == "auto") resolve_up_from_file(*s.scene, o.scene_path, volume_input, s.up, s.notes);
     s.scene->up = s.up;
     apply_lighting({o.env, o.env_scale, o.sun}, volume_input, load, *s.scene, s.notes);
     if (sent) s.cluster->send_scene(*s.scene);

@@ -232,6 +232,22 @@ TEST(Cli, CameraDefaultOverridesTheFilesCamera) {
   EXPECT_NE(doc.at("settings").at("camera").at("eye"), nlohmann::json({0.0, 1.0, 3.9f}));
 }
 
+// A format that carries no up axis and usually comes from a Z-up tool gets a hint (issue 32:
+// "a Z-up file lies on its side with no hint"); with --up given, it is not repeated.
+TEST(Cli, ZUpFormatsWithoutAnAxisGetAHint) {
+  const std::string stl = temp_file("hint.stl",
+                                    "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                                    "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n");
+  const std::string dir = ::testing::TempDir() + "/cli_zup_hint";
+  std::filesystem::remove_all(dir);
+  const Result r = run("render " + stl + " --res 8x8 --spp 1 -q --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("pass --up z"));
+  std::filesystem::remove_all(dir);
+  const Result given = run("render " + stl + " --res 8x8 --spp 1 -q --up z --out " + dir);
+  EXPECT_THAT(given.out, ::testing::Not(::testing::HasSubstr("--up z")));
+}
+
 TEST(Cli, BadSceneFiles) {
   expect_input_error("render /nonexistent/scene.obj --res 8x8", "scene.obj");
   expect_input_error("render " + temp_file("bad.xyz", "hello") + " --res 8x8", "bad.xyz");
