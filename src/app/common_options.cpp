@@ -108,6 +108,12 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
       ->capture_default_str();
   cmd.add_option("--bounces", o.bounces, "Maximum scattering events per path")
       ->capture_default_str();
+  cmd.add_option("--clamp", o.clamp,
+                 "Limit each camera sample's radiance so that its largest RGB component is at "
+                 "most this (scaled, keeping its hue) before it is averaged into the pixel: "
+                 "bounds fireflies at the cost of some energy in bright indirect light "
+                 "(docs/noise.md); 0: off. Path kernels (path, direct)")
+      ->capture_default_str();
   cmd.add_option("--frames", o.frames, "Number of frames to render")->capture_default_str();
   cmd.add_option("--camera", o.camera,
                  "Camera as ex,ey,ez,tx,ty,tz,ux,uy,uz,fov (eye, target, up, vertical fov in "

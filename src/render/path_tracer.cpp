@@ -255,7 +255,7 @@ KernelStats PathTracer::render_rect_logged(const ViewSetup& view, const RenderSe
       Vec3 sum(0.0f);
       for (int s = 0; s < spp; ++s, ++next) {
         const Vec3 L = paths[next].L;
-        sum += is_finite(L) ? L : Vec3(0.0f);
+        sum += clamp_sample(is_finite(L) ? L : Vec3(0.0f), settings.sample_clamp);
       }
       out.at(rect.x0 + int(k % rect_w), rect.y0 + int(k / rect_w)) =
           spp > 0 ? sum * (1.0f / float(spp)) : Vec3(0.0f);
@@ -285,7 +285,7 @@ KernelStats PathTracer::render_samples(const ViewSetup& view, const RenderSettin
     trace_batch(paths, settings, stats, nullptr);
     for (size_t i = first; i < last; ++i) {
       const Vec3 L = paths[i - first].L;
-      radiance[i] = is_finite(L) ? L : Vec3(0.0f);
+      radiance[i] = clamp_sample(is_finite(L) ? L : Vec3(0.0f), settings.sample_clamp);
     }
     stats.samples += last - first;
   }

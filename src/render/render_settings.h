@@ -32,6 +32,10 @@ struct RenderSettings {
   // Next-event estimation of the environment (render/environment.h). Off, the sky is
   // reached by BSDF sampling alone, as before it was sampled: for variance comparisons.
   bool sample_environment = true;
+  // --clamp: the largest RGB component one camera sample's radiance may reach before it is
+  // averaged into its pixel (render/shared/sampling.h: clamp_sample); 0: no limit. Path
+  // kernels only (path, direct; CPU and OpenCL).
+  float sample_clamp = 0.0f;
   // The volume kernel's transfer function, block opacities and step (null for meshes);
   // shared, immutable, replaced when the transfer function changes.
   std::shared_ptr<const VolumeStyle> volume_style = {};
@@ -47,9 +51,9 @@ void for_each_sent_setting(Settings& s, F&& f) {
   f("spp", s.spp), f("max_bounces", s.max_bounces), f("rr_start", s.rr_start);
   f("seed", s.seed), f("kernel", s.kernel), f("ao_rays", s.ao_rays);
   f("ao_distance", s.ao_distance), f("step_scale", s.step_scale);
-  f("sample_environment", s.sample_environment);
+  f("sample_environment", s.sample_environment), f("sample_clamp", s.sample_clamp);
 }
-inline constexpr size_t kSentSettings = 9;
+inline constexpr size_t kSentSettings = 10;
 // Built by each rank from its own data: the volume style (from the transfer function).
 inline constexpr const char* kRankLocalSettings[] = {"volume_style"};
 

@@ -148,6 +148,8 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   if (o.spp < 0 || o.spp > 1 << 20) throw InputError("--spp must be in 0..1048576 (0: auto)");
   if (o.bounces < 0 || o.bounces > 1024) throw InputError("--bounces must be in 0..1024");
   if (o.frames < 1 || o.frames > 1000000) throw InputError("--frames must be in 1..1000000");
+  if (!(o.clamp >= 0) || !std::isfinite(o.clamp))
+    throw InputError("--clamp must be a finite number >= 0 (0: off)");
   int columns = 1, rows = 1;
   CameraRig rig;
   if (o.stereo > 0) {
@@ -198,6 +200,7 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
     throw InputError("--periphery-spp must be in [1/4096, --fovea-spp] samples per pixel");
   s.settings.spp = o.spp > 0 ? o.spp : volume_input ? 1 : o.mesh_spp;
   s.settings.max_bounces = o.bounces;
+  s.settings.sample_clamp = o.clamp;
   if (sampling.mode == Sampling::Reprojected) {
     if (rig.view_count() < 2)
       throw InputError("--sampling reproject needs several views (--views KxL or --stereo)");

@@ -33,6 +33,9 @@ struct RunConfig {
   int spp = 0;        // 0: mesh_spp for meshes, 1 for volumes
   int mesh_spp = 16;  // what --spp 0 means for meshes (bench: 4)
   int bounces = 8;
+  // --clamp: the largest RGB component one camera sample may contribute (path kernels);
+  // 0: no limit. RenderSettings::sample_clamp.
+  float clamp = 0.0f;
   int frames = 1;
   std::string camera;                     // "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov" or empty
   std::string up = "auto";                // [+-]x|y|z; auto: y for meshes, z for volumes

@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -20,7 +21,7 @@ FrameMessage sample_frame() {
   FrameMessage m;
   m.epoch = 7;
   m.settings.spp = 3, m.settings.max_bounces = 5, m.settings.seed = 99;
-  m.settings.kernel = "ao", m.settings.step_scale = 0.5f;
+  m.settings.kernel = "ao", m.settings.step_scale = 0.5f, m.settings.sample_clamp = 4;
   ViewSetup v;
   v.camera.eye = {1, 2, 3}, v.camera.fov_y_deg = 30;
   v.width = 4, v.height = 2, v.view = 1, v.frame = 12;
@@ -49,6 +50,7 @@ TEST(Protocol, MessagesSurviveARoundTrip) {
   EXPECT_EQ(f.settings.kernel, "ao");
   EXPECT_EQ(f.settings.seed, 99u);
   EXPECT_FLOAT_EQ(f.settings.step_scale, 0.5f);
+  EXPECT_EQ(f.settings.sample_clamp, 4.0f);
   ASSERT_EQ(f.views.size(), 2u);
   EXPECT_EQ(f.views[1].frame, 12u);
   EXPECT_FLOAT_EQ(f.views[1].camera.eye.y, 2);
@@ -149,6 +151,11 @@ TEST(Protocol, ImpossibleValuesAreRefused) {
   f = sample_frame();
   f.views[0].width = 0;
   EXPECT_THROW(decode_frame(encode(f)), WireError);
+  for (float clamp : {-1.0f, NAN, INFINITY}) {
+    f = sample_frame();
+    f.settings.sample_clamp = clamp;  // --clamp refuses these; a worker must too
+    EXPECT_THROW(decode_frame(encode(f)), WireError) << clamp;
+  }
   WorkMessage w{1, false, {1}, {WorkItem{Rect{3, 0, 2, 2}, 0}}};  // x1 < x0
   EXPECT_THROW(decode_work(encode(w)), WireError);
   EXPECT_THROW(decode_speed(encode_speed(0)), WireError);

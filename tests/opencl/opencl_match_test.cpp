@@ -99,6 +99,39 @@ TEST(OpenClMatch, SameSeedGivesNearlyTheCpuImage) {
   EXPECT_GE(fraction, 0.9);
 }
 
+// --clamp on both backends: the same shared clamp (render/shared/sampling.h) after the same
+// paths, so the images agree as closely as without it, and neither has a pixel above the
+// limit. The limit (1) is below the light (17, 12, 4) and the brightest indirect paths, so
+// clamping changes many pixels: an OpenCL kernel ignoring the setting fails the bound.
+TEST(OpenClMatch, SameSeedWithClampGivesNearlyTheCpuImage) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  const Scene scene = make_cornell_box();
+  SceneCache rs(scene);
+  CpuDevice cpu(rs, {}, "cpu");
+  OpenClDevice cl(rs, {}, "opencl:0");
+  constexpr float kLimit = 1.0f;
+  const RenderSettings off{.spp = 4, .max_bounces = 6, .seed = 5};
+  RenderSettings on = off;
+  on.sample_clamp = kLimit;
+  const auto brightest = [](const Framebuffer& f) {
+    float m = 0;
+    for (const Vec3& p : f.pixels) m = std::max(m, max_component(p));
+    return m;
+  };
+  ASSERT_GT(brightest(render_whole(cl, view_of(scene, kW, kH), off)), kLimit);
+  const Framebuffer a = render_whole(cpu, view_of(scene, kW, kH), on);
+  const Framebuffer b = render_whole(cl, view_of(scene, kW, kH), on);
+  EXPECT_LE(brightest(a), kLimit * (1 + 1e-6f));
+  EXPECT_LE(brightest(b), kLimit * (1 + 1e-6f));
+  size_t close = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      close += std::abs(a.pixels[i][c] - b.pixels[i][c]) <= 1e-3f * std::max(1.0f, a.pixels[i][c]);
+  const double fraction = double(close) / double(3 * a.pixels.size());
+  std::printf("same seed, --clamp %g: %.2f%% of channels within 1e-3\n", kLimit, 100 * fraction);
+  EXPECT_GE(fraction, 0.9);
+}
+
 // Irregular sampling: a per-pixel sample map (0 to 6 samples) is honoured the same way,
 // pixels without samples are black, and the sample count is reported exactly.
 TEST(OpenClMatch, SampleMapGivesNearlyTheCpuImage) {

@@ -77,6 +77,7 @@ class ClPathTracer : public ClKernelRunner {
     params_.view = cl_uint(view.view);
     params_.seed = cl_ulong(st.seed);
     params_.use_spp_map = view.spp_map ? 1 : 0;
+    params_.sample_clamp = st.sample_clamp;
     // As PathTracer::step's p_env.
     const float p_env = st.sample_environment ? sky_choice_ : 0.0f;
     params_.env_choice_eps = cl_f4(Vec3(p_env, 0.0f, 0.0f), ray_eps_);

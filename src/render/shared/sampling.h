@@ -1,6 +1,7 @@
-// Warping functions from [0,1)^2 to directions and points, with their densities, and the
-// inversion of a tabulated discrete distribution: one definition for the CPU's kernels
-// and the OpenCL path tracer. Written in render/shared/language.h's dialect.
+// Warping functions from [0,1)^2 to directions and points, with their densities, the
+// inversion of a tabulated discrete distribution and the clamp of a camera sample's
+// radiance: one definition for the CPU's kernels and the OpenCL path tracer. Written in
+// render/shared/language.h's dialect.
 #ifndef MULTIRAY_RENDER_SHARED_SAMPLING_H
 #define MULTIRAY_RENDER_SHARED_SAMPLING_H
 
@@ -66,6 +67,16 @@ MR_DEVICE mr_uint pick_cdf(const MR_GLOBAL float* cdf, mr_uint n, float u) {
 MR_DEVICE float power_heuristic(float pdf_a, float pdf_b) {
   const float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
   return a + b > 0.0f ? a / (a + b) : 0.0f;
+}
+
+// --clamp: one camera sample's radiance (the path's whole contribution, finite and
+// non-negative) scaled by limit / max component when that component exceeds `limit`, so
+// the sample keeps its hue; limit 0 (off) or a sample within it returns `L` unchanged, bit
+// for bit. Trades a bias (energy lost from the brightest paths, mostly caustics and small
+// bright emitters seen indirectly) for bounded fireflies; docs/noise.md has the figures.
+MR_DEVICE mr_float3 clamp_sample(mr_float3 L, float limit) {
+  const float m = mr_fmax(L.x, mr_fmax(L.y, L.z));
+  return limit > 0.0f && m > limit ? L * (limit / m) : L;
 }
 
 MR_NAMESPACE_END

@@ -54,10 +54,12 @@ typedef struct {
   mr_int use_spp_map;    // 148: 1: spp_map[i] samples for work-item i
   mr_uint has_tangents;  // 152: 1: `tangents` holds one entry per triangle (normal maps)
   mr_uint cutouts;       // 156: 1: some material has an alpha mode (mask or blend)
-} LaunchParams;          // 160
+  float sample_clamp;    // 160: RenderSettings::sample_clamp (0: off)
+  mr_uint pad[3];        // 164: unused, keeps the size a multiple of 16
+} LaunchParams;          // 176
 
 #ifdef MR_OPENCL_C
-typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 160 ? 1 : -1];
+typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 176 ? 1 : -1];
 #endif
 
 // clang-format off
@@ -102,7 +104,7 @@ inline constexpr const char* kRenderRectArgNames[] = {
     MR_RENDER_RECT_ARGS(MR_ARG_NAME, MR_ARG_COMMA)};
 static_assert(sizeof(kRenderRectArgNames) / sizeof(kRenderRectArgNames[0]) == MR_ARG_COUNT);
 
-static_assert(sizeof(LaunchParams) == 160);
+static_assert(sizeof(LaunchParams) == 176);
 static_assert(sizeof(CameraBlock) == 80);
 static_assert(offsetof(LaunchParams, camera) == 0);
 static_assert(offsetof(LaunchParams, env_choice_eps) == 80);
@@ -118,6 +120,7 @@ static_assert(offsetof(LaunchParams, light_count) == 144);
 static_assert(offsetof(LaunchParams, use_spp_map) == 148);
 static_assert(offsetof(LaunchParams, has_tangents) == 152);
 static_assert(offsetof(LaunchParams, cutouts) == 156);
+static_assert(offsetof(LaunchParams, sample_clamp) == 160);
 #endif
 
 #ifdef __cplusplus

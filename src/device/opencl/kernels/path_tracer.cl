@@ -170,7 +170,7 @@ __kernel REQD_GROUP_SIZE void render_rect(MR_RENDER_RECT_ARGS(MR_ARG_PARAM, MR_A
     ray.tmin = 0.0f;
     ray.tmax = INFINITY;
     const float3 L = trace_path(&sc, ray, &rng, p.max_bounces, p.rr_start, &count);
-    sum += finite3(L) ? L : (float3)(0.0f);
+    sum += clamp_sample(finite3(L) ? L : (float3)(0.0f), p.sample_clamp);
   }
   radiance[i] = samples > 0 ? (float4)(sum * (1.0f / (float)samples), 0.0f) : (float4)(0.0f);
   rays[i] = count;
