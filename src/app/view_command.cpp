@@ -84,11 +84,14 @@ Runner add_view_command(CLI::App& app) {
     if (!vo.bind.loopback)
       print_err("multiray: warning: --bind {}: anyone who reaches it can steer this run\n",
                 vo.bind.host);
-    print_out("multiray: viewer at {}  (Ctrl-C to stop)\n", vo.bind.url(view.port()));
-    std::fflush(stdout);
     int interrupted = 0;
     {
+      // Ctrl-C is watched before the address is printed: whoever reads the address may
+      // stop the viewer at once, and a SIGINT ignored or defaulted before the watch (a
+      // shell's background job inherits it ignored) would leave it running or kill it.
       InterruptWatch watch(*session);
+      print_out("multiray: viewer at {}  (Ctrl-C to stop)\n", vo.bind.url(view.port()));
+      std::fflush(stdout);
       const int count = *max_frames > 0 ? *max_frames : 1000000000;
       session->run(0, count, view);
       interrupted = watch.signal();
