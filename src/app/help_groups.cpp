@@ -27,7 +27,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& groups() {
        {"--out", "--overwrite", "--exr", "--exposure", "--tone", "--trace", "--quiet", "--json",
         "--report"}},
       {"Benchmark", {"--warmup", "--ideal-frames", "--repeats", "--probe-ms"}},
-      {"Viewer", {"--port", "--bind", "--max-clients", "--max-frames"}},
+      {"Viewer", {"--port", "--bind", "--max-clients", "--max-frames", "--frame-spp"}},
       {"Several machines (MPI)",
        {"--distributed", "--rank-devices", "--master-renders", "--rank-balancer",
         "--rank-same-direction", "--link", "--scene-from", "--worker-timeout"}},

@@ -1,5 +1,7 @@
 // `multiray view`: render continuously and watch (and steer) it in a browser
 // (app/viewer/live_view.h). Without civetweb the command says so in one line.
+#include <algorithm>
+
 #include <fmt/core.h>
 
 #include "app/commands.h"
@@ -26,6 +28,7 @@ Runner add_view_command(CLI::App& app) {
   auto max_clients = std::make_shared<int>(16);
   auto max_frames = std::make_shared<int>(0);
   auto exposure = std::make_shared<std::string>("auto");
+  auto frame_spp = std::make_shared<int>(1);
   auto tone = std::make_shared<std::string>("auto");
   cmd->add_option("--balancer", *balancer, "The balancer to start with (switchable in the page)")
       ->capture_default_str();
@@ -46,6 +49,12 @@ Runner add_view_command(CLI::App& app) {
                   "volumes: 0) or stops in [-20, 20]")
       ->capture_default_str();
   cmd->add_option("--tone", *tone, "Tone curve of the streamed frames: filmic, clamp or auto")
+      ->capture_default_str();
+  cmd->add_option("--frame-spp", *frame_spp,
+                  "Meshes: samples per pixel of each frame, 1..1024. While the camera stands "
+                  "still the page shows the mean of the frames since it stopped, refining to "
+                  "--spp; a move starts again from one frame (volumes: every frame as "
+                  "rendered)")
       ->capture_default_str();
   return [=]() -> int {
 #ifndef MULTIRAY_HAS_VIEWER
@@ -73,6 +82,12 @@ Runner add_view_command(CLI::App& app) {
       vo.display.exposure_ev = parse_exposure(*ev);
     }
     vo.display.tone = parse_tone(*tone, volume_input);
+    if (*frame_spp < 1 || *frame_spp > 1024) throw InputError("--frame-spp must be in 1..1024");
+    if (!volume_input) {  // progressive refinement (viewer/refinement.h)
+      vo.refine_spp = o->spp > 0 ? o->spp : o->mesh_spp;
+      vo.frame_spp = std::min(*frame_spp, vo.refine_spp);
+      o->spp = vo.frame_spp;
+    }
     Run s;
     int worker_exit = 0;  // view refuses --distributed above: never a worker
     std::vector<std::string> specs{*balancer};

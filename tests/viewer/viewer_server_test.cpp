@@ -57,6 +57,33 @@ TEST(ViewerServer, StreamsFramesAndFollowsCommands) {
   EXPECT_EQ(viewer.stop(), 128 + SIGINT);
 }
 
+// Progressive refinement (issue 33): each frame has --frame-spp samples; while the camera
+// stands, the page gets the mean of the frames since it stopped, up to --spp, and a move
+// starts again from one frame.
+TEST(ViewerServer, RefinesWhileStillAndStartsAgainOnAMove) {
+  mg_init_library(MG_FEATURES_WEBSOCKET);
+  multiray::testing::ViewerProcess viewer(
+      "--res 64x36 --spp 16 --frame-spp 1 --devices cpu:threads=1");
+  ASSERT_GT(viewer.port(), 0);
+  Client c(viewer.port());
+  ASSERT_TRUE(c.connected());
+  const auto converged = [](const nlohmann::json& j) {
+    return j.value("type", "") == "frame" && j.value("spp", 0) == 16;
+  };
+  const nlohmann::json still = c.wait(converged);
+  ASSERT_FALSE(still.is_null()) << "never refined to --spp";
+  EXPECT_EQ(still["refine_spp"], 16);
+  // Every frame has its own samples (so its own hash): the sign of a restart is a frame
+  // shown with fewer than --spp samples.
+  c.send(R"({"type":"orbit","dx":30,"dy":0})");
+  const nlohmann::json moved = c.wait([](const nlohmann::json& j) {
+    return j.value("type", "") == "frame" && j.value("spp", 16) < 16;
+  });
+  EXPECT_FALSE(moved.is_null()) << "a move did not start the refinement again";
+  EXPECT_FALSE(c.wait(converged).is_null()) << "did not refine again after the move";
+  EXPECT_EQ(viewer.stop(), 128 + SIGINT);
+}
+
 // Fuzz-style: malformed, out-of-range, oversized and random messages each get an error
 // reply (or are ignored), and the server keeps streaming frames afterwards.
 TEST(ViewerServer, SurvivesHostileMessages) {

@@ -27,6 +27,8 @@ LiveView::LiveView(Session& session, OrbitCamera camera, std::vector<std::string
       device_names_(std::move(device_names)),
       options_(std::move(options)),
       camera_(std::move(camera)) {
+  if (options_.refine_spp > 0)
+    refinement_ = std::make_unique<Refinement>(options_.frame_spp, options_.refine_spp);
   server_ = std::make_unique<WebServer>(
       options_.bind, options_.port, options_.max_clients, viewer_page(),
       [this] { return hello(); },
@@ -130,6 +132,29 @@ std::string LiveView::volume_command(const Command& c) {
   return "";
 }
 
+void LiveView::before_frame(int frame, const FrameInput& input) {
+  if (input.views.empty()) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  frame_cameras_[frame] = input.views.front().camera;
+}
+
+std::shared_ptr<const Framebuffer> LiveView::shown_image(const FrameResult& r, int view,
+                                                         int* samples) {
+  const Framebuffer& img = r.images.at(size_t(view));
+  // The camera the frame was begun with (set_camera may have moved it since).
+  const auto it = frame_cameras_.find(r.frame);
+  const bool known = it != frame_cameras_.end();
+  const RefineKey key{known ? it->second : Camera{}, view, 0};
+  frame_cameras_.erase(frame_cameras_.begin(), frame_cameras_.upper_bound(r.frame));
+  if (!refinement_ || !known) {
+    *samples = 0;  // shown as rendered
+    return std::make_shared<const Framebuffer>(img);
+  }
+  auto shown = std::make_shared<const Framebuffer>(refinement_->add(img, key));
+  *samples = refinement_->samples();
+  return shown;
+}
+
 void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
   Engine& engine = session_.engine(result->lane);
   std::string request;
@@ -137,6 +162,8 @@ void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (pending_) ++dropped_;
     pending_ = result;
+    pending_view_ = std::min(view_, int(result->images.size()) - 1);
+    pending_image_ = shown_image(*result, pending_view_, &pending_samples_);
     pending_balancer_ = engine.balancer().spec();  // the one that planned this frame
     request.swap(balancer_request_);
     if (target_request_ > 0)
@@ -149,8 +176,8 @@ void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
     engine.set_balancer(balance::make_balancer(request, int(engine.device_count())));
 }
 
-std::string LiveView::frame_json(const FrameResult& r, int view,
-                                 const std::string& balancer) const {
+std::string LiveView::frame_json(const FrameResult& r, int view, const std::string& balancer,
+                                 int samples) const {
   const FrameRecord& rec = r.record;
   nlohmann::json devices = nlohmann::json::array(), items = nlohmann::json::array();
   for (size_t d = 0; d < rec.devices.size(); ++d)
@@ -165,7 +192,7 @@ std::string LiveView::frame_json(const FrameResult& r, int view,
       if (it.view == view)
         items.push_back({d, int(it.rect.x0 * scale), int(it.rect.y0 * scale),
                          int(it.rect.x1 * scale), int(it.rect.y1 * scale)});
-  const Framebuffer& img = r.images.at(size_t(view));
+  const Framebuffer& img = r.images.at(size_t(view));  // as rendered (the hash's image)
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)image_hash(img));
   return dump_json(nlohmann::json{{"type", "frame"},
@@ -178,6 +205,8 @@ std::string LiveView::frame_json(const FrameResult& r, int view,
                                   {"imbalance", rec.imbalance},
                                   {"balancer", balancer},
                                   {"dropped", dropped_.load()},
+                                  {"spp", samples},
+                                  {"refine_spp", refinement_ ? refinement_->target_spp() : 0},
                                   {"devices", devices},
                                   {"items", items}},
                    -1);
@@ -186,18 +215,21 @@ std::string LiveView::frame_json(const FrameResult& r, int view,
 void LiveView::send_loop() {
   for (;;) {
     std::shared_ptr<const FrameResult> frame;
+    std::shared_ptr<const Framebuffer> shown;
     std::string balancer;
-    int view = 0;
+    int view = 0, samples = 0;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [&] { return stop_ || pending_; });
       if (stop_) return;
       frame.swap(pending_);
+      shown.swap(pending_image_);
       balancer = pending_balancer_;
-      view = std::min(view_, int(frame->images.size()) - 1);
+      view = pending_view_;
+      samples = pending_samples_;
     }
     if (server_->clients() == 0) continue;
-    const Framebuffer& img = frame->images.at(size_t(view));
+    const Framebuffer& img = *shown;
     if (options_.meter_exposure) {  // this thread alone reads and writes options_.display
       options_.display.exposure_ev = metered_exposure_ev(img);
       options_.meter_exposure = false;
@@ -210,7 +242,7 @@ void LiveView::send_loop() {
       continue;  // an empty image; nothing to show
     }
     server_->broadcast_frame(std::make_shared<const OutFrame>(
-        OutFrame{frame_json(*frame, view, balancer), std::move(jpeg)}));
+        OutFrame{frame_json(*frame, view, balancer, samples), std::move(jpeg)}));
   }
 }
 

@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "app/viewer/listen_address.h"
+#include "app/viewer/refinement.h"
 #include "app/viewer/view_control.h"
 #include "app/viewer/web_server.h"
 #include "core/image.h"
@@ -41,6 +43,11 @@ struct LiveViewOptions {
   // display.exposure_ev as given (--exposure auto).
   bool meter_exposure = false;
   int jpeg_quality = 85;
+  // Progressive refinement (refinement.h): the session renders `frame_spp` samples a frame
+  // and the page is shown the mean of the frames since the last change, up to
+  // `refine_spp`. 0: every frame is shown as rendered (volumes).
+  int frame_spp = 1;
+  int refine_spp = 0;
 };
 
 class LiveView : public FrameObserver {
@@ -50,6 +57,7 @@ class LiveView : public FrameObserver {
            LiveViewOptions options);
   ~LiveView();
 
+  void before_frame(int frame, const FrameInput& input) override;
   void on_frame(const std::shared_ptr<const FrameResult>& result) override;
   int port() const { return server_->port(); }
   // Frames the sender skipped because newer ones finished while it encoded.
@@ -63,7 +71,11 @@ class LiveView : public FrameObserver {
   // Volumes: a transfer function or target from the page; an error message or "".
   std::string volume_command(const Command& c);
   std::string hello() const;
-  std::string frame_json(const FrameResult& r, int view, const std::string& balancer) const;
+  std::string frame_json(const FrameResult& r, int view, const std::string& balancer,
+                         int samples) const;
+  // The image of `r`'s view `view` to show (refined, or as rendered) and its samples per
+  // pixel; on the session's thread, under mutex_.
+  std::shared_ptr<const Framebuffer> shown_image(const FrameResult& r, int view, int* samples);
 
   Session& session_;
   std::vector<std::string> device_names_;
@@ -73,6 +85,10 @@ class LiveView : public FrameObserver {
   std::mutex mutex_;  // guards the fields below
   std::condition_variable wake_;
   std::shared_ptr<const FrameResult> pending_;
+  std::shared_ptr<const Framebuffer> pending_image_;  // what to show of pending_
+  int pending_view_ = 0, pending_samples_ = 0;
+  std::map<int, Camera> frame_cameras_;  // frames begun and not yet finished
+  std::unique_ptr<Refinement> refinement_;
   std::string pending_balancer_;  // the spec that planned pending_
   double target_request_ = 0;     // ms; 0: none pending
   std::mutex volume_mutex_;       // VolumeRun is used from the session's and civetweb's threads

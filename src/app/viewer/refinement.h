@@ -1,0 +1,49 @@
+// Progressive refinement for the live viewer (issue 33, "interactive at any frame rate"):
+// the session renders every frame with few samples (`frame_spp`), so moving the camera
+// stays fluid, and while nothing changes the viewer shows the mean of the frames rendered
+// so far, which converges to a `target_spp` image and then stands. Each frame's samples
+// are seeded by the frame index too, so successive frames of one camera are independent
+// samples of the same image and their mean is an image of their summed samples.
+// Pure: images in, image out; no server, no session.
+#pragma once
+
+#include "core/image.h"
+#include "scene/scene.h"
+
+namespace multiray::app::viewer {
+
+// What decides a frame's image apart from its samples. Frames are averaged only while it
+// stays the same. The balancer is not in it: the split never changes the pixels.
+struct RefineKey {
+  Camera camera;
+  int view = 0;
+  int generation = 0;  // bumped by anything else that changes the image (a style)
+  bool operator==(const RefineKey& o) const;
+};
+
+class Refinement {
+ public:
+  // `frame_spp` samples per pixel in each frame, `target_spp` the image to converge to;
+  // both at least 1 (smaller values are taken as 1). With frame_spp >= target_spp the
+  // first frame under a key is already converged and stands.
+  Refinement(int frame_spp, int target_spp);
+
+  // The image to show after a frame rendered under `key`: the mean of this frame and the
+  // earlier ones under the same key, as long as their samples stay within target_spp;
+  // once it is reached, the converged image (later frames under that key add nothing).
+  // A different key starts again from this frame.
+  const Framebuffer& add(const Framebuffer& image, const RefineKey& key);
+
+  // Samples per pixel of the image add() returned last.
+  int samples() const { return frames_ * frame_spp_; }
+  int target_spp() const { return target_spp_; }
+
+ private:
+  int frame_spp_, target_spp_;
+  RefineKey key_;
+  int frames_ = 0;
+  std::vector<Vec3> sum_;  // the frames' radiance summed, per pixel
+  Framebuffer mean_;
+};
+
+}  // namespace multiray::app::viewer

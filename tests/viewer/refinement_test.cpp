@@ -1,0 +1,52 @@
+// Progressive refinement (app/viewer/refinement.h): while the key stands, the shown image
+// is the mean of the frames so far, up to the target's samples; a change starts again.
+#include <gtest/gtest.h>
+
+#include "app/viewer/refinement.h"
+
+namespace refinement_test {
+
+using multiray::Camera;
+using multiray::Framebuffer;
+using multiray::Vec3;
+using multiray::app::viewer::RefineKey;
+using multiray::app::viewer::Refinement;
+
+Framebuffer flat(float v) {
+  Framebuffer fb(4, 2);
+  for (Vec3& p : fb.pixels) p = Vec3(v, 2 * v, 0);
+  return fb;
+}
+
+TEST(Refinement, AStillCameraShowsTheMeanOfItsFramesUpToTheTarget) {
+  Refinement r(2, 6);  // three frames of 2 spp make the 6-spp image
+  const RefineKey key{Camera{}, 0, 0};
+  EXPECT_EQ(r.add(flat(3), key).pixels[0].x, 3.0f);
+  EXPECT_EQ(r.samples(), 2);
+  EXPECT_EQ(r.add(flat(5), key).pixels[5].y, 8.0f);  // mean of 6 and 10
+  EXPECT_EQ(r.add(flat(7), key).pixels[0].x, 5.0f);
+  EXPECT_EQ(r.samples(), 6);
+  // Converged: further frames of the same view add nothing.
+  EXPECT_EQ(r.add(flat(100), key).pixels[0].x, 5.0f);
+  EXPECT_EQ(r.samples(), 6);
+}
+
+TEST(Refinement, AnyChangeStartsAgainFromOneFrame) {
+  Refinement r(1, 16);
+  RefineKey key{Camera{}, 0, 0};
+  r.add(flat(1), key);
+  r.add(flat(3), key);
+  EXPECT_EQ(r.samples(), 2);
+  key.camera.eye.x += 0.001f;  // the camera moved
+  EXPECT_EQ(r.add(flat(9), key).pixels[0].x, 9.0f);
+  EXPECT_EQ(r.samples(), 1);
+  key.view = 1;  // another view of a light field
+  EXPECT_EQ(r.add(flat(4), key).pixels[0].x, 4.0f);
+  key.generation = 1;  // anything else that changes the image
+  EXPECT_EQ(r.add(flat(2), key).pixels[0].x, 2.0f);
+  Framebuffer larger(8, 2);  // the frame's size changed
+  EXPECT_EQ(r.add(larger, key).width, 8);
+  EXPECT_EQ(r.samples(), 1);
+}
+
+}  // namespace refinement_test
