@@ -25,8 +25,9 @@ void print_row(const std::string& type, const std::string& name, unsigned units,
 // `multiray devices --devices SPEC [--scene FILE]`: builds each listed device on the
 // scene and prints the representation it renders from and its size (issue: memory per
 // device), with the scene's full-precision and compact sizes by part.
-int report_scene_memory(const std::string& scene_path, const std::string& devices) {
-  const SceneMemory m = scene_memory(scene_path, devices);
+int report_scene_memory(const std::string& scene_path, const std::string& devices,
+                        double max_memory) {
+  const SceneMemory m = scene_memory(scene_path, devices, max_memory);
   print_out("scene {}: {} triangles, {} vertices\n", m.scene_name, m.triangles, m.vertices);
   if (m.has_triangles) {
     const uint64_t full = m.full_mesh + m.full_structure;
@@ -62,8 +63,14 @@ Runner add_devices_command(CLI::App& app) {
                   "cpu,cpu:compact=1,opencl:0:compact=1:mem=256M)");
   cmd->add_option("--scene", *scene, "Mesh file for --devices (default: the Cornell box)")
       ->check(CLI::ExistingFile);
-  return [devices, scene]() -> int {
-    if (!devices->empty()) return report_scene_memory(*scene, *devices);
+  auto max_memory = std::make_shared<std::string>("auto");
+  cmd->add_option("--max-memory", *max_memory,
+                  "With --scene: refuse a scene estimated to need more memory than this: auto "
+                  "(half of physical memory) or a size such as 8G or 512M")
+      ->capture_default_str();
+  return [devices, scene, max_memory]() -> int {
+    if (!devices->empty())
+      return report_scene_memory(*scene, *devices, parse_memory_limit(*max_memory));
     const Offer offer = offered_devices();
     print_out("{:<8} {:<40} {:>6} {:>9}  {}\n", "type", "name", "units", "memory", "spec");
     for (const OfferedDevice& d : offer.devices)

@@ -7,10 +7,12 @@
 
 #include <fmt/core.h>
 
+#include "core/error.h"
 #include "device/device_factory.h"
 #include "render/compact_scene.h"
 #include "render/kernel.h"
 #include "render/scene_cache.h"
+#include "run/run.h"
 #include "scene/builders.h"
 #include "scene/loaders.h"
 #include "volume/transfer_function.h"
@@ -64,8 +66,19 @@ Offer offered_devices() {
   return offer;
 }
 
-SceneMemory scene_memory(const std::string& scene_path, const std::string& devices) {
-  const Scene scene = scene_path.empty() ? make_cornell_box() : load_scene(scene_path);
+SceneMemory scene_memory(const std::string& scene_path, const std::string& devices,
+                         double max_memory) {
+  RunConfig o;
+  o.scene_path = scene_path;
+  const double need = estimate_memory(o, 0, 0, 0, 1).total();  // the scene alone
+  const auto parts = [need](double images) {
+    return fmt::format("{:.1f} GB of scene", need / 1e9) +
+           (images > 0 ? fmt::format(", {:.1f} GB of decoded images", images / 1e9) : "");
+  };
+  if (need > max_memory) throw InputError(memory_refusal(need, parts(0), max_memory));
+  const Scene scene = scene_path.empty()
+                          ? make_cornell_box()
+                          : load_scene(scene_path, memory_guarded_load(need, max_memory, parts));
   SceneCache cache(scene);
   SceneMemory m;
   m.scene_name = scene_path.empty() ? scene.name : scene_path;

@@ -52,6 +52,11 @@ struct SceneMemory {
   uint64_t full_mesh = 0, full_structure = 0, compact_mesh = 0, compact_structure = 0;
   std::vector<DeviceInfo> devices;
 };
-SceneMemory scene_memory(const std::string& scene_path, const std::string& devices);
+// Loads `scene_path` (empty: the Cornell box) within `max_memory` bytes (estimated from
+// the file before loading, images charged from their headers, assimp's formats tried in a
+// child first: run/run.h memory_guarded_load) and builds `devices` on it. InputError when
+// it would pass the limit.
+SceneMemory scene_memory(const std::string& scene_path, const std::string& devices,
+                         double max_memory);
 
 }  // namespace multiray

@@ -81,6 +81,22 @@ MemoryEstimate estimate_memory(const RunConfig& o, int views, int width, int hei
   return m;
 }
 
+LoadOptions memory_guarded_load(double need, double limit,
+                                const std::function<std::string(double images)>& parts) {
+  LoadOptions load;
+  load.parser_memory_limit = uint64_t(std::max(limit - need, 64.0 * (1 << 20)));
+  // Textures and environment maps are charged from their headers, before they are decoded
+  // (a 275 KB PNG may decode to 1 GB): what each keeps, and what decoding it takes besides.
+  load.reserve_image = [need, limit, parts, kept = std::make_shared<double>(0)](
+                           const std::string& what, uint64_t keep, uint64_t transient) {
+    const double images = *kept + double(keep) + double(transient);
+    if (need + images > limit)
+      throw InputError(what + ": " + memory_refusal(need + images, parts(images), limit));
+    *kept += double(keep);
+  };
+  return load;
+}
+
 namespace {
 // The kernel the options ask for (by default the one the scene type needs), checked
 // against the scene type before anything loads.
@@ -247,18 +263,8 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   };
   if (need.total() > limit) throw InputError(memory_refusal(need.total(), parts(0), limit));
   if (before_load) before_load();
-  LoadOptions load;
+  LoadOptions load = memory_guarded_load(need.total(), limit, parts);
   load.allow_outside = o.allow_outside_paths;
-  load.parser_memory_limit = uint64_t(std::max(limit - need.total(), 64.0 * (1 << 20)));
-  // Textures and environment maps are charged from their headers, before they are decoded
-  // (a 275 KB PNG may decode to 1 GB): what each keeps, and what decoding it takes besides.
-  load.reserve_image = [need, limit, parts, kept = std::make_shared<double>(0)](
-                           const std::string& what, uint64_t keep, uint64_t transient) {
-    const double images = *kept + double(keep) + double(transient);
-    if (need.total() + images > limit)
-      throw InputError(what + ": " + memory_refusal(need.total() + images, parts(images), limit));
-    *kept += double(keep);
-  };
   const bool sent = s.cluster && o.distributed.scene_from == "master";
   if (sent && !s.cluster->master()) {
     s.scene = std::make_unique<Scene>(s.cluster->receive_scene());

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/scene_files.h"
 #include "distributed/cluster.h"
 #include "engine/frame_views.h"
 #include "engine/session.h"
@@ -75,6 +76,12 @@ double parse_memory_limit(const std::string& text);
 // about 51.5 GB (<parts>), more than the 12.6 GB allowed (--max-memory; default: half of
 // physical memory)". `need` and `limit` in bytes; `parts` says what the estimate holds.
 std::string memory_refusal(double need, const std::string& parts, double limit);
+// Loader options that keep a load within `limit` bytes when `need` are already counted:
+// assimp's formats are read first in a child under the rest (parser_memory_limit), and each
+// decoded image is charged from its header before it is decoded (reserve_image), refused
+// with memory_refusal(..., parts(images), limit) once it would pass the limit.
+LoadOptions memory_guarded_load(double need, double limit,
+                                const std::function<std::string(double images)>& parts);
 
 // A worker rank of a distributed run (s.cluster, not the master): serves the master over
 // s.devices until it says quit; returns the exit code.

@@ -248,6 +248,17 @@ TEST(Cli, ZUpFormatsWithoutAnAxisGetAHint) {
   EXPECT_THAT(given.out, ::testing::Not(::testing::HasSubstr("--up z")));
 }
 
+// `devices --devices ... --scene FILE` reports each device's scene memory, within
+// --max-memory like render: the scene is estimated before it loads and refused in one line.
+TEST(Cli, DevicesOnASceneStayWithinMaxMemory) {
+  const std::string obj =
+      temp_file("devices_scene.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");
+  const Result ok = run("devices --devices cpu,cpu:compact=1 --scene " + obj);
+  ASSERT_EQ(ok.code, 0) << ok.out;
+  EXPECT_THAT(ok.out, ::testing::HasSubstr("compact"));
+  expect_input_error("devices --devices cpu --scene " + obj + " --max-memory 100", "--max-memory");
+}
+
 TEST(Cli, BadSceneFiles) {
   expect_input_error("render /nonexistent/scene.obj --res 8x8", "scene.obj");
   expect_input_error("render " + temp_file("bad.xyz", "hello") + " --res 8x8", "bad.xyz");
