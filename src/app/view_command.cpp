@@ -29,6 +29,7 @@ Runner add_view_command(CLI::App& app) {
   auto max_frames = std::make_shared<int>(0);
   auto exposure = std::make_shared<std::string>("auto");
   auto frame_spp = std::make_shared<int>(1);
+  auto move_scale = std::make_shared<double>(0.5);
   auto tone = std::make_shared<std::string>("auto");
   cmd->add_option("--balancer", *balancer, "The balancer to start with (switchable in the page)")
       ->capture_default_str();
@@ -55,6 +56,11 @@ Runner add_view_command(CLI::App& app) {
                   "still the page shows the mean of the frames since it stopped, refining to "
                   "--spp; a move starts again from one frame (volumes: every frame as "
                   "rendered)")
+      ->capture_default_str();
+  cmd->add_option("--move-scale", *move_scale,
+                  "Meshes with uniform sampling: while the camera moves, frames are rendered at "
+                  "this scale of the image's width and height, in [0.1, 1], and upsampled "
+                  "(1: full size always)")
       ->capture_default_str();
   return [=]() -> int {
 #ifndef MULTIRAY_HAS_VIEWER
@@ -88,6 +94,11 @@ Runner add_view_command(CLI::App& app) {
       vo.frame_spp = std::min(*frame_spp, vo.refine_spp);
       o->spp = vo.frame_spp;
     }
+    if (!(*move_scale >= 0.1 && *move_scale <= 1.0))
+      throw InputError("--move-scale must be in [0.1, 1] (1: full size while moving)");
+    // A reduced scale needs the uniform sampling of meshes (the engine's image scale does
+    // not apply to sample maps); volumes have frame-time targeting instead.
+    if (!volume_input && o->sampling == "uniform") vo.move_scale = *move_scale;
     Run s;
     int worker_exit = 0;  // view refuses --distributed above: never a worker
     std::vector<std::string> specs{*balancer};

@@ -1,7 +1,12 @@
 // Progressive refinement (app/viewer/refinement.h): while the key stands, the shown image
 // is the mean of the frames so far, up to the target's samples; a change starts again.
+// And smaller frames while the camera moves (app/viewer/motion.h).
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <memory>
+
+#include "app/viewer/motion.h"
 #include "app/viewer/refinement.h"
 
 namespace refinement_test {
@@ -50,3 +55,27 @@ TEST(Refinement, AnyChangeStartsAgainFromOneFrame) {
 }
 
 }  // namespace refinement_test
+
+namespace motion_test {
+
+using multiray::app::viewer::kMotionHoldSeconds;
+using multiray::app::viewer::MotionAdvisor;
+using multiray::app::viewer::MotionClock;
+
+// A move lasts kMotionHoldSeconds after the last camera message; meanwhile the advisor
+// asks for the reduced scale, then for full size again.
+TEST(Motion, FramesAreSmallerOnlyWhileTheCameraMoves) {
+  auto clock = std::make_shared<MotionClock>();
+  const auto t0 = MotionClock::Clock::now();
+  EXPECT_FALSE(clock->moving(t0)) << "moving before any move";
+  clock->moved(t0);
+  EXPECT_TRUE(clock->moving(t0 + std::chrono::milliseconds(100)));
+  EXPECT_FALSE(clock->moving(t0 + std::chrono::milliseconds(int(kMotionHoldSeconds * 1000) + 50)));
+  MotionAdvisor advisor(clock, 0.5);
+  clock->moved();
+  EXPECT_EQ(advisor.advise(0, {}, {}).quality.image_scale, 0.5);
+  clock->moved(MotionClock::Clock::now() - std::chrono::seconds(1));
+  EXPECT_EQ(advisor.advise(1, {}, {}).quality.image_scale, 1.0);
+}
+
+}  // namespace motion_test

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <random>
 #include <string>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -68,7 +69,8 @@ TEST(ViewerServer, RefinesWhileStillAndStartsAgainOnAMove) {
   Client c(viewer.port());
   ASSERT_TRUE(c.connected());
   const auto converged = [](const nlohmann::json& j) {
-    return j.value("type", "") == "frame" && j.value("spp", 0) == 16;
+    return j.value("type", "") == "frame" && j.value("spp", 0) == 16 &&
+           j.value("image_scale", 0.0) == 1.0;
   };
   const nlohmann::json still = c.wait(converged);
   ASSERT_FALSE(still.is_null()) << "never refined to --spp";
@@ -80,6 +82,18 @@ TEST(ViewerServer, RefinesWhileStillAndStartsAgainOnAMove) {
     return j.value("type", "") == "frame" && j.value("spp", 16) < 16;
   });
   EXPECT_FALSE(moved.is_null()) << "a move did not start the refinement again";
+  // While the camera moves, frames are rendered at --move-scale (default 0.5).
+  nlohmann::json smaller;
+  for (int i = 0; i < 100 && smaller.is_null(); ++i) {
+    c.send(R"({"type":"orbit","dx":1,"dy":0})");
+    smaller = c.wait(
+        [](const nlohmann::json& j) {
+          return j.value("type", "") == "frame" && j.value("image_scale", 1.0) == 0.5;
+        },
+        std::chrono::seconds(0));
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_FALSE(smaller.is_null()) << "no frame at --move-scale while the camera moved";
   EXPECT_FALSE(c.wait(converged).is_null()) << "did not refine again after the move";
   EXPECT_EQ(viewer.stop(), 128 + SIGINT);
 }

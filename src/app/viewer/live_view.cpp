@@ -29,6 +29,12 @@ LiveView::LiveView(Session& session, OrbitCamera camera, std::vector<std::string
       camera_(std::move(camera)) {
   if (options_.refine_spp > 0)
     refinement_ = std::make_unique<Refinement>(options_.frame_spp, options_.refine_spp);
+  if (options_.move_scale < 1.0) {
+    motion_ = std::make_shared<MotionClock>();
+    session_.set_advisors([clock = motion_, scale = options_.move_scale](size_t) {
+      return std::make_unique<MotionAdvisor>(clock, scale);
+    });
+  }
   server_ = std::make_unique<WebServer>(
       options_.bind, options_.port, options_.max_clients, viewer_page(),
       [this] { return hello(); },
@@ -91,6 +97,7 @@ void LiveView::handle(int client, const std::string& text) {
       view_ = c.view;
     return;
   }
+  if (motion_) motion_->moved();
   std::lock_guard<std::mutex> lock(camera_mutex_);
   if (c.kind == Command::Kind::Orbit)
     camera_.orbit(c.x, c.y);
@@ -206,6 +213,7 @@ std::string LiveView::frame_json(const FrameResult& r, int view, const std::stri
                                   {"balancer", balancer},
                                   {"dropped", dropped_.load()},
                                   {"spp", samples},
+                                  {"image_scale", rec.quality.image_scale},
                                   {"refine_spp", refinement_ ? refinement_->target_spp() : 0},
                                   {"devices", devices},
                                   {"items", items}},

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "app/viewer/listen_address.h"
+#include "app/viewer/motion.h"
 #include "app/viewer/refinement.h"
 #include "app/viewer/view_control.h"
 #include "app/viewer/web_server.h"
@@ -48,6 +49,8 @@ struct LiveViewOptions {
   // `refine_spp`. 0: every frame is shown as rendered (volumes).
   int frame_spp = 1;
   int refine_spp = 0;
+  // Image scale of frames begun while the camera moves (motion.h); 1: full size always.
+  double move_scale = 1.0;
 };
 
 class LiveView : public FrameObserver {
@@ -89,9 +92,10 @@ class LiveView : public FrameObserver {
   int pending_view_ = 0, pending_samples_ = 0;
   std::map<int, Camera> frame_cameras_;  // frames begun and not yet finished
   std::unique_ptr<Refinement> refinement_;
-  std::string pending_balancer_;  // the spec that planned pending_
-  double target_request_ = 0;     // ms; 0: none pending
-  std::mutex volume_mutex_;       // VolumeRun is used from the session's and civetweb's threads
+  std::shared_ptr<MotionClock> motion_;  // null: frames at full size while moving
+  std::string pending_balancer_;         // the spec that planned pending_
+  double target_request_ = 0;            // ms; 0: none pending
+  std::mutex volume_mutex_;  // VolumeRun is used from the session's and civetweb's threads
   std::shared_ptr<const VolumeStyle> style_override_;  // the page's transfer function
   std::string balancer_request_;
   int view_ = 0;
