@@ -5,6 +5,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "app/stats_json.h"
@@ -56,7 +57,8 @@ class Renderer {
     const int n = count.value_or(config_.frames);
     if (n < 0) throw py::value_error("render: frames must be 0 or more, not " + std::to_string(n));
     std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
-    if (!busy.owns_lock()) throw py::value_error("this Renderer is rendering in another thread");
+    if (!busy.owns_lock())
+      throw std::runtime_error("this Renderer is rendering in another thread");
     Collector collector(*session_);
     {
       py::gil_scoped_release release;

@@ -1,4 +1,7 @@
 """multiray.render and multiray.Renderer against the CLI's `render`."""
+import signal
+import subprocess
+import sys
 import threading
 import time
 
@@ -63,3 +66,28 @@ def test_gil_released_while_rendering():
     assert end - start > 0.05, "the render was too short to tell"
     inside = [t for t in ticks if start + 0.02 < t < end - 0.02]
     assert len(inside) >= 3, f"{len(inside)} ticks in a {end - start:.3f} s render"
+
+
+CHILD = """
+import signal, sys, multiray
+signal.signal(signal.SIGINT, signal.default_int_handler)  # inherited ignored in background jobs
+r = multiray.Renderer(res="32x18", spp=1, devices="cpu:threads=1")
+print("start", flush=True)
+try:
+    r.render(10**6)
+except KeyboardInterrupt:
+    print("interrupted", r.next_frame, flush=True)
+"""
+
+
+def test_ctrl_c_stops_a_render_between_frames():
+    child = subprocess.Popen([sys.executable, "-c", CHILD], stdout=subprocess.PIPE, text=True)
+    try:
+        assert child.stdout.readline().strip() == "start"
+        time.sleep(0.3)
+        child.send_signal(signal.SIGINT)
+        out, _ = child.communicate(timeout=30)
+    finally:
+        child.kill()
+    assert out.startswith("interrupted"), out
+    assert child.returncode == 0
