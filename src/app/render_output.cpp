@@ -83,15 +83,7 @@ void RenderOutput::on_frame(const std::shared_ptr<const FrameResult>& r) {
         "-> {}\n",
         r->frame, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
         100.0 * rec.imbalance, adapted, holes, shown);
-  nlohmann::json record = frame_to_json(rec);
-  record["sampling_ms"] = r->sampling_ms;
-  if (r->reprojection)
-    record["reprojection"] =
-        reprojection_to_json(r->reprojection->references, r->reprojection->hole_fraction());
-  uint64_t hash = 0xcbf29ce484222325ull;
-  for (const Framebuffer& img : r->images) hash = image_hash(img, hash);
-  record["image_hash"] = fmt::format("{:016x}", hash);
-  records_.add(record);
+  records_.add(frame_result_to_json(*r));
   if (trace_) trace_->frame(r->stats);
   counters_.samples += samples;
   counters_.frame_us += uint64_t(std::max(0.0, rec.frame_ms) * 1e3);

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 
+#include <fmt/core.h>
+
 #include "core/error.h"
+#include "engine/session.h"
 #include "run/run.h"
 #include "util/utf8.h"
 
@@ -101,6 +104,18 @@ nlohmann::json settings_to_json(const RunConfig& o, const Run& s,
 nlohmann::json reprojection_to_json(const std::vector<uint32_t>& reference_views,
                                     double hole_fraction) {
   return {{"reference_views", reference_views}, {"hole_fraction", hole_fraction}};
+}
+
+nlohmann::json frame_result_to_json(const FrameResult& r) {
+  nlohmann::json record = frame_to_json(r.record);
+  record["sampling_ms"] = r.sampling_ms;
+  if (r.reprojection)
+    record["reprojection"] =
+        reprojection_to_json(r.reprojection->references, r.reprojection->hole_fraction());
+  uint64_t hash = 0xcbf29ce484222325ull;
+  for (const Framebuffer& img : r.images) hash = image_hash(img, hash);
+  record["image_hash"] = fmt::format("{:016x}", hash);
+  return record;
 }
 
 nlohmann::json frame_to_json(const FrameRecord& rec) {

@@ -1,0 +1,43 @@
+// The pieces of the `multiray` Python module (module.cpp declares it): conversions between
+// multiray's values and Python's, the keyword arguments of a render, and the Renderer.
+#pragma once
+
+#include <string>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>  // std::optional, std::vector arguments and results
+#include <nlohmann/json.hpp>
+
+#include "core/image.h"
+#include "run/run_config.h"
+
+namespace multiray::python {
+
+namespace py = pybind11;
+
+// A JSON document as plain Python data (dict, list, str, int, float, bool, None), through
+// json.loads of its text: exactly the values stats.json would hold.
+py::object to_python(const nlohmann::json& doc);
+
+// A view as a new H×W×3 float32 array (linear radiance, row 0 at the top), a copy: the
+// array does not keep the session's buffers alive.
+py::array_t<float> to_numpy(const Framebuffer& fb);
+// An H×W×3 array of float32 (any strides) as a Framebuffer; TypeError/ValueError otherwise.
+Framebuffer from_numpy(const py::array& image);
+
+// The settings of a render, from keyword arguments named as the CLI's options with '_'
+// for '-' (res, spp, frames, devices, balancer, seed, camera, camera_path, ...; the scene
+// as `scene`). Values are checked by build_run as the CLI's are; here only their Python
+// types: TypeError for an unknown name or a value of the wrong type.
+struct RenderArgs {
+  RunConfig config;
+  std::string balancer = "hybrid";
+};
+RenderArgs parse_render_kwargs(const py::kwargs& kwargs, const char* caller);
+// The names parse_render_kwargs takes, for help texts.
+std::string render_kwarg_names();
+
+void bind_renderer(py::module_& m);
+
+}  // namespace multiray::python

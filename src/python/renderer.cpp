@@ -1,0 +1,137 @@
+// multiray.Renderer and multiray.render(): a run built from keyword arguments as the CLI's
+// `render` builds it from its options (run/run.h build_run, Run::make_session), frames
+// rendered by the same Session, handed to Python as NumPy arrays and stats.json's
+// per-frame records. The GIL is released while a scene loads and while frames render.
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include "app/stats_json.h"
+#include "engine/session.h"
+#include "python/bindings.h"
+#include "run/parse_options.h"
+#include "run/run.h"
+
+namespace multiray::python {
+
+namespace {
+
+// Keeps the finished frames (the session then renders into other buffers) and, between
+// frames, lets Python handle its signals: a Ctrl-C stops the run after the frame.
+class Collector : public FrameObserver {
+ public:
+  explicit Collector(Session& session) : session_(session) {}
+  void on_frame(const std::shared_ptr<const FrameResult>& result) override {
+    frames.push_back(result);
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) {
+      interrupted = true;  // the exception stays set for the caller to raise
+      session_.request_stop();
+    }
+  }
+  std::vector<std::shared_ptr<const FrameResult>> frames;
+  bool interrupted = false;
+
+ private:
+  Session& session_;
+};
+
+class Renderer {
+ public:
+  explicit Renderer(const py::kwargs& kwargs) {
+    RenderArgs args = parse_render_kwargs(kwargs, "Renderer");
+    config_ = args.config;
+    if (config_.distributed.enabled)
+      throw py::value_error("the Python module renders on this machine's devices only");
+    std::vector<std::string> specs{apply_mapping(args.balancer, config_.mapping, "--balancer")};
+    py::gil_scoped_release release;
+    run_ = std::make_unique<Run>(build_run(config_, 1));
+    session_ = run_->make_session(specs, "--balancer");
+  }
+
+  // Renders `count` frames (default: the `frames` argument) after those already rendered,
+  // as a list of {"frame", "image" (view 0), "views" (every view), "stats"} dicts.
+  py::list render(std::optional<int> count) {
+    const int n = count.value_or(config_.frames);
+    if (n < 0) throw py::value_error("render: frames must be 0 or more, not " + std::to_string(n));
+    std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
+    if (!busy.owns_lock())
+      throw std::runtime_error("this Renderer is rendering in another thread");
+    Collector collector(*session_);
+    {
+      py::gil_scoped_release release;
+      next_frame_ += session_->run(next_frame_, n, collector);
+    }
+    if (collector.interrupted) throw py::error_already_set();
+    py::list out;
+    for (const auto& r : collector.frames) {
+      py::list views;
+      for (const Framebuffer& view : r->images) views.append(to_numpy(view));
+      py::dict frame;
+      frame["frame"] = r->frame;
+      frame["image"] = views[0];
+      frame["views"] = views;
+      frame["stats"] = to_python(app::frame_result_to_json(*r));
+      out.append(frame);
+    }
+    return out;
+  }
+
+  // The camera of the following frames ("ex,ey,ez,tx,ty,tz,ux,uy,uz,fov", as --camera), or
+  // None: back to the camera path.
+  void set_camera(const std::optional<std::string>& camera) {
+    session_->set_camera(camera ? std::optional<Camera>(parse_camera(*camera)) : std::nullopt);
+  }
+
+  py::object devices() const { return to_python(app::devices_to_json(run_->devices)); }
+  py::object balancer() const { return to_python(session_->engine(0).balancer().spec()); }
+  std::vector<std::string> notes() const { return run_->notes; }
+  int next_frame() const { return next_frame_; }
+  std::string scene() const { return run_->scene->name; }
+
+ private:
+  RunConfig config_;
+  std::unique_ptr<Run> run_;  // before session_: the session uses its devices
+  std::unique_ptr<Session> session_;
+  int next_frame_ = 0;
+  std::mutex busy_;
+};
+
+}  // namespace
+
+void bind_renderer(py::module_& m) {
+  const std::string names = render_kwarg_names();
+  py::class_<Renderer>(m, "Renderer",
+                       ("A scene loaded and its devices made, as `multiray render` does, "
+                        "ready to render frames. Keyword arguments are the CLI's options with "
+                        "'_' for '-': " +
+                        names + ". Bad values raise ValueError with the CLI's message.")
+                           .c_str())
+      .def(py::init<const py::kwargs&>())
+      .def("render", &Renderer::render, py::arg("frames") = py::none(),
+           "Render `frames` more frames (default: the `frames` argument); a list of dicts "
+           "{'frame', 'image' (H×W×3 float32, linear), 'views', 'stats'}.")
+      .def("set_camera", &Renderer::set_camera, py::arg("camera"),
+           "The camera of the next frames, 'ex,ey,ez,tx,ty,tz,ux,uy,uz,fov', or None for the "
+           "camera path.")
+      .def_property_readonly("devices", &Renderer::devices)
+      .def_property_readonly("balancer", &Renderer::balancer)
+      .def_property_readonly("notes", &Renderer::notes)
+      .def_property_readonly("scene", &Renderer::scene)
+      .def_property_readonly("next_frame", &Renderer::next_frame);
+  m.def(
+      "render",
+      [](const py::kwargs& kwargs) {
+        Renderer r(kwargs);
+        return r.render(std::nullopt);
+      },
+      ("Render as `multiray render` does and return the frames: a list of dicts {'frame', "
+       "'image' (H×W×3 float32, linear radiance), 'views' (every view), 'stats' (stats.json's "
+       "record of the frame)}. Keyword arguments: " +
+       names + ".")
+          .c_str());
+}
+
+}  // namespace multiray::python
