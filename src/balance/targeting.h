@@ -1,4 +1,4 @@
-// Frame-time targeting (Bruder, Frey & Ertl 2017, §5): choose each frame's quality so
+// Frame-time targeting (Bruder, Frey & Ertl 2017, §6.1): choose each frame's quality so
 // that it takes a user's target time. Quality is one number, the cost factor c in
 // [min_cost, 1] (1 = full quality): the share of the full-quality work the frame does,
 // spent in ray space (a longer step: step_scale = 1/c), image space (fewer pixels:

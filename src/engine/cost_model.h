@@ -1,4 +1,4 @@
-// The learned half of Bruder, Frey & Ertl's hybrid cost model (2017, §4.2): a device's
+// The learned half of Bruder, Frey & Ertl's hybrid cost model (2017, §5.1): a device's
 // cost per volume sample, sigma (ms), as a smooth function of features of the frame,
 // learned online by kernel recursive least squares (Engel, Mannor & Meir 2004) with an
 // RBF kernel — dlib's krls, as the paper uses. Trained after every frame; predicting costs
