@@ -35,6 +35,16 @@ using testing::ZSummary;
 
 constexpr int kW = testing::kMatchW, kH = testing::kMatchH;
 
+// The share of channels of `b` within 1e-3 (relative above 1) of `a`'s: how nearly two
+// renders with the same seed agree.
+double share_within_1e3(const Framebuffer& a, const Framebuffer& b) {
+  size_t close = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      close += std::abs(a.pixels[i][c] - b.pixels[i][c]) <= 1e-3f * std::max(1.0f, a.pixels[i][c]);
+  return double(close) / double(3 * a.pixels.size());
+}
+
 // The Cornell box: Lambert, a rough GGX conductor, one area light.
 TEST(OpenClMatch, CornellBoxMatchesCpuStatistically) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
@@ -90,11 +100,7 @@ TEST(OpenClMatch, SameSeedGivesNearlyTheCpuImage) {
   const RenderSettings s{.spp = 4, .max_bounces = 6, .seed = 5};
   const Framebuffer a = render_whole(cpu, view_of(scene, kW, kH), s);
   const Framebuffer b = render_whole(cl, view_of(scene, kW, kH), s);
-  size_t close = 0;
-  for (size_t i = 0; i < a.pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c)
-      close += std::abs(a.pixels[i][c] - b.pixels[i][c]) <= 1e-3f * std::max(1.0f, a.pixels[i][c]);
-  const double fraction = double(close) / double(3 * a.pixels.size());
+  const double fraction = share_within_1e3(a, b);
   std::printf("same seed: %.2f%% of channels within 1e-3\n", 100 * fraction);
   EXPECT_GE(fraction, 0.9);
 }
@@ -123,11 +129,7 @@ TEST(OpenClMatch, SameSeedWithClampGivesNearlyTheCpuImage) {
   const Framebuffer b = render_whole(cl, view_of(scene, kW, kH), on);
   EXPECT_LE(brightest(a), kLimit * (1 + 1e-6f));
   EXPECT_LE(brightest(b), kLimit * (1 + 1e-6f));
-  size_t close = 0;
-  for (size_t i = 0; i < a.pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c)
-      close += std::abs(a.pixels[i][c] - b.pixels[i][c]) <= 1e-3f * std::max(1.0f, a.pixels[i][c]);
-  const double fraction = double(close) / double(3 * a.pixels.size());
+  const double fraction = share_within_1e3(a, b);
   std::printf("same seed, --clamp %g: %.2f%% of channels within 1e-3\n", kLimit, 100 * fraction);
   EXPECT_GE(fraction, 0.9);
 }
@@ -154,15 +156,11 @@ TEST(OpenClMatch, SampleMapGivesNearlyTheCpuImage) {
   ASSERT_FALSE(r.failed) << r.error;
   EXPECT_EQ(r.samples, total);
   const Framebuffer& b = out[0];
-  size_t close = 0;
-  for (size_t i = 0; i < a.pixels.size(); ++i) {
+  for (size_t i = 0; i < a.pixels.size(); ++i)
     if (map[i] == 0) {
       EXPECT_EQ(max_component(b.pixels[i]), 0.0f);
     }
-    for (int c = 0; c < 3; ++c)
-      close += std::abs(a.pixels[i][c] - b.pixels[i][c]) <= 1e-3f * std::max(1.0f, a.pixels[i][c]);
-  }
-  EXPECT_GE(double(close) / double(3 * a.pixels.size()), 0.9);
+  EXPECT_GE(share_within_1e3(a, b), 0.9);
 }
 
 }  // namespace opencl_match_test
