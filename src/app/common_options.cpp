@@ -69,7 +69,8 @@ void add_distributed_options(CLI::App& cmd, DistributedOptions& o) {
                "composites)");
   cmd.add_option("--rank-balancer", o.rank_balancer,
                  "How each worker splits what it is sent across its local devices (any "
-                 "--balancer; Harada's hierarchy: the master's bands, split the other way)")
+                 "--balancer; Harada's hierarchy: the master cuts row bands, each worker cuts its "
+                 "band into columns)")
       ->capture_default_str();
   cmd.add_flag("--rank-same-direction", o.same_direction,
                "Workers split along the master's axis instead of the other one");

@@ -12,6 +12,12 @@
 
 namespace multiray::balance {
 
+// The direction in which a balancer cuts a frame into contiguous parts, if it has one:
+// `rows` gives each device horizontal bands (scanline ranges), `columns` vertical ones,
+// `none` tiles, strips or a 2D tree. Harada's hierarchy (balance/hierarchy.h) reads it to
+// make each level cut across the level above.
+enum class CutAxis { none, rows, columns };
+
 class Balancer {
  public:
   virtual ~Balancer() = default;
@@ -36,6 +42,9 @@ class Balancer {
 
   // Device `index` died: later plans give it nothing. Out-of-range indices are ignored.
   virtual void drop_device(int index) = 0;
+
+  // How plan() cuts the frame (see CutAxis). Fixed for the balancer's lifetime.
+  virtual CutAxis cut_axis() const { return CutAxis::none; }
 };
 
 // Builds a balancer from a spec "name[:key=value]..." for `device_count` devices; the

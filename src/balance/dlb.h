@@ -60,6 +60,7 @@ class DlbBalancer final : public BalancerBase {
   std::string spec() const override;
   Plan plan(const FrameShape& shape, int frame) override;
   void update(const FrameStats& stats) override;
+  CutAxis cut_axis() const override { return cut_axis_of(layout_); }
 
   const std::vector<double>& ratios() const { return ratios_; }
   // Number of times the ratios were recomputed (imbalance found at a check).

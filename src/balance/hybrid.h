@@ -104,6 +104,8 @@ class HybridBalancer final : public BalancerBase {
   std::string spec() const override;
   Plan plan(const FrameShape& shape, int frame) override;
   void update(const FrameStats& stats) override;
+  // Scanline ranges of equal-cost bands.
+  CutAxis cut_axis() const override { return CutAxis::rows; }
 
   // Estimated speeds in cost units per ms, net of the fixed cost per item (0 = not
   // measured yet); the fixed cost per item in ms (0 = none measured, or `overhead=0`); and

@@ -23,6 +23,12 @@ std::string to_string(Layout layout) {
   return "rows";
 }
 
+CutAxis cut_axis_of(Layout layout) {
+  if (layout == Layout::Rows) return CutAxis::rows;
+  if (layout == Layout::Columns) return CutAxis::columns;
+  return CutAxis::none;
+}
+
 std::vector<std::string> layout_names() { return {"rows", "columns", "strips", "views"}; }
 
 Layout layout_from_string(const std::string& text) {

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "balance/balancer.h"
 #include "balance/plan.h"
 
 namespace multiray::balance {
@@ -16,6 +17,9 @@ enum class Layout {
             // multiray's own mapping: Leria et al. give every device a part of every view
             // and name that full bipartite mapping a limitation (§6.3)
 };
+
+// The direction `layout` cuts a view in: rows, columns, or none (strips, whole views).
+CutAxis cut_axis_of(Layout layout);
 
 // "rows", "columns", "strips", "views".
 std::string to_string(Layout layout);

@@ -48,6 +48,7 @@ class CyclesBalancer final : public BalancerBase {
   std::string spec() const override;
   Plan plan(const FrameShape& shape, int frame) override;
   void update(const FrameStats& stats) override;
+  CutAxis cut_axis() const override { return CutAxis::rows; }  // row slices
 
   // The weights the next plan uses (0 for dropped devices).
   const std::vector<double>& weights() const { return weights_; }

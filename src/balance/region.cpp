@@ -86,6 +86,12 @@ RegionBalancer::RegionBalancer(std::unique_ptr<Balancer> inner, Region region)
   if (!inner_) throw std::invalid_argument("RegionBalancer needs a balancer");
 }
 
+CutAxis RegionBalancer::cut_axis() const {
+  const CutAxis inner = inner_->cut_axis();
+  if (!region_.transposed || inner == CutAxis::none) return inner;
+  return inner == CutAxis::rows ? CutAxis::columns : CutAxis::rows;
+}
+
 FrameShape RegionBalancer::inner_shape(const FrameShape& shape) const {
   FrameShape s = planned_.view >= 0 ? crop_shape(shape, planned_.rect, planned_.view)
                                     : crop_shape(shape, planned_.rect);

@@ -49,6 +49,8 @@ class RegionBalancer : public Balancer {
   // Items outside the last planned region are ignored.
   void update(const FrameStats& stats) override;
   void drop_device(int index) override { inner_->drop_device(index); }
+  // The inner balancer's axis as it cuts the frame, i.e. swapped when transposed.
+  CutAxis cut_axis() const override;
 
  private:
   FrameShape inner_shape(const FrameShape& shape) const;

@@ -45,6 +45,9 @@ class SemiStaticBalancer final : public BalancerBase {
   std::string spec() const override;
   Plan plan(const FrameShape& shape, int frame) override;
   void update(const FrameStats& stats) override;
+  CutAxis cut_axis() const override {
+    return options_.split == LineAxis::rows ? CutAxis::rows : CutAxis::columns;
+  }
 
   // Current shares of the samples, sum 1 over alive devices.
   const std::vector<double>& shares() const { return shares_; }

@@ -24,6 +24,7 @@ class StaticBalancer final : public BalancerBase {
   std::string spec() const override;
   Plan plan(const FrameShape& shape, int frame) override;
   void update(const FrameStats& stats) override;
+  CutAxis cut_axis() const override { return cut_axis_of(layout_); }
 
   bool calibrated() const { return !ratios_.empty(); }
 

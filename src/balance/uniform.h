@@ -19,6 +19,7 @@ class UniformBalancer final : public BalancerBase {
   std::string spec() const override;
   Plan plan(const FrameShape& shape, int frame) override;
   void update(const FrameStats& stats) override { drop_reported_dead(stats); }
+  CutAxis cut_axis() const override { return cut_axis_of(layout_); }
 
  private:
   Layout layout_;

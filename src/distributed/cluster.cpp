@@ -197,7 +197,7 @@ int Cluster::serve(const std::vector<Device*>& devices, const RenderSettings& se
   std::signal(SIGTERM, SIG_IGN);
   RankWorkerOptions wo;
   wo.balancer = options_.rank_balancer;
-  wo.transposed = !options_.same_direction;
+  wo.same_direction = options_.same_direction;
   wo.master_timeout_s = options_.worker_timeout_s;
   wo.kill_at_frame = test_kill_frame(rank());
   RankWorker worker(*transport_, devices, settings, wo);

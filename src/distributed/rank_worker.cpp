@@ -4,6 +4,7 @@
 
 #include <fmt/core.h>
 
+#include "balance/hierarchy.h"
 #include "core/error.h"
 #include "distributed/wire.h"
 
@@ -38,8 +39,10 @@ RankWorker::RankWorker(Transport& transport, std::vector<Device*> local, RenderS
       local_(std::move(local)),
       base_(std::move(base)),
       options_(std::move(options)) {
-  auto region = std::make_unique<balance::RegionBalancer>(
-      balance::make_balancer(options_.balancer, int(local_.size())), balance::Region{});
+  std::unique_ptr<balance::Balancer> inner =
+      balance::make_balancer(options_.balancer, int(local_.size()));
+  inner_axis_ = inner->cut_axis();
+  auto region = std::make_unique<balance::RegionBalancer>(std::move(inner), balance::Region{});
   region_ = region.get();
   engine_ = std::make_unique<Engine>(local_, std::move(region));
 }
@@ -100,7 +103,11 @@ ItemResult RankWorker::render_item(uint32_t id, const WorkItem& item) {
   if (size_t(item.view) >= views_.size() || item.rect.x1 > views_[0].width ||
       item.rect.y1 > views_[0].height || item.rect.empty())
     throw WireError("work item outside the frame");
-  region_->set_region(balance::Region{item.rect, item.view, options_.transposed});
+  // Across the master's band (Harada's second level), whichever way the master cut.
+  const balance::CutAxis band = balance::band_axis(item.rect, views_[0].width, views_[0].height);
+  const bool transposed =
+      balance::lower_level_transposed(band, inner_axis_, options_.same_direction);
+  region_->set_region(balance::Region{item.rect, item.view, transposed});
   const FrameRecord rec = engine_->render_frame(passes_++, views_, settings_, images_);
   ItemResult r;
   r.report.id = id;

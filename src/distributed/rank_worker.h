@@ -26,7 +26,7 @@ namespace multiray {
 
 struct RankWorkerOptions {
   std::string balancer = "semi-static";  // the local split of each region
-  bool transposed = true;                // split the other way from the master (Harada)
+  bool same_direction = false;           // split along the master's bands, not across (Harada)
   int kill_at_frame = -1;                // testing aid: SIGKILL itself when asked for it
   double master_timeout_s = 10;          // silence of the master that ends the worker
 };
@@ -64,7 +64,8 @@ class RankWorker {
   std::vector<Device*> local_;
   RenderSettings base_, settings_;
   RankWorkerOptions options_;
-  balance::RegionBalancer* region_ = nullptr;  // owned by engine_
+  balance::RegionBalancer* region_ = nullptr;             // owned by engine_
+  balance::CutAxis inner_axis_ = balance::CutAxis::none;  // the local balancer's own
   std::unique_ptr<Engine> engine_;
   std::vector<ViewSetup> views_;
   std::vector<std::vector<uint8_t>> spp_maps_;

@@ -14,6 +14,7 @@
 
 #include <fmt/core.h>
 
+#include "balance/hierarchy.h"
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/device_factory.h"
@@ -28,6 +29,18 @@
 #include "volume/volume.h"
 
 namespace multiray {
+namespace {
+
+// balance::top_level_spec, with a malformed spec reported against `option`.
+std::string top_level_spec(const std::string& spec, const std::string& option) {
+  try {
+    return balance::top_level_spec(spec);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(option + ": " + e.what());
+  }
+}
+
+}  // namespace
 
 std::vector<Device*> Run::device_ptrs() const {
   std::vector<Device*> out;
@@ -39,9 +52,12 @@ std::unique_ptr<Session> Run::make_session(const std::vector<std::string>& specs
                                            const std::string& option) const {
   const size_t modes = volume ? volume->modes().size() : 1;
   std::vector<std::unique_ptr<balance::Balancer>> lanes;
-  for (const std::string& spec : specs)
+  for (const std::string& spec : specs) {
+    // The master of a distributed run is the top of Harada's hierarchy (balance/hierarchy.h).
+    const std::string lane = cluster ? top_level_spec(spec, option) : spec;
     for (size_t m = 0; m < modes; ++m)
-      lanes.push_back(make_balancer_or_throw(spec, int(devices.size()), option));
+      lanes.push_back(make_balancer_or_throw(lane, int(devices.size()), option));
+  }
   auto session =
       std::make_unique<Session>(device_ptrs(), std::move(lanes), *views, path, settings);
   session->set_perturbations(perturbations);
