@@ -10,16 +10,14 @@
 
 namespace multiray::balance {
 
-DlbBalancer::DlbBalancer(int device_count, int interval, double band, double slow, int bits,
-                         Layout layout, int min_strip, int max_items)
+DlbBalancer::DlbBalancer(int device_count, int interval, double band, double slow,
+                         StripRule strips, Layout layout)
     : BalancerBase(device_count),
       layout_(layout),
       interval_(interval),
       band_(band),
       slow_(slow),
-      bits_(bits),
-      min_strip_(min_strip),
-      max_items_(max_items),
+      strips_(strips),
       ratios_(even()),
       time_sum_(size_t(device_count), 0.0),
       task_sum_(size_t(device_count), 0.0),
@@ -28,9 +26,8 @@ DlbBalancer::DlbBalancer(int device_count, int interval, double band, double slo
 
 std::string DlbBalancer::spec() const {
   std::ostringstream s;
-  s << "dlb:interval=" << interval_ << ":band=" << band_ << ":slow=" << slow_
-    << ":bits=" << (bits_ < 0 ? std::string("auto") : std::to_string(bits_))
-    << ":strip=" << min_strip_ << ":items=" << max_items_ << ":layout=" << to_string(layout_);
+  s << "dlb:interval=" << interval_ << ":band=" << band_ << ":slow=" << slow_ << ":"
+    << to_spec(strips_) << ":layout=" << to_string(layout_);
   return s.str();
 }
 
@@ -39,15 +36,7 @@ void DlbBalancer::on_drop(int /*index*/) { ratios_ = sanitize(ratios_, even()); 
 Plan DlbBalancer::plan(const FrameShape& shape, int /*frame*/) {
   validate_shape(shape);
   if (alive_count() == 0) return empty_plan();
-  return plan_from_ratios(shape, ratios_, layout_, strip_bits(shape));
-}
-
-int DlbBalancer::strip_bits(const FrameShape& shape) const {
-  if (bits_ >= 0) return bits_;
-  int bits = strip_bits_for(shape.pixels_per_view(), min_strip_);
-  const int64_t per_view = std::max<int64_t>(1, int64_t(max_items_) / std::max(1, shape.views));
-  while (bits > 0 && (int64_t(1) << bits) > per_view) --bits;
-  return bits;
+  return plan_from_ratios(shape, ratios_, layout_, strips_);
 }
 
 void DlbBalancer::update(const FrameStats& stats) {

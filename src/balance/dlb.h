@@ -49,12 +49,11 @@ namespace multiray::balance {
 
 class DlbBalancer final : public BalancerBase {
  public:
-  // `bits` < 0: automatic strip size.
+  // `strips`: how many strips a view is cut into (layout.h).
   // `layout` Strips (shuffled strips of every view, as in the paper) or Views (whole views
   // per device: multiray's own mapping, see layout.h).
   DlbBalancer(int device_count, int interval = 5, double band = 0.1, double slow = 0.75,
-              int bits = -1, Layout layout = Layout::Strips, int min_strip = 32,
-              int max_items = 16384);
+              StripRule strips = {}, Layout layout = Layout::Strips);
 
   std::string name() const override { return "dlb"; }
   std::string spec() const override;
@@ -69,16 +68,11 @@ class DlbBalancer final : public BalancerBase {
  private:
   void on_drop(int index) override;
   void check();
-  // log2 strips per view: bits_, or the most with >= min_strip_ pixels each and at most
-  // max_items_ strips over the frame's views.
-  int strip_bits(const FrameShape& shape) const;
 
   Layout layout_;
   int interval_;
   double band_, slow_;
-  int bits_;
-  int min_strip_;  // least pixels per strip when bits_ < 0
-  int max_items_;  // most strips per frame over all views when bits_ < 0
+  StripRule strips_;
   std::vector<double> ratios_;
   // The current window: per device, sums of time and tasks over frames with a usable
   // measurement, how many there were, and the latest time.

@@ -1,5 +1,6 @@
 #include "balance/layout.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <stdexcept>
 
@@ -38,8 +39,22 @@ Layout layout_from_string(const std::string& text) {
                               "' (known: rows, columns, strips, views)");
 }
 
+int strip_bits(const FrameShape& shape, const StripRule& rule) {
+  if (rule.bits >= 0) return rule.bits;
+  int bits = strip_bits_for(shape.pixels_per_view(), rule.min_strip);
+  const int64_t per_view =
+      std::max<int64_t>(1, int64_t(rule.max_items) / std::max(1, shape.views));
+  while (bits > 0 && (int64_t(1) << bits) > per_view) --bits;
+  return bits;
+}
+
+std::string to_spec(const StripRule& rule) {
+  return "bits=" + (rule.bits < 0 ? std::string("auto") : std::to_string(rule.bits)) +
+         ":strip=" + std::to_string(rule.min_strip) + ":items=" + std::to_string(rule.max_items);
+}
+
 Plan plan_from_ratios(const FrameShape& shape, const std::vector<double>& ratios, Layout layout,
-                      int strip_bits) {
+                      const StripRule& strips) {
   Plan plan;
   plan.ratios = ratios;
   plan.assigned.resize(ratios.size());
@@ -53,7 +68,8 @@ Plan plan_from_ratios(const FrameShape& shape, const std::vector<double>& ratios
     return plan;
   }
   if (layout == Layout::Strips) {
-    plan.assigned = shuffled_strips(shape.width, shape.height, shape.views, ratios, strip_bits);
+    plan.assigned =
+        shuffled_strips(shape.width, shape.height, shape.views, ratios, strip_bits(shape, strips));
     return plan;
   }
   const std::vector<Rect> bands = split_bands(shape.width, shape.height, ratios,

@@ -25,6 +25,18 @@ Layout get_layout(Spec& spec) {
 const ParamInfo kLayout{"layout", "rows", "rows|columns|strips|views",
                         "how each device's share is laid out"};
 const ParamInfo kTile{"tile", "64", "1..4096", "tile side, pixels"};
+// The strips of layout=strips (layout.h StripRule), the same for uniform, static and dlb.
+const ParamInfo kBits{"bits", "auto", "auto|0..24", "log2 of the strips per view"};
+const ParamInfo kStrip{"strip", "32", "1..65536", "least pixels per strip with bits=auto"};
+const ParamInfo kItems{"items", "16384", "1..16777216", "most strips per frame with bits=auto"};
+
+StripRule get_strips(Spec& spec) {
+  StripRule r;
+  if (spec.get_string("bits", "auto", {}) != "auto") r.bits = spec.get_int("bits", -1, 0, 24);
+  r.min_strip = spec.get_int("strip", r.min_strip, 1, 65536);
+  r.max_items = spec.get_int("items", r.max_items, 1, 1 << 24);
+  return r;
+}
 
 std::unique_ptr<Balancer> make_semi_static(Spec& spec, int n) {
   SemiStaticOptions o;
@@ -39,13 +51,10 @@ std::unique_ptr<Balancer> make_dlb(Spec& spec, int n) {
   const int interval = spec.get_int("interval", 5, 1, 1000);
   const double band = spec.get_double("band", 0.1, 0.0, 10.0);
   const double slow = spec.get_double("slow", 0.75, 0.0, 1.0);
-  int bits = -1;  // "auto": from the least pixels per strip (dlb.h)
-  if (spec.get_string("bits", "auto", {}) != "auto") bits = spec.get_int("bits", -1, 0, 24);
-  const int strip = spec.get_int("strip", 32, 1, 65536);
-  const int items = spec.get_int("items", 16384, 1, 1 << 24);
+  const StripRule strips = get_strips(spec);
   const std::string layout = spec.get_string("layout", "strips", {"strips", "views"});
-  return std::make_unique<DlbBalancer>(n, interval, band, slow, bits, layout_from_string(layout),
-                                       strip, items);
+  return std::make_unique<DlbBalancer>(n, interval, band, slow, strips,
+                                       layout_from_string(layout));
 }
 
 std::unique_ptr<Balancer> make_hybrid(Spec& spec, int n) {
@@ -76,15 +85,23 @@ std::vector<BalancerEntry> builtin_balancers() {
       {"uniform",
        "every device gets 1/N of every view (the baseline)",
        "Leria et al. 2025, Algorithms 1-2",
-       {kLayout},
-       [](Spec& s, int n) { return std::make_unique<UniformBalancer>(n, get_layout(s)); }},
+       {kLayout, kBits, kStrip, kItems},
+       [](Spec& s, int n) {
+         const Layout layout = get_layout(s);
+         return std::make_unique<UniformBalancer>(n, layout, get_strips(s));
+       }},
       {"static",
        "fixed ratios, given or measured on the first frame",
        "Seo et al. 2022 §4.2; Bruder et al. 2017 §7.5",
-       {{"ratios", "measured", "A/B/...", "one non-negative number per device"}, kLayout},
+       {{"ratios", "measured", "A/B/...", "one non-negative number per device"},
+        kLayout,
+        kBits,
+        kStrip,
+        kItems},
        [](Spec& s, int n) {
          std::vector<double> ratios = s.get_ratios("ratios", size_t(n));
-         return std::make_unique<StaticBalancer>(n, std::move(ratios), get_layout(s));
+         const Layout layout = get_layout(s);
+         return std::make_unique<StaticBalancer>(n, std::move(ratios), layout, get_strips(s));
        }},
       {"queue",
        "a shared queue of tiles that idle devices pull",
@@ -109,9 +126,9 @@ std::vector<BalancerEntry> builtin_balancers() {
        {{"interval", "5", "1..1000", "frames between checks"},
         {"band", "0.1", "0..10", "tolerated relative difference of device times"},
         {"slow", "0.75", "0..1", "weight of a slow device's window mean"},
-        {"bits", "auto", "auto|0..24", "log2 of the strips per view"},
-        {"strip", "32", "1..65536", "least pixels per strip with bits=auto"},
-        {"items", "16384", "1..16777216", "most strips per frame with bits=auto"},
+        kBits,
+        kStrip,
+        kItems,
         {"layout", "strips", "strips|views", "strips of every view, or whole views (ours)"}},
        make_dlb},
       {"hybrid",

@@ -5,11 +5,13 @@
 
 namespace multiray::balance {
 
-StaticBalancer::StaticBalancer(int device_count, std::vector<double> ratios, Layout layout)
+StaticBalancer::StaticBalancer(int device_count, std::vector<double> ratios, Layout layout,
+                               StripRule strips)
     : BalancerBase(device_count),
       ratios_(std::move(ratios)),
       given_(!ratios_.empty()),
-      layout_(layout) {}
+      layout_(layout),
+      strips_(strips) {}
 
 std::string StaticBalancer::spec() const {
   std::ostringstream s;
@@ -19,13 +21,15 @@ std::string StaticBalancer::spec() const {
     for (size_t i = 0; i < ratios_.size(); ++i) s << (i ? "/" : "") << ratios_[i];
   }
   s << ":layout=" << to_string(layout_);
+  if (layout_ == Layout::Strips) s << ":" << to_spec(strips_);
   return s.str();
 }
 
 Plan StaticBalancer::plan(const FrameShape& shape, int /*frame*/) {
   validate_shape(shape);
   if (alive_count() == 0) return empty_plan();
-  return plan_from_ratios(shape, calibrated() ? sanitize(ratios_, even()) : even(), layout_);
+  return plan_from_ratios(shape, calibrated() ? sanitize(ratios_, even()) : even(), layout_,
+                          strips_);
 }
 
 void StaticBalancer::update(const FrameStats& stats) {

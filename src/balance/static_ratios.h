@@ -8,6 +8,7 @@
 // |-----------|-----------|--------------------------------------------------|
 // | ratios    | calibrate | '/'-separated non-negative weights, one a device |
 // | layout    | rows      | rows, columns or strips                          |
+// | bits, strip, items | as dlb's | with layout=strips: the strips (layout.h) |
 #pragma once
 
 #include "balance/balancer_base.h"
@@ -18,7 +19,8 @@ namespace multiray::balance {
 class StaticBalancer final : public BalancerBase {
  public:
   // Empty `ratios`: calibrate from the first usable frame.
-  StaticBalancer(int device_count, std::vector<double> ratios, Layout layout = Layout::Rows);
+  StaticBalancer(int device_count, std::vector<double> ratios, Layout layout = Layout::Rows,
+                 StripRule strips = {});
 
   std::string name() const override { return "static"; }
   std::string spec() const override;
@@ -32,6 +34,7 @@ class StaticBalancer final : public BalancerBase {
   std::vector<double> ratios_;  // empty until calibrated
   bool given_;                  // ratios came from the spec
   Layout layout_;
+  StripRule strips_;
 };
 
 }  // namespace multiray::balance

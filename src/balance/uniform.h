@@ -4,6 +4,10 @@
 // | parameter | default | meaning                                   |
 // |-----------|---------|-------------------------------------------|
 // | layout    | rows    | rows, columns or strips (shuffled strips) |
+// | bits, strip, items | as dlb's | with layout=strips: the strips, as dlb cuts them |
+//
+// `uniform:layout=strips` is the baseline Leria et al. measure dlb against (their
+// Algorithm 1: equal ratios over the same shuffled strips), so it cuts exactly dlb's strips.
 #pragma once
 
 #include "balance/balancer_base.h"
@@ -13,7 +17,7 @@ namespace multiray::balance {
 
 class UniformBalancer final : public BalancerBase {
  public:
-  UniformBalancer(int device_count, Layout layout = Layout::Rows);
+  UniformBalancer(int device_count, Layout layout = Layout::Rows, StripRule strips = {});
 
   std::string name() const override { return "uniform"; }
   std::string spec() const override;
@@ -23,6 +27,7 @@ class UniformBalancer final : public BalancerBase {
 
  private:
   Layout layout_;
+  StripRule strips_;
 };
 
 }  // namespace multiray::balance

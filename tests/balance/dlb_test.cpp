@@ -84,3 +84,35 @@ TEST(Dlb, StripsPerFrameAreCappedOverAllViews) {
 
 }  // namespace dlb_test
 }  // namespace multiray::balance
+
+namespace multiray::balance::dlb_baseline_test {
+
+// Leria et al.'s baseline (their Algorithm 1) is equal ratios over the same shuffled strips:
+// uniform:layout=strips must cut exactly dlb's strips, so that a comparison measures the
+// balancing and not the strips' overhead.
+TEST(Dlb, UniformStripsIsItsBaselineOnTheSameStrips) {
+  const FrameShape shapes[] = {{1280, 720, 1, {}}, {320, 180, 9, {}}, {320, 180, 81, {}}};
+  for (const std::string extra : {"", ":bits=6", ":strip=128", ":items=4096"})
+    for (const FrameShape& shape : shapes) {
+      const Plan dlb = make_balancer("dlb" + extra, 2)->plan(shape, 0);
+      const Plan uniform = make_balancer("uniform:layout=strips" + extra, 2)->plan(shape, 0);
+      ASSERT_EQ(dlb.assigned.size(), uniform.assigned.size());
+      size_t items = 0;
+      for (size_t d = 0; d < dlb.assigned.size(); ++d) {
+        ASSERT_EQ(dlb.assigned[d].size(), uniform.assigned[d].size()) << extra;
+        for (size_t k = 0; k < dlb.assigned[d].size(); ++k) {
+          EXPECT_TRUE(dlb.assigned[d][k].rect == uniform.assigned[d][k].rect) << extra;
+          EXPECT_EQ(dlb.assigned[d][k].view, uniform.assigned[d][k].view) << extra;
+        }
+        items += dlb.assigned[d].size();
+      }
+      EXPECT_GE(items, size_t(shape.views) * 2) << extra;  // strips, not two bands
+    }
+  // Without a layout, uniform keeps its two row bands (an extra lane in the reruns).
+  const Plan rows = make_balancer("uniform", 2)->plan(FrameShape{320, 180, 1, {}}, 0);
+  EXPECT_EQ(rows.assigned[0].size(), 1u);
+  EXPECT_EQ(make_balancer("uniform:layout=strips", 2)->spec(),
+            "uniform:layout=strips:bits=auto:strip=32:items=16384");
+}
+
+}  // namespace multiray::balance::dlb_baseline_test

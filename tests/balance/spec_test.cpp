@@ -25,7 +25,8 @@ TEST(Spec, ParametersAreRead) {
   EXPECT_EQ(make_balancer("static:ratios=3/1", 2)->spec(), "static:ratios=3/1:layout=rows");
   EXPECT_EQ(make_balancer("dlb:interval=3:bits=6", 2)->spec(),
             "dlb:interval=3:band=0.1:slow=0.75:bits=6:strip=32:items=16384:layout=strips");
-  EXPECT_EQ(make_balancer("uniform:layout=strips", 2)->spec(), "uniform:layout=strips");
+  EXPECT_EQ(make_balancer("uniform:layout=strips", 2)->spec(),
+            "uniform:layout=strips:bits=auto:strip=32:items=16384");
   EXPECT_EQ(make_balancer("semi-static:alpha=0.25", 2)->spec(), "semi-static:alpha=0.25");
   EXPECT_NE(make_balancer("hybrid:bands=4:steal=off", 2)->spec().find("steal=0"),
             std::string::npos);
