@@ -11,11 +11,12 @@
 // time recorded as `slow`·(its local mean over the window) + (1 − `slow`)·(its latest
 // time).
 //
-// Our reading of `slow`: the paper states the constant but not how it enters Δ. Taking
-// Δ = 0.75·mean literally biases the fixed point (the slow device would keep 1/0.75 of
-// its fair share and a 3:1 pair would stay ~33% apart for ever), so we use it as the
-// weight of the slow device's history: a single slow frame cannot make it shed work, and
-// with steady timings the update is exact (w_i ∝ speed in one step).
+// `slow` departs from the paper, which says how the constant enters Δ: a slow device's
+// time is recorded as 0.75 of its local mean, Δ = 0.75·mean. Taken so, the update has a
+// biased fixed point (the slow device keeps 1/0.75 of its fair share and a 3:1 pair stays
+// ~33% apart for ever), so we use 0.75 as the weight of the slow device's history instead,
+// Δ = 0.75·mean + 0.25·latest: a single slow frame cannot make it shed work, and with
+// steady timings the update is exact (w_i ∝ speed in one step). docs/balancers.md.
 //
 // | parameter | default | meaning                                             |
 // |-----------|---------|-----------------------------------------------------|
