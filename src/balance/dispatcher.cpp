@@ -10,7 +10,8 @@ Dispatcher::Dispatcher(const Plan& plan, const FrameShape& shape)
     : own_(plan.assigned.size()),
       own_weight_(plan.assigned.size(), 0.0),
       batch_(size_t(std::max(1, plan.batch))),
-      steal_(plan.steal) {
+      steal_(plan.steal),
+      pull_on_ready_(plan.pull_on_ready) {
   const WeightMap map(shape.width, shape.height, shape.views, shape.pixel_weight);
   auto add = [&](const WorkItem& it) {
     items_.push_back(it);

@@ -52,6 +52,8 @@ class Dispatcher {
   std::vector<uint32_t> take_remaining(int device);
 
   const std::vector<WorkItem>& items() const { return items_; }
+  // Plan::pull_on_ready of the plan being run.
+  bool pull_on_ready() const { return pull_on_ready_; }
   double weight(uint32_t id) const { return weight_[id]; }
   // Device that started item `id`, or -1.
   int taken_by(uint32_t id) const;
@@ -73,6 +75,7 @@ class Dispatcher {
   std::vector<int> taken_by_;
   size_t batch_ = 1;
   bool steal_ = false;
+  bool pull_on_ready_ = false;
   int stolen_ = 0;
 };
 

@@ -70,6 +70,11 @@ struct Plan {
   bool steal = false;
   std::vector<double> ratios;  // intended share of the frame's work per device, sum 1
   Quality quality;             // items cover scaled_shape(shape, quality.image_scale)
+  // How a device behind a link (a worker rank) is sent the items it pulls or steals: true,
+  // one at a time, the next only once it reports the last one rendered, whose pixels
+  // upload meanwhile (Seo et al.'s strategy I); false, kept several deep at the device so
+  // that the round trip hides (multiray's own, --depth). Local devices ignore it.
+  bool pull_on_ready = false;
 
   // Every item of the plan, device by device and then the shared queue.
   std::vector<WorkItem> all_items() const;

@@ -4,11 +4,12 @@
 
 namespace multiray::balance {
 
-QueueBalancer::QueueBalancer(int device_count, int tile, int batch)
-    : BalancerBase(device_count), tile_(tile), batch_(batch) {}
+QueueBalancer::QueueBalancer(int device_count, int tile, int batch, bool deep)
+    : BalancerBase(device_count), tile_(tile), batch_(batch), deep_(deep) {}
 
 std::string QueueBalancer::spec() const {
-  return "queue:tile=" + std::to_string(tile_) + ":batch=" + std::to_string(batch_);
+  return "queue:tile=" + std::to_string(tile_) + ":batch=" + std::to_string(batch_) +
+         (deep_ ? ":pipeline=deep" : "");  // the paper's form is the default
 }
 
 Plan QueueBalancer::plan(const FrameShape& shape, int /*frame*/) {
@@ -17,6 +18,7 @@ Plan QueueBalancer::plan(const FrameShape& shape, int /*frame*/) {
   Plan plan;
   plan.assigned.resize(size_t(device_count()));
   plan.batch = batch_;
+  plan.pull_on_ready = !deep_;
   plan.ratios = sanitize(measured_, even());
   const std::vector<Rect> tiles = make_tiles(shape.width, shape.height, tile_);
   for (int view = 0; view < shape.views; ++view)

@@ -5,10 +5,18 @@
 // batch. Plan::ratios reports last frame's measured work shares (even at first), since
 // the queue itself intends none.
 //
-// | parameter | default | meaning                       |
-// |-----------|---------|-------------------------------|
-// | tile      | 64      | tile edge in pixels (1–4096)  |
-// | batch     | 1       | tiles per pull (1–1024)       |
+// Behind a link (a worker rank of a distributed run), `pipeline` says how tiles travel.
+// `paper`, the paper's form: a worker holds one tile index at a time and is sent the next
+// when it reports the last one rendered; only the upload of that tile's pixels overlaps
+// rendering the next, so every tile still pays one round trip. `deep` is ours: the master
+// keeps --depth tiles at the worker (2, or adapting up to 32), which hides the round trip
+// (distributed/remote_device.h). Local devices are not affected.
+//
+// | parameter | default | meaning                                   |
+// |-----------|---------|-------------------------------------------|
+// | tile      | 64      | tile edge in pixels (1–4096)              |
+// | batch     | 1       | tiles per pull (1–1024)                   |
+// | pipeline  | paper   | paper or deep (ours): tiles to a worker   |
 #pragma once
 
 #include "balance/balancer_base.h"
@@ -17,7 +25,9 @@ namespace multiray::balance {
 
 class QueueBalancer final : public BalancerBase {
  public:
-  QueueBalancer(int device_count, int tile = 64, int batch = 1);
+  // `deep`: tiles to a worker rank kept --depth deep (ours) instead of the paper's one at
+  // a time on its ready report.
+  QueueBalancer(int device_count, int tile = 64, int batch = 1, bool deep = false);
 
   std::string name() const override { return "queue"; }
   std::string spec() const override;
@@ -26,6 +36,7 @@ class QueueBalancer final : public BalancerBase {
 
  private:
   int tile_, batch_;
+  bool deep_;
   std::vector<double> measured_;  // last usable work shares
 };
 

@@ -106,11 +106,15 @@ std::vector<BalancerEntry> builtin_balancers() {
       {"queue",
        "a shared queue of tiles that idle devices pull",
        "Seo, Park & Ihm 2022, strategy I (dynamic interaction)",
-       {kTile, {"batch", "1", "1..1024", "tiles taken per pull"}},
+       {kTile,
+        {"batch", "1", "1..1024", "tiles taken per pull"},
+        {"pipeline", "paper", "paper|deep",
+         "to a worker rank: one tile, the next on its ready report; deep: --depth (ours)"}},
        [](Spec& s, int n) {
          const int tile = s.get_int("tile", 64, 1, 4096);
          const int batch = s.get_int("batch", 1, 1, 1024);
-         return std::make_unique<QueueBalancer>(n, tile, batch);
+         const bool deep = s.get_string("pipeline", "paper", {"paper", "deep"}) == "deep";
+         return std::make_unique<QueueBalancer>(n, tile, batch, deep);
        }},
       {"semi-static",
        "one contiguous range per device, shares from last frame's speeds",

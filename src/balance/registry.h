@@ -48,7 +48,7 @@ void register_balancer(BalancerEntry entry);
 // The entry called `name`, or nullptr.
 const BalancerEntry* find_balancer(const std::string& name);
 
-// "queue[:tile=64][:batch=1]": the name with every option and its default.
+// "queue[:tile=64][:batch=1][:pipeline=paper]": the name with every option and its default.
 std::string usage(const BalancerEntry& e);
 
 // Every balancer's usage and help, one per line, for `--help` ("  queue[:tile=64]...  a

@@ -75,6 +75,10 @@ class WorkSource {
   // How many not-started items are `device`'s own already (its assigned list): a device
   // behind a link takes them in one request. Default: none known.
   virtual size_t pending(int /*device*/) const { return 0; }
+  // True when a device behind a link is to hold one item pulled on demand at a time and
+  // be sent the next only when it reports the last one rendered (balance::Plan::
+  // pull_on_ready: Seo et al.'s strategy I). Default: false (the device's own depth).
+  virtual bool pull_on_ready() const { return false; }
   // The item with id `id` (valid for the frame).
   virtual const WorkItem& item(uint32_t id) const = 0;
 };

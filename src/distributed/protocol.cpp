@@ -141,7 +141,8 @@ FrameMessage decode_frame(const std::vector<uint8_t>& bytes) {
 
 std::vector<uint8_t> encode(const WorkMessage& m) {
   ByteWriter w;
-  w.put(m.epoch), w.put(uint8_t(m.batched)), w.put(uint64_t(m.items.size()));
+  w.put(m.epoch), w.put(uint8_t(m.batched)), w.put(uint8_t(m.report_ready));
+  w.put(uint64_t(m.items.size()));
   for (size_t i = 0; i < m.items.size(); ++i) w.put(m.ids.at(i)), put_item(w, m.items[i]);
   return w.take();
 }
@@ -150,6 +151,8 @@ WorkMessage decode_work(const std::vector<uint8_t>& bytes) {
   ByteReader r(bytes);
   WorkMessage m;
   m.epoch = r.get<uint32_t>(), m.batched = r.get<uint8_t>() != 0;
+  m.report_ready = r.get<uint8_t>() != 0;
+  if (m.batched && m.report_ready) throw WireError("work: a batch reports no readiness");
   for (uint64_t n = r.count(24); n > 0; --n) {
     m.ids.push_back(r.get<uint32_t>());
     m.items.push_back(get_item(r));
@@ -201,6 +204,17 @@ FailureMessage decode_failure(const std::vector<uint8_t>& bytes) {
   FailureMessage m;
   m.epoch = r.get<uint32_t>(), m.error = r.get_string();
   return m;
+}
+
+std::vector<uint8_t> encode_ready(uint32_t epoch) {
+  ByteWriter w;
+  w.put(epoch);
+  return w.take();
+}
+
+uint32_t decode_ready(const std::vector<uint8_t>& bytes) {
+  ByteReader r(bytes);
+  return r.get<uint32_t>();
 }
 
 std::vector<uint8_t> encode_speed(double speed) {

@@ -8,6 +8,13 @@
 //                                            or one per Work message when `batched`
 //   (more Work as the master pulls items for it; the frame ends when nothing is owed)
 //
+// Items pulled on demand in the paper's form (Seo et al. 2022, strategy I; balance::Plan::
+// pull_on_ready) go one at a time with `report_ready` set: the worker sends Ready{epoch}
+// as soon as it has rendered the item, then that item's Result, and the master answers
+// the Ready with the next item. The upload of one result thus overlaps rendering the next
+// item, but every item still waits for one round trip. (The Frame message stands for the
+// first ready report: the master sends the first item right after it.)
+//
 // Scene (master → worker, first, only with --scene-from master: scene_codec.h) carries
 // the scene. Hello (worker → master, once, before any frame) says what the worker offers or why it
 // could not start; Speed sets the emulated speed of its devices (--perturb); Quit ends it,
@@ -25,7 +32,7 @@
 
 namespace multiray::remote {
 
-enum Tag : int { kHello = 1, kFrame, kWork, kResult, kFailure, kSpeed, kQuit, kScene };
+enum Tag : int { kHello = 1, kFrame, kWork, kResult, kFailure, kSpeed, kQuit, kScene, kReady };
 
 struct HelloMessage {
   bool ok = true;
@@ -46,6 +53,9 @@ struct WorkMessage {
   bool batched = false;  // true: send every result in one message after the last item
   std::vector<uint32_t> ids;
   std::vector<WorkItem> items;
+  // true (never with `batched`): send Ready as soon as each item is rendered, before its
+  // Result (the paper's form of items on demand).
+  bool report_ready = false;
 };
 
 // One local device's part of the worker's frame so far: what Harada's deviation is
@@ -79,6 +89,7 @@ std::vector<uint8_t> encode(const FrameMessage& m);
 std::vector<uint8_t> encode(const WorkMessage& m);
 std::vector<uint8_t> encode(const ResultMessage& m);
 std::vector<uint8_t> encode(const FailureMessage& m);
+std::vector<uint8_t> encode_ready(uint32_t epoch);
 std::vector<uint8_t> encode_speed(double speed);
 std::vector<uint8_t> encode_quit(bool rank_lost);
 
@@ -88,6 +99,8 @@ FrameMessage decode_frame(const std::vector<uint8_t>& bytes);
 WorkMessage decode_work(const std::vector<uint8_t>& bytes);
 ResultMessage decode_result(const std::vector<uint8_t>& bytes);
 FailureMessage decode_failure(const std::vector<uint8_t>& bytes);
+// The epoch of a Ready message.
+uint32_t decode_ready(const std::vector<uint8_t>& bytes);
 double decode_speed(const std::vector<uint8_t>& bytes);
 // True when the master gave up on a rank.
 bool decode_quit(const std::vector<uint8_t>& bytes);

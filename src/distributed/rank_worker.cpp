@@ -146,6 +146,9 @@ void RankWorker::render_work(const WorkMessage& m) {
       batch.items.push_back(std::move(r));
     } else {
       if (i + 1 == m.items.size()) idle_since_ = std::chrono::steady_clock::now();
+      // The paper's form: ready first (a few bytes), so the next item is on its way while
+      // this one's pixels upload.
+      if (m.report_ready) transport_.send(0, kReady, encode_ready(epoch_));
       ResultMessage one{epoch_, {}, times_, idle_ms_};
       one.items.push_back(std::move(r));
       transport_.send(0, kResult, encode(one));

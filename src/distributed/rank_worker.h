@@ -7,8 +7,9 @@
 // local device the region simply goes to it.
 //
 // Results go back as soon as an item is done (the transport sends them while the next
-// item renders) or, for a batched Work message, all in one message after its last item
-// (Seo et al. 2022, strategy II).
+// item renders), after a Ready report when the Work message asks for one (Seo et al.
+// 2022, strategy I: protocol.h), or, for a batched Work message, all in one message after
+// its last item (strategy II).
 #pragma once
 
 #include <chrono>

@@ -76,11 +76,12 @@ FrameMessage RemoteDevice::frame_message(const FrameJob& job) const {
   return m;
 }
 
-void RemoteDevice::ship(const FrameJob& /*job*/, WorkSource& source,
-                        const std::vector<uint32_t>& ids, bool batched) {
+void RemoteDevice::ship(WorkSource& source, const std::vector<uint32_t>& ids, bool batched,
+                        bool report_ready) {
   WorkMessage w;
   w.epoch = epoch_;
   w.batched = batched;
+  w.report_ready = report_ready;
   w.ids = ids;
   for (uint32_t id : ids) w.items.push_back(source.item(id));
   transport_.send(rank_, kWork, encode(w));
@@ -125,21 +126,21 @@ DeviceReport RemoteDevice::render(const FrameJob& job, WorkSource& source, int i
   transport_.send(rank_, kFrame, encode(frame_message(job)));
 
   size_t owed = 0;  // items sent whose results have not come back
-  int units = 0;    // Work messages whose results have not all come back
+  DemandPipeline pipe{source.pull_on_ready(), options_.depth};
   std::vector<uint32_t> ids;
   if (const size_t own = source.pending(index); own > 0 && source.next(index, own, ids) > 0) {
-    ship(job, source, ids, true);
-    owed += ids.size(), ++units;
+    ship(source, ids, true, false);
+    owed += ids.size(), pipe.sent(false);
   }
   bool exhausted = false;
   for (;;) {
-    while (!exhausted && units < options_.depth) {
+    while (!exhausted && pipe.may_send()) {
       ids.clear();
       if (source.next(index, 1, ids) == 0) {
         exhausted = true;
       } else {
-        ship(job, source, ids, false);
-        owed += ids.size(), ++units, pulled = true;
+        ship(source, ids, false, pipe.on_ready);
+        owed += ids.size(), pipe.sent(true), pulled = true;
       }
     }
     if (owed == 0) break;
@@ -158,7 +159,9 @@ DeviceReport RemoteDevice::render(const FrameJob& job, WorkSource& source, int i
     try {
       if (m->tag == kResult) {
         const size_t n = take_results(*m, job, report);
-        if (n > 0) owed -= std::min(owed, n), --units;
+        if (n > 0) owed -= std::min(owed, n), pipe.result();
+      } else if (m->tag == kReady) {
+        if (decode_ready(m->bytes) == epoch_) pipe.ready();
       } else if (m->tag == kFailure) {
         const FailureMessage f = decode_failure(m->bytes);
         if (f.epoch == epoch_) return fail(f.error);
@@ -168,7 +171,7 @@ DeviceReport RemoteDevice::render(const FrameJob& job, WorkSource& source, int i
     }
   }
   report.time_ms = clock.elapsed_ms();
-  if (options_.auto_depth && pulled)
+  if (options_.auto_depth && pulled && !pipe.on_ready)
     options_.depth = next_depth(options_.depth, idle_ms_, report.time_ms);
   for (const LocalDeviceTime& t : local_times_) report.local_ms.push_back(t.time_ms);
   return report;

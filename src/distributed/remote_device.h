@@ -6,9 +6,12 @@
 //  - the items the plan assigned to this device (static plans: Seo's strategy II, OSPRay's
 //    tile ownership, a Harada band) go in one message at the start of the frame and come
 //    back in one message at its end ("batched": one exchange per frame);
-//  - items pulled on demand (the shared queue: Seo's strategy I) are kept `depth` deep at
-//    the worker, so the worker renders the next item while the last one's pixels travel
-//    (the overlap the paper gets from a sender thread: depth 2). With `auto` depth the
+//  - items pulled on demand (the shared queue: Seo's strategy I) travel in one of two
+//    forms (pipeline.h). The paper's, when the plan asks for it (queue's default,
+//    WorkSource::pull_on_ready): one item at a time, the next sent when the worker
+//    reports the last one rendered, so only the upload of its pixels overlaps rendering
+//    the next. Otherwise ours: items are kept `depth` deep at the worker, so the worker
+//    finds its next item waiting and the round trip hides too. With `auto` depth the
 //    depth adapts from frame to frame to what the worker measured: it grows while the
 //    worker waited for items (more than 3% of its frame), and shrinks while it never did
 //    (under 0.5%), so a link's round trip stays hidden without holding more items than
@@ -25,6 +28,7 @@
 #include <vector>
 
 #include "device/device.h"
+#include "distributed/pipeline.h"
 #include "distributed/protocol.h"
 #include "distributed/transport.h"
 
@@ -32,7 +36,7 @@ namespace multiray::remote {
 
 struct RemoteOptions {
   std::chrono::milliseconds timeout{10000};  // silence after which a worker is given up on
-  int depth = 2;                             // items on demand kept at the worker, >= 1
+  int depth = 2;                             // ours: items on demand kept at the worker, >= 1
   bool auto_depth = true;                    // adapt depth (starting from `depth`)
   int kill_at_frame = -1;  // testing aid: the master SIGKILLs itself as it starts this frame
 };
@@ -60,9 +64,8 @@ class RemoteDevice : public Device {
   int depth() const { return options_.depth; }
 
  private:
-  // Sends `ids` as one Work message; returns how many results it owes (items).
-  void ship(const FrameJob& job, WorkSource& source, const std::vector<uint32_t>& ids,
-            bool batched);
+  // Sends `ids` as one Work message (`report_ready`: the paper's form, pipeline.h).
+  void ship(WorkSource& source, const std::vector<uint32_t>& ids, bool batched, bool report_ready);
   // Takes one result message into job.outputs and `report`; returns the items it carried.
   size_t take_results(const Message& m, const FrameJob& job, DeviceReport& report);
   FrameMessage frame_message(const FrameJob& job) const;

@@ -23,6 +23,7 @@ class DispatchSource : public WorkSource {
   }
   size_t prefetch(int device, size_t k) override { return dispatch_.prefetch(device, k); }
   size_t pending(int device) const override { return dispatch_.pending(device).size(); }
+  bool pull_on_ready() const override { return dispatch_.pull_on_ready(); }
   const WorkItem& item(uint32_t id) const override { return dispatch_.items()[id]; }
 
   balance::Dispatcher& dispatcher() { return dispatch_; }

@@ -1,5 +1,6 @@
-// Quantized vertex attributes of the compact scene (Seo, Park & Ihm, "Memory-efficient
-// distributed ray tracing for mobile devices", Sensors 2022, §3): positions as a cell of a
+// Quantized vertex attributes of the compact scene (Seo, Park & Ihm, "Efficient Ray
+// Tracing of Large 3D Scenes for Mobile Distributed Computing Environments", Sensors
+// 22(2), 2022, §3): positions as a cell of a
 // grid over the scene box plus three 10-bit offsets inside it (6 bytes instead of 12),
 // unit normals in 16 bits (2 instead of 12), texture coordinates in 16 bits each (4
 // instead of 8). Decoding is a few multiply-adds, done on access by the traversal and the

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <thread>
 
+#include "balance/balancer.h"
 #include "balance/dispatcher.h"
 #include "balance/simulate.h"
 #include "partition/coverage.h"
@@ -133,6 +135,19 @@ TEST(Dispatcher, SimulatorReportsTheDispatcherNumbering) {
       ++n;
     }
   EXPECT_EQ(n, all.size());
+}
+
+// Seo's strategy I: the queue asks workers behind a link for the paper's one tile at a
+// time on a ready report unless told `pipeline=deep` (ours); the Dispatcher passes it on.
+TEST(Dispatcher, TheQueueAsksForThePapersPipelineByDefault) {
+  const auto paper = make_balancer("queue:tile=4", 2)->plan(kShape, 0);
+  const auto deep = make_balancer("queue:tile=4:pipeline=deep", 2)->plan(kShape, 0);
+  EXPECT_TRUE(paper.pull_on_ready);
+  EXPECT_FALSE(deep.pull_on_ready);
+  EXPECT_TRUE(Dispatcher(paper, kShape).pull_on_ready());
+  EXPECT_FALSE(Dispatcher(deep, kShape).pull_on_ready());
+  EXPECT_FALSE(make_balancer("ospray-dynamic", 2)->plan(kShape, 0).pull_on_ready);
+  EXPECT_THROW(make_balancer("queue:pipeline=shallow", 2), std::invalid_argument);
 }
 
 }  // namespace dispatcher_test

@@ -60,7 +60,7 @@ TEST(Registry, NamesHelpAndDocsComeFromIt) {
       EXPECT_NE(docs.str().find("`" + p.key), std::string::npos)
           << e.name << "'s " << p.key << " in the docs";
   }
-  EXPECT_EQ(usage(*find_balancer("queue")), "queue[:tile=64][:batch=1]");
+  EXPECT_EQ(usage(*find_balancer("queue")), "queue[:tile=64][:batch=1][:pipeline=paper]");
 }
 
 // The worked example of docs/design-notes.md: a balancer added by one registration.

@@ -22,6 +22,8 @@ TEST(Spec, EveryNameBuildsAndSpecRoundTrips) {
 
 TEST(Spec, ParametersAreRead) {
   EXPECT_EQ(make_balancer("queue:tile=32:batch=4", 2)->spec(), "queue:tile=32:batch=4");
+  EXPECT_EQ(make_balancer("queue:pipeline=deep", 2)->spec(),
+            "queue:tile=64:batch=1:pipeline=deep");
   EXPECT_EQ(make_balancer("static:ratios=3/1", 2)->spec(), "static:ratios=3/1:layout=rows");
   EXPECT_EQ(make_balancer("dlb:interval=3:bits=6", 2)->spec(),
             "dlb:interval=3:band=0.1:slow=0.75:bits=6:strip=32:items=16384:layout=strips");

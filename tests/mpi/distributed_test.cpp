@@ -91,9 +91,10 @@ TEST(Distributed, FourRanksSeoStrategiesAndHaradaHierarchyGiveTheSinglePixels) {
   const std::vector<std::string> want = reference("");
   const std::string two_devices = " --rank-devices 1=cpu:threads=1,cpu:threads=1:speed=0.5";
   const std::vector<std::string> runs = {
-      "--balancer queue:tile=16 --link wifi",           // Seo I: dynamic tile queue
-      "--balancer ospray-static:tile=16 --link wifi",   // Seo II: static batched
-      "--balancer hybrid --master-renders --link lan",  // master renders too
+      "--balancer queue:tile=16 --link wifi",  // Seo I: dynamic tile queue
+      "--balancer queue:tile=16:pipeline=deep --depth auto --link wifi",  // Seo I, ours
+      "--balancer ospray-static:tile=16 --link wifi",                     // Seo II: static batched
+      "--balancer hybrid --master-renders --link lan",                    // master renders too
       "--balancer semi-static --rank-balancer semi-static" + two_devices,  // Harada
       "--balancer semi-static --rank-balancer hybrid --rank-same-direction" + two_devices,
       "--balancer uniform --rank-balancer queue:tile=8" + two_devices,
