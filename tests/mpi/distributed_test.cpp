@@ -107,9 +107,10 @@ TEST(Distributed, FourRanksSeoStrategiesAndHaradaHierarchyGiveTheSinglePixels) {
     EXPECT_EQ(hashes(dir), want) << run;
     // The master is the top of Harada's hierarchy: its semi-static cuts row bands
     // (balance/hierarchy.h; the ranks' directions are checked in hierarchy_test.cpp).
-    if (run.rfind("--balancer semi-static ", 0) == 0)
+    if (run.rfind("--balancer semi-static ", 0) == 0) {
       EXPECT_THAT(stats(dir)["balancer"].get<std::string>(), ::testing::HasSubstr("split=rows"))
           << run;
+    }
   }
 }
 
