@@ -36,8 +36,10 @@ void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
          "Volumes: frame-time targeting: none, last-frame (scale quality by the last "
          "frame's time), predict (Bruder et al.: choose quality from the predicted "
          "time; predict:q=Q scales predictions by the Q-quantile of recent measured/predicted "
-         "ratios, e.g. q=0.9), two-pass (a quarter-quality pass, then a second pass "
-         "filling the budget if the first took under half of it); auto: predict with --target-ms, "
+         "ratios, e.g. q=0.9), two-pass (a pass at a quarter of the last frame's quality, "
+         "then a second pass filling the budget if the first took under half of it; "
+         "two-pass:probe=fixed: the first pass at a quarter of full quality); auto: predict with "
+         "--target-ms, "
          "else none. bench takes a list and runs "
          "every balancer once per mode")
       ->capture_default_str();

@@ -181,7 +181,8 @@ TEST(VolumeAdvisor, TwoPassRendersASecondPassOnlyWhenTheFirstLeftTime) {
   ThreeLanes lanes(b);
   Session& session = *lanes.session;
   // Lane 0: a target no pass can miss (the second pass is full quality); lane 1: no
-  // adaptation; lane 2: a target the first pass already misses (it is the frame).
+  // adaptation; lane 2: a target the first pass already misses (it is the frame, and the
+  // next frame probes a quarter of it: steps 4, 16, 64).
   session.set_advisors([&](size_t lane) -> std::unique_ptr<FrameAdvisor> {
     VolumeAdvisorConfig c;
     c.targeting.target_ms = lane == 0 ? 1e6 : 1e-3;
@@ -199,7 +200,7 @@ TEST(VolumeAdvisor, TwoPassRendersASecondPassOnlyWhenTheFirstLeftTime) {
     // The second pass replaced the quarter-quality image: the frame is the full-quality one.
     EXPECT_EQ(image_hash(keep.results[i]->images[0]), image_hash(keep.results[i + 1]->images[0]));
     const FrameRecord& one = keep.results[i + 2]->record;
-    EXPECT_EQ(one.quality.step_scale, 4);
+    EXPECT_EQ(one.quality.step_scale, std::pow(4.0, double(i / 3 + 1)));
     EXPECT_EQ(one.first_pass_ms, 0);
     EXPECT_NE(image_hash(keep.results[i + 2]->images[0]),
               image_hash(keep.results[i + 1]->images[0]));
