@@ -47,6 +47,11 @@ void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
                  "Volumes: what --adapt changes: ray (the step), image (the resolution, "
                  "upsampled) or hybrid (both)")
       ->capture_default_str();
+  cmd.add_option("--cost-model", o.cost_model,
+                 "Volumes: the KRLS cost model's settings: ours (gamma 0.5, tolerance 0.001, "
+                 "at most 200 support vectors) or paper (Bruder et al.: gamma 0.00025, "
+                 "tolerance 0.006); :tf=0 leaves out the transfer function's feature")
+      ->capture_default_str();
   cmd.add_option("--prepass-stride", o.prepass_stride,
                  "Volumes: one prediction pre-pass ray per NxN pixels (0: no prediction; "
                  "balancers then split by area)")

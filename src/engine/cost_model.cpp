@@ -34,8 +34,7 @@ CostModelConfig parse_cost_model(const std::string& text) {
 }
 
 struct CostModel::Impl {
-  explicit Impl(const CostModelConfig& c)
-      : krls(Rbf(c.gamma), c.tolerance, c.max_dictionary) {}
+  explicit Impl(const CostModelConfig& c) : krls(Rbf(c.gamma), c.tolerance, c.max_dictionary) {}
   dlib::krls<Rbf> krls;
 };
 
