@@ -135,8 +135,9 @@ std::vector<BalancerEntry> builtin_balancers() {
         {"tile", "8", "1..4096", "tile side, pixels (the paper: 8)"},
         {"steal", "0", "0|1", "1: idle devices steal (ours; the paper does not)"},
         {"items", "rows", "rect|rows|tiles", "how a device's region is handed out"},
-        {"sigma", "predicted", "A/B/...",
-         "fixed cost per sample, one per device: the paper's 7.5 static baseline"}},
+        {"sigma", "measured", "A/B/...",
+         "fixed cost per sample, one per device > 0: the paper's 7.5 static baseline "
+         "(absent: predicted, else measured)"}},
        make_bruder},
       // The peers' balancers (peers_*.h), for comparison.
       {"cycles",
