@@ -103,7 +103,7 @@ nlohmann::json lane_outputs(size_t k, const Run& s, const BenchResult& result,
       {"summary", summary_to_json(summary, warmup, result.sampled)}};
   if (s.volume && s.volume->options().target_ms > 0)
     run["targeting"] = targeting_to_json(targeting_summary(
-        lane.records, warmup, s.volume->options().target_ms, lane.error_vs_lane0));
+        lane.records, warmup, s.volume->options().target_ms, lane.error_vs_reference));
   if (!b.trace_prefix.empty()) {
     TraceFile trace(fmt::format("{}-{}.trace", b.trace_prefix, name), lane.spec, s.devices);
     for (const balance::FrameStats& f : lane.stats) trace.frame(f);
@@ -142,7 +142,7 @@ void report_volume(const Run& s, const BenchResult& result, const std::vector<st
     std::vector<TargetingSummary> t;
     for (const BenchLane& lane : result.lanes)
       t.push_back(targeting_summary(lane.records, warmup, s.volume->options().target_ms,
-                                    lane.error_vs_lane0));
+                                    lane.error_vs_reference));
     print_targeting(lanes, t, s.volume->options().target_ms);
     if (!report_dir.empty()) {
       std::vector<std::vector<FrameRecord>> records;
@@ -248,6 +248,11 @@ Runner add_bench_command(CLI::App& app) {
                   "of its per-frame ratios separate (1: one block, no intervals)")
       ->capture_default_str();
   CLI::Option* repeats_option = cmd->get_option("--repeats");
+  cmd->add_option("--reference-step", o->volume.reference_step,
+                  "Volumes: render every frame once more at this step (voxel lengths, on device "
+                  "0, outside the timings) as the reference of every lane's PSNR/SSIM (Bruder "
+                  "et al.'s Table 4: 0.1); 0: the first lane's full-quality frames")
+      ->capture_default_str();
   cmd->add_option("--probe-ms", b->probe_ms,
                   "Contention probe before and after the run: busy loops for this long on one "
                   "core, then on every core; with the hypervisor's steal time and the spread "
@@ -301,6 +306,7 @@ Runner add_bench_command(CLI::App& app) {
     config.ideal_frames = b->ideal_frames;
     config.partition_frame = b->report_dir.empty() ? -1 : o->frames / 2;
     config.keep_stats = !b->trace_prefix.empty();
+    config.reference_step = s.volume ? o->volume.reference_step : 0;
     // Block 0 gives the per-frame outputs (table, JSON frames, plots, traces); every block
     // adds its per-frame figures to the repeat statistics.
     BenchResult result;
@@ -400,6 +406,10 @@ Runner add_bench_command(CLI::App& app) {
       doc["images_identical"] = mixed_types ? nlohmann::json("not compared: mixed device types")
                                             : nlohmann::json(mismatch.empty());
       doc["runs"] = runs_json;
+      doc["image_reference"] =
+          o->volume.reference_step > 0
+              ? fmt::format("every frame at step {} voxel lengths", o->volume.reference_step)
+              : std::string("the first lane's full-quality frames");
       write_file_atomically(b->json_path, dump_json(doc) + "\n");
     }
     if (!mismatch.empty()) {

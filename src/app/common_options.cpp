@@ -36,14 +36,21 @@ void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
          "Volumes: frame-time targeting: none, last-frame (scale quality by the last "
          "frame's time), predict (Bruder et al.: choose quality from the predicted "
          "time; predict:q=Q scales predictions by the Q-quantile of recent measured/predicted "
-         "ratios, e.g. q=0.9), two-pass (a quarter-quality pass, then a second pass "
-         "filling the budget if the first took under half of it); auto: predict with --target-ms, "
+         "ratios, e.g. q=0.9), two-pass (a pass at a quarter of the last frame's quality, "
+         "then a second pass filling the budget if the first took under half of it; "
+         "two-pass:probe=fixed: the first pass at a quarter of full quality); auto: predict with "
+         "--target-ms, "
          "else none. bench takes a list and runs "
          "every balancer once per mode")
       ->capture_default_str();
   cmd.add_option("--adapt-space", o.adapt_space,
                  "Volumes: what --adapt changes: ray (the step), image (the resolution, "
                  "upsampled) or hybrid (both)")
+      ->capture_default_str();
+  cmd.add_option("--cost-model", o.cost_model,
+                 "Volumes: the KRLS cost model's settings: ours (gamma 0.5, tolerance 0.001, "
+                 "at most 200 support vectors) or paper (Bruder et al.: gamma 0.00025, "
+                 "tolerance 0.006); :tf=0 leaves out the transfer function's feature")
       ->capture_default_str();
   cmd.add_option("--prepass-stride", o.prepass_stride,
                  "Volumes: one prediction pre-pass ray per NxN pixels (0: no prediction; "

@@ -98,7 +98,7 @@ std::vector<double> prediction_shares(const std::vector<double>& sigma, double z
   for (size_t i = 0; i < n; ++i)
     if (is_alive(i)) sum += w[i] = usable(sigma[i]) ? w[i] : fill;
   for (size_t i = 0; i < n; ++i)
-    if (is_alive(i)) w[i] = (1 - zeta) * w[i] / sum + zeta / count;
+    if (is_alive(i)) w[i] = zeta * w[i] / sum + (1 - zeta) / count;
   return w;
 }
 
@@ -107,6 +107,10 @@ BruderBalancer::BruderBalancer(int device_count, Options options)
   if (!(options_.zeta >= 0 && options_.zeta <= 1))
     throw std::invalid_argument("bruder: zeta must lie in [0, 1]");
   if (options_.tile < 1) throw std::invalid_argument("bruder: tile must be >= 1");
+  if (!options_.fixed_cost.empty() && options_.fixed_cost.size() != size_t(device_count))
+    throw std::invalid_argument("bruder: sigma needs one cost per device");
+  for (double s : options_.fixed_cost)
+    if (!usable(s)) throw std::invalid_argument("bruder: every sigma must be finite and > 0");
   measured_.assign(size_t(device_count), kUnknown);
 }
 
@@ -114,10 +118,13 @@ std::string BruderBalancer::spec() const {
   std::ostringstream s;
   s << "bruder:zeta=" << options_.zeta << ":tile=" << options_.tile
     << ":steal=" << (options_.steal ? 1 : 0) << ":items=" << options_.items;
+  for (size_t i = 0; i < options_.fixed_cost.size(); ++i)
+    s << (i == 0 ? ":sigma=" : "/") << options_.fixed_cost[i];
   return s.str();
 }
 
 std::vector<double> BruderBalancer::costs_for(const FrameShape& shape) const {
+  if (!options_.fixed_cost.empty()) return options_.fixed_cost;  // §7.5's static: σ̄_i
   std::vector<double> sigma = measured_;
   for (size_t i = 0; i < sigma.size() && i < shape.device_cost.size(); ++i)
     if (usable(shape.device_cost[i])) sigma[i] = shape.device_cost[i];

@@ -77,6 +77,7 @@ std::unique_ptr<Balancer> make_bruder(Spec& spec, int n) {
   o.tile = spec.get_int("tile", o.tile, 1, 4096);
   o.steal = spec.get_bool("steal", o.steal);
   o.items = spec.get_string("items", o.items, {"rect", "rows", "tiles"});
+  o.fixed_cost = spec.get_ratios("sigma", size_t(n));
   return std::make_unique<BruderBalancer>(n, o);
 }
 
@@ -150,11 +151,14 @@ std::vector<BalancerEntry> builtin_balancers() {
        make_hybrid},
       {"bruder",
        "predicted costs, a k-d tree of tiles cut at the devices' shares",
-       "Bruder et al., Prediction-based load balancing ... (EGPGV 2017)",
-       {{"zeta", "0.5", "0..1", "damping of the shares toward uniform (the paper's zeta)"},
+       "Bruder et al., Prediction-based load balancing ... (Visual Informatics 2017)",
+       {{"zeta", "0.5", "0..1", "weight of the predicted shares against uniform (Eq. 3's zeta)"},
         {"tile", "8", "1..4096", "tile side, pixels (the paper: 8)"},
         {"steal", "0", "0|1", "1: idle devices steal (ours; the paper does not)"},
-        {"items", "rows", "rect|rows|tiles", "how a device's region is handed out"}},
+        {"items", "rows", "rect|rows|tiles", "how a device's region is handed out"},
+        {"sigma", "measured", "A/B/...",
+         "fixed cost per sample, one per device > 0: the paper's 7.5 static baseline "
+         "(absent: predicted, else measured)"}},
        make_bruder},
       // The peers' balancers (peers_*.h), for comparison.
       {"cycles",

@@ -23,11 +23,17 @@ void parse_adapt(const std::string& text, TargetingConfig& config) {
   const size_t colon = text.find(':');
   config.mode = parse_adapt_mode(text.substr(0, colon));
   config.margin_quantile = 0;
+  config.probe_fixed = false;
   if (colon == std::string::npos) return;
   const std::string option = text.substr(colon + 1);
+  if (config.mode == AdaptMode::two_pass && (option == "probe=fixed" || option == "probe=last")) {
+    config.probe_fixed = option == "probe=fixed";
+    return;
+  }
   if (config.mode != AdaptMode::predict || option.rfind("q=", 0) != 0)
     throw std::invalid_argument("adaptation mode '" + text +
-                                "': only predict takes an option, q=Q (e.g. predict:q=0.9)");
+                                "': only predict:q=Q (e.g. predict:q=0.9) and "
+                                "two-pass:probe=fixed|last take an option");
   const double q = parse_number(option.substr(2)).value_or(NAN);
   if (!(q > 0 && q < 1))
     throw std::invalid_argument("adaptation mode '" + text + "': q must be a number in (0, 1)");
@@ -41,6 +47,7 @@ std::string adapt_name(const TargetingConfig& config) {
     std::snprintf(q, sizeof q, ":q=%g", config.margin_quantile);
     name += q;
   }
+  if (config.mode == AdaptMode::two_pass && config.probe_fixed) name += ":probe=fixed";
   return name;
 }
 
@@ -104,7 +111,10 @@ double FrameTimeTargeting::next(const std::function<double(double)>& predict_ms)
       cost_ = 1;
       break;
     case AdaptMode::two_pass:
-      cost_ = config_.probe_cost;
+      // The paper: a quarter of the last frame's parameters (cost_ is its last pass).
+      probe_ = config_.probe_fixed ? config_.probe_cost
+                                   : std::clamp(config_.probe_cost * cost_, config_.min_cost, 1.0);
+      cost_ = probe_;
       break;
     case AdaptMode::last_frame:
       if (last_ms_ > 0) cost_ = clamp_next(cost_ * target / last_ms_);
@@ -156,7 +166,7 @@ std::optional<double> FrameTimeTargeting::second_pass(double first_ms) {
   if (config_.mode != AdaptMode::two_pass || !(std::isfinite(first_ms) && first_ms > 0) ||
       first_ms >= 0.5 * target)
     return std::nullopt;
-  cost_ = std::clamp(config_.probe_cost * (target - first_ms) / first_ms, config_.min_cost, 1.0);
+  cost_ = std::clamp(probe_ * (target - first_ms) / first_ms, config_.min_cost, 1.0);
   return cost_;
 }
 

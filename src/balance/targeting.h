@@ -17,9 +17,11 @@
 //    frames' measured / predicted times, so a biased or noisy predictor still lands at or
 //    under the target in a share Q of the frames (the paper aims at the prediction itself);
 //  - two-pass: the paper's other baseline — every frame first renders at `probe_cost`
-//    (a quarter of the work); if that pass took under half the target, a second pass at
-//    the cost factor extrapolated to fill the rest of the budget replaces its image
-//    (second_pass()). It measures instead of predicting, and pays for the probe every frame.
+//    (a quarter) times the last frame's cost factor, i.e. at a quarter of the last frame's
+//    parameters; if that pass took under half the target, a second pass at the cost factor
+//    extrapolated to fill the rest of the budget replaces its image (second_pass()). It
+//    measures instead of predicting, and pays for the probe every frame. Ours,
+//    `two-pass:probe=fixed`: the first pass is always at `probe_cost` of full quality.
 // In the last-frame and predict modes quality rises by at most 1/`max_raise` per frame
 // (the paper: the step shrinks by at most x0.8 a frame), so a transient lull does not
 // cause a spike; two-pass measures the frame itself and needs no such limit.
@@ -44,7 +46,10 @@ struct TargetingConfig {
   double min_cost = 1.0 / 64;  // lowest cost factor (coarsest quality), in (0, 1]
   double max_raise = 0.8;      // c_next <= c / max_raise, in (0, 1]
   int bisection_steps = 12;
-  double probe_cost = 0.25;  // two-pass: the cost factor of the first pass, in [min_cost, 1]
+  // two-pass: the first pass's cost factor relative to the last frame's (the paper), or,
+  // with probe_fixed (ours), relative to full quality; in [min_cost, 1].
+  double probe_cost = 0.25;
+  bool probe_fixed = false;
   // predict: 0 for the paper's form, else the quantile Q in (0, 1) of the recent measured /
   // predicted ratios that scales the predictions (calibrated once kMinRatios are known).
   double margin_quantile = 0;
@@ -53,10 +58,13 @@ struct TargetingConfig {
 // "none" | "last-frame" | "predict" | "two-pass", "ray" | "image" | "hybrid";
 // std::invalid_argument (one line) otherwise.
 AdaptMode parse_adapt_mode(const std::string& text);
-// A mode with its options into `config` (mode and margin_quantile): a mode name, or
-// "predict:q=Q" with Q in (0, 1). std::invalid_argument (one line) otherwise.
+// A mode with its options into `config` (mode, margin_quantile, probe_fixed): a mode
+// name, "predict:q=Q" with Q in (0, 1) or "two-pass:probe=fixed" (ours) /
+// "two-pass:probe=last" (the paper's, the default). std::invalid_argument (one line)
+// otherwise.
 void parse_adapt(const std::string& text, TargetingConfig& config);
-// The spec of config's mode as parse_adapt reads it ("predict:q=0.9", "last-frame").
+// The spec of config's mode as parse_adapt reads it ("predict:q=0.9", "last-frame",
+// "two-pass:probe=fixed").
 std::string adapt_name(const TargetingConfig& config);
 AdaptSpace parse_adapt_space(const std::string& text);
 const char* adapt_mode_name(AdaptMode m);
@@ -77,8 +85,8 @@ class FrameTimeTargeting {
   double next(const std::function<double(double)>& predict_ms);
   // Two-pass mode, after the first pass of a frame took `first_ms`: the cost factor of a
   // second pass that fits the rest of the target (time taken as proportional to the cost
-  // factor), or none when the first pass used half the target or more (it is then the
-  // frame), when the time is garbage or in any other mode.
+  // factor, from the first pass's), or none when the first pass used half the target or more (it
+  // is then the frame), when the time is garbage or in any other mode.
   std::optional<double> second_pass(double first_ms);
   // Tells the measured time of the frame last planned (ms; garbage is ignored).
   void measured(double frame_ms);
@@ -99,7 +107,8 @@ class FrameTimeTargeting {
   void choose_predicted(const std::function<double(double)>& predict_ms);
 
   TargetingConfig config_;
-  double cost_ = 1.0;          // of the frame last planned
+  double cost_ = 1.0;          // of the frame last planned (its last pass)
+  double probe_ = 1.0;         // two-pass: the cost factor of this frame's first pass
   double last_ms_ = 0.0;       // its measured time, 0 until known
   double predicted_ms_ = 0.0;  // its predicted time (predict mode), 0 when unknown
   std::deque<double> ratios_;  // measured / predicted of the last frames, oldest first

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "device/work_list.h"
+#include "render/volume_raycaster.h"
 
 namespace multiray {
 
@@ -54,13 +55,28 @@ IdealSample measure_ideal(const std::vector<Device*>& devices, const std::vector
   return sample;
 }
 
+// View 0 of `in` rendered by `device` alone with `settings` (the frame's own).
+Framebuffer render_reference(Device& device, const FrameInput& in,
+                             const RenderSettings& settings) {
+  const int w = in.views.at(0).width, h = in.views.at(0).height;
+  std::vector<Framebuffer> out(1, Framebuffer(w, h));
+  const std::vector<ViewSetup> view0(1, in.views.at(0));
+  const FrameJob job{view0, settings, &out};
+  ListWorkSource source({WorkItem{Rect{0, 0, w, h}, 0}});
+  DeviceReport r;
+  std::thread([&] { r = device.render(job, source, 0); }).join();
+  if (r.failed) throw DeviceError("device 0 failed on the reference: " + r.error);
+  return std::move(out[0]);
+}
+
 class BenchObserver : public FrameObserver {
  public:
-  BenchObserver(const std::vector<Device*>& devices, const std::vector<double>& speeds,
-                const std::vector<Perturbation>& perturbations, const RenderSettings& settings,
-                const BenchConfig& config, const std::function<void(int)>& on_frame,
-                BenchResult& result)
-      : devices_(devices),
+  BenchObserver(const Session& session, const std::vector<Device*>& devices,
+                const std::vector<double>& speeds, const std::vector<Perturbation>& perturbations,
+                const RenderSettings& settings, const BenchConfig& config,
+                const std::function<void(int)>& on_frame, BenchResult& result)
+      : session_(session),
+        devices_(devices),
         speeds_(speeds),
         perturbations_(perturbations),
         settings_(settings),
@@ -75,6 +91,19 @@ class BenchObserver : public FrameObserver {
     if (std::find(result_.sampled.begin(), result_.sampled.end(), frame) != result_.sampled.end())
       result_.ideal.push_back(measure_ideal(devices_, speeds_at(perturbations_, speeds_, frame),
                                             in, settings_, frame));
+    fine_.reset();
+    const RenderSettings& now = session_.settings();
+    if (config_.reference_step > 0 && now.volume_style && !devices_.empty()) {
+      if (fine_style_of_ != now.volume_style) {  // once per transfer function
+        auto fine = std::make_shared<VolumeStyle>(*now.volume_style);
+        fine->step = config_.reference_step;
+        fine_style_ = fine, fine_style_of_ = now.volume_style;
+      }
+      RenderSettings fine_settings = now;
+      fine_settings.volume_style = fine_style_;
+      fine_settings.step_scale = 1;
+      fine_ = std::make_shared<Framebuffer>(render_reference(*devices_[0], in, fine_settings));
+    }
   }
 
   void on_frame(const std::shared_ptr<const FrameResult>& r) override {
@@ -98,15 +127,18 @@ class BenchObserver : public FrameObserver {
       }
     frame_quality_.emplace_back(r->record.quality, hash);
     const balance::Quality full;
-    if (r->lane == 0)
+    if (fine_)
+      lane.error_vs_reference.push_back(image_error(r->images.at(0), *fine_));
+    else if (r->lane == 0)
       reference_ = r->record.quality.image_scale == full.image_scale &&
                            r->record.quality.step_scale == full.step_scale
                        ? r
                        : nullptr;
     else if (reference_ && reference_->frame == r->frame)
-      lane.error_vs_lane0.push_back(hash == result_.lanes[0].image_hashes.back()
-                                        ? ImageError{0, std::numeric_limits<double>::infinity(), 1}
-                                        : image_error(r->images.at(0), reference_->images.at(0)));
+      lane.error_vs_reference.push_back(
+          hash == result_.lanes[0].image_hashes.back()
+              ? ImageError{0, std::numeric_limits<double>::infinity(), 1}
+              : image_error(r->images.at(0), reference_->images.at(0)));
     if (r->frame == config_.partition_frame) {
       lane.partition = r->rendered;
       if (!r->images.empty()) lane.partition_image = r->images[0];
@@ -115,6 +147,7 @@ class BenchObserver : public FrameObserver {
   }
 
  private:
+  const Session& session_;
   const std::vector<Device*>& devices_;
   const std::vector<double>& speeds_;
   const std::vector<Perturbation>& perturbations_;
@@ -123,6 +156,8 @@ class BenchObserver : public FrameObserver {
   // This frame's lanes so far: the quality each rendered at and its image hash.
   std::vector<std::pair<balance::Quality, uint64_t>> frame_quality_;
   std::shared_ptr<const FrameResult> reference_;  // lane 0's frame, if at full quality
+  std::shared_ptr<const Framebuffer> fine_;       // this frame at reference_step
+  std::shared_ptr<const VolumeStyle> fine_style_, fine_style_of_;  // and the style it used
   const std::function<void(int)>& on_frame_;
   BenchResult& result_;
 };
@@ -140,7 +175,8 @@ BenchResult run_bench(Session& session, const std::vector<Device*>& devices,
   result.mismatched_frames.resize(session.lanes());
   for (size_t k = 0; k < session.lanes(); ++k)
     result.lanes[k].spec = session.engine(k).balancer().spec();
-  BenchObserver observer(devices, speeds, perturbations, settings, config, on_frame, result);
+  BenchObserver observer(session, devices, speeds, perturbations, settings, config, on_frame,
+                         result);
   session.run(0, config.frames, observer);
   return result;
 }

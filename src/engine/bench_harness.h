@@ -21,6 +21,10 @@ struct BenchConfig {
   int ideal_frames = 20;     // frames (spread over those after the warm-up) timed alone
   int partition_frame = -1;  // frame whose rendered items are kept per lane (-1: none)
   bool keep_stats = false;   // keep every frame's per-item stats per lane (for traces)
+  // Volumes: > 0 renders every frame once more at this step (voxel lengths), on device 0
+  // before the lanes and outside their times, as the reference of every lane's image
+  // error (Bruder et al.'s Table 4 uses 0.1); 0: lane 0's frame when at full quality.
+  float reference_step = 0;
 };
 
 // What each device measured rendering one sampled frame alone.
@@ -37,9 +41,10 @@ struct BenchLane {
   std::vector<std::vector<balance::WorkItem>> partition;  // at partition_frame
   Framebuffer partition_image;             // view 0 as rendered at partition_frame (empty: none)
   std::vector<balance::FrameStats> stats;  // per frame, with keep_stats
-  // Per frame, view 0 against lane 0's image of the frame when lane 0 rendered it at full
-  // quality (the fine reference of frame-time targeting); 0 error at equal quality.
-  std::vector<ImageError> error_vs_lane0;
+  // Per frame, view 0 against the reference: the frame rendered at
+  // BenchConfig::reference_step when set (every lane), else lane 0's image of the frame
+  // when lane 0 rendered it at full quality (lanes 1.., 0 error at equal quality).
+  std::vector<ImageError> error_vs_reference;
 };
 
 struct BenchResult {

@@ -19,33 +19,44 @@ constexpr double kRaySamples = 1.0, kBlockSamples = 0.5;
 double log2_clamped(double x) { return std::log2(std::max(x, 1e-9)); }
 }  // namespace
 
+double shaded_share(double weighted, double marched) {
+  if (!(marched > 0)) return 0;
+  // weighted / marched = s + (1 - s) / 7 for a share s of shaded samples.
+  return std::clamp((weighted / marched - 1.0 / 7) * 7.0 / 6.0, 0.0, 1.0);
+}
+
 VolumeAdvisor::VolumeAdvisor(const VolumeScene& vs, int device_count,
                              const VolumeAdvisorConfig& config)
     : vs_(vs),
       config_(config),
       targeting_(config.targeting),
-      models_(size_t(std::max(device_count, 0))),
+      models_(),
       alive_(size_t(std::max(device_count, 0)), true),
       predicted_sigma_(size_t(std::max(device_count, 0)), 0.0),
-      measured_sigma_(size_t(std::max(device_count, 0)), 0.0) {}
+      measured_sigma_(size_t(std::max(device_count, 0)), 0.0) {
+  for (int i = 0; i < device_count; ++i) models_.emplace_back(config.cost_model);
+}
 
-CostFeatures VolumeAdvisor::features(const ViewSetup& view, const VolumeStyle& style,
-                                     double step_scale, double prepass_ms,
-                                     double max_depth) const {
+CostFeatures VolumeAdvisor::features(double step_scale) const {
+  const ViewSetup& view = view_;
   const Camera& c = view.camera;
   const Vec3 d = normalize(c.target - c.eye);
   const double voxel = vs_.volume.voxel_length();
   const double distance = length(c.eye);  // the volume is centred on the origin
   const double pixel =
       distance * 2 * std::tan(0.5 * c.fov_y_deg * kPi / 180) / std::max(view.height, 1);
-  return {std::atan2(double(d.x), double(d.z)), std::asin(std::clamp(double(d.y), -1.0, 1.0)),
-          log2_clamped(pixel / voxel),          log2_clamped(style.step * step_scale),
-          log2_clamped(1 + prepass_ms),         max_depth / voxel / 256};
+  return {std::atan2(double(d.x), double(d.z)),
+          std::asin(std::clamp(double(d.y), -1.0, 1.0)),
+          log2_clamped(pixel / voxel),
+          log2_clamped(style_->step * step_scale),
+          log2_clamped(1 + prepass_ms_),
+          max_depth_ / voxel / 256,
+          shaded_share_};
 }
 
 double VolumeAdvisor::predict_ms(double c) const {
   const balance::Quality q = balance::quality_of(c, config_.targeting.space);
-  const CostFeatures x = features(view_, *style_, q.step_scale, prepass_ms_, max_depth_);
+  const CostFeatures x = features(q.step_scale);
   double rate = 0;  // samples per ms of all live devices together
   for (size_t i = 0; i < models_.size(); ++i) {
     if (!alive_[i]) continue;
@@ -72,9 +83,12 @@ FrameAdvice VolumeAdvisor::advise(int, const std::vector<ViewSetup>& views,
   samples_.clear(), fixed_.clear();
   full_samples_ = fixed_samples_ = 0;
   max_depth_ = 0;
+  double weighted = 0, marched = 0;  // world units over all coarse pixels
   for (const ViewSetup& v : views) {
     const VolumePrepass p = run_prepass(vs_, *style_, v, config_.prepass_stride, settings.seed);
     max_depth_ = std::max(max_depth_, p.max_depth);
+    for (size_t c = 0; c < p.marched.size(); ++c)
+      weighted += double(p.weighted[c]), marched += double(p.marched[c]);
     for (int y = 0; y < v.height; ++y)
       for (int x = 0; x < v.width; ++x) {
         const size_t c = size_t(y / p.stride) * size_t(p.width) + size_t(x / p.stride);
@@ -83,6 +97,7 @@ FrameAdvice VolumeAdvisor::advise(int, const std::vector<ViewSetup>& views,
         full_samples_ += samples_.back(), fixed_samples_ += fixed_.back();
       }
   }
+  shaded_share_ = shaded_share(weighted, marched);
   timings_.prepass_ms = prepass_ms_ = clock.elapsed_ms();
 
   clock.restart();
@@ -101,8 +116,8 @@ void VolumeAdvisor::advice_at(double c, FrameAdvice& advice) {
   const float inv_step = float(1 / advice.quality.step_scale);
   for (size_t i = 0; i < samples_.size(); ++i)
     advice.pixel_work[i] = samples_[i] * inv_step + fixed_[i];
-  const CostFeatures x =
-      features(view_, *style_, advice.quality.step_scale, prepass_ms_, max_depth_);
+  const CostFeatures x = features(advice.quality.step_scale);
+  last_features_ = x;
   advice.device_cost.clear();
   for (size_t i = 0; i < models_.size(); ++i) {
     predicted_sigma_[i] = models_[i].predict(x);
@@ -126,8 +141,7 @@ void VolumeAdvisor::measured(const FrameAdvice& advice, const FrameRecord& recor
   std::fill(measured_sigma_.begin(), measured_sigma_.end(), 0.0);
   if (!style_ || !stats.shape.weighted()) return;
   const balance::FrameShape& shape = stats.shape;  // as rendered: scaled weights
-  const CostFeatures x =
-      features(view_, *style_, advice.quality.step_scale, prepass_ms_, max_depth_);
+  const CostFeatures x = features(advice.quality.step_scale);
   for (size_t i = 0; i < models_.size() && i < stats.devices.size(); ++i) {
     const balance::DeviceFrameStats& d = stats.devices[i];
     alive_[i] = d.alive;

@@ -22,7 +22,8 @@ struct VolumeAdvisorConfig {
   // Mode none still predicts (balancers that use predictions split by them, and the
   // prediction error is recorded) but always renders at full quality.
   balance::TargetingConfig targeting;
-  int prepass_stride = 4;  // one pre-pass ray per stride x stride pixels
+  int prepass_stride = 4;      // one pre-pass ray per stride x stride pixels
+  CostModelConfig cost_model;  // KRLS settings and features (cost_model.h)
   uint64_t seed = 0;
 };
 
@@ -30,6 +31,11 @@ struct VolumeAdvisorConfig {
 struct AdvisorTimings {
   double prepass_ms = 0, predict_ms = 0, train_ms = 0;
 };
+
+// The transfer function's cost feature (cost_model.h): the share of shaded samples among
+// a pre-pass's samples, from its fetch-weighted length `weighted` (a shaded sample 1, a
+// transparent one 1/7) and its plain length `marched`; in [0, 1], 0 when nothing marched.
+double shaded_share(double weighted, double marched);
 
 class VolumeAdvisor : public FrameAdvisor {
  public:
@@ -55,6 +61,8 @@ class VolumeAdvisor : public FrameAdvisor {
   // per sample; 0 where unknown), for the prediction-error plots (paper Fig. 6a).
   const std::vector<double>& predicted_sigma() const { return predicted_sigma_; }
   const std::vector<double>& measured_sigma() const { return measured_sigma_; }
+  // The features of the frame last advised, at its chosen quality (cost_model.h).
+  const CostFeatures& last_features() const { return last_features_; }
   double cost_factor() const { return targeting_.cost(); }
   // Whether it adapts quality to a frame-time target (an --adapt mode other than none).
   bool targets_frame_time() const { return config_.targeting.mode != balance::AdaptMode::none; }
@@ -62,8 +70,8 @@ class VolumeAdvisor : public FrameAdvisor {
   void set_target_ms(double ms) { targeting_.set_target_ms(ms), config_.targeting.target_ms = ms; }
 
  private:
-  CostFeatures features(const ViewSetup& view, const VolumeStyle& style, double step_scale,
-                        double prepass_ms, double max_depth) const;
+  // The features at `step_scale` from the last pre-pass.
+  CostFeatures features(double step_scale) const;
   // Predicted frame time at cost factor c from the last pre-pass (NaN while a live device
   // has no model).
   double predict_ms(double c) const;
@@ -79,6 +87,8 @@ class VolumeAdvisor : public FrameAdvisor {
   ViewSetup view_;
   std::shared_ptr<const VolumeStyle> style_;
   double prepass_ms_ = 0, max_depth_ = 0;
+  double shaded_share_ = 0;  // of the pre-pass's samples: the transfer function's feature
+  CostFeatures last_features_{};
   // The pre-pass's samples of each output pixel at the full-quality step and the work the
   // step does not change (samples' worth), and their sums.
   std::vector<float> samples_, fixed_;

@@ -87,6 +87,8 @@ std::map<std::string, Field> fields(RenderArgs& a) {
           {"adapt", &o.volume.adapt},
           {"adapt_space", &o.volume.adapt_space},
           {"prepass_stride", &o.volume.prepass_stride},
+          {"cost_model", &o.volume.cost_model},
+          {"reference_step", &o.volume.reference_step},
           {"sequence", &o.volume.sequence},
           {"ao_rays", &o.ao_rays},
           {"ao_distance", &o.ao_distance},

@@ -73,6 +73,7 @@ std::unique_ptr<FrameAdvisor> VolumeRun::advisor(size_t mode, int devices) const
   c.targeting.target_ms = o_.target_ms > 0 ? o_.target_ms : 1;  // mode none ignores it
   c.targeting.space = space_;
   c.prepass_stride = o_.prepass_stride;
+  c.cost_model = parse_cost_model(o_.cost_model);
   return std::make_unique<VolumeAdvisor>(volume_scene(scenes_), devices, c);
 }
 

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/scene_files.h"
+#include "engine/cost_model.h"
 #include "render/volume_raycaster.h"
 #include "volume/load_volume.h"
 #include "volume/transfer_function.h"
@@ -45,6 +46,13 @@ void check_volume_options(const VolumeOptions& o) {
   if (o.prepass_stride < 0 || o.prepass_stride > 64)
     throw InputError("--prepass-stride must be in 0..64 (0: no prediction)");
   if (!o.raw.empty()) parse_raw_spec(o.raw);
+  try {
+    parse_cost_model(o.cost_model);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("--cost-model: ") + e.what());
+  }
+  if (!(o.reference_step == 0 || (o.reference_step >= kMinStep && o.reference_step <= kMaxStep)))
+    throw InputError("--reference-step must be 0 (none) or in [0.01, 64] voxel lengths");
 }
 
 Scene load_volume_scene(const std::string& path, const VolumeOptions& o, bool allow_outside,

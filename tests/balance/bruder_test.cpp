@@ -116,31 +116,46 @@ TEST(KdTiles, RejectsBadInput) {
 }
 
 TEST(BruderShares, InverseCostDampedTowardUniform) {
-  std::vector<double> r = prediction_shares({1, 2.5}, 0.0);
+  std::vector<double> r = prediction_shares({1, 2.5}, 1.0);
   EXPECT_NEAR(r[0], 1 / 1.4, 1e-12);  // 0.714
   EXPECT_NEAR(r[1], 0.4 / 1.4, 1e-12);
   r = prediction_shares({1, 2.5}, 0.5);
   EXPECT_NEAR(r[0], 0.5 / 1.4 + 0.25, 1e-12);  // 0.607
   EXPECT_NEAR(r[1], 0.2 / 1.4 + 0.25, 1e-12);  // 0.393
   // Three devices: Eq. 3 as printed would not sum to 1 here; 1/σ normalised does.
-  r = prediction_shares({1, 2, 4}, 0.0);
+  r = prediction_shares({1, 2, 4}, 1.0);
   EXPECT_NEAR(r[0] + r[1] + r[2], 1.0, 1e-12);
   EXPECT_NEAR(r[0], 4.0 / 7, 1e-12);
   EXPECT_NEAR(r[2], 1.0 / 7, 1e-12);
-  EXPECT_NEAR(prediction_shares({1, 2, 4}, 1.0)[2], 1.0 / 3, 1e-12);
+  EXPECT_NEAR(prediction_shares({1, 2, 4}, 0.0)[2], 1.0 / 3, 1e-12);
+}
+
+TEST(BruderShares, ZetaWeighsThePredictionAsEq3PrintsIt) {
+  // ζ on the prediction term: at ζ = 0.8 a 1 : 3 cost pair gets 0.8·0.75 + 0.2·0.5 = 0.70.
+  // The damping reading, ζ on the uniform term, would give 0.2·0.75 + 0.8·0.5 = 0.55.
+  std::vector<double> r = prediction_shares({1, 3}, 0.8);
+  EXPECT_NEAR(r[0], 0.70, 1e-12);
+  EXPECT_NEAR(r[1], 0.30, 1e-12);
+  r = prediction_shares({1, 3}, 0.2);  // mostly uniform
+  EXPECT_NEAR(r[0], 0.2 * 0.75 + 0.8 * 0.5, 1e-12);
+  // Three devices 1 : 2 : 4 at ζ = 0.8: 0.8·(4, 2, 1)/7 + 0.2/3.
+  r = prediction_shares({1, 2, 4}, 0.8);
+  EXPECT_NEAR(r[0], 0.8 * 4 / 7 + 0.2 / 3, 1e-12);
+  EXPECT_NEAR(r[2], 0.8 * 1 / 7 + 0.2 / 3, 1e-12);
+  EXPECT_NEAR(r[0] + r[1] + r[2], 1.0, 1e-12);
 }
 
 TEST(BruderShares, UnknownCostsDeadDevicesAndExtremes) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   // Unknown σ: the mean weight of the known ones (1 and 0.5 → 0.75).
-  std::vector<double> r = prediction_shares({1, 2, nan}, 0.0);
+  std::vector<double> r = prediction_shares({1, 2, nan}, 1.0);
   EXPECT_NEAR(r[2], 0.75 / 2.25, 1e-12);
   r = prediction_shares({nan, 0, -1}, 0.3);  // nothing known: uniform
   for (double x : r) EXPECT_NEAR(x, 1.0 / 3, 1e-12);
   r = prediction_shares({1, 2, 4}, 0.5, {true, false, true});
   EXPECT_EQ(r[1], 0.0);
   EXPECT_NEAR(r[0] + r[2], 1.0, 1e-12);
-  r = prediction_shares({1e-306, 1e300, 1e-306}, 0.0);  // no overflow, no NaN
+  r = prediction_shares({1e-306, 1e300, 1e-306}, 1.0);  // no overflow, no NaN
   EXPECT_NEAR(r[0], 0.5, 1e-12);
   EXPECT_EQ(prediction_shares({1, 1}, 0.5, {false, false}), (std::vector<double>{0, 0}));
   EXPECT_THROW(prediction_shares({1, 1}, 1.5), std::invalid_argument);
@@ -234,7 +249,7 @@ TEST(Bruder, RowsAndRectsMergeTheTilesOfADevice) {
 TEST(Bruder, SplitsByPredictedDeviceCost) {
   FrameShape shape = weighted_shape(160, 96, 1);
   shape.device_cost = {1e-3, 2.5e-3};
-  BruderBalancer b(2, options(0.0));
+  BruderBalancer b(2, options(1.0));
   const Plan p = b.plan(shape, 0);
   EXPECT_NEAR(p.ratios[0], 1 / 1.4, 1e-9);
   const WeightMap w(shape.width, shape.height, 1, shape.pixel_weight);
@@ -246,7 +261,7 @@ TEST(Bruder, SplitsByPredictedDeviceCost) {
 
 TEST(Bruder, LearnsCostsFromStatsWithoutPredictions) {
   const FrameShape shape = weighted_shape(160, 96, 1);
-  BruderBalancer b(2, options(0.0));
+  BruderBalancer b(2, options(1.0));
   const auto run = simulate_run(b, shape, constant({1, 0.4}), uniform_cost(shape, 1e-3), 4);
   EXPECT_NEAR(run[0].plan.ratios[0], 0.5, 1e-12);  // the first frame is uniform
   EXPECT_NEAR(b.measured_cost()[0], 1e-3, 1e-9);   // ms per unit of pixel weight
@@ -276,8 +291,27 @@ TEST(Bruder, PapersZetaCostsBalanceAndStealingWinsItBack) {
   EXPECT_LT(imbalance(c.back().stats), 0.02);
 }
 
+TEST(Bruder, FixedCostsAreThePapersStaticBaseline) {
+  // sigma=A/B fixes σ̄ for the run: predictions and measurements are ignored, the k-d
+  // tiles still follow the pixel weights.
+  FrameShape shape = weighted_shape(160, 96, 1);
+  shape.device_cost = {1e-3, 1e-3};  // a prediction that would split evenly
+  const auto b = make_balancer("bruder:zeta=1:sigma=1/2.5", 2);
+  EXPECT_EQ(b->spec(), "bruder:zeta=1:tile=8:steal=0:items=rows:sigma=1/2.5");
+  EXPECT_EQ(make_balancer(b->spec(), 2)->spec(), b->spec());
+  for (int f = 0; f < 3; ++f) {
+    const Plan p = b->plan(shape, f);
+    ASSERT_EQ(check_plan(p, shape, 2), "");
+    EXPECT_NEAR(p.ratios[0], 1 / 1.4, 1e-12) << f;  // the first frame too
+    const WeightMap w(shape.width, shape.height, 1, shape.pixel_weight);
+    EXPECT_NEAR(w.sum(p.assigned[0]) / w.total(), 1 / 1.4, 0.02);
+    b->update(simulate(p, shape, devices_with_speeds({1, 1}), uniform_cost(shape, 1e-3), f));
+  }
+  EXPECT_THROW(make_balancer("bruder:sigma=1/2", 3), std::invalid_argument);
+}
+
 TEST(Bruder, KeepsLearningWhileTheImageSizeChanges) {
-  BruderBalancer b(2, options(0.0));
+  BruderBalancer b(2, options(1.0));
   for (int f = 0; f < 8; ++f) {
     const FrameShape shape = weighted_shape(80 + 17 * f, 48 + 9 * (f % 3), 1, f);
     const Plan p = b.plan(shape, f);
@@ -320,12 +354,13 @@ TEST(Bruder, SpecRoundTripsAndBadOptionsThrow) {
   const auto b = make_balancer("bruder", 2);
   EXPECT_EQ(b->spec(), "bruder:zeta=0.5:tile=8:steal=0:items=rows");
   EXPECT_EQ(make_balancer(b->spec(), 2)->spec(), b->spec());
-  const auto c = make_balancer("bruder:steal=1:tile=16:zeta=0:items=tiles", 3);
-  EXPECT_EQ(c->spec(), "bruder:zeta=0:tile=16:steal=1:items=tiles");
+  const auto c = make_balancer("bruder:steal=1:tile=16:zeta=1:items=tiles", 3);
+  EXPECT_EQ(c->spec(), "bruder:zeta=1:tile=16:steal=1:items=tiles");
   EXPECT_EQ(make_balancer(c->spec(), 3)->spec(), c->spec());
   EXPECT_TRUE(c->plan(FrameShape{40, 30, 1, {}, {}}, 0).steal);
   for (const char* bad : {"bruder:zeta=2", "bruder:zeta=-0.1", "bruder:tile=0", "bruder:tile=4097",
-                          "bruder:steal=5", "bruder:tiles=8", "bruder:items=pixels"})
+                          "bruder:steal=5", "bruder:tiles=8", "bruder:items=pixels",
+                          "bruder:sigma=1", "bruder:sigma=1/0", "bruder:sigma=1/x"})
     EXPECT_THROW(make_balancer(bad, 2), std::invalid_argument) << bad;
 }
 

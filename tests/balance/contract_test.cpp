@@ -33,7 +33,7 @@ const std::vector<std::string> kSpecs = {
     "hybrid:bands=1:steal=0",
     "hybrid:bands=3:taper=0.9:min_chunk=1",
     "bruder",
-    "bruder:zeta=0:tile=5:steal=1",
+    "bruder:zeta=1:tile=5:steal=1",
     "bruder:tile=1:items=tiles",
     "bruder:items=rect",
     // The peers' balancers (peers_*.h).

@@ -82,8 +82,42 @@ TEST(Targeting, NoneKeepsFullQualityAndUnknownPredictionsKeepTheFactor) {
   EXPECT_NEAR(last.next({}), 0.5, 1e-12);
 }
 
-TEST(Targeting, TwoPassProbesAQuarterAndFillsTheRestOfTheBudget) {
-  FrameTimeTargeting t(config(AdaptMode::two_pass));  // 50 ms
+TEST(Targeting, TwoPassProbesAQuarterOfTheLastFramesQuality) {
+  // The paper: the first pass renders at a quarter of the last frame's parameters.
+  // Frame time proportional to the cost factor, 80 ms at full quality, target 50 ms.
+  FrameTimeTargeting t(config(AdaptMode::two_pass));
+  EXPECT_EQ(t.next({}), 0.25);  // the first frame: a quarter of full quality
+  std::optional<double> c2 = t.second_pass(80 * 0.25);
+  ASSERT_TRUE(c2.has_value());
+  EXPECT_NEAR(*c2, 0.375, 1e-12);                // 30 ms left over 20 ms at 0.25
+  EXPECT_NEAR(t.next({}), 0.25 * 0.375, 1e-12);  // a quarter of the last frame's
+  c2 = t.second_pass(80 * 0.25 * 0.375);         // 7.5 ms: 42.5 ms left
+  ASSERT_TRUE(c2.has_value());
+  EXPECT_NEAR(*c2, 0.25 * 0.375 * 42.5 / 7.5, 1e-12);  // from the probe's own factor
+  // A probe that was the frame: the next probe is a quarter of it, down to min_cost.
+  for (int f = 0; f < 6; ++f) {
+    const double probe = t.next({});
+    EXPECT_FALSE(t.second_pass(40).has_value());
+    EXPECT_EQ(t.cost(), probe);
+  }
+  EXPECT_EQ(t.cost(), 1.0 / 64);
+  TargetingConfig c;
+  parse_adapt("two-pass", c);
+  EXPECT_FALSE(c.probe_fixed);
+  EXPECT_EQ(adapt_name(c), "two-pass");
+  parse_adapt("two-pass:probe=fixed", c);
+  EXPECT_TRUE(c.probe_fixed);
+  EXPECT_EQ(adapt_name(c), "two-pass:probe=fixed");
+  parse_adapt("two-pass:probe=last", c);
+  EXPECT_FALSE(c.probe_fixed);
+  for (const char* bad : {"two-pass:probe=", "two-pass:probe=half", "predict:probe=fixed"})
+    EXPECT_THROW(parse_adapt(bad, c), std::invalid_argument) << bad;
+}
+
+TEST(Targeting, TwoPassWithAFixedProbeProbesAQuarterAndFillsTheRestOfTheBudget) {
+  TargetingConfig fixed = config(AdaptMode::two_pass);  // 50 ms
+  fixed.probe_fixed = true;                             // ours
+  FrameTimeTargeting t(fixed);
   // Frame time proportional to the cost factor, 80 ms at full quality: the probe takes
   // 20 ms, under half the target, so a second pass gets the remaining 30 ms.
   EXPECT_EQ(t.next({}), 0.25);

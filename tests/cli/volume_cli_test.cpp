@@ -130,4 +130,32 @@ TEST(VolumeCli, BenchComparesAdaptationModesOnASequence) {
   EXPECT_GT(std::filesystem::file_size(report + "/targeting.svg"), 500u);
 }
 
+TEST(VolumeCli, BenchComparesEveryLaneWithAFineReference) {
+  // --reference-step 0.1: every lane, the full-quality one (step 0.5) included, is
+  // compared with the frame rendered at step 0.1 (Bruder et al.'s Table 4), so the
+  // full-quality lane has an error too. Also the paper's and our cost model and two-pass.
+  const std::string raw = ball_raw();
+  const std::string json = ::testing::TempDir() + "/vol_fine.json";
+  for (const char* cm : {"paper", "ours:tf=0"}) {
+    const Result r =
+        run("bench " + raw + " --raw 24x24x24:uint8 --tf grey --res 32x24 --frames 4 " +
+            "--warmup 1 --ideal-frames 1 --target-ms 5 --reference-step 0.1 --cost-model " + cm +
+            " --adapt none,predict,two-pass,two-pass:probe=fixed --balancers bruder " +
+            "--devices cpu:threads=1,cpu:threads=1 --json " + json);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto doc = read_json(json);
+    EXPECT_THAT(doc["image_reference"].get<std::string>(), ::testing::HasSubstr("step 0.1"));
+    ASSERT_EQ(doc["runs"].size(), 4u);
+    EXPECT_THAT(doc["runs"][3]["lane"].get<std::string>(), ::testing::HasSubstr("probe=fixed"));
+    for (const auto& run : doc["runs"]) {
+      const double psnr = run["targeting"]["psnr_db_vs_full_quality"].get<double>();
+      EXPECT_GT(psnr, 10) << run["lane"];
+      EXPECT_LT(psnr, 200) << run["lane"];  // finite: the reference is finer than any lane
+    }
+  }
+  expect_input_error("bench " + raw + " --raw 24x24x24:uint8 --cost-model krls", "--cost-model");
+  expect_input_error("bench " + raw + " --raw 24x24x24:uint8 --reference-step 0.001",
+                     "--reference-step");
+}
+
 }  // namespace volume_cli_test

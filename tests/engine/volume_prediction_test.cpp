@@ -97,7 +97,7 @@ TEST(VolumePrepass, TerminationEstimateShortensOpaqueRays) {
 
 TEST(CostModel, KrlsLearnsASmoothCost) {
   CostModel m;
-  EXPECT_EQ(m.predict({0, 0, 0, 0, 0, 0}), 0);  // nothing learnt yet
+  EXPECT_EQ(m.predict({0, 0, 0, 0, 0, 0, 0}), 0);  // nothing learnt yet
   // sigma = 0.01 * 2^(step feature) * (1 + 0.2 sin(azimuth)): cost per sample rises with
   // a longer step (fixed costs per ray spread over fewer samples) and with the view.
   auto sigma = [](double az, double step) {
@@ -105,14 +105,14 @@ TEST(CostModel, KrlsLearnsASmoothCost) {
   };
   for (int i = 0; i < 400; ++i) {
     const double az = -3 + 6 * ((i * 37) % 100) / 100.0, step = -1 + 3 * ((i * 53) % 100) / 100.0;
-    m.train({az, 0, 0, step, 0, 0}, sigma(az, step));
+    m.train({az, 0, 0, step, 0, 0, 0}, sigma(az, step));
   }
   for (double az : {-2.0, 0.5, 2.5})
     for (double step : {-0.5, 0.7, 1.6})
-      EXPECT_NEAR(m.predict({az, 0, 0, step, 0, 0}) / sigma(az, step), 1.0, 0.05)
+      EXPECT_NEAR(m.predict({az, 0, 0, step, 0, 0, 0}) / sigma(az, step), 1.0, 0.05)
           << az << " " << step;
-  m.train({0, 0, 0, 0, 0, 0}, NAN);  // ignored
-  m.train({0, 0, 0, 0, 0, 0}, -1);
+  m.train({0, 0, 0, 0, 0, 0, 0}, NAN);  // ignored
+  m.train({0, 0, 0, 0, 0, 0, 0}, -1);
   EXPECT_EQ(m.observations(), 400);
 }
 
@@ -120,6 +120,32 @@ struct Keep : FrameObserver {
   std::vector<std::shared_ptr<const FrameResult>> results;
   void on_frame(const std::shared_ptr<const FrameResult>& r) override { results.push_back(r); }
 };
+
+// The transfer function's feature changes on the frame of a switch, before anything is
+// measured: the pre-pass with the new function sees more of the volume shaded.
+TEST(VolumeAdvisor, TransferFunctionFeatureFollowsTheSwitchAtOnce) {
+  Ball b;
+  const VolumeScene& vs = volume_scene(*b.cache);
+  TransferFunction all;  // every voxel visible, the zeros around the ball too
+  all.points = {{0, Vec3(0.5f), 0.01f}, {100, Vec3(1.0f), 0.02f}};
+  const std::shared_ptr<VolumeStyle> dense = make_volume_style(vs, all, 0.5f);
+  VolumeAdvisorConfig c;
+  c.targeting.target_ms = 1;
+  VolumeAdvisor advisor(vs, 1, c);
+  ViewSetup view;
+  view.camera = b.camera;
+  view.width = 48, view.height = 36;
+  RenderSettings settings;
+  settings.volume_style = b.style;
+  advisor.advise(0, {view}, settings);
+  const double ball_only = advisor.last_features()[kTransferFeature];
+  settings.volume_style = dense;
+  advisor.advise(1, {view}, settings);
+  const double everything = advisor.last_features()[kTransferFeature];
+  EXPECT_GT(ball_only, 0.0);
+  EXPECT_LT(ball_only, 0.9);
+  EXPECT_NEAR(everything, 1.0, 1e-6);
+}
 
 // The ball at 48x36 on two CPU devices (the second at half speed) in three lanes: bruder,
 // static, bruder.
@@ -181,7 +207,8 @@ TEST(VolumeAdvisor, TwoPassRendersASecondPassOnlyWhenTheFirstLeftTime) {
   ThreeLanes lanes(b);
   Session& session = *lanes.session;
   // Lane 0: a target no pass can miss (the second pass is full quality); lane 1: no
-  // adaptation; lane 2: a target the first pass already misses (it is the frame).
+  // adaptation; lane 2: a target the first pass already misses (it is the frame, and the
+  // next frame probes a quarter of it: steps 4, 16, 64).
   session.set_advisors([&](size_t lane) -> std::unique_ptr<FrameAdvisor> {
     VolumeAdvisorConfig c;
     c.targeting.target_ms = lane == 0 ? 1e6 : 1e-3;
@@ -199,7 +226,7 @@ TEST(VolumeAdvisor, TwoPassRendersASecondPassOnlyWhenTheFirstLeftTime) {
     // The second pass replaced the quarter-quality image: the frame is the full-quality one.
     EXPECT_EQ(image_hash(keep.results[i]->images[0]), image_hash(keep.results[i + 1]->images[0]));
     const FrameRecord& one = keep.results[i + 2]->record;
-    EXPECT_EQ(one.quality.step_scale, 4);
+    EXPECT_EQ(one.quality.step_scale, std::pow(4.0, double(i / 3 + 1)));
     EXPECT_EQ(one.first_pass_ms, 0);
     EXPECT_NE(image_hash(keep.results[i + 2]->images[0]),
               image_hash(keep.results[i + 1]->images[0]));
