@@ -167,6 +167,7 @@ nlohmann::json run(const std::string& path, const Options& o) {
   const RenderScene small(scene, &compact);
   const SceneBytes fb = full_precision_bytes(scene, compact.bvh.nodes.size());
   const SceneBytes cb = compact_bytes(compact);
+  const CompactMesh::Parts parts = compact.mesh.parts();
 
   ViewSetup view;
   view.camera = choose_default_camera(full, float(o.w) / float(o.h), scene.up);
@@ -229,6 +230,23 @@ nlohmann::json run(const std::string& path, const Options& o) {
       {"uvs", !scene.uvs.empty()},
       {"full_bytes", {{"mesh", fb.mesh}, {"structure", fb.structure}, {"both", fb.total()}}},
       {"compact_bytes", {{"mesh", cb.mesh}, {"structure", cb.structure}, {"both", cb.total()}}},
+      {"compact_mesh_parts",
+       {{"positions", parts.positions},
+        {"cell_table", parts.cell_table},
+        {"normals", parts.normals},
+        {"uvs", parts.uvs},
+        {"uv_shifts", parts.uv_shifts},
+        {"faces", parts.faces},
+        {"materials", parts.materials}}},
+      {"position_grid",
+       {{"geometry_cells", compact.mesh.grid.cell_count()},
+        {"divisions", compact.mesh.grid.divisions},
+        {"cells_per_axis",
+         {compact.mesh.grid.n[0], compact.mesh.grid.n[1], compact.mesh.grid.n[2]}},
+        {"cell", compact.mesh.grid.cell},
+        {"max_error", compact.mesh.grid.max_error()}}},
+      {"uv_period_log2",
+       {compact.mesh.uv_coding.period_log2[0], compact.mesh.uv_coding.period_log2[1]}},
       {"ratio",
        {{"mesh", double(fb.mesh) / double(cb.mesh)},
         {"structure", double(fb.structure) / double(cb.structure)},
@@ -287,6 +305,14 @@ nlohmann::json run(const std::string& path, const Options& o) {
              j["ratio"]["structure"].get<double>(), j["ratio"]["both"].get<double>(),
              j["cpu_device_ratio"].get<double>(), 100 * j["render_time_increase"].get<double>(),
              err.psnr_db);
+  fmt::print(
+      stderr,
+      "{:<40} compact mesh: positions {:.2f} MB, cell table {:.3f} MB ({} geometry cells, "
+      "{} divisions, step {:.3g}), normals {:.2f}, uvs {:.2f} + shifts {:.2f}, faces {:.2f}, "
+      "materials {:.2f} MB\n",
+      "", parts.positions / 1e6, parts.cell_table / 1e6, compact.mesh.grid.cell_count(),
+      compact.mesh.grid.divisions, compact.mesh.grid.step, parts.normals / 1e6, parts.uvs / 1e6,
+      parts.uv_shifts / 1e6, parts.faces / 1e6, parts.materials / 1e6);
   fmt::print(stderr,
              "{:<40} kd-tree {} nodes {} refs ({:.2f}/tri) {:.2f} MB, depth {}, built in {:.0f} "
              "ms | BVH {:.2f} MB (kd/bvh {:.2f}x) | {} rays: kd {:.0f} ms, bvh {:.0f} ms (kd/bvh "

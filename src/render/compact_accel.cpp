@@ -49,8 +49,7 @@ bool cut_out(const CompactMesh& m, const Scene& scene, const Ray& ray, uint32_t 
   if (!mat.may_be_transparent()) return false;
   Vec2 uv{};
   if (!m.uvs.empty()) {
-    const uint32_t* idx = &m.indices[3 * size_t(prim)];
-    const Vec2 a = m.uv(idx[0]), b = m.uv(idx[1]), c = m.uv(idx[2]);
+    const Vec2 a = m.uv(prim, 0), b = m.uv(prim, 1), c = m.uv(prim, 2);
     const float w = 1.0f - u - v;
     uv = Vec2{a.x * w + b.x * u + c.x * v, a.y * w + b.y * u + c.y * v};
   }

@@ -2,15 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/error.h"
 #include "render/flat_bvh.h"
 
 namespace multiray {
 
-size_t CompactMesh::bytes() const {
-  return positions.size() * sizeof(QuantizedPosition) + normals.size() * 2 + uvs.size() * 2 +
-         indices.size() * 4 + material_ids.size() * 2;
+CompactMesh::Parts CompactMesh::parts() const {
+  Parts p;
+  p.positions = positions.size() * sizeof(QuantizedPosition);
+  p.cell_table = grid.table_bytes();
+  p.normals = normals.size() * 2;
+  p.uvs = uvs.size() * 2;
+  p.uv_shifts = uv_shifts.size() * 2;
+  p.faces = indices.size() * 4;
+  p.materials = material_ids.size() * 2;
+  return p;
 }
 
 CompactMesh build_compact_mesh(const Scene& scene) {
@@ -18,21 +26,16 @@ CompactMesh build_compact_mesh(const Scene& scene) {
     throw InputError("the compact representation holds at most 65,535 materials, the scene has " +
                      std::to_string(scene.materials.size()));
   CompactMesh m;
-  m.grid = PositionGrid::fit(scene.bounds());
+  m.grid = PositionGrid::fit(scene.positions);
   m.positions.reserve(scene.positions.size());
   for (const Vec3& p : scene.positions) m.positions.push_back(encode_position(m.grid, p));
   m.normals.reserve(scene.normals.size());
   for (const Vec3& n : scene.normals) m.normals.push_back(encode_normal(n));
   if (!scene.uvs.empty()) {
-    Vec2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
-    for (const Vec2& t : scene.uvs) {
-      lo = Vec2{std::min(lo.x, t.x), std::min(lo.y, t.y)};
-      hi = Vec2{std::max(hi.x, t.x), std::max(hi.y, t.y)};
-    }
-    m.uv_range = UvRange::fit(lo, hi);
-    m.uvs.resize(2 * scene.uvs.size());
-    for (size_t i = 0; i < scene.uvs.size(); ++i)
-      encode_uv(m.uv_range, scene.uvs[i], &m.uvs[2 * i]);
+    QuantizedUvs q = quantize_uvs(scene.uvs, scene.indices);
+    m.uv_coding = q.coding;
+    m.uvs = std::move(q.codes);
+    m.uv_shifts = std::move(q.shifts);
   }
   m.indices = scene.indices;
   m.material_ids.assign(scene.material_ids.begin(), scene.material_ids.end());
@@ -124,8 +127,12 @@ SceneBytes full_precision_bytes(const Scene& s, size_t tree_nodes) {
 
 SceneBytes estimate_compact_bytes(const Scene& s) {
   SceneBytes b;
-  b.mesh = s.positions.size() * sizeof(QuantizedPosition) + s.normals.size() * 2 +
-           s.uvs.size() * 4 + s.indices.size() * 4 + s.material_ids.size() * 2;
+  // The cell table at its largest: a geometry cell per vertex, at most 2^16, each three
+  // 16-bit coordinates.
+  b.mesh = s.positions.size() * sizeof(QuantizedPosition) +
+           std::min(s.positions.size(), size_t(kMaxGridCells)) * 6 + s.normals.size() * 2 +
+           s.uvs.size() * 4 + (s.uvs.empty() ? 0 : s.triangle_count() * 4) + s.indices.size() * 4 +
+           s.material_ids.size() * 2;
   b.structure = s.triangle_count() * (sizeof(CompactNode) + 4);
   return b;
 }

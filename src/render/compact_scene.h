@@ -29,18 +29,33 @@ namespace multiray {
 
 // Faces stay uncompressed (random access), as in the paper.
 struct CompactMesh {
-  PositionGrid grid;
+  PositionGrid grid;  // with the cell-index table of the geometry cells
   std::vector<QuantizedPosition> positions;
   std::vector<uint16_t> normals;  // one octahedral code per position, or empty
-  UvRange uv_range;
-  std::vector<uint16_t> uvs;           // two per position, or empty
+  UvCoding uv_coding;
+  std::vector<uint16_t> uvs;           // two codes per position, or empty
+  std::vector<int16_t> uv_shifts;      // two per triangle when there are uvs
   std::vector<uint32_t> indices;       // three per triangle, as Scene::indices
   std::vector<uint16_t> material_ids;  // one per triangle
 
   Vec3 position(uint32_t v) const { return decode_position(grid, positions[v]); }
   Vec3 corner(uint32_t tri, int k) const { return position(indices[3 * size_t(tri) + k]); }
-  Vec2 uv(uint32_t v) const { return uvs.empty() ? Vec2{} : decode_uv(uv_range, &uvs[2 * v]); }
-  size_t bytes() const;
+  // The uv of corner `k` of triangle `tri` (zero without uvs).
+  Vec2 uv(uint32_t tri, int k) const {
+    return uvs.empty() ? Vec2{}
+                       : decode_uv(uv_coding, &uv_shifts[2 * size_t(tri)],
+                                   &uvs[2 * size_t(indices[3 * size_t(tri) + k])]);
+  }
+  // Bytes by part (the memory reports: docs/compact.md, bench/compact_bench.cpp).
+  struct Parts {
+    size_t positions = 0, cell_table = 0, normals = 0, uvs = 0, uv_shifts = 0, faces = 0,
+           materials = 0;
+    size_t total() const {
+      return positions + cell_table + normals + uvs + uv_shifts + faces + materials;
+    }
+  };
+  Parts parts() const;
+  size_t bytes() const { return parts().total(); }
 };
 
 // 20 bytes: the boxes of both children, each plane as q / 255 of the way across this
@@ -62,12 +77,11 @@ struct CompactBvh {
   size_t bytes() const { return nodes.size() * sizeof(CompactNode) + prims.size() * 4; }
 };
 
-// A child's box from its parent's decoded box `lo`..`hi` and its 8-bit planes. Plane 0 is
-// the parent's lower plane and 255 its upper plane exactly, whatever the rounding.
+// A child's box from its parent's decoded box `lo`..`hi` and its 8-bit planes
+// (render/shared/compact.h, as the OpenCL kernel decodes it). Plane 0 is the parent's
+// lower plane and 255 its upper plane exactly, whatever the rounding.
 inline float dequantize_plane(float lo, float hi, uint8_t q) {
-  if (q == 0) return lo;
-  if (q == 255) return hi;
-  return lo + (hi - lo) * (float(q) * (1.0f / 255.0f));
+  return compact_dequantize_plane(lo, hi, q);
 }
 
 struct CompactScene {

@@ -34,7 +34,7 @@ TriangleShading decode_shading(const CompactScene& c, uint32_t prim) {
   } else {
     for (int k = 0; k < 3; ++k) r.normal[k] = decode_normal(m.normals[idx[k]]);
   }
-  for (int k = 0; k < 3; ++k) r.uv[k] = m.uv(idx[k]);
+  for (int k = 0; k < 3; ++k) r.uv[k] = m.uv(prim, k);
   r.material = m.material_ids[prim];
   return r;
 }

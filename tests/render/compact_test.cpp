@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <random>
+#include <stdexcept>
 
 #include "core/error.h"
 #include "core/image_metrics.h"
@@ -23,56 +24,142 @@ float angle_deg(Vec3 a, Vec3 b) {
   return std::acos(std::clamp(dot(normalize(a), normalize(b)), -1.0f, 1.0f)) * 57.29578f;
 }
 
-TEST(CompactQuantize, PositionErrorIsAtMostACell_1024thPerAxis) {
-  std::mt19937 rng(7);
+// Points spread uniformly over a box (dense: every cell of a fine grid is occupied).
+std::vector<Vec3> points_in(const Bounds3& b, int n, uint32_t seed) {
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(0, 1);
+  std::vector<Vec3> points;
+  for (int i = 0; i < n; ++i) points.push_back(b.lo + Vec3(u(rng), u(rng), u(rng)) * b.extent());
+  return points;
+}
+
+// Every point decodes within half an offset step of its cell, per axis, plus the rounding
+// of the decoded sum at the point's own magnitude (the corner is exact: lattice()).
+void expect_within_half_a_step(const PositionGrid& g, const std::vector<Vec3>& points) {
+  for (const Vec3& p : points) {
+    const Vec3 d = decode_position(g, encode_position(g, p));
+    for (int a = 0; a < 3; ++a)
+      ASSERT_LE(std::fabs(d[a] - p[a]), g.max_error() + 1.2e-7f * (std::fabs(p[a]) + g.cell))
+          << a << ": " << p[a] << " -> " << d[a];
+  }
+}
+
+TEST(CompactQuantize, PositionErrorIsHalfAnOffsetStepOfTheGrid) {
   const Bounds3 boxes[] = {{{-1, -1, -1}, {1, 1, 1}},
                            {{0, 0, 0}, {1000, 3, 0.01f}},
                            {{-1e4f, 5, 5}, {1e4f, 5.5f, 9}},
                            {{3, 3, 3}, {3, 3, 4}}};  // flat in x and y
+  uint32_t seed = 7;
   for (const Bounds3& b : boxes) {
-    const PositionGrid g = PositionGrid::fit(b);
-    ASSERT_LE(uint64_t(g.n[0]) * g.n[1] * g.n[2], kMaxGridCells);
-    for (int a = 0; a < 3; ++a)  // the grid covers the box
-      EXPECT_GE(double((&g.origin.x)[a]) + double(g.n[a]) * g.cell, double((&b.hi.x)[a]));
-    const float bound = g.cell / 1024.0f;
-    for (int i = 0; i < 20000; ++i) {
-      const Vec3 p = b.lo + Vec3(u(rng), u(rng), u(rng)) * b.extent();
-      const Vec3 d = decode_position(g, encode_position(g, p));
-      EXPECT_LE(std::fabs(d.x - p.x), bound + 1e-6f * std::fabs(p.x));
-      EXPECT_LE(std::fabs(d.y - p.y), bound + 1e-6f * std::fabs(p.y));
-      EXPECT_LE(std::fabs(d.z - p.z), bound + 1e-6f * std::fabs(p.z));
+    const std::vector<Vec3> points = points_in(b, 100000, seed++);
+    const PositionGrid g = PositionGrid::fit(points);
+    ASSERT_LE(g.cell_count(), kMaxGridCells);
+    Bounds3 box;
+    for (const Vec3& p : points) box.extend(p);
+    for (int a = 0; a < 3; ++a) {  // the grid covers the points
+      EXPECT_LE(g.origin[a], box.lo[a]);
+      EXPECT_GE(double(g.origin[a]) + double(g.n[a]) * g.cell, double(box.hi[a]));
+    }
+    expect_within_half_a_step(g, points);
+  }
+}
+
+// The geometry-cell table (Seo et al. §3): it lists exactly the cells that hold a vertex,
+// each once, at most 2^16 of them, in the table's z-y-x order; every vertex's index
+// points at the cell that contains it.
+TEST(CompactQuantize, CellTableListsOnlyTheGeometryCells) {
+  const Scene scene = make_lit_sphere(0.8f, 200, 400, true);  // 80,000 vertices
+  const PositionGrid g = PositionGrid::fit(scene.positions);
+  ASSERT_EQ(g.cells.size() % 3, 0u);
+  ASSERT_LE(g.cell_count(), kMaxGridCells);
+  std::vector<int> used(g.cell_count(), 0);
+  for (const Vec3& p : scene.positions) {
+    const QuantizedPosition q = encode_position(g, p);
+    ASSERT_LT(q.cell, g.cell_count());
+    ++used[q.cell];
+    for (int a = 0; a < 3; ++a) {  // the listed cell contains the point
+      const double lo = double(g.origin[a]) + double(g.cells[3 * q.cell + a]) * g.cell;
+      EXPECT_GE(double(p[a]), lo - 1e-6) << a;
+      EXPECT_LE(double(p[a]), lo + g.cell + 1e-6) << a;
+      EXPECT_LT(g.cells[3 * q.cell + a], g.n[a]);
     }
   }
-}
-
-// Bisection finds (nearly) the smallest cell: 1% smaller needs more than 65,536 cells.
-TEST(CompactQuantize, GridCellIsTheSmallestThatFits) {
-  const Bounds3 b{{0, 0, 0}, {10, 4, 2.5f}};
-  const PositionGrid g = PositionGrid::fit(b);
-  const double c = g.cell * 0.99;
-  const double cells = std::ceil(10 / c) * std::ceil(4 / c) * std::ceil(2.5 / c);
-  EXPECT_GT(cells, double(kMaxGridCells));
-}
-
-// The multiply-high division of cell indices equals the integer division for every
-// 16-bit index and every divisor a grid can have at its extremes and in between.
-TEST(CompactQuantize, CellIndexDivisionIsExact) {
-  std::vector<uint32_t> divisors = {1, 2, 3, 7, 255, 256, 257, 4095, 32767, 32768, 65535, 65536};
-  std::mt19937 rng(11);
-  for (int i = 0; i < 100; ++i) divisors.push_back(1 + rng() % 65536);
-  for (uint32_t d : divisors) {
-    const uint32_t magic = division_magic(d);
-    for (uint32_t x = 0; x < 65536; ++x) ASSERT_EQ(divide_u16(x, magic), x / d) << x << " / " << d;
+  const auto key = [&](size_t i) {
+    return uint64_t(g.cells[3 * i + 2]) << 32 | uint64_t(g.cells[3 * i + 1]) << 16 |
+           g.cells[3 * i];
+  };
+  for (size_t i = 0; i < g.cell_count(); ++i) {
+    EXPECT_GT(used[i], 0) << "an empty cell is listed: " << i;
+    if (i > 0) {
+      EXPECT_LT(key(i - 1), key(i)) << "not sorted, or listed twice: " << i;
+    }
   }
+  // The sphere's surface fills a small share of its box's cells.
+  EXPECT_LT(double(g.cell_count()), 0.2 * double(g.n[0]) * g.n[1] * g.n[2]);
+}
+
+// The bisection: the chosen resolution fits and the next finer one does not (a sphere of
+// 80,000 vertices needs more than 2^16 cells at the finest resolution).
+TEST(CompactQuantize, GridIsTheFinestWhoseGeometryCellsFit) {
+  const Scene scene = make_lit_sphere(0.8f, 200, 400, true);
+  const PositionGrid g = PositionGrid::fit(scene.positions);
+  const uint32_t divisions = g.divisions;
+  ASSERT_GT(divisions, 1u);
+  ASSERT_LT(divisions, kMaxCellsPerAxis);
+  EXPECT_EQ(count_geometry_cells(scene.positions, divisions), g.cell_count());
+  EXPECT_GT(count_geometry_cells(scene.positions, divisions + 1), kMaxGridCells);
+  EXPECT_GT(g.cell_count(), kMaxGridCells / 2);  // the table is well used
+  // A few vertices: every one may have a cell of its own, at the finest resolution.
+  const std::vector<Vec3> few = {{0, 0, 0}, {1, 2, 3}, {-5, 0.5f, 2}};
+  const PositionGrid fine = PositionGrid::fit(few);
+  EXPECT_EQ(fine.cell_count(), 3u);
+  EXPECT_GE(fine.cell, 6.0f / float(kMaxCellsPerAxis - 1));
+  EXPECT_LE(fine.cell, 6.0f / float(kMaxCellsPerAxis - 1) * (1.0f + 1.0f / 128));
+}
+
+// Whole-box counting (every cell of the box within 2^16): the smallest cubic cell for a
+// box of extent `e`, as the encoding before the cell table chose it (a lower bound).
+double whole_box_cell(Vec3 e) { return std::cbrt(double(e.x) * e.y * e.z / kMaxGridCells); }
+
+// A ball with a small quad 1,000 units away: counting the whole box gives cells of ~25
+// units, as large as the ball; counting geometry cells gives a grid ~20 times finer per
+// axis (the 16-bit cell coordinates stop it there: 65,535 cells along 1,000 units), and
+// the ball's vertices decode within half a step of that grid.
+TEST(CompactQuantize, SpreadSceneGetsAFinerGridThanTheWholeBoxRule) {
+  Scene scene = make_lit_sphere(1.0f, 48, 96, true);
+  for (const Vec3& p : {Vec3(-1000, -1000, -1000), Vec3(-1000, -999, -1000),
+                        Vec3(-999, -999, -1000), Vec3(-999, -1000, -1000)})
+    scene.positions.push_back(p);
+  const PositionGrid g = PositionGrid::fit(scene.positions);
+  const double whole_box = whole_box_cell(scene.bounds().extent());
+  std::printf("cell %.4g (whole-box rule: at least %.4g), %zu geometry cells\n", g.cell, whole_box,
+              g.cell_count());
+  EXPECT_LT(g.cell, whole_box / 10);
+  expect_within_half_a_step(g, scene.positions);
+  // So the worst error near the ball is far under what the whole-box grid could promise.
+  float worst = 0;
+  for (const Vec3& p : scene.positions) {
+    if (length(p) > 100) continue;  // the far quad: float rounding at 1,000 dominates
+    const Vec3 d = decode_position(g, encode_position(g, p));
+    worst = std::max({worst, std::fabs(d.x - p.x), std::fabs(d.y - p.y), std::fabs(d.z - p.z)});
+  }
+  EXPECT_LT(worst, whole_box / 2046 / 10);
+}
+
+TEST(CompactQuantize, EncodingAPointOutsideTheTableIsRefused) {
+  const PositionGrid g = PositionGrid::fit({{0, 0, 0}, {10, 10, 10}});
+  EXPECT_THROW(encode_position(g, Vec3(5, 5, 5)), std::invalid_argument);
 }
 
 TEST(CompactQuantize, PositionCodesRoundTrip) {
-  const PositionGrid g = PositionGrid::fit(Bounds3{{-2, 0, 1}, {5, 1, 3}});
+  const PositionGrid g = PositionGrid::fit(points_in(Bounds3{{-2, 0, 1}, {5, 1, 3}}, 50000, 3));
   std::mt19937 rng(3);
   for (int i = 0; i < 20000; ++i) {
-    const uint32_t cell = rng() % (g.n[0] * g.n[1] * g.n[2]);
-    const uint32_t off = rng() & 0x3fffffffu;
+    const uint32_t cell = rng() % g.cell_count();
+    // Offsets short of the far side: 1023 is the next cell's corner, maybe unlisted, and
+    // this grid's step (1e-7) is under a float's spacing at 3, so the decoded point may
+    // round a step or two across.
+    const uint32_t off = rng() % 1000 | (rng() % 1000) << 10 | (rng() % 1000) << 20;
     const QuantizedPosition q{uint16_t(cell), uint16_t(off & 0xffff), uint16_t(off >> 16)};
     const Vec3 p = decode_position(g, q);
     const Vec3 again = decode_position(g, encode_position(g, p));
@@ -112,18 +199,57 @@ TEST(CompactQuantize, EveryNormalCodeDecodesToAUnitVectorThatEncodesBack) {
   }
 }
 
-TEST(CompactQuantize, UvErrorIsHalfAStep) {
-  const UvRange r = UvRange::fit(Vec2{-3, 0.25f}, Vec2{7, 0.5f});
+Vec2 decoded_uv(const QuantizedUvs& q, const std::vector<uint32_t>& indices, size_t tri, int k) {
+  return decode_uv(q.coding, &q.shifts[2 * tri], &q.codes[2 * indices[3 * tri + k]]);
+}
+
+// Triangles spanning less than one texture repeat each, anywhere in [-100, 100]: after the
+// per-triangle shift they need a period of 2 at most, so each corner is within half a step
+// of 2 / 65536 (plus the rounding of shift + offset), however wide the scene's range.
+TEST(CompactQuantize, UvErrorPerTriangleIsHalfAStepAfterTheShift) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0, 1);
-  for (int i = 0; i < 20000; ++i) {
-    const Vec2 t{-3 + 10 * u(rng), 0.25f + 0.25f * u(rng)};
-    uint16_t q[2];
-    encode_uv(r, t, q);
-    const Vec2 d = decode_uv(r, q);
-    EXPECT_LE(std::fabs(d.x - t.x), 0.5f * r.scale.x + 1e-6f);
-    EXPECT_LE(std::fabs(d.y - t.y), 0.5f * r.scale.y + 1e-6f);
+  std::vector<Vec2> uvs;
+  std::vector<uint32_t> indices;
+  for (int t = 0; t < 5000; ++t) {
+    const Vec2 base{-100 + 200 * u(rng), -100 + 200 * u(rng)};
+    for (int k = 0; k < 3; ++k) {
+      indices.push_back(uint32_t(uvs.size()));
+      uvs.push_back(Vec2{base.x + 0.9f * u(rng), base.y + 0.9f * u(rng)});
+    }
   }
+  const QuantizedUvs q = quantize_uvs(uvs, indices);
+  for (int a = 0; a < 2; ++a) EXPECT_LE(q.coding.period_log2[a], 1u);
+  for (size_t t = 0; t < indices.size() / 3; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 want = uvs[indices[3 * t + k]], got = decoded_uv(q, indices, t, k);
+      ASSERT_LE(std::fabs(got.x - want.x), q.coding.max_error(0) + 4e-6f) << t;
+      ASSERT_LE(std::fabs(got.y - want.y), q.coding.max_error(1) + 4e-6f) << t;
+      EXPECT_LE(q.coding.max_error(0), 1.0f / 65536.0f);
+    }
+}
+
+// Tiling coordinates (a texture repeated 37 times) decode exactly where they are
+// representable in the step after the shift, beside a triangle at the origin; a vertex shared by
+// two triangles with different shifts decodes right in both.
+TEST(CompactQuantize, TilingUvsDecodeRight) {
+  // 37.75 + 2^-15: a step of the period 2 after the shift, under the step of a range
+  // reaching from 0 (or -3) to 38.5.
+  const std::vector<Vec2> uvs = {{37.25f, 0.5f}, {37.75f + 1.0f / 32768, 0.5f},
+                                 {37.5f, 1.0f},  {0.0f, -3.0f},
+                                 {1.0f, -3.0f},  {0.5f, -2.25f},
+                                 {38.5f, 1.5f}};
+  const std::vector<uint32_t> indices = {0, 1, 2, 3, 4, 5, 1, 6, 2};
+  const QuantizedUvs q = quantize_uvs(uvs, indices);
+  EXPECT_EQ(q.shifts[0], 37);
+  EXPECT_EQ(q.shifts[1], 0);
+  EXPECT_EQ(q.shifts[3], -3);
+  for (size_t t = 0; t < 3; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 want = uvs[indices[3 * t + k]], got = decoded_uv(q, indices, t, k);
+      EXPECT_EQ(got.x, want.x) << t << " " << k;
+      EXPECT_EQ(got.y, want.y) << t << " " << k;
+    }
 }
 
 // A sphere of many small triangles, with normals and uvs.

@@ -32,9 +32,11 @@ class ClPathTracer : public ClKernelRunner {
     args[MR_ARG_cnodes] = upload(k.nodes);
     args[MR_ARG_prims] = upload(k.prims);
     args[MR_ARG_qpos] = upload(k.positions);
+    args[MR_ARG_cells] = upload(k.cells);
     args[MR_ARG_indices] = upload(k.indices);
     args[MR_ARG_qnormals] = upload(k.normals);
     args[MR_ARG_quvs] = upload(k.uvs);
+    args[MR_ARG_uv_shifts] = upload(k.uv_shifts);
     args[MR_ARG_material_ids] = upload(k.material_ids);
     args[MR_ARG_compact] = upload(std::vector<ClCompactInfo>{k.info});
     args[MR_ARG_materials] = upload(s.materials);

@@ -83,19 +83,20 @@ ClCompactScene to_cl(const CompactScene& c) {
   ClCompactInfo& i = k.info;
   put(i.origin, m.grid.origin);
   i.cell = m.grid.cell;
-  for (int a = 0; a < 3; ++a) i.n[a] = m.grid.n[a];
-  i.magic_n0 = m.grid.magic_n0, i.magic_n01 = m.grid.magic_n01;
+  i.step = m.grid.step;
   i.has_normals = m.normals.empty() ? 0u : 1u;
   i.has_nodes = c.bvh.nodes.empty() ? 0u : 1u;
   put(i.root_lo, c.bvh.root.lo), put(i.root_hi, c.bvh.root.hi);
-  i.uv_lo[0] = m.uv_range.lo.x, i.uv_lo[1] = m.uv_range.lo.y;
-  i.uv_scale[0] = m.uv_range.scale.x, i.uv_scale[1] = m.uv_range.scale.y;
+  for (int a = 0; a < 2; ++a)
+    i.uv_step[a] = m.uv_coding.step[a], i.uv_period_log2[a] = m.uv_coding.period_log2[a];
   k.nodes = c.bvh.nodes;
   k.prims = c.bvh.prims;
   k.positions = m.positions;
+  k.cells = m.grid.cells;
   k.indices = m.indices;
   k.normals = m.normals;
   k.uvs = m.uvs;
+  k.uv_shifts = m.uv_shifts;
   k.material_ids = m.material_ids;
   return k;
 }
@@ -111,11 +112,11 @@ uint64_t cl_scene_bytes(const ClScene& c) {
   const ClCompactScene& k = c.compact;
   return bytes_of(c.bvh.nodes) + bytes_of(c.bvh.triangles) + bytes_of(c.shading) +
          (c.is_compact ? sizeof(ClCompactInfo) : 0) + bytes_of(k.nodes) + bytes_of(k.prims) +
-         bytes_of(k.positions) + bytes_of(k.indices) + bytes_of(k.normals) + bytes_of(k.uvs) +
-         bytes_of(k.material_ids) + bytes_of(c.materials) + bytes_of(c.lights) +
-         bytes_of(c.light_cdf) + bytes_of(c.light_pdf_by_prim) + bytes_of(c.texels) +
-         bytes_of(c.textures) + bytes_of(c.texel_luts) + bytes_of(c.tangents) + sizeof(ClSky) +
-         bytes_of(c.sky_data);
+         bytes_of(k.positions) + bytes_of(k.cells) + bytes_of(k.indices) + bytes_of(k.normals) +
+         bytes_of(k.uvs) + bytes_of(k.uv_shifts) + bytes_of(k.material_ids) +
+         bytes_of(c.materials) + bytes_of(c.lights) + bytes_of(c.light_cdf) +
+         bytes_of(c.light_pdf_by_prim) + bytes_of(c.texels) + bytes_of(c.textures) +
+         bytes_of(c.texel_luts) + bytes_of(c.tangents) + sizeof(ClSky) + bytes_of(c.sky_data);
 }
 
 // Everything the CPU path tracer renders is rendered by the kernel too (environment map,

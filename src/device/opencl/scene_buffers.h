@@ -80,28 +80,29 @@ static_assert(sizeof(ClSky) == 128);
 struct ClCompactInfo {
   float origin[3];
   float cell;
-  uint32_t n[3];
-  uint32_t has_normals;
   float root_lo[3];
   uint32_t has_nodes;
   float root_hi[3];
-  uint32_t pad0;
-  float uv_lo[2];
-  float uv_scale[2];
-  uint32_t magic_n0, magic_n01;
-  uint32_t pad1[2];
+  uint32_t has_normals;
+  float uv_step[2];
+  uint32_t uv_period_log2[2];
+  float step;
+  uint32_t pad[3];
 };
-static_assert(sizeof(ClCompactInfo) == 96);
+static_assert(sizeof(ClCompactInfo) == 80);
 
 // The compact scene's arrays as the kernel reads them (render/compact_scene.h): its nodes
-// and QuantizedPosition are uploaded byte for byte.
+// and QuantizedPosition are uploaded byte for byte, the cell-index table as 3 ushorts per
+// geometry cell.
 struct ClCompactScene {
   ClCompactInfo info{};
   std::vector<CompactNode> nodes;
   std::vector<uint32_t> prims;
   std::vector<QuantizedPosition> positions;
+  std::vector<uint16_t> cells;
   std::vector<uint32_t> indices;
   std::vector<uint16_t> normals, uvs, material_ids;
+  std::vector<int16_t> uv_shifts;
 };
 
 struct ClScene {

@@ -9,7 +9,8 @@
 // OpenCL C must be standard 1.2, not what one driver tolerates):
 // - Functions are MR_DEVICE (C++: inline in namespace multiray; OpenCL C: ordinary
 //   program-scope functions) or MR_CONSTEXPR for pure integer arithmetic.
-// - Types: float, mr_int, mr_uint, mr_ulong (64-bit literals: MR_U64(0x...)); vectors
+// - Types: float, mr_short, mr_ushort (arrays the host uploads), mr_int, mr_uint, mr_ulong (64-bit
+// literals: MR_U64(0x...)); vectors
 //   mr_float2 / mr_float3 (C++: core/math.h's Vec2 / Vec3; OpenCL C: float2 / float3),
 //   built with MR_FLOAT2(x, y) / MR_FLOAT3(x, y, z), combined with + - * and the helpers
 //   below; mr_float4 / mr_int4 only in blocks the host writes (16 bytes each, MR_XYZ
@@ -47,6 +48,8 @@
 #define MR_NAMESPACE_END
 #define MR_U64(x) x##UL
 
+typedef short mr_short;
+typedef ushort mr_ushort;
 typedef int mr_int;
 typedef uint mr_uint;
 typedef ulong mr_ulong;
@@ -98,6 +101,8 @@ float3 normalize3(float3 a) {
 #define MR_U64(x) x##ull
 
 namespace multiray {
+typedef int16_t mr_short;
+typedef uint16_t mr_ushort;
 typedef int32_t mr_int;
 typedef uint32_t mr_uint;
 typedef uint64_t mr_ulong;

@@ -31,20 +31,19 @@ typedef struct {
 } CompactNode;
 
 // The scalars of the compact scene (scene_buffers.h ClCompactInfo): the position grid
-// (PositionGrid), the root node's box and the uv range (UvRange).
+// (PositionGrid; its cell-index table is SceneData::cells), the root node's box and the uv
+// coding (UvCoding).
 typedef struct {
   float origin[3];
   float cell;
-  uint n[3];
-  uint has_normals;  // 0: the mesh has no normals, shading uses the face normal
   float root_lo[3];
   uint has_nodes;  // 0: the tree is empty, nothing can be hit
   float root_hi[3];
-  uint pad0;
-  float uv_lo[2];
-  float uv_scale[2];
-  uint magic_n0, magic_n01;  // PositionGrid's: cell index divisions as multiplies
-  uint pad1[2];
+  uint has_normals;  // 0: the mesh has no normals, shading uses the face normal
+  float uv_step[2];
+  uint uv_period_log2[2];
+  float step;  // PositionGrid::step: cell / 1023
+  uint pad[3];
 } CompactInfo;
 
 typedef struct {
@@ -171,14 +170,17 @@ typedef struct {
   const __global Sky* sky;
   const __global float* sky_data;
   // The compact scene (placeholders without MR_COMPACT): the tree, triangle references in
-  // leaf order, 3 ushorts per vertex (QuantizedPosition), faces, normal codes and uvs per
-  // vertex, material per triangle.
+  // leaf order, 3 ushorts per vertex (QuantizedPosition), the cell-index table (3 ushorts
+  // per geometry cell), faces, normal codes and uv codes per vertex, uv shifts (2 per
+  // triangle) and material per triangle.
   const __global CompactNode* cnodes;
   const __global uint* prims;
   const __global ushort* qpos;
+  const __global ushort* cells;
   const __global uint* indices;
   const __global ushort* qnormals;
   const __global ushort* quvs;
+  const __global short* uv_shifts;
   const __global ushort* material_ids;
   const __global CompactInfo* compact;
   uint light_count;

@@ -80,9 +80,11 @@ typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 176 ? 1 : -1];
   X(cnodes, const __global CompactNode*) SEP()          \
   X(prims, const __global uint*) SEP()                  \
   X(qpos, const __global ushort*) SEP()                 \
+  X(cells, const __global ushort*) SEP()                \
   X(indices, const __global uint*) SEP()                \
   X(qnormals, const __global ushort*) SEP()             \
   X(quvs, const __global ushort*) SEP()                 \
+  X(uv_shifts, const __global short*) SEP()             \
   X(material_ids, const __global ushort*) SEP()         \
   X(compact, const __global CompactInfo*) SEP()         \
   X(params, __constant LaunchParams*) SEP()             \

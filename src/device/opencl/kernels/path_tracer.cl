@@ -152,8 +152,8 @@ __kernel REQD_GROUP_SIZE void render_rect(MR_RENDER_RECT_ARGS(MR_ARG_PARAM, MR_A
   const SceneData sc = {nodes,         tris,           shading,   materials,        lights,
                         light_cdf,     light_pdf_by_prim, texels, textures,         texel_luts,
                         tangents,      sky,            sky_data,  cnodes,           prims,
-                        qpos,          indices,        qnormals,  quvs,             material_ids,
-                        compact,       p.light_count,  p.has_tangents != 0, p.cutouts != 0,
+                        qpos,          cells,          indices,   qnormals,         quvs,
+                        uv_shifts,     material_ids,   compact,   p.light_count,  p.has_tangents != 0, p.cutouts != 0,
                         p.env_choice_eps.x, p.env_choice_eps.w};
   const int x = p.rect.x + (int)(i % (size_t)p.rect.z);
   const int y = p.rect.y + (int)(i / (size_t)p.rect.z);

@@ -1,57 +1,39 @@
 // What the shading reads of a scene triangle: its material, and its normals and uvs at a
 // point given by barycentrics. At full precision they come from the triangle's shading
 // record; with -DMR_COMPACT=1 they are decoded from the compact mesh on access, with the
-// arithmetic of render/compact_quantize.h (decode_position, decode_normal, decode_uv) and
+// decoding of render/shared/compact.h (the CPU's, through compact_quantize.h) and
 // render/shading_data.cpp (decode_shading), so the decoded values are the CPU's.
 
 #ifdef MR_COMPACT
 
-// decode_position(): the cell index (divided by multiplies, see division_magic), then
-// three 10-bit offsets inside the cell.
+// A vertex: its cell-index table entry and offsets (render/shared/compact.h).
 float3 compact_position(const SceneData* sc, uint vertex) {
   const __global CompactInfo* g = sc->compact;
   const __global ushort* q = &sc->qpos[3 * (size_t)vertex];
-  const uint cell = q[0];
-  const uint off = (uint)q[1] | (uint)q[2] << 16;
-  const uint cz = g->magic_n01 == 0u ? cell : mul_hi(cell, g->magic_n01);
-  const uint rest = cell - cz * (g->n[0] * g->n[1]);
-  const uint cy = g->magic_n0 == 0u ? rest : mul_hi(rest, g->magic_n0);
-  const uint cx = rest - cy * g->n[0];
-  const float k = 1.0f / 1023.0f;
-  return (float3)(g->origin[0] + g->cell * ((float)cx + (float)(off & 1023u) * k),
-                  g->origin[1] + g->cell * ((float)cy + (float)((off >> 10) & 1023u) * k),
-                  g->origin[2] + g->cell * ((float)cz + (float)((off >> 20) & 1023u) * k));
+  return compact_decode_position((float3)(g->origin[0], g->origin[1], g->origin[2]), g->cell,
+                                 g->step, sc->cells, q[0], (uint)q[1] | (uint)q[2] << 16);
 }
 
 float3 compact_corner(const SceneData* sc, uint prim, int k) {
   return compact_position(sc, sc->indices[3 * (size_t)prim + (size_t)k]);
 }
 
-// decode_normal(): the octahedral code, 8 bits of u in the low byte and 8 of v in the high.
-float3 compact_normal(uint code) {
-  const float u = (float)(code & 0xffu) * (2.0f / 255.0f) - 1.0f;
-  const float v = (float)(code >> 8) * (2.0f / 255.0f) - 1.0f;
-  float3 n = (float3)(u, v, 1.0f - fabs(u) - fabs(v));
-  if (n.z < 0.0f) {
-    n.x = (1.0f - fabs(v)) * (u >= 0.0f ? 1.0f : -1.0f);
-    n.y = (1.0f - fabs(u)) * (v >= 0.0f ? 1.0f : -1.0f);
-  }
-  return normalize3(n);
-}
+float3 compact_normal(uint code) { return compact_decode_normal(code); }
 
-float2 compact_uv(const SceneData* sc, uint vertex) {
+// Corner k's uv: the triangle's shifts and the vertex's codes (render/shared/compact.h).
+float2 compact_uv(const SceneData* sc, uint prim, int k) {
   const __global CompactInfo* g = sc->compact;
-  const __global ushort* q = &sc->quvs[2 * (size_t)vertex];
-  return (float2)(g->uv_lo[0] + g->uv_scale[0] * (float)q[0],
-                  g->uv_lo[1] + g->uv_scale[1] * (float)q[1]);
+  const __global ushort* q = &sc->quvs[2 * (size_t)sc->indices[3 * (size_t)prim + (size_t)k]];
+  const __global short* shift = &sc->uv_shifts[2 * (size_t)prim];
+  return (float2)(compact_decode_uv(shift[0], q[0], g->uv_period_log2[0], g->uv_step[0]),
+                  compact_decode_uv(shift[1], q[1], g->uv_period_log2[1], g->uv_step[1]));
 }
 
 uint material_of(const SceneData* sc, uint prim) { return sc->material_ids[prim]; }
 
 // The uv at barycentrics (b0, b1, b2) of the triangle's vertices 0, 1, 2.
 float2 uv_at(const SceneData* sc, uint prim, float b0, float b1, float b2) {
-  const __global uint* idx = &sc->indices[3 * (size_t)prim];
-  const float2 a = compact_uv(sc, idx[0]), b = compact_uv(sc, idx[1]), c = compact_uv(sc, idx[2]);
+  const float2 a = compact_uv(sc, prim, 0), b = compact_uv(sc, prim, 1), c = compact_uv(sc, prim, 2);
   return (float2)(a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2);
 }
 

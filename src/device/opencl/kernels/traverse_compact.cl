@@ -2,18 +2,15 @@
 // -DMR_COMPACT=1), traversed as render/compact_accel.cpp does: each node decodes its
 // children's boxes from its own decoded box (so the box travels down the stack with the
 // reference), and leaves test triangles decoded from the quantized mesh. The arithmetic
-// of dequantize_plane and decode_position is the CPU's, with contraction off (render/shared/language.h),
+// of dequantize_plane and decode_position is the CPU's (render/shared/compact.h), with
+// contraction off (render/shared/language.h),
 // so the boxes are the conservative ones the host checked when it built the tree.
 // Then the ray queries the rest of the kernel uses, over whichever traversal is compiled.
 
 #ifdef MR_COMPACT
 
-// dequantize_plane(): plane q of 0..255 across the parent's lo..hi, ends exact.
-float dequantize_plane(float lo, float hi, uint q) {
-  if (q == 0u) return lo;
-  if (q == 255u) return hi;
-  return lo + (hi - lo) * ((float)q * (1.0f / 255.0f));
-}
+// dequantize_plane(): render/shared/compact.h's, ends exact.
+float dequantize_plane(float lo, float hi, uint q) { return compact_dequantize_plane(lo, hi, q); }
 
 float3 dequantize_corner(float3 lo, float3 hi, const __global uchar* q) {
   return (float3)(dequantize_plane(lo.x, hi.x, q[0]), dequantize_plane(lo.y, hi.y, q[1]),
