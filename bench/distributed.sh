@@ -5,6 +5,8 @@
 #
 # Usage: bench/distributed.sh BUILD_DIR [OUT_DIR]   (results in docs/benchmarks.md)
 #        PARTS=BC bench/distributed.sh BUILD_DIR [OUT_DIR]   (only parts B and C)
+#        LINKS, STRATEGIES, WORKERS, TABLE8_WORKERS: subsets of B and C; REPEATS (1): each
+#        cell of B, C and D run that many times (a fresh mpirun each), every run printed
 #
 #  A. Loopback goal: master + 2 workers of one pinned thread each, 1024x1024, 1 spp,
 #     3 bounces, 12-frame orbit; `multiray bench` times each worker alone (through the
@@ -20,8 +22,8 @@
 #  C. Seo et al., Table 8: 1024x1024, 1 and 16 workers as in B, tile sizes 32..256, static
 #     vs dynamic (the paper's form, and ours at depth 2), Wi-Fi.
 #  D. Harada's hierarchy: 3 "machines" (ranks) of 2, 1 and 1 emulated devices (speeds 0.2 +
-#     0.1, 0.15, 0.075), 256x256, fixed camera; the master splits the frame into bands,
-#     each rank splits its band into columns; Harada's balancer (semi-static) and ours
+#     0.1, 0.15, 0.075), 256x256, fixed camera; the master splits the frame into row bands
+#     (semi-static's split=rows on the master), each rank cuts its band into columns; Harada's balancer (semi-static) and ours
 #     (hybrid) at either level; mean Harada deviation over the 4 devices (each timed on its
 #     rank) and over the 3 ranks (timed by the master), frames 5..19.
 set -eu
@@ -30,6 +32,13 @@ out=${2:-/tmp/multiray_distributed}
 bin="$build/src/app/multiray"
 mpirun="mpirun --oversubscribe --allow-run-as-root"
 parts=${PARTS:-ABCDE}
+# Subsets for B and C (defaults: everything) and repeats of every cell of B, C and D (each
+# repeat a fresh mpirun; the cells print every repeat's figure, to give a range).
+links=${LINKS:-wifi lan}
+strategies=${STRATEGIES:-static dynamic deep deep-auto hybrid}
+workers=${WORKERS:-1 2 4 8 16}
+table8_workers=${TABLE8_WORKERS:-1 16}
+repeats=${REPEATS:-1}
 mkdir -p "$out"
 
 part() { case $parts in *$1*) return 0 ;; esac; return 1; }
@@ -70,28 +79,31 @@ seo_strategy() {  # seo_strategy NAME TILE -> sets b and extra
 }
 
 if part B; then
-for link in wifi lan; do
+for link in $links; do
   echo "== B. Seo Table 9 on the emulated $link link: S, then frame ms and efficiency tau_1/(S tau_S)"
   printf "%-14s" "strategy"
-  for s in 1 2 4 8 16; do printf "%18s" "S=$s"; done
+  for s in $workers; do printf "%18s" "S=$s"; done
   echo
-  for strategy in static dynamic deep deep-auto hybrid; do
+  for r in $(seq "$repeats"); do
+  for strategy in $strategies; do
     seo_strategy $strategy 64
     printf "%-14s" "$strategy"
     t1=""
-    for s in 1 2 4 8 16; do
+    for s in $workers; do
       t=$(seo_run $s $link $b $extra)
       [ -z "$t1" ] && t1=$t
       printf "%11s ms %4s" "$t" "$(awk -v a="$t1" -v b="$t" -v s=$s 'BEGIN { printf "%.2f", a / (s * b) }')"
     done
     echo
   done
+  done
 done | tee "$out/seo_table9.txt"
 fi
 
 if part C; then
 echo "== C. Seo Table 8: 1024x1024, emulated wifi, frame ms by tile size" | tee "$out/seo_table8.txt"
-for s in 1 16; do
+for s in $table8_workers; do
+  for r in $(seq "$repeats"); do
   for strategy in static dynamic deep; do
     printf "S=%-3s %-8s" "$s" "$strategy"
     for tile in 32 64 128 256; do
@@ -100,11 +112,13 @@ for s in 1 16; do
     done
     echo
   done
+  done
 done | tee -a "$out/seo_table8.txt"
 fi
 
 if part D; then
 echo "== D. Harada's hierarchy: 3 ranks of 2, 1 and 1 emulated devices, fixed camera" | tee "$out/harada.txt"
+for r in $(seq "$repeats"); do
 for pair in "semi-static semi-static" "semi-static hybrid" "hybrid hybrid"; do
   set -- $pair
   dir="$out/harada"
@@ -117,6 +131,7 @@ for pair in "semi-static semi-static" "semi-static hybrid" "hybrid hybrid"; do
     "$1" "$2" "$(mean leaf_deviation 5 19 < "$dir/stats.json")" \
     "$(mean deviation 5 19 < "$dir/stats.json")" "$(mean frame_ms 5 19 < "$dir/stats.json")" \
     | tee -a "$out/harada.txt"
+done
 done
 fi
 
