@@ -7,10 +7,14 @@
 #      a GPU, 0.9-2.9%; our OpenCL kernel has no AO, so the path tracer stands in);
 #   3. four emulated devices of speeds 0.8, 0.6, 0.4 and 0.2 (0.8 + 0.2 share core 0,
 #      0.6 + 0.4 core 1, so no core is oversubscribed; Harada & Fujita Fig. 1: 3.3-3.7%);
-#   4. foveated direct illumination with alpha = 0.2 (Harada, Fig. 4.4).
+#   4. foveated direct illumination with alpha = 0.2 (Harada, Fig. 4.4);
+#   5. Harada & Fujita's setting: four identical devices, the irregular (foveated) pattern,
+#      732x800 (their 3.3% and 3.7%): four CPU devices at emulated speed 0.5, two a core,
+#      foveated direct illumination (the paper's shading differs: named in the docs).
 # Deviation is the bench's mean_deviation: per frame max_i |t_i - mean| / mean over the
 # devices' own frame times, averaged over the frames after the warm-up.
 #   bench/harada.sh [BUILD] [FRAMES]   (default build/, 30; needs ../shared/data)
+#   PARTS (default 12345) picks the parts, REPEATS (3) the bench's repeat blocks.
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
@@ -22,16 +26,29 @@ scene=$root/../shared/data/meshes/dabrovic_sponza/sponza.obj
 out=$root/bench-out/harada
 mkdir -p "$out"
 forms=semi-static,semi-static:split=rows:cdf=frame
+parts=${PARTS:-12345}
+part() { case "$parts" in *"$1"*) return 0 ;; esac; return 1; }
+repeats=${REPEATS:-3}
 two=cpu:threads=1:cores=0,cpu:threads=1:cores=1
 four=cpu:threads=1:cores=0:speed=0.8,cpu:threads=1:cores=1:speed=0.6,cpu:threads=1:cores=1:speed=0.4,cpu:threads=1:cores=0:speed=0.2
-"$bin" bench "$scene" --res 1280x720 --integrator ao --sampling adaptive --frames "$frames" \
+part 1 && "$bin" bench "$scene" --repeats "$repeats" --res 1280x720 \
+  --integrator ao --sampling adaptive --frames "$frames" \
   --devices "$two" --balancers "$forms" --json "$out/ao_two.json"
-"$bin" bench "$scene" --res 640x360 --spp 1 --sampling adaptive --frames "$frames" \
+if part 2; then
+  "$bin" bench "$scene" --repeats "$repeats" --res 640x360 \
+  --spp 1 --sampling adaptive --frames "$frames" \
   --devices cpu:threads=1:cores=0,opencl:0:cores=1 --balancers "$forms" \
   --json "$out/path_cpu_opencl.json" || echo "harada.sh: the CPU + OpenCL run failed (no OpenCL device?)"
-"$bin" bench "$scene" --res 1280x720 --integrator ao --sampling adaptive --frames "$frames" \
+fi
+part 3 && "$bin" bench "$scene" --repeats "$repeats" --res 1280x720 \
+  --integrator ao --sampling adaptive --frames "$frames" \
   --devices "$four" --balancers "$forms" --json "$out/ao_four.json"
-"$bin" bench "$scene" --res 1280x720 --integrator direct --sampling foveated --frames "$frames" \
+part 4 && "$bin" bench "$scene" --repeats "$repeats" --res 1280x720 \
+  --integrator direct --sampling foveated --frames "$frames" \
   --devices "$two" --balancers semi-static:alpha=0.2,semi-static:alpha=0.2:split=rows:cdf=frame \
   --json "$out/foveated_direct.json"
+identical=cpu:threads=1:cores=0:speed=0.5,cpu:threads=1:cores=0:speed=0.5,cpu:threads=1:cores=1:speed=0.5,cpu:threads=1:cores=1:speed=0.5
+part 5 && "$bin" bench "$scene" --repeats "$repeats" --res 732x800 --integrator direct \
+  --sampling foveated --frames "$frames" --devices "$identical" --balancers "$forms" \
+  --json "$out/fujita_four_identical.json"
 echo "harada.sh: wrote $out"

@@ -7,7 +7,7 @@ namespace multiray::balance {
 std::string top_level_spec(const std::string& spec) {
   const Spec parsed(spec);
   if (parsed.name() != "semi-static" || parsed.has("split")) return spec;
-  return spec + ":split=rows";
+  return spec + (parsed.has("cut") ? ":split=rows" : ":split=rows:cut=line");
 }
 
 CutAxis band_axis(const Rect& part, int frame_width, int frame_height) {

@@ -12,8 +12,9 @@
 namespace multiray::balance {
 
 // The spec a balancer runs with at the top level (the MPI master): `semi-static` without
-// an explicit `split` cuts rows there (the machines' horizontal bands); any other spec is
-// returned unchanged. Throws std::invalid_argument for a malformed spec.
+// an explicit `split` cuts whole rows there (the machines' horizontal bands: one band a
+// rank, not a band and partial rows); any other spec is returned unchanged. Throws
+// std::invalid_argument for a malformed spec.
 std::string top_level_spec(const std::string& spec);
 
 // The direction the level above cut along, read from the part it handed down: a part as

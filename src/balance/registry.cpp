@@ -44,6 +44,7 @@ std::unique_ptr<Balancer> make_semi_static(Spec& spec, int n) {
   o.split = spec.get_string("split", "columns", {"columns", "rows"}) == "rows" ? LineAxis::rows
                                                                                : LineAxis::columns;
   o.cdf_from_frame = spec.get_string("cdf", "reported", {"reported", "frame"}) == "frame";
+  o.whole_lines = spec.get_string("cut", "pixel", {"pixel", "line"}) == "line";
   return std::make_unique<SemiStaticBalancer>(n, o);
 }
 
@@ -123,7 +124,8 @@ std::vector<BalancerEntry> builtin_balancers() {
        {{"alpha", "0.4", "(0, 1]", "weight of the new ideal share"},
         {"split", "columns", "columns|rows", "cut the image into column or row bands"},
         {"cdf", "reported", "reported|frame",
-         "samples from last frame's reports or this frame's map"}},
+         "samples from last frame's reports or this frame's map"},
+        {"cut", "pixel", "pixel|line", "cut at pixel precision or at whole lines"}},
        make_semi_static},
       {"dlb",
        "shuffled strips per view, ratios revisited every few frames",

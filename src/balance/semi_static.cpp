@@ -18,6 +18,7 @@ std::string SemiStaticBalancer::spec() const {
   s << "semi-static:alpha=" << options_.alpha;
   if (options_.split == LineAxis::rows) s << ":split=rows";
   if (options_.cdf_from_frame) s << ":cdf=frame";
+  if (options_.whole_lines) s << ":cut=line";
   return s.str();
 }
 
@@ -50,7 +51,10 @@ Plan SemiStaticBalancer::plan(const FrameShape& shape, int /*frame*/) {
   const std::vector<double> weights = line_weights(shape);
   // Cut at pixel precision along the lines (a line's weight spread evenly over it).
   const bool rows = options_.split == LineAxis::rows;
-  const std::vector<int64_t> cuts = cdf_cuts(weights, rows ? shape.width : shape.height, shares_);
+  const int64_t line = rows ? shape.width : shape.height;
+  std::vector<int64_t> cuts = cdf_cuts(weights, line, shares_);
+  if (options_.whole_lines)  // nearest line: rounding keeps the cuts in order
+    for (int64_t& c : cuts) c = (c + line / 2) / line * line;
   for (int i = 0; i < device_count(); ++i) {
     const int64_t begin = cuts[size_t(i)], end = cuts[size_t(i) + 1];
     std::vector<WorkItem>& out = plan.assigned[size_t(i)];

@@ -24,6 +24,8 @@
 // | alpha     | 0.4      | blend towards the ideal split, (0, 1]                     |
 // | split     | columns  | columns (Harada: vertical bands) or rows (scanline ranges)|
 // | cdf       | reported | reported (last frame's reports) or frame (this frame's map)|
+// | cut       | pixel    | pixel, or line: cuts rounded to whole lines (each at most  |
+// |           |          | half a line off), as the top of Harada's hierarchy uses    |
 #pragma once
 
 #include "balance/balancer_base.h"
@@ -35,6 +37,9 @@ struct SemiStaticOptions {
   double alpha = 0.4;
   LineAxis split = LineAxis::columns;
   bool cdf_from_frame = false;  // cdf=frame: this frame's pixel_weight when it has one
+  // cut=line: whole lines, so that a device (an MPI rank) gets one band, not a band and
+  // the partial lines at its ends, each of which a rank would plan and learn from alone.
+  bool whole_lines = false;
 };
 
 class SemiStaticBalancer final : public BalancerBase {

@@ -52,6 +52,8 @@ TEST(Hierarchy, MachinesGetRowBandsAndSplitThemIntoColumns) {
   const Plan top = master->plan(shape, 0);
   EXPECT_EQ(master->cut_axis(), CutAxis::rows);
   EXPECT_EQ(cut_direction(top, frame), CutAxis::rows);
+  for (const std::vector<WorkItem>& rank : top.assigned)  // one whole-row band a rank
+    ASSERT_EQ(rank.size(), 1u);
   for (int r = 0; r < 3; ++r) {
     const Rect band = band_of(top, r);
     ASSERT_EQ(band_axis(band, shape.width, shape.height), CutAxis::rows);
@@ -77,8 +79,9 @@ TEST(Hierarchy, ColumnBandsFromTheMasterAreCutIntoRows) {
 }
 
 TEST(Hierarchy, OnlyAnUnsplitSemiStaticChangesAtTheTop) {
-  EXPECT_EQ(top_level_spec("semi-static"), "semi-static:split=rows");
-  EXPECT_EQ(top_level_spec("semi-static:alpha=0.2"), "semi-static:alpha=0.2:split=rows");
+  EXPECT_EQ(top_level_spec("semi-static"), "semi-static:split=rows:cut=line");
+  EXPECT_EQ(top_level_spec("semi-static:alpha=0.2"), "semi-static:alpha=0.2:split=rows:cut=line");
+  EXPECT_EQ(top_level_spec("semi-static:cut=pixel"), "semi-static:cut=pixel:split=rows");
   EXPECT_EQ(top_level_spec("semi-static:split=columns"), "semi-static:split=columns");
   EXPECT_EQ(top_level_spec("hybrid"), "hybrid");
   EXPECT_EQ(top_level_spec("uniform:layout=columns"), "uniform:layout=columns");

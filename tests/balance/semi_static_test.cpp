@@ -111,6 +111,33 @@ TEST(SemiStatic, RowsUseLastFramesReportedSampleDensity) {
   EXPECT_NEAR(double(a0) / (200 * 100), 0.3, 0.01);
 }
 
+// cut=line (the top of Harada's hierarchy): the same split rounded to whole rows, one band a
+// device, each cut at most half a row from the pixel-precision one.
+TEST(SemiStatic, WholeLinesRoundThePixelCutsToRows) {
+  SemiStaticBalancer pixel(3, {.split = LineAxis::rows});
+  SemiStaticBalancer line(3, {.split = LineAxis::rows, .whole_lines = true});
+  EXPECT_EQ(line.spec(), "semi-static:alpha=0.4:split=rows:cut=line");
+  for (int f = 0; f < 4; ++f) {
+    const Plan pp = pixel.plan(kShape, f), pl = line.plan(kShape, f);
+    int64_t pixel_before = 0, line_before = 0;  // area of the devices before this one
+    for (size_t d = 0; d < 3; ++d) {
+      ASSERT_EQ(pl.assigned[d].size(), 1u);
+      const Rect& r = pl.assigned[d][0].rect;
+      EXPECT_TRUE(r.x0 == 0 && r.x1 == kShape.width);
+      EXPECT_EQ(r.y0 * int64_t(kShape.width), line_before);
+      EXPECT_LE(std::abs(line_before - pixel_before), kShape.width / 2);
+      for (const WorkItem& it : pp.assigned[d]) pixel_before += it.rect.area();
+      line_before += r.area();
+    }
+    // Both learn the same frame, so their shares stay equal and only the rounding differs.
+    const FrameStats st =
+        simulate(pp, kShape, devices_with_speeds({1, 0.45, 0.2}), flat_cost(kShape));
+    pixel.update(st);
+    line.update(st);
+  }
+  EXPECT_LT(line.shares()[2], 0.3);  // it learnt: the slow device's band shrank
+}
+
 // Mean deviation once converged, adaptive sampling on 4 unequal synthetic devices, where
 // the dense band moves by up to 10 px a frame.
 double irregular_deviation(SemiStaticOptions options) {
