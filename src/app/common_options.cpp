@@ -48,9 +48,9 @@ void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
                  "upsampled) or hybrid (both)")
       ->capture_default_str();
   cmd.add_option("--cost-model", o.cost_model,
-                 "Volumes: the KRLS cost model's settings: ours (gamma 0.5, tolerance 0.001, "
-                 "at most 200 support vectors) or paper (Bruder et al.: gamma 0.00025, "
-                 "tolerance 0.006); :tf=0 leaves out the transfer function's feature")
+                 "Volumes: the KRLS cost model's settings: paper (Bruder et al.: gamma "
+                 "0.00025, tolerance 0.006) or ours (gamma 0.5, tolerance 0.001, at most 200 "
+                 "support vectors); :tf=0 leaves out the transfer function's feature")
       ->capture_default_str();
   cmd.add_option("--prepass-stride", o.prepass_stride,
                  "Volumes: one prediction pre-pass ray per NxN pixels (0: no prediction; "
