@@ -110,7 +110,12 @@ uint32_t count_geometry_cells(const std::vector<Vec3>& points, uint32_t division
   return set.count();
 }
 
-PositionGrid PositionGrid::fit(const std::vector<Vec3>& points) {
+uint32_t geometry_cell_limit(size_t vertices) {
+  return uint32_t(std::clamp<size_t>(vertices / 8, 1, kMaxGridCells));
+}
+
+PositionGrid PositionGrid::fit(const std::vector<Vec3>& points, uint32_t max_cells) {
+  max_cells = std::clamp<uint32_t>(max_cells, 1, kMaxGridCells);
   if (points.empty()) return PositionGrid{};
   const Bounds3 box = box_of(points);
   // Bisection on the divisions of the longest side: lo fits (one cell always does), hi
@@ -118,12 +123,12 @@ PositionGrid PositionGrid::fit(const std::vector<Vec3>& points) {
   // geometry), so the result is the finest of the bisection's path, not necessarily the
   // finest of all: lo fits and lo + 1 does not.
   uint32_t lo = 1, hi = kMaxCellsPerAxis - 1;
-  if (count_geometry_cells(points, hi) <= kMaxGridCells) {
+  if (count_geometry_cells(points, hi, max_cells) <= max_cells) {
     lo = hi;
   } else {
     while (hi - lo > 1) {
       const uint32_t mid = lo + (hi - lo) / 2;
-      (count_geometry_cells(points, mid) <= kMaxGridCells ? lo : hi) = mid;
+      (count_geometry_cells(points, mid, max_cells) <= max_cells ? lo : hi) = mid;
     }
   }
   PositionGrid g = lattice(box, lo);

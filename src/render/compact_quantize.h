@@ -53,13 +53,22 @@ struct PositionGrid {
   // 1..kMaxCellsPerAxis - 1 with count_geometry_cells (N = 1 always fits: one cell). A point set
   // that is a single point gets one cell of side 1; an empty one the unit grid at the origin with
   // an empty table.
-  static PositionGrid fit(const std::vector<Vec3>& points);
+  // `max_cells` (at most kMaxGridCells) lowers the table's limit (geometry_cell_limit).
+  static PositionGrid fit(const std::vector<Vec3>& points, uint32_t max_cells = kMaxGridCells);
   size_t cell_count() const { return cells.size() / 3; }
   size_t table_bytes() const { return cells.size() * sizeof(uint16_t); }
   // Largest distance, per axis, between a fitted point and its decoded position (half an
   // offset step; float rounding of the decoded sum comes on top).
   float max_error() const { return 0.5f * step; }
 };
+
+// The table's limit for a mesh of `vertices` vertices: the paper's 2^16, or one cell per 8
+// vertices where that is fewer (ours; at least 1). The paper's rule, the finest grid whose
+// geometry cells fit 2^16, was made for scenes of millions of vertices, where the table is
+// full and every cell holds many vertices; below 2^19 vertices it gives each vertex a cell
+// of its own, and the table (6 bytes a cell) then costs as much as the position codes it
+// saves. With the cap a vertex costs at most 6 + 6/8 bytes instead of 12.
+uint32_t geometry_cell_limit(size_t vertices);
 
 // Geometry cells of `points` on the grid of `divisions` cells along the box's longest
 // side (the bisection's measure), counted up to `limit` + 1: a result over `limit` means

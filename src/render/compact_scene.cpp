@@ -26,7 +26,7 @@ CompactMesh build_compact_mesh(const Scene& scene) {
     throw InputError("the compact representation holds at most 65,535 materials, the scene has " +
                      std::to_string(scene.materials.size()));
   CompactMesh m;
-  m.grid = PositionGrid::fit(scene.positions);
+  m.grid = PositionGrid::fit(scene.positions, geometry_cell_limit(scene.positions.size()));
   m.positions.reserve(scene.positions.size());
   for (const Vec3& p : scene.positions) m.positions.push_back(encode_position(m.grid, p));
   m.normals.reserve(scene.normals.size());

@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <cstring>
 #include <random>
+#include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/image_metrics.h"
@@ -115,6 +117,24 @@ TEST(CompactQuantize, GridIsTheFinestWhoseGeometryCellsFit) {
   EXPECT_EQ(fine.cell_count(), 3u);
   EXPECT_GE(fine.cell, 6.0f / float(kMaxCellsPerAxis - 1));
   EXPECT_LE(fine.cell, 6.0f / float(kMaxCellsPerAxis - 1) * (1.0f + 1.0f / 128));
+}
+
+// A mesh of few vertices (ours, geometry_cell_limit): the paper's rule alone would give
+// nearly every vertex a cell of its own, a table as big as the position codes; the compact
+// mesh keeps at most one cell per 8 vertices, and its vertices still decode within half a
+// step of its grid.
+TEST(CompactQuantize, SmallMeshesKeepTheTableSmall) {
+  const Scene scene = make_lit_sphere(0.8f, 60, 120, true);
+  const size_t vertices = scene.positions.size();  // 28,806, of 7,086 distinct positions
+  std::set<std::tuple<float, float, float>> distinct;
+  for (const Vec3& p : scene.positions) distinct.insert({p.x, p.y, p.z});
+  EXPECT_GT(PositionGrid::fit(scene.positions).cell_count(), distinct.size() * 9 / 10);
+  const CompactMesh m = build_compact_mesh(scene);
+  EXPECT_LE(m.grid.cell_count(), geometry_cell_limit(vertices));
+  EXPECT_LE(m.grid.table_bytes() * 8, vertices * 6);
+  expect_within_half_a_step(m.grid, scene.positions);
+  EXPECT_EQ(geometry_cell_limit(size_t(1) << 20), kMaxGridCells);  // the paper's scenes
+  EXPECT_EQ(geometry_cell_limit(3), 1u);
 }
 
 // Whole-box counting (every cell of the box within 2^16): the smallest cubic cell for a
