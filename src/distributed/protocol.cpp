@@ -84,6 +84,14 @@ RenderSettings get_settings(ByteReader& r) {
   return s;
 }
 
+// A message that is one number.
+template <class T>
+std::vector<uint8_t> encode_scalar(T value) {
+  ByteWriter w;
+  w.put(value);
+  return w.take();
+}
+
 }  // namespace
 
 std::vector<uint8_t> encode(const HelloMessage& m) {
@@ -206,22 +214,14 @@ FailureMessage decode_failure(const std::vector<uint8_t>& bytes) {
   return m;
 }
 
-std::vector<uint8_t> encode_ready(uint32_t epoch) {
-  ByteWriter w;
-  w.put(epoch);
-  return w.take();
-}
+std::vector<uint8_t> encode_ready(uint32_t epoch) { return encode_scalar(epoch); }
 
 uint32_t decode_ready(const std::vector<uint8_t>& bytes) {
   ByteReader r(bytes);
   return r.get<uint32_t>();
 }
 
-std::vector<uint8_t> encode_speed(double speed) {
-  ByteWriter w;
-  w.put(speed);
-  return w.take();
-}
+std::vector<uint8_t> encode_speed(double speed) { return encode_scalar(speed); }
 
 double decode_speed(const std::vector<uint8_t>& bytes) {
   ByteReader r(bytes);
