@@ -373,10 +373,14 @@ Runner add_bench_command(CLI::App& app) {
     std::vector<uint32_t> reference_views;  // reprojected sampling's, the same every frame
     for (int v : s.views->rig().reference_views(s.views->sampling().reference_spacing))
       reference_views.push_back(uint32_t(v));
+    std::vector<std::string> names;
+    for (size_t k = 0; k < result.lanes.size(); ++k)
+      names.push_back(session->engine(k).balancer().name());
+    const std::vector<std::string> stems = lane_file_stems(names);
     for (size_t k = 0; k < result.lanes.size(); ++k)
       runs_json.push_back(lane_outputs(k, s, result, lanes, labels, summaries[k], reference_views,
                                        mixed_types, timeline, warmup, config.partition_frame, *b,
-                                       session->engine(k).balancer().name()));
+                                       stems[k]));
     if (s.volume) report_volume(s, result, lanes, labels, warmup, b->report_dir);
     const RepeatSummary repeats = summarize_repeats(repeat_lanes, perturb_frame >= 0);
     if (!b->report_dir.empty())

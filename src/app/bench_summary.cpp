@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <fmt/core.h>
 
@@ -249,6 +250,16 @@ nlohmann::json breakdown_to_json(const balance::Breakdown& b, bool stolen_measur
           {"engine_wall_ms", wall_ms},
           {"efficiency", b.efficiency()},
           {"above_one", balance::above_one_explanation(b)}};
+}
+
+std::vector<std::string> lane_file_stems(const std::vector<std::string>& names) {
+  std::vector<std::string> stems;
+  std::map<std::string, int> seen;
+  for (const std::string& n : names) {
+    const int k = ++seen[n];
+    stems.push_back(k == 1 ? n : n + "-" + std::to_string(k));
+  }
+  return stems;
 }
 
 }  // namespace multiray::app

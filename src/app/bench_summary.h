@@ -102,4 +102,9 @@ nlohmann::json summary_to_json(const RunSummary& s, int warmup, const std::vecto
 nlohmann::json breakdown_to_json(const balance::Breakdown& b, bool stolen_measured,
                                  double wall_ms);
 
+// File-name stems for the lanes' report and trace files: each lane's balancer name, and
+// "name-2", "name-3", ... for later lanes of the same name (uniform and
+// uniform:layout=strips would otherwise write the same files).
+std::vector<std::string> lane_file_stems(const std::vector<std::string>& names);
+
 }  // namespace multiray::app

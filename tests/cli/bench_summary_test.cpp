@@ -28,6 +28,13 @@ std::vector<IdealSample> timed(const std::vector<int>& frames, const std::vector
 }
 
 // A rebalance is a frame whose planned shares differ from the previous frame's.
+// Two lanes of one balancer (uniform rows and uniform strips) must not write one file.
+TEST(BenchSummary, LanesOfOneBalancerGetTheirOwnFiles) {
+  EXPECT_EQ(lane_file_stems({"uniform", "dlb", "uniform", "uniform"}),
+            (std::vector<std::string>{"uniform", "dlb", "uniform-2", "uniform-3"}));
+  EXPECT_TRUE(lane_file_stems({}).empty());
+}
+
 TEST(BenchSummary, CountsFramesWhoseSharesChanged) {
   auto recs = frames({1, 1, 1, 1, 1, 1}, {0, 0, 0, 0, 0, 0});
   const double shares[6] = {0.5, 0.5, 0.6, 0.6, 0.6, 0.55};
