@@ -6,6 +6,7 @@
 
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/resample.h"
 #include "device/work_list.h"
 #include "engine/dispatch_source.h"
 #include "render/foveation_frame.h"
@@ -41,15 +42,6 @@ void size_images(std::vector<Framebuffer>& images, size_t views, int width, int 
   images.resize(views);
   for (auto& img : images)
     if (img.width != width || img.height != height) img = Framebuffer(width, height);
-}
-
-// Nearest-pixel upsampling of `from` into `to` (any sizes).
-void upsample(const Framebuffer& from, Framebuffer& to) {
-  for (int y = 0; y < to.height; ++y) {
-    const int sy = int(int64_t(y) * from.height / to.height);
-    for (int x = 0; x < to.width; ++x)
-      to.at(x, y) = from.at(int(int64_t(x) * from.width / to.width), sy);
-  }
 }
 
 }  // namespace
@@ -148,7 +140,7 @@ void Engine::render_pass(int frame, const std::vector<ViewSetup>& views,
   clock.restart();
   recover_failures(job, source, reports, rec);
   if (scaled)
-    for (size_t v = 0; v < images.size(); ++v) upsample(scaled_images_[v], images[v]);
+    for (size_t v = 0; v < images.size(); ++v) upscale_bilinear(scaled_images_[v], images[v]);
   rec.gather_ms = clock.elapsed_ms();
   rec.stolen = source.dispatcher().stolen();
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "balance/balancer.h"
+#include "core/resample.h"
 #include "device/cpu/cpu_device.h"
 #include "engine/session.h"
 #include "scene/builders.h"
@@ -173,18 +174,25 @@ TEST(Engine, AppliesThePlansQuality) {
   EXPECT_EQ(a.width, kW / 2);
   EXPECT_EQ(a.height, kH / 2);
   EXPECT_EQ(rec.devices[0].pixels + rec.devices[1].pixels, uint64_t(kW / 2 * kH / 2));
-  // The output is the half-size render, each pixel repeated 2 x 2.
+  // The output is the half-size render enlarged bilinearly: the depth of each half-size
+  // pixel's centre, interpolated at the output's pixel centres.
   const Framebuffer& img = engine.images()[0];
   ASSERT_EQ(img.width, kW);
   ASSERT_EQ(img.height, kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      const float half = kW / 2;
-      const float sy_scale = std::tan(kPi / 6), hx = float(x / 2), hy = float(y / 2);
-      const float sx = ((hx + 0.5f) * 2.0f / half - 1.0f) * sy_scale * kW / kH;
+  Framebuffer half(kW / 2, kH / 2), expected(kW, kH);
+  const float sy_scale = std::tan(kPi / 6);
+  for (int hy = 0; hy < kH / 2; ++hy)
+    for (int hx = 0; hx < kW / 2; ++hx) {
+      const float sx = ((hx + 0.5f) * 2.0f / (kW / 2) - 1.0f) * sy_scale * kW / kH;
       const float sy = (1.0f - (hy + 0.5f) * 2.0f / (kH / 2)) * sy_scale;
-      ASSERT_NEAR(img.at(x, y).x, std::sqrt(1 + sx * sx + sy * sy), 1e-4f) << x << "," << y;
+      half.at(hx, hy).x = std::sqrt(1 + sx * sx + sy * sy);
     }
+  upscale_bilinear(half, expected);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      ASSERT_NEAR(img.at(x, y).x, expected.at(x, y).x, 1e-4f) << x << "," << y;
+  // Not the nearest half-size pixel: between two half-size centres the value differs.
+  EXPECT_GT(std::abs(img.at(kW / 2, kH / 2).x - half.at(kW / 4, kH / 4).x), 1e-5f);
   // A plan whose items do not cover its scaled shape, or a bad quality, is refused.
   balance::Plan bad = balance::make_balancer("uniform", 1)->plan({kW, kH, 1, {}}, 0);
   bad.quality.image_scale = 0.5;
