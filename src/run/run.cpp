@@ -131,8 +131,10 @@ std::string check_kernel(const RunConfig& o, bool volume_input) {
                                         "--integrator volume)"
                                   : "--integrator volume needs a volume (.nhdr, .nrrd, or "
                                     "--raw), and the scene is a mesh");
+  // The volume options are checked for meshes too: a mistyped value is an error, not
+  // silently ignored because the scene happened to be a mesh.
+  check_volume_options(o.volume);
   if (volume_input) {
-    check_volume_options(o.volume);
     if (o.sampling != "uniform")
       throw InputError("--sampling " + o.sampling + " is for meshes; volumes use uniform");
   }

@@ -86,6 +86,10 @@ TEST(VolumeCli, BadVolumesAndOptionsAreOneLine) {
                          " --res 8x8",
                      "short");
   expect_input_error("render --integrator volume --res 8x8", "volume");
+  // Volume options are checked on a mesh too (the built-in Cornell box): a mistyped value
+  // is refused, not ignored.
+  expect_input_error("render --res 8x8 --cost-model nonsense", "--cost-model");
+  expect_input_error("render --res 8x8 --step 0", "--step");
 }
 
 // A sequence that says how many frames it lasts renders all of them unless --frames says
