@@ -10,7 +10,8 @@
 #   4. the paper's §6.3 Tables 1-2 setting: the homogeneous pair, 9x9 views, spatial
 #      reprojection from the centre view (`--sampling reproject`), path-tracing time with
 #      and without dlb (12 frames).
-# PARTS (default 1234) picks the parts.
+# PARTS (default 1234) picks the parts, GRIDS (default "2x1 3x3 5x5 9x9") part 2's grids,
+# LANES (default below) the balancers.
 # The baseline is Leria et al.'s: equal ratios over the same shuffled strips
 # (`uniform:layout=strips`, which cuts exactly dlb's strips); `uniform` (two row bands, no
 # per-strip cost) runs beside it as an extra lane. Every run repeats REPEATS blocks (3)
@@ -25,7 +26,8 @@ res=${2:-320x180}
 fly_frames=${3:-100}
 repeats=${REPEATS:-3}
 parts=${PARTS:-1234}
-lanes=uniform:layout=strips,dlb,uniform
+lanes=${LANES:-uniform:layout=strips,dlb,uniform}
+grids=${GRIDS:-2x1 3x3 5x5 9x9}
 bin=$build/src/app/multiray
 scene=$root/../shared/data/meshes/dabrovic_sponza/sponza.obj
 path=$root/bench/sequences/sponza_flythrough.json
@@ -39,7 +41,7 @@ homogeneous=cpu:threads=1:cores=0,cpu:threads=1:cores=1
 part() { case "$parts" in *"$1"*) return 0 ;; esac; return 1; }
 part 1 && "$bin" bench "$scene" $common --views 3x3 --frames "$fly_frames" --devices "$pair" \
   --balancers $lanes --json "$out/flythrough.json" --report "$out/flythrough"
-part 2 && for grid in 2x1 3x3 5x5 9x9; do
+part 2 && for grid in $grids; do
   frames=30 ideal=20
   [ "$grid" = 9x9 ] && frames=12 ideal=4  # 81 views: ~7 s a frame here
   "$bin" bench "$scene" $common --views "$grid" --frames $frames --ideal-frames $ideal \
