@@ -30,13 +30,16 @@
 //
 // Usage: compact_bench [--res WxH] [--spp N] [--bounces N] [--reps N]
 //                      [--subdivide K] [--opencl] [--kd-rays N] [--kd-leaf N]
-//                      [--kd-traversal-cost C] [--kd-form leaf|choi|both] SCENE...
+//                      [--kd-traversal-cost C] [--kd-form leaf|choi|both]
+//                      [--kd-choi INNER,PATH,OCCU,FREQ] SCENE...
 // --subdivide K splits every triangle of the scenes into 4^K (a generated large mesh).
 // --kd-leaf N: nodes of N triangles or fewer become kd-tree leaves (default 1).
 // --kd-traversal-cost C: the SAH's cost of a kd-tree step, a triangle test costing 20
 // (default 15, Wald & Havran's; higher gives smaller, shallower trees).
 // --kd-form: which kd-trees to build and time (default both); JSON keys `kdtree` (leaf)
 // and `kdtree_choi`.
+// --kd-choi: the Choi form's inner references per node (0..2), per path, and thresholds
+// tau_occu and tau_freq (default 2,8,0.5,0.4, Seo et al.'s).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -103,6 +106,7 @@ struct Options {
   int kd_rays = 500000, kd_leaf = 1;
   float kd_traversal_cost = KdBuildOptions{}.traversal_cost;
   bool kd_leaf_form = true, kd_choi_form = true;
+  KdBuildOptions kd_choi;  // its inner_refs_max, path_refs_max, tau_occu and tau_freq
 };
 
 // One kd-tree form: the tree, its build time, its timings and its disagreements with the
@@ -118,14 +122,15 @@ struct KdRun {
 
 std::vector<KdRun> kd_forms(const Options& o) {
   std::vector<KdRun> runs;
-  const auto add = [&](const char* form, int inner_refs_max) {
+  const auto add = [&](const char* form, const KdBuildOptions& choi) {
     KdRun& k = runs.emplace_back();
     k.form = form;
-    k.options = KdBuildOptions{.traversal_cost = o.kd_traversal_cost, .leaf_triangles = o.kd_leaf};
-    k.options.inner_refs_max = inner_refs_max;
+    k.options = choi;
+    k.options.traversal_cost = o.kd_traversal_cost;
+    k.options.leaf_triangles = o.kd_leaf;
   };
-  if (o.kd_leaf_form) add("leaf", 0);
-  if (o.kd_choi_form) add("choi", KdBuildOptions{}.inner_refs_max);  // Seo et al.'s setting
+  if (o.kd_leaf_form) add("leaf", {.inner_refs_max = 0});
+  if (o.kd_choi_form) add("choi", o.kd_choi);
   return runs;
 }
 
@@ -414,6 +419,12 @@ int main(int argc, char** argv) {
         if (f != "leaf" && f != "choi" && f != "both")
           throw std::invalid_argument("--kd-form wants leaf, choi or both");
         o.kd_leaf_form = f != "choi", o.kd_choi_form = f != "leaf";
+      } else if (a == "--kd-choi") {
+        KdBuildOptions& c = o.kd_choi;
+        if (std::sscanf(next().c_str(), "%d,%d,%f,%f", &c.inner_refs_max, &c.path_refs_max,
+                        &c.tau_occu, &c.tau_freq) != 4 ||
+            c.inner_refs_max < 0 || c.inner_refs_max > kMaxKdInnerRefs || c.path_refs_max < 0)
+          throw std::invalid_argument("--kd-choi wants INNER,PATH,OCCU,FREQ (INNER 0..2)");
       } else if (a == "--kd-traversal-cost") {
         o.kd_traversal_cost = std::clamp(std::stof(next()), 0.0f, 1e6f);
       } else {
@@ -428,7 +439,7 @@ int main(int argc, char** argv) {
     fmt::print(stderr,
                "usage: compact_bench [--res WxH] [--spp N] [--bounces N] [--reps N] "
                "[--subdivide K] [--opencl] [--kd-rays N] [--kd-leaf N] [--kd-traversal-cost C] "
-               "[--kd-form leaf|choi|both] SCENE...\n");
+               "[--kd-form leaf|choi|both] [--kd-choi INNER,PATH,OCCU,FREQ] SCENE...\n");
     return 2;
   }
   for (const std::string& s : scenes) {
