@@ -214,6 +214,7 @@ class KdBuilder {
   // With `planes`, also records the node's candidate planes in planes_ (for pick_inner).
   Split find_split(const Bounds3& cell, const std::vector<Ref>& refs, bool planes) {
     Split best;
+    for (int a = 0; a < 3; ++a) planes_.clear(a);  // none from another node
     const float cell_area = area(cell);
     if (!(cell_area > 0)) return best;
     const int n = int(refs.size());
@@ -229,7 +230,6 @@ class KdBuilder {
         }
       }
       std::sort(events_.begin(), events_.end());
-      planes_.clear(a);
       if (planes)
         for (const Event& e : events_) planes_.add(a, e.pos, cell);
       int nl = 0, nr = n;
