@@ -325,7 +325,11 @@ bool traverse(const CompactKdTree& tree, const CompactMesh& mesh, const Ray& ray
       const uint32_t first = n.children() + (up ? 0 : 1), second = n.children() + (up ? 1 : 0);
       const float first_exit = std::min(t_far, up ? t_hi : t_lo);
       const float second_entry = std::max(t_near, up ? t_lo : t_hi);
-      const bool go_first = t_near <= widen(first_exit), go_second = second_entry <= widen(t_far);
+      // A hit on the node's own triangles may end the ray before its cell: then nothing
+      // below is nearer (the test the stack's entries get below).
+      const bool reached = t_near - std::fabs(t_near) * kSlack <= tmax;
+      const bool go_first = reached && t_near <= widen(first_exit);
+      const bool go_second = reached && second_entry <= widen(t_far);
       if (go_first && go_second) stack[sp++] = Entry{second, second_entry, t_far};
       if (go_first) {
         node = first, t_far = first_exit;
