@@ -9,15 +9,18 @@
 // (median reported); and PSNR of the compact image against the full-precision one (same
 // seeds). Writes one JSON object per scene to stdout's last lines and a table to stderr.
 //
-// The two compact structures like for like (issue 11 asks for the paper's kd-tree against
-// our quantized BVH): the kd-tree of render/compact_kdtree.h is built over the same
-// decoded mesh (its nodes, references, bytes and build time are reported), then both
-// answer the same closest-hit queries on one thread: `--kd-rays` rays, half primary rays
-// through a jittered grid of the default camera's image, half cosine-distributed bounces
-// from the primary hits in turn (found with the BVH), all from fixed seeds; the
-// median (and the least) of 3 alternate timings of the whole batch per structure (the
-// least is the one least disturbed by other processes). Alpha cut-outs are
-// ignored by both queries (the kd-tree has none), so hits on cut-out leaves count.
+// The compact structures like for like (issue 11 asks for the paper's kd-tree against our
+// quantized BVH): the kd-tree of render/compact_kdtree.h is built over the same decoded
+// mesh in one or both of its forms (`--kd-form`: Wald & Havran's leaf-only tree, "leaf",
+// and Choi et al.'s with triangles in inner nodes, "choi", in Seo et al.'s setting; its
+// nodes, reference slots, leaf and inner references, bytes, depth and build time are
+// reported), then every structure answers the same closest-hit queries on one thread:
+// `--kd-rays` rays, half primary rays through a jittered grid of the default camera's
+// image, half cosine-distributed bounces from the primary hits in turn (found with the
+// BVH), all from fixed seeds; the median (and the least) of 3 alternate timings of the
+// whole batch per structure (the least is the one least disturbed by other processes).
+// Alpha cut-outs are ignored by all queries (the kd-tree has none), so hits on cut-out
+// leaves count.
 //
 // With --opencl (when the OpenCL backend is built and a device is found), the paper's
 // like-for-like comparison as well: the same OpenCL path-tracing kernel on the flat BVH
@@ -27,11 +30,16 @@
 //
 // Usage: compact_bench [--res WxH] [--spp N] [--bounces N] [--reps N]
 //                      [--subdivide K] [--opencl] [--kd-rays N] [--kd-leaf N]
-//                      [--kd-traversal-cost C] SCENE...
+//                      [--kd-traversal-cost C] [--kd-form leaf|choi|both]
+//                      [--kd-choi INNER,PATH,OCCU,FREQ] SCENE...
 // --subdivide K splits every triangle of the scenes into 4^K (a generated large mesh).
 // --kd-leaf N: nodes of N triangles or fewer become kd-tree leaves (default 1).
 // --kd-traversal-cost C: the SAH's cost of a kd-tree step, a triangle test costing 20
 // (default 15, Wald & Havran's; higher gives smaller, shallower trees).
+// --kd-form: which kd-trees to build and time (default both); JSON keys `kdtree` (leaf)
+// and `kdtree_choi`.
+// --kd-choi: the Choi form's inner references per node (0..2), per path, and thresholds
+// tau_occu and tau_freq (default 2,8,0.5,0.4, Seo et al.'s).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -97,7 +105,56 @@ struct Options {
   bool opencl = false;
   int kd_rays = 500000, kd_leaf = 1;
   float kd_traversal_cost = KdBuildOptions{}.traversal_cost;
+  bool kd_leaf_form = true, kd_choi_form = true;
+  KdBuildOptions kd_choi;  // its inner_refs_max, path_refs_max, tau_occu and tau_freq
 };
+
+// One kd-tree form: the tree, its build time, its timings and its disagreements with the
+// BVH (another distance; ties on another triangle at the same t agree).
+struct KdRun {
+  std::string form;  // "leaf" or "choi"
+  KdBuildOptions options;
+  CompactKdTree tree;
+  double build_ms = 0;
+  std::vector<double> trace_ms;
+  size_t disagree = 0;
+};
+
+std::vector<KdRun> kd_forms(const Options& o) {
+  std::vector<KdRun> runs;
+  const auto add = [&](const char* form, const KdBuildOptions& choi) {
+    KdRun& k = runs.emplace_back();
+    k.form = form;
+    k.options = choi;
+    k.options.traversal_cost = o.kd_traversal_cost;
+    k.options.leaf_triangles = o.kd_leaf;
+  };
+  if (o.kd_leaf_form) add("leaf", {.inner_refs_max = 0});
+  if (o.kd_choi_form) add("choi", o.kd_choi);
+  return runs;
+}
+
+nlohmann::json kd_json(const KdRun& k, const Options& o) {
+  const CompactKdTree& t = k.tree;
+  const KdBuildOptions& b = k.options;
+  return {{"form", k.form},
+          {"nodes", t.tree_nodes()},
+          {"slots", t.slots},
+          {"refs", t.refs.size()},
+          {"inner_refs", t.inner_refs},
+          {"bytes", t.bytes()},
+          {"depth", t.depth},
+          {"leaf_triangles", o.kd_leaf},
+          {"traversal_cost", o.kd_traversal_cost},
+          {"inner_refs_max", b.inner_refs_max},
+          {"path_refs_max", b.path_refs_max},
+          {"tau_occu", b.tau_occu},
+          {"tau_freq", b.tau_freq},
+          {"build_ms", k.build_ms},
+          {"trace_ms", median(k.trace_ms)},
+          {"trace_ms_min", *std::min_element(k.trace_ms.begin(), k.trace_ms.end())},
+          {"disagreements", k.disagree}};
+}
 
 // The micro-benchmark's rays (see the file comment): about `n` / 2 primary rays, then as
 // many bounces, from the primary hits in turn (the hit points found with the BVH), each
@@ -186,37 +243,41 @@ nlohmann::json run(const std::string& path, const Options& o) {
   }
   const ImageError err = image_error(b, a);
 
-  // The kd-tree against the BVH, closest hits on one thread.
-  Stopwatch kd_clock;
-  const CompactKdTree kd = build_compact_kdtree(
-      compact.mesh,
-      KdBuildOptions{.traversal_cost = o.kd_traversal_cost, .leaf_triangles = o.kd_leaf});
-  const double kd_build_ms = kd_clock.elapsed_ms();
+  // The kd-trees against the BVH, closest hits on one thread.
+  std::vector<KdRun> kds = kd_forms(o);
+  for (KdRun& k : kds) {
+    Stopwatch kd_clock;
+    k.tree = build_compact_kdtree(compact.mesh, k.options);
+    k.build_ms = kd_clock.elapsed_ms();
+  }
   const float eps = 2e-5f * std::max(1.0f, max_component(scene.bounds().extent()));
   const TraceRays tr = trace_rays(compact, view.camera, float(o.w) / float(o.h), o.kd_rays, eps);
   const auto bvh_query = [&](const Ray& r, Hit& h) {
     return compact_intersect(compact, nullptr, r, h);
   };
-  const auto kd_query = [&](const Ray& r, Hit& h) {
-    return kdtree_intersect(kd, compact.mesh, r, h);
+  const auto kd_query = [&](const CompactKdTree& kd) {
+    return [&](const Ray& r, Hit& h) { return kdtree_intersect(kd, compact.mesh, r, h); };
   };
   std::vector<Hit> bvh_hits(tr.rays.size()), kd_hits(tr.rays.size());
   trace_all(tr.rays, bvh_query, &bvh_hits);
-  trace_all(tr.rays, kd_query, &kd_hits);
-  size_t disagree = 0;  // another distance (ties on another triangle at the same t agree)
-  for (size_t i = 0; i < tr.rays.size(); ++i) {
-    const float tb = bvh_hits[i].t, tk = kd_hits[i].t;
-    disagree += !(tb == tk || std::fabs(tb - tk) <= 1e-5f * tb);
+  for (KdRun& k : kds) {
+    trace_all(tr.rays, kd_query(k.tree), &kd_hits);
+    for (size_t i = 0; i < tr.rays.size(); ++i) {
+      const float tb = bvh_hits[i].t, tk = kd_hits[i].t;
+      k.disagree += !(tb == tk || std::fabs(tb - tk) <= 1e-5f * tb);
+    }
   }
-  std::vector<double> t_bvh, t_kd;
+  std::vector<double> t_bvh;
   double checksum = 0;
-  for (int r = 0; r < 3; ++r) {
+  for (int r = 0; r < 3; ++r) {  // alternately: the BVH, then each kd-tree
     Stopwatch s1;
     checksum += trace_all(tr.rays, bvh_query, nullptr);
     t_bvh.push_back(s1.elapsed_ms());
-    Stopwatch s2;
-    checksum -= trace_all(tr.rays, kd_query, nullptr);
-    t_kd.push_back(s2.elapsed_ms());
+    for (KdRun& k : kds) {
+      Stopwatch s2;
+      checksum -= trace_all(tr.rays, kd_query(k.tree), nullptr);
+      k.trace_ms.push_back(s2.elapsed_ms());
+    }
   }
   g_sink = checksum;
   bool cutouts = false;
@@ -262,27 +323,22 @@ nlohmann::json run(const std::string& path, const Options& o) {
       {"bvh_refs", compact.bvh.prims.size()},
       {"bvh_trace_ms", median(t_bvh)},
       {"bvh_trace_ms_min", *std::min_element(t_bvh.begin(), t_bvh.end())},
-      {"kdtree",
-       {{"nodes", kd.nodes.size()},
-        {"refs", kd.refs.size()},
-        {"bytes", kd.bytes()},
-        {"depth", kd.depth},
-        {"leaf_triangles", o.kd_leaf},
-        {"traversal_cost", o.kd_traversal_cost},
-        {"build_ms", kd_build_ms},
-        {"trace_ms", median(t_kd)},
-        {"trace_ms_min", *std::min_element(t_kd.begin(), t_kd.end())}}},
       {"trace_rays",
        {{"primary", tr.primary},
         {"primary_hits", tr.primary_hits},
         {"bounce", tr.rays.size() - tr.primary},
-        {"disagreements", disagree},
         {"cutouts_ignored", cutouts}}},
       {"settings",
        {{"res", fmt::format("{}x{}", o.w, o.h)},
         {"spp", o.spp},
         {"bounces", o.bounces},
         {"reps", o.reps}}}};
+  size_t disagree = 0;  // over the forms (as before, when one form is run)
+  for (const KdRun& k : kds) {
+    j[k.form == "leaf" ? "kdtree" : "kdtree_choi"] = kd_json(k, o);
+    disagree += k.disagree;
+  }
+  j["trace_rays"]["disagreements"] = disagree;
   if (o.opencl) {
     j["opencl"] = opencl_comparison(scene, view, settings, o.reps);
     const nlohmann::json& c = j["opencl"];
@@ -313,15 +369,21 @@ nlohmann::json run(const std::string& path, const Options& o) {
       "", parts.positions / 1e6, parts.cell_table / 1e6, compact.mesh.grid.cell_count(),
       compact.mesh.grid.divisions, compact.mesh.grid.step, parts.normals / 1e6, parts.uvs / 1e6,
       parts.uv_shifts / 1e6, parts.faces / 1e6, parts.materials / 1e6);
-  fmt::print(stderr,
-             "{:<40} kd-tree {} nodes {} refs ({:.2f}/tri) {:.2f} MB, depth {}, built in {:.0f} "
-             "ms | BVH {:.2f} MB (kd/bvh {:.2f}x) | {} rays: kd {:.0f} ms, bvh {:.0f} ms (kd/bvh "
-             "{:.2f}x), {} disagree\n",
-             "", kd.nodes.size(), kd.refs.size(),
-             double(kd.refs.size()) / double(std::max<size_t>(1, scene.triangle_count())),
-             kd.bytes() / 1e6, kd.depth, kd_build_ms, compact.bvh.bytes() / 1e6,
-             double(kd.bytes()) / double(compact.bvh.bytes()), tr.rays.size(), median(t_kd),
-             median(t_bvh), median(t_kd) / median(t_bvh), disagree);
+  fmt::print(stderr, "{:<40} BVH {} nodes {} refs {:.2f} MB | {} rays: bvh {:.0f} ms\n", "",
+             compact.bvh.nodes.size(), compact.bvh.prims.size(), compact.bvh.bytes() / 1e6,
+             tr.rays.size(), median(t_bvh));
+  for (const KdRun& k : kds) {
+    const CompactKdTree& kd = k.tree;
+    fmt::print(stderr,
+               "{:<40} kd-tree {:<4} {} nodes {} refs + {} inner ({:.2f}/tri) {:.2f} MB, depth "
+               "{}, built in {:.0f} ms (kd/bvh {:.2f}x) | kd {:.0f} ms (kd/bvh {:.2f}x), {} "
+               "disagree\n",
+               "", k.form, kd.tree_nodes(), kd.refs.size(), kd.inner_refs,
+               double(kd.all_refs()) / double(std::max<size_t>(1, scene.triangle_count())),
+               kd.bytes() / 1e6, kd.depth, k.build_ms,
+               double(kd.bytes()) / double(compact.bvh.bytes()), median(k.trace_ms),
+               median(k.trace_ms) / median(t_bvh), k.disagree);
+  }
   return j;
 }
 
@@ -352,6 +414,17 @@ int main(int argc, char** argv) {
         o.kd_rays = std::clamp(std::stoi(next()), 2, 100000000);
       } else if (a == "--kd-leaf") {
         o.kd_leaf = std::clamp(std::stoi(next()), 1, 1 << 20);
+      } else if (a == "--kd-form") {
+        const std::string f = next();
+        if (f != "leaf" && f != "choi" && f != "both")
+          throw std::invalid_argument("--kd-form wants leaf, choi or both");
+        o.kd_leaf_form = f != "choi", o.kd_choi_form = f != "leaf";
+      } else if (a == "--kd-choi") {
+        KdBuildOptions& c = o.kd_choi;
+        if (std::sscanf(next().c_str(), "%d,%d,%f,%f", &c.inner_refs_max, &c.path_refs_max,
+                        &c.tau_occu, &c.tau_freq) != 4 ||
+            c.inner_refs_max < 0 || c.inner_refs_max > kMaxKdInnerRefs || c.path_refs_max < 0)
+          throw std::invalid_argument("--kd-choi wants INNER,PATH,OCCU,FREQ (INNER 0..2)");
       } else if (a == "--kd-traversal-cost") {
         o.kd_traversal_cost = std::clamp(std::stof(next()), 0.0f, 1e6f);
       } else {
@@ -366,7 +439,7 @@ int main(int argc, char** argv) {
     fmt::print(stderr,
                "usage: compact_bench [--res WxH] [--spp N] [--bounces N] [--reps N] "
                "[--subdivide K] [--opencl] [--kd-rays N] [--kd-leaf N] [--kd-traversal-cost C] "
-               "SCENE...\n");
+               "[--kd-form leaf|choi|both] [--kd-choi INNER,PATH,OCCU,FREQ] SCENE...\n");
     return 2;
   }
   for (const std::string& s : scenes) {

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
 #include "core/error.h"
+#include "render/compact_kdtree_inner.h"
 #include "render/shared/triangle.h"
 
 namespace multiray {
@@ -89,23 +91,31 @@ class KdBuilder {
   KdBuilder(const CompactMesh& mesh, const KdBuildOptions& o, int max_depth, CompactKdTree& tree)
       : mesh_(mesh), o_(o), max_depth_(max_depth), tree_(tree) {}
 
-  // Makes tree_.nodes[node] the root of a subtree over `refs` (consumed) in `cell`.
-  void build(uint32_t node, const Bounds3& cell, std::vector<Ref>& refs, int depth) {
+  // Makes tree_.nodes[node] the root of a subtree over `refs` (consumed) in `cell`, below
+  // `path_refs` inner references.
+  void build(uint32_t node, const Bounds3& cell, std::vector<Ref>& refs, int depth,
+             int path_refs) {
     tree_.depth = std::max(tree_.depth, depth);
+    // Room for inner references here: the node's and the path's budgets.
+    const int room = std::min(o_.inner_refs_max, o_.path_refs_max - path_refs);
     const Split s = int(refs.size()) <= o_.leaf_triangles || depth >= max_depth_
                         ? Split{}
-                        : find_split(cell, refs);
+                        : find_split(cell, refs, room > 0);
     if (s.axis < 0 || !(s.cost < o_.intersection_cost * float(refs.size()))) {
       make_leaf(node, refs);
       return;
     }
+    const kd_inner::InnerPicker kept = pick_inner(cell, refs, s, room);
     Bounds3 lcell = cell, rcell = cell;
     lcell.hi[s.axis] = s.pos;
     rcell.lo[s.axis] = s.pos;
     std::vector<Ref> left, right;
-    for (const Ref& r : refs) {
+    for (size_t i = 0; i < refs.size(); ++i) {
+      const Ref& r = refs[i];
       const float b0 = r.box.lo[s.axis], b1 = r.box.hi[s.axis];
-      if (b0 == s.pos && b1 == s.pos) {
+      if (kept.contains(uint32_t(i))) {
+        continue;  // in this node's slot, not in the children
+      } else if (b0 == s.pos && b1 == s.pos) {
         (s.planar_left ? left : right).push_back(r);
       } else if (b1 <= s.pos) {
         left.push_back(r);
@@ -123,15 +133,10 @@ class KdBuilder {
         }
       }
     }
+    const uint32_t first = add_children(node, s, refs, kept);
     std::vector<Ref>().swap(refs);
-    const size_t first = tree_.nodes.size();
-    if (first + 1 > kMaxKdIndex)
-      throw DeviceError("kd-tree: more than 2^30 nodes (" + std::to_string(first) + ")");
-    tree_.nodes.push_back(KdNode{});
-    tree_.nodes.push_back(KdNode{});
-    tree_.nodes[node] = KdNode{std::bit_cast<uint32_t>(s.pos), uint32_t(first) << 2 | s.axis};
-    build(uint32_t(first), lcell, left, depth + 1);
-    build(uint32_t(first + 1), rcell, right, depth + 1);
+    build(first, lcell, left, depth + 1, path_refs + kept.count());
+    build(first + 1, rcell, right, depth + 1, path_refs + kept.count());
   }
 
  private:
@@ -147,6 +152,38 @@ class KdBuilder {
     int type;  // 0 end, 1 planar, 2 start
     bool operator<(const Event& e) const { return pos < e.pos || (pos == e.pos && type < e.type); }
   };
+
+  // The straddlers of split `s` that the node keeps (none when `room` is 0).
+  kd_inner::InnerPicker pick_inner(const Bounds3& cell, const std::vector<Ref>& refs,
+                                   const Split& s, int room) const {
+    kd_inner::InnerPicker picker(cell, planes_, o_.tau_occu, o_.tau_freq, room);
+    if (room <= 0) return picker;
+    for (size_t i = 0; i < refs.size(); ++i)
+      if (refs[i].box.lo[s.axis] < s.pos && refs[i].box.hi[s.axis] > s.pos)
+        picker.offer(uint32_t(i), refs[i].box);
+    return picker;
+  }
+
+  // Appends the node's reference slot (when it keeps any) and its two children, and writes
+  // the node; returns the lower child's index.
+  uint32_t add_children(uint32_t node, const Split& s, const std::vector<Ref>& refs,
+                        const kd_inner::InnerPicker& kept) {
+    const bool slot = kept.count() > 0;
+    const size_t first = tree_.nodes.size() + (slot ? 1 : 0);
+    if (first + 1 > kMaxKdNode)
+      throw DeviceError("kd-tree: more than 2^29 nodes (" + std::to_string(first) + ")");
+    if (slot) {
+      const uint32_t second = kept.count() > 1 ? refs[kept.picked(1)].tri : KdNode::kNoRef;
+      tree_.nodes.push_back(KdNode{refs[kept.picked(0)].tri, second});
+      ++tree_.slots;
+      tree_.inner_refs += size_t(kept.count());
+    }
+    tree_.nodes.push_back(KdNode{});
+    tree_.nodes.push_back(KdNode{});
+    tree_.nodes[node] = KdNode{std::bit_cast<uint32_t>(s.pos),
+                               uint32_t(first) << 3 | (slot ? 4u : 0u) | uint32_t(s.axis)};
+    return uint32_t(first);
+  }
 
   void make_leaf(uint32_t node, const std::vector<Ref>& refs) {
     const size_t first = tree_.refs.size();
@@ -174,8 +211,10 @@ class KdBuilder {
     if (c < best.cost) best = Split{axis, pos, c, left};
   }
 
-  Split find_split(const Bounds3& cell, const std::vector<Ref>& refs) {
+  // With `planes`, also records the node's candidate planes in planes_ (for pick_inner).
+  Split find_split(const Bounds3& cell, const std::vector<Ref>& refs, bool planes) {
     Split best;
+    for (int a = 0; a < 3; ++a) planes_.clear(a);  // none from another node
     const float cell_area = area(cell);
     if (!(cell_area > 0)) return best;
     const int n = int(refs.size());
@@ -191,6 +230,8 @@ class KdBuilder {
         }
       }
       std::sort(events_.begin(), events_.end());
+      if (planes)
+        for (const Event& e : events_) planes_.add(a, e.pos, cell);
       int nl = 0, nr = n;
       for (size_t i = 0; i < events_.size();) {
         const float pos = events_[i].pos;
@@ -212,6 +253,7 @@ class KdBuilder {
   const int max_depth_;
   CompactKdTree& tree_;
   std::vector<Event> events_;
+  kd_inner::CandidatePlanes planes_;  // of the node being split (overwritten below it)
 };
 
 // The shared ray/triangle test (render/shared/triangle.h) on the decoded triangle, with
@@ -265,16 +307,29 @@ bool traverse(const CompactKdTree& tree, const CompactMesh& mesh, const Ray& ray
   for (;;) {
     const KdNode n = tree.nodes[node];
     if (!n.leaf()) {
+      // The node's own triangles, tested whatever the ray does below.
+      if (n.has_refs()) {
+        const KdNode slot = tree.nodes[n.children() - 1];
+        bool hit_here = triangle_hit(mesh, slot.first_ref(), ray, tmax, hit);
+        if (slot.second_ref() != KdNode::kNoRef)
+          hit_here |= triangle_hit(mesh, slot.second_ref(), ray, tmax, hit);
+        found |= hit_here;
+        if (any_hit && found) return true;
+      }
       const int a = n.axis();
       const float split = n.split(), org = ray.org[a], ia = inv[a];
       const float t_lo = (split - tree.pad - org) * ia, t_hi = (split + tree.pad - org) * ia;
       // Along +a the ray is in the lower cell until t_hi and in the upper from t_lo; along
       // -a in the upper until t_lo and in the lower from t_hi.
       const bool up = ia >= 0.0f;
-      const uint32_t first = n.index() + (up ? 0 : 1), second = n.index() + (up ? 1 : 0);
+      const uint32_t first = n.children() + (up ? 0 : 1), second = n.children() + (up ? 1 : 0);
       const float first_exit = std::min(t_far, up ? t_hi : t_lo);
       const float second_entry = std::max(t_near, up ? t_lo : t_hi);
-      const bool go_first = t_near <= widen(first_exit), go_second = second_entry <= widen(t_far);
+      // A hit on the node's own triangles may end the ray before its cell: then nothing
+      // below is nearer (the test the stack's entries get below).
+      const bool reached = t_near - std::fabs(t_near) * kSlack <= tmax;
+      const bool go_first = reached && t_near <= widen(first_exit);
+      const bool go_second = reached && second_entry <= widen(t_far);
       if (go_first && go_second) stack[sp++] = Entry{second, second_entry, t_far};
       if (go_first) {
         node = first, t_far = first_exit;
@@ -306,6 +361,9 @@ bool traverse(const CompactKdTree& tree, const CompactMesh& mesh, const Ray& ray
 }  // namespace
 
 CompactKdTree build_compact_kdtree(const CompactMesh& mesh, const KdBuildOptions& options) {
+  if (options.inner_refs_max < 0 || options.inner_refs_max > kMaxKdInnerRefs)
+    throw std::invalid_argument("kd-tree: inner_refs_max must be 0.." +
+                                std::to_string(kMaxKdInnerRefs));
   CompactKdTree tree;
   const size_t triangles = mesh.indices.size() / 3;
   std::vector<Ref> refs;
@@ -328,7 +386,7 @@ CompactKdTree build_compact_kdtree(const CompactMesh& mesh, const KdBuildOptions
           : std::min(kMaxKdDepth, int(8.0 + 1.3 * std::log2(double(refs.size()))));
   KdBuilder builder(mesh, options, max_depth, tree);
   tree.nodes.push_back(KdNode{});
-  builder.build(0, tree.root, refs, 0);
+  builder.build(0, tree.root, refs, 0, 0);
   return tree;
 }
 

@@ -1,6 +1,8 @@
-// The compact kd-tree (render/compact_kdtree.h) against the compact BVH's traversal
+// The compact kd-tree (render/compact_kdtree.h), in both forms (leaf-only and Choi et
+// al.'s, with triangles in inner nodes), against the compact BVH's traversal
 // (compact_accel.h) on the same decoded triangles: the same closest hits and the same
-// occlusion answers over random rays, a well-formed tree, and degenerate scenes.
+// occlusion answers over random rays, a well-formed tree, and degenerate scenes. The
+// Choi form's budgets and measures: compact_kdtree_inner_test.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +10,7 @@
 #include <cstdio>
 #include <random>
 
+#include "kdtree_walk.h"
 #include "render/compact_accel.h"
 #include "render/compact_kdtree.h"
 #include "scene/builders.h"
@@ -153,22 +156,33 @@ Agreement compare(const CompactScene& c, const CompactKdTree& kd, const std::vec
   return g;
 }
 
+// Both forms: leaf-only (inner_refs_max 0) and Choi et al.'s (the defaults), whose inner
+// nodes' triangles the traversal must test (the Cornell box's walls straddle the top
+// splits, so rays hit triangles held only by inner nodes).
 TEST(CompactKdTree, FindsTheClosestHitsAndOcclusionOfTheCompactBvh) {
   const Scene scenes[] = {make_cornell_box(), make_lit_sphere(0.8f, 48, 96, true),
                           cluttered_scene()};
-  const KdBuildOptions options[] = {{}, {.max_depth = 3}, {.leaf_triangles = 8}};
+  const KdBuildOptions options[] = {{.inner_refs_max = 0},
+                                    {.max_depth = 3, .inner_refs_max = 0},
+                                    {.leaf_triangles = 8, .inner_refs_max = 0},
+                                    {},
+                                    {.max_depth = 3},
+                                    {.leaf_triangles = 8}};
   for (const Scene& scene : scenes) {
     const CompactScene c = build_compact_scene(scene);
     for (const KdBuildOptions& o : options) {
       const CompactKdTree kd = build_compact_kdtree(c.mesh, o);
+      if (o.inner_refs_max > 0 && o.max_depth == 0) {
+        EXPECT_GT(kd.inner_refs, 0u) << scene.name;  // or the Choi form is not tested
+      }
       const Agreement g = compare(c, kd, random_rays(scene, 40000, 3));
       std::printf(
-          "%s (max depth %d, leaf %d): %zu nodes, %zu refs; %d rays, %d agreed hits (%d "
-          "ties); kd-tree wrong %d (occlusion %d, ambiguous %d), bvh wrong %d (occlusion "
-          "%d, ambiguous %d)\n",
-          scene.name.c_str(), o.max_depth, o.leaf_triangles, kd.nodes.size(), kd.refs.size(),
-          g.rays, g.hits, g.ties, g.kd_wrong, g.kd_occlusion_wrong, g.kd_ambiguous, g.bvh_wrong,
-          g.bvh_occlusion_wrong, g.bvh_ambiguous);
+          "%s (max depth %d, leaf %d, inner %d): %zu nodes, %zu refs + %zu inner; %d rays, "
+          "%d agreed hits (%d ties); kd-tree wrong %d (occlusion %d, ambiguous %d), bvh "
+          "wrong %d (occlusion %d, ambiguous %d)\n",
+          scene.name.c_str(), o.max_depth, o.leaf_triangles, o.inner_refs_max, kd.tree_nodes(),
+          kd.refs.size(), kd.inner_refs, g.rays, g.hits, g.ties, g.kd_wrong, g.kd_occlusion_wrong,
+          g.kd_ambiguous, g.bvh_wrong, g.bvh_occlusion_wrong, g.bvh_ambiguous);
       EXPECT_GT(g.hits, g.rays / 4) << scene.name;
       EXPECT_EQ(g.kd_wrong, 0) << scene.name;
       EXPECT_EQ(g.kd_occlusion_wrong, 0) << scene.name;
@@ -187,36 +201,31 @@ TEST(CompactKdTree, FindsTheClosestHitsAndOcclusionOfTheCompactBvh) {
   }
 }
 
-// Every triangle is referenced, children are in range and stored in pairs, leaf ranges
-// tile the reference array, and the depth respects the limit.
+// In both forms: every triangle is referenced, children are in range and stored in pairs
+// after their parent, leaf ranges tile the reference array, the counts match, and the
+// depth respects the limit.
 TEST(CompactKdTree, IsWellFormed) {
   const Scene scene = cluttered_scene();
   const CompactMesh mesh = build_compact_mesh(scene);
-  const CompactKdTree kd = build_compact_kdtree(mesh);
   const size_t n = scene.triangle_count();
-  ASSERT_FALSE(kd.nodes.empty());
-  EXPECT_EQ(kd.bytes(), kd.nodes.size() * 8 + kd.refs.size() * 4);
-  EXPECT_EQ(kd.nodes.size() % 2, 1u);  // a root and pairs of children
-  EXPECT_LE(kd.depth, int(8 + 1.3 * std::log2(double(n))));
-  EXPECT_GT(kd.depth, 5);
-  std::vector<int> seen(n, 0);
-  size_t leaf_refs = 0;
-  for (const KdNode& node : kd.nodes) {
-    if (node.leaf()) {
-      ASSERT_LE(size_t(node.index()) + node.count(), kd.refs.size());
-      for (uint32_t i = 0; i < node.count(); ++i) ++seen[kd.refs[node.index() + i]];
-      leaf_refs += node.count();
-    } else {
-      EXPECT_EQ(node.index() % 2, 1u);
-      ASSERT_LT(node.index() + 1, kd.nodes.size());
-      const Bounds3 r = kd.root;
-      EXPECT_GE(node.split(), r.lo[node.axis()]);
-      EXPECT_LE(node.split(), r.hi[node.axis()]);
-    }
+  for (const int inner : {0, 2}) {
+    const CompactKdTree kd = build_compact_kdtree(mesh, {.inner_refs_max = inner});
+    ASSERT_FALSE(kd.nodes.empty());
+    EXPECT_EQ(kd.bytes(), kd.nodes.size() * 8 + kd.refs.size() * 4);
+    EXPECT_EQ(kd.tree_nodes() % 2, 1u);  // a root and pairs of children
+    EXPECT_LE(kd.depth, int(8 + 1.3 * std::log2(double(n))));
+    EXPECT_GT(kd.depth, 5);
+    const kdtree_walk::Walk w = kdtree_walk::walk(kd, n);
+    ASSERT_TRUE(w.ok);
+    EXPECT_EQ(w.nodes + w.slots, kd.nodes.size());  // every entry reached once
+    EXPECT_EQ(w.nodes, kd.tree_nodes());
+    EXPECT_EQ(w.slots, kd.slots);
+    EXPECT_EQ(w.inner_refs, kd.inner_refs);
+    EXPECT_EQ(w.leaf_refs, kd.refs.size());
+    EXPECT_EQ(w.depth, kd.depth);
+    for (size_t t = 0; t < n; ++t) EXPECT_GE(w.seen[t], 1) << "triangle " << t;
+    EXPECT_GE(kd.all_refs(), n);
   }
-  EXPECT_EQ(leaf_refs, kd.refs.size());
-  for (size_t t = 0; t < n; ++t) EXPECT_GE(seen[t], 1) << "triangle " << t;
-  EXPECT_GE(kd.refs.size(), n);
 }
 
 Scene one_triangle(Vec3 a, Vec3 b, Vec3 c) {
