@@ -56,6 +56,7 @@ class ClPathTracer : public ClKernelRunner {
     params_.cutouts = s.cutouts ? 1u : 0u;
     params_buffer_ = cl::Buffer(rt.context, CL_MEM_READ_ONLY, sizeof(LaunchParams));
     args[MR_ARG_params] = params_buffer_;
+    args[MR_ARG_batch] = out_.batch;
     args[MR_ARG_radiance] = out_.radiance;
     args[MR_ARG_rays] = out_.counts;
     args[MR_ARG_spp_map] = out_.spp_map;
@@ -67,9 +68,8 @@ class ClPathTracer : public ClKernelRunner {
     }
   }
 
-  KernelStats render_rect(const ViewSetup& view, const RenderSettings& st, Rect r,
-                          Framebuffer& out) override {
-    KernelStats stats;
+  std::vector<KernelStats> render_rects(const ViewSetup& view, const RenderSettings& st,
+                                        std::span<const Rect> rects, Framebuffer& out) override {
     params_.camera = PinholeCamera(view.camera, view.width, view.height).block();
     params_.width = cl_uint(view.width);
     params_.spp = cl_int(st.spp);
@@ -83,17 +83,17 @@ class ClPathTracer : public ClKernelRunner {
     // As PathTracer::step's p_env.
     const float p_env = st.sample_environment ? sky_choice_ : 0.0f;
     params_.env_choice_eps = cl_f4(Vec3(p_env, 0.0f, 0.0f), ray_eps_);
-    for_each_launch(r, rt_.tile, [&](const ClLaunchRect& piece) {
+    const std::vector<ClRectCounts> counts = out_.render(rt_, view, st, rects, out, [&] {
       // Always `launch_items` work-items (see ClRuntime::build_kernel); those beyond the
-      // piece's pixels return at once. Non-blocking writes: the host copies stay
-      // unchanged until read() waits for the queue.
-      params_.rect = mr_int4{piece.x, piece.y, piece.w, piece.h};
+      // batch's pixels return at once. Non-blocking write: `params_` stays unchanged
+      // until the launch's read waits for the queue.
       rt_.queue.enqueueWriteBuffer(params_buffer_, CL_FALSE, 0, sizeof(LaunchParams), &params_);
-      stats.samples += out_.write_spp(rt_, view, st, piece);
       rt_.queue.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(rt_.launch_items),
                                      cl::NDRange(rt_.local));
-      stats.rays += out_.read(rt_, piece, out);
     });
+    std::vector<KernelStats> stats(counts.size());
+    for (size_t k = 0; k < counts.size(); ++k)
+      stats[k].samples = counts[k].samples, stats[k].rays = counts[k].counts;
     return stats;
   }
 

@@ -29,6 +29,7 @@ class ClVolumeRaycaster : public ClKernelRunner {
     kernel_.setArg(MR_VARG_values, values_);
     kernel_.setArg(MR_VARG_block_opacity, opacity_);
     kernel_.setArg(MR_VARG_params, params_buffer_);
+    kernel_.setArg(MR_VARG_batch, out_.batch);
     kernel_.setArg(MR_VARG_spp_map, out_.spp_map);
     kernel_.setArg(MR_VARG_radiance, out_.radiance);
     kernel_.setArg(MR_VARG_steps, out_.counts);
@@ -39,23 +40,24 @@ class ClVolumeRaycaster : public ClKernelRunner {
     params_.blocks = mr_int4{vs.blocks.bx, vs.blocks.by, vs.blocks.bz, 0};
   }
 
-  KernelStats render_rect(const ViewSetup& view, const RenderSettings& st, Rect r,
-                          Framebuffer& out) override {
+  std::vector<KernelStats> render_rects(const ViewSetup& view, const RenderSettings& st,
+                                        std::span<const Rect> rects, Framebuffer& out) override {
     if (!st.volume_style)
       throw std::invalid_argument("the volume kernel needs a transfer function (volume_style)");
     use_style(st.volume_style);
     set_frame_params(view, st);
-    KernelStats stats;
-    for_each_launch(r, rt_.tile, [&](const ClLaunchRect& piece) {
+    const std::vector<ClRectCounts> counts = out_.render(rt_, view, st, rects, out, [&] {
       // Always `launch_items` work-items (see ClRuntime::build_kernel).
-      params_.rect = mr_int4{piece.x, piece.y, piece.w, piece.h};
       rt_.queue.enqueueWriteBuffer(params_buffer_, CL_FALSE, 0, sizeof(VolumeParams), &params_);
-      stats.samples += out_.write_spp(rt_, view, st, piece);
       rt_.queue.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(rt_.launch_items),
                                      cl::NDRange(rt_.local));
-      stats.steps += out_.read(rt_, piece, out);
     });
-    stats.rays = stats.samples;  // one camera ray per sample
+    std::vector<KernelStats> stats(counts.size());
+    for (size_t k = 0; k < counts.size(); ++k) {
+      stats[k].samples = counts[k].samples;
+      stats[k].rays = counts[k].samples;  // one camera ray per sample
+      stats[k].steps = counts[k].counts;
+    }
     return stats;
   }
 
@@ -125,7 +127,7 @@ ClVolumeMemory cl_volume_memory(const VolumeScene& vs, int tile, size_t table_en
   m.total = m.values + uint64_t(vs.blocks.count()) * sizeof(float) +
             uint64_t(table_entries) * sizeof(cl_float4) +
             pixels * (sizeof(cl_float4) + sizeof(cl_uint) + sizeof(cl_uchar)) +
-            sizeof(VolumeParams);
+            sizeof(VolumeParams) + sizeof(BatchRects);
   return m;
 }
 
