@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <string>
 #include <vector>
@@ -114,6 +115,30 @@ struct ClLaunchBuffers {
   std::vector<cl_float4> host_radiance;
   std::vector<cl_uint> host_counts;
   std::vector<cl_uchar> host_spp;
+};
+
+// A kernel's parameter block (LaunchParams, VolumeParams) in its device buffer, written
+// only when its bytes differ from the last ones written: every launch of a frame has the
+// same block, so most launches skip that command. `P` has no implicit padding (see
+// launch_params.h), so comparing bytes compares values.
+template <class P>
+class ClParamBlock {
+ public:
+  explicit ClParamBlock(const ClRuntime& rt) : buffer(rt.context, CL_MEM_READ_ONLY, sizeof(P)) {}
+  // Enqueues (non-blocking) the write of `p` unless the buffer holds it already. The host
+  // copy is next changed by a later call, after the caller has waited for the queue.
+  void write(const ClRuntime& rt, const P& p) {
+    if (written_ && std::memcmp(&p, &sent_, sizeof(P)) == 0) return;
+    sent_ = p;
+    written_ = true;
+    rt.queue.enqueueWriteBuffer(buffer, CL_FALSE, 0, sizeof(P), &sent_);
+  }
+
+  cl::Buffer buffer;
+
+ private:
+  P sent_{};
+  bool written_ = false;
 };
 
 // The host side of one kernel of an OpenCL device.

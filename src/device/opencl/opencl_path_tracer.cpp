@@ -14,7 +14,7 @@ namespace {
 
 class ClPathTracer : public ClKernelRunner {
  public:
-  ClPathTracer(const ClRuntime& rt, const RenderScene& rs) : rt_(rt), out_(rt) {
+  ClPathTracer(const ClRuntime& rt, const RenderScene& rs) : rt_(rt), out_(rt), params_block_(rt) {
     const ClScene s = build_cl_scene(rs);
     scene_bytes = cl_scene_bytes(s);
     // One program per representation: the compact one traverses the quantized tree and
@@ -54,8 +54,7 @@ class ClPathTracer : public ClKernelRunner {
     ray_eps_ = s.ray_eps;
     params_.has_tangents = s.tangents.empty() ? 0u : 1u;
     params_.cutouts = s.cutouts ? 1u : 0u;
-    params_buffer_ = cl::Buffer(rt.context, CL_MEM_READ_ONLY, sizeof(LaunchParams));
-    args[MR_ARG_params] = params_buffer_;
+    args[MR_ARG_params] = params_block_.buffer;
     args[MR_ARG_batch] = out_.batch;
     args[MR_ARG_radiance] = out_.radiance;
     args[MR_ARG_rays] = out_.counts;
@@ -85,9 +84,8 @@ class ClPathTracer : public ClKernelRunner {
     params_.env_choice_eps = cl_f4(Vec3(p_env, 0.0f, 0.0f), ray_eps_);
     const std::vector<ClRectCounts> counts = out_.render(rt_, view, st, rects, out, [&] {
       // Always `launch_items` work-items (see ClRuntime::build_kernel); those beyond the
-      // batch's pixels return at once. Non-blocking write: `params_` stays unchanged
-      // until the launch's read waits for the queue.
-      rt_.queue.enqueueWriteBuffer(params_buffer_, CL_FALSE, 0, sizeof(LaunchParams), &params_);
+      // batch's pixels return at once.
+      params_block_.write(rt_, params_);
       rt_.queue.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(rt_.launch_items),
                                      cl::NDRange(rt_.local));
     });
@@ -108,7 +106,7 @@ class ClPathTracer : public ClKernelRunner {
   cl::Kernel kernel_;
   std::vector<cl::Buffer> scene_;  // kept alive while the kernel refers to them
   ClLaunchBuffers out_;
-  cl::Buffer params_buffer_;  // `params_`, rewritten before every launch
+  ClParamBlock<LaunchParams> params_block_;  // `params_` on the device
   LaunchParams params_{};
   float sky_choice_ = 0;  // RenderScene::environment_choice()
   float ray_eps_ = 0;     // ray-origin offset

@@ -17,7 +17,8 @@ std::string megabytes(uint64_t bytes) { return std::to_string((bytes + (1u << 20
 
 class ClVolumeRaycaster : public ClKernelRunner {
  public:
-  ClVolumeRaycaster(const ClRuntime& rt, const VolumeScene& vs) : rt_(rt), vs_(vs), out_(rt) {
+  ClVolumeRaycaster(const ClRuntime& rt, const VolumeScene& vs)
+      : rt_(rt), vs_(vs), out_(rt), params_block_(rt) {
     // Division and sqrt correctly rounded, as on the CPU (OpenCL allows 2.5 and 3 ulp).
     kernel_ = rt.build_kernel(kVolumeSource, "render_volume", MR_VARG_COUNT,
                               "-cl-fp32-correctly-rounded-divide-sqrt", from_cache);
@@ -25,10 +26,9 @@ class ClVolumeRaycaster : public ClKernelRunner {
     values_ = rt.upload(v.values.data(), v.values.size() * sizeof(float), "the volume");
     opacity_ = cl::Buffer(rt.context, CL_MEM_READ_ONLY,
                           std::max<size_t>(1, vs.blocks.count()) * sizeof(float));
-    params_buffer_ = cl::Buffer(rt.context, CL_MEM_READ_ONLY, sizeof(VolumeParams));
     kernel_.setArg(MR_VARG_values, values_);
     kernel_.setArg(MR_VARG_block_opacity, opacity_);
-    kernel_.setArg(MR_VARG_params, params_buffer_);
+    kernel_.setArg(MR_VARG_params, params_block_.buffer);
     kernel_.setArg(MR_VARG_batch, out_.batch);
     kernel_.setArg(MR_VARG_spp_map, out_.spp_map);
     kernel_.setArg(MR_VARG_radiance, out_.radiance);
@@ -48,7 +48,7 @@ class ClVolumeRaycaster : public ClKernelRunner {
     set_frame_params(view, st);
     const std::vector<ClRectCounts> counts = out_.render(rt_, view, st, rects, out, [&] {
       // Always `launch_items` work-items (see ClRuntime::build_kernel).
-      rt_.queue.enqueueWriteBuffer(params_buffer_, CL_FALSE, 0, sizeof(VolumeParams), &params_);
+      params_block_.write(rt_, params_);
       rt_.queue.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(rt_.launch_items),
                                      cl::NDRange(rt_.local));
     });
@@ -114,7 +114,7 @@ class ClVolumeRaycaster : public ClKernelRunner {
   size_t table_bytes_ = 0;
   std::shared_ptr<const VolumeStyle> style_;  // whose table and opacities are on the device
   ClLaunchBuffers out_;
-  cl::Buffer params_buffer_;  // `params_`, rewritten before every launch
+  ClParamBlock<VolumeParams> params_block_;  // `params_` on the device
   VolumeParams params_{};
 };
 
