@@ -86,7 +86,7 @@ class ClVolumeRaycaster : public ClKernelRunner {
     style_ = style;
   }
 
-  // The scalars of every launch of this rect, computed as VolumeRaycaster does.
+  // The scalars of every launch of these rects, computed as VolumeRaycaster does.
   void set_frame_params(const ViewSetup& view, const RenderSettings& st) {
     const VolumeStyle& style = *style_;
     params_.camera = PinholeCamera(view.camera, view.width, view.height).block();

@@ -6,7 +6,7 @@
 // render/shared/camera.h's, shared with volume_params.h and the CPU's PinholeCamera.
 //
 // LaunchParams: the scalars of one launch, passed as one small `__constant` buffer that
-// the host rewrites before every launch. Not a by-value struct argument: OpenCL leaves the
+// the host rewrites when it changes. Not a by-value struct argument: OpenCL leaves the
 // ABI of aggregate kernel arguments to the driver, PoCL mapped them wrongly for years
 // (pocl issues #1 and #197: split structs, miscounted arguments) and its maintainers
 // advise against them; a buffer is plain bytes, the contract every scene buffer already

@@ -4,7 +4,7 @@
 // macros it uses; the host includes it from opencl_volume.cpp.
 //
 // VolumeParams: the scalars of one launch (camera, sampling keys) and of the frame's
-// style and step, rewritten before every launch as one small `__constant` buffer. No
+// style and step, rewritten when it changes, as one small `__constant` buffer. No
 // implicit padding, size a multiple of 16, no float3.
 //
 // MR_VOLUME_ARGS: every argument of render_volume in order, X(name, OpenCL C type),
