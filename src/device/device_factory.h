@@ -12,12 +12,14 @@
 //     compact  1: trace the compact scene (quantized mesh and tree, render/compact_scene.h)
 //     mem      emulated memory limit, e.g. 512M or 2G: a scene that does not fit the
 //              chosen representation is refused (device/scene_memory.h)
-//   opencl[:N]:speed=S:tile=T:wg=W:cores=LIST:compact=B:mem=SIZE:fail_after=K
+//   opencl[:N]:speed=S:tile=T:wg=W:batch=B:cores=LIST:compact=B:mem=SIZE:fail_after=K
 //     N        (or index=N) global OpenCL device index over all platforms, as
 //              `multiray devices` lists them (default 0)
 //     speed    emulated speed in (0, 1], as for cpu
 //     tile     side of the largest square one kernel launch renders (default 256)
 //     wg       work-group size (default 64, clamped to the kernel's maximum)
+//     batch    items taken together and rendered in one launch, 1..64 (default 16; 1:
+//              one launch per item)
 //     cores    pin the thread that drives the device (with PoCL's `basic` driver the
 //              kernels run on that thread)
 //     compact, mem  as for cpu

@@ -1,5 +1,7 @@
 #include "device/opencl/cl_runtime.h"
 
+#include <cstddef>
+
 #include "core/error.h"
 #include "device/opencl/cl_program.h"
 
@@ -50,44 +52,88 @@ cl::Buffer ClRuntime::upload(const void* data, size_t bytes, const std::string& 
                     const_cast<void*>(data));
 }
 
+std::vector<std::vector<ClLaunchRect>> plan_launches(std::span<const Rect> rects, int tile,
+                                                     size_t max_pieces) {
+  const size_t capacity = size_t(tile) * size_t(tile);
+  max_pieces = std::clamp<size_t>(max_pieces, 1, MR_BATCH_MAX);
+  std::vector<std::vector<ClLaunchRect>> launches;
+  size_t pixels = 0;  // of the last launch
+  for (size_t k = 0; k < rects.size(); ++k)
+    for_each_launch(rects[k], tile, [&](ClLaunchRect piece) {
+      piece.rect = k;
+      if (launches.empty() || launches.back().size() >= max_pieces ||
+          pixels + piece.pixels() > capacity) {
+        launches.emplace_back();
+        pixels = 0;
+      }
+      launches.back().push_back(piece);
+      pixels += piece.pixels();
+    });
+  return launches;
+}
+
 ClLaunchBuffers::ClLaunchBuffers(const ClRuntime& rt) {
   const size_t pixels = size_t(rt.tile) * size_t(rt.tile);
   host_radiance.resize(pixels);
   host_counts.resize(pixels);
   host_spp.resize(pixels);
+  batch = cl::Buffer(rt.context, CL_MEM_READ_ONLY, sizeof(BatchRects));
   radiance = cl::Buffer(rt.context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
   counts = cl::Buffer(rt.context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_uint));
   spp_map = cl::Buffer(rt.context, CL_MEM_READ_ONLY, pixels * sizeof(cl_uchar));
 }
 
-uint64_t ClLaunchBuffers::write_spp(const ClRuntime& rt, const ViewSetup& view,
-                                    const RenderSettings& st, const ClLaunchRect& r) {
-  const size_t n = r.pixels();
-  if (!view.spp_map) return uint64_t(n) * uint64_t(std::max(0, st.spp));
-  // Irregular sampling: this launch's slice of the view's samples-per-pixel map. The
-  // write is non-blocking: host_spp stays unchanged until read() waits for the queue.
-  uint64_t samples = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const int x = r.x + int(i % size_t(r.w)), y = r.y + int(i / size_t(r.w));
-    host_spp[i] = (*view.spp_map)[size_t(y) * size_t(view.width) + size_t(x)];
-    samples += host_spp[i];
+void ClLaunchBuffers::write(const ClRuntime& rt, const ViewSetup& view, const RenderSettings& st,
+                            std::span<const ClLaunchRect> pieces,
+                            std::vector<ClRectCounts>& out_counts) {
+  // The writes are non-blocking: the host copies stay unchanged until read() waits for
+  // the queue.
+  host_batch.count = cl_uint(pieces.size());
+  size_t n = 0;  // pixels so far
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    const ClLaunchRect& r = pieces[k];
+    host_batch.rects[k] = mr_int4{r.x, r.y, r.w, r.h};
+    uint64_t samples = 0;
+    if (!view.spp_map) {
+      samples = uint64_t(r.pixels()) * uint64_t(std::max(0, st.spp));
+    } else {
+      // Irregular sampling: this piece's slice of the view's samples-per-pixel map, at
+      // the piece's place in the batch.
+      for (size_t i = 0; i < r.pixels(); ++i) {
+        const int x = r.x + int(i % size_t(r.w)), y = r.y + int(i / size_t(r.w));
+        host_spp[n + i] = (*view.spp_map)[size_t(y) * size_t(view.width) + size_t(x)];
+        samples += host_spp[n + i];
+      }
+    }
+    n += r.pixels();
+    host_batch.ends[k] = cl_uint(n);
+    out_counts.at(r.rect).samples += samples;
   }
-  rt.queue.enqueueWriteBuffer(spp_map, CL_FALSE, 0, n, host_spp.data());
-  return samples;
+  // Only the entries in use: the rest of the device's copy is never read.
+  const size_t bytes = offsetof(BatchRects, rects) + pieces.size() * sizeof(mr_int4);
+  rt.queue.enqueueWriteBuffer(batch, CL_FALSE, 0, bytes, &host_batch);
+  if (view.spp_map) rt.queue.enqueueWriteBuffer(spp_map, CL_FALSE, 0, n, host_spp.data());
 }
 
-uint64_t ClLaunchBuffers::read(const ClRuntime& rt, const ClLaunchRect& r, Framebuffer& out) {
-  const size_t n = r.pixels();
+void ClLaunchBuffers::read(const ClRuntime& rt, std::span<const ClLaunchRect> pieces,
+                           Framebuffer& out, std::vector<ClRectCounts>& out_counts) {
+  size_t n = 0;
+  for (const ClLaunchRect& r : pieces) n += r.pixels();
   rt.queue.enqueueReadBuffer(radiance, CL_FALSE, 0, n * sizeof(cl_float4), host_radiance.data());
   rt.queue.enqueueReadBuffer(counts, CL_FALSE, 0, n * sizeof(cl_uint), host_counts.data());
   rt.queue.finish();
-  uint64_t total = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const cl_float4& p = host_radiance[i];
-    out.at(r.x + int(i % size_t(r.w)), r.y + int(i / size_t(r.w))) = Vec3(p.s[0], p.s[1], p.s[2]);
-    total += host_counts[i];
+  size_t first = 0;  // of the piece, in the batch
+  for (const ClLaunchRect& r : pieces) {
+    uint64_t total = 0;
+    for (size_t i = 0; i < r.pixels(); ++i) {
+      const cl_float4& p = host_radiance[first + i];
+      out.at(r.x + int(i % size_t(r.w)), r.y + int(i / size_t(r.w))) =
+          Vec3(p.s[0], p.s[1], p.s[2]);
+      total += host_counts[first + i];
+    }
+    out_counts.at(r.rect).counts += total;
+    first += r.pixels();
   }
-  return total;
 }
 
 }  // namespace multiray

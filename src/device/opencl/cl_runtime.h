@@ -1,15 +1,18 @@
 // What the kernels of one OpenCL device share (context, queue, launch shape, the buffers
-// one launch writes), and the interface each kernel's host side implements. Private to
-// src/device/opencl.
+// one launch writes, how rects are packed into launches), and the interface each kernel's host
+// side implements. Private to src/device/opencl.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "core/image.h"
 #include "device/opencl/cl_common.h"
+#include "device/opencl/kernels/batch_rects.h"
 #include "render/render_types.h"
 #include "render/shared/language.h"
 #include "util/rect.h"
@@ -47,28 +50,12 @@ struct ClRuntime {
   uint64_t global_mem = 0;  // CL_DEVICE_GLOBAL_MEM_SIZE, bytes
 };
 
-// A piece of a rect that one launch renders: pixels [x, x + w) x [y, y + h).
+// A piece of a rect that one launch renders: pixels [x, x + w) x [y, y + h), a piece of
+// rect `rect` (an index into the list the launches were planned for).
 struct ClLaunchRect {
   int x, y, w, h;
+  size_t rect = 0;
   size_t pixels() const { return size_t(w) * size_t(h); }
-};
-
-// The per-launch buffers every kernel here shares: its output (radiance as float4 and one
-// count per pixel) and its slice of the view's samples-per-pixel map, with host copies.
-struct ClLaunchBuffers {
-  explicit ClLaunchBuffers(const ClRuntime& rt);
-  // Enqueues (non-blocking) the slice of `view`'s sample map for `r` when the view has
-  // one; returns the samples of `r` (settings.spp per pixel without a map).
-  uint64_t write_spp(const ClRuntime& rt, const ViewSetup& view, const RenderSettings& st,
-                     const ClLaunchRect& r);
-  // Enqueues the reads of `r`'s outputs, waits for the queue, writes the radiance into
-  // `out` and returns the sum of the counts.
-  uint64_t read(const ClRuntime& rt, const ClLaunchRect& r, Framebuffer& out);
-
-  cl::Buffer radiance, counts, spp_map;
-  std::vector<cl_float4> host_radiance;
-  std::vector<cl_uint> host_counts;
-  std::vector<cl_uchar> host_spp;
 };
 
 // Calls f(piece) for each launch-sized piece of `r`, row by row.
@@ -79,15 +66,91 @@ void for_each_launch(Rect r, int tile, F f) {
       f(ClLaunchRect{x0, y0, std::min(tile, r.x1 - x0), std::min(tile, r.y1 - y0)});
 }
 
+// The launches that render `rects`, in order: each rect cut into pieces of at most
+// tile x tile pixels (for_each_launch), the pieces packed greedily, in order, into
+// launches of at most tile x tile pixels (the output buffers' size) and `max_pieces`
+// (<= MR_BATCH_MAX) pieces. With max_pieces = 1, one launch per piece, as before batching.
+std::vector<std::vector<ClLaunchRect>> plan_launches(std::span<const Rect> rects, int tile,
+                                                     size_t max_pieces = MR_BATCH_MAX);
+
+// What the kernel reported for one rect of a batch: its samples and the sum of the
+// kernel's per-pixel counts (rays for the path tracer, volume samples for the raycaster).
+struct ClRectCounts {
+  uint64_t samples = 0, counts = 0;
+};
+
+// The per-launch buffers every kernel here shares: the batch's rect list (batch_rects.h),
+// its output (radiance as float4 and one count per pixel) and its slice of the view's
+// samples-per-pixel map, with host copies.
+struct ClLaunchBuffers {
+  explicit ClLaunchBuffers(const ClRuntime& rt);
+  // Renders `rects` of `view` into `out` in the launches of plan_launches: per launch,
+  // enqueues (non-blocking) the rect list and the sample-map slice, then calls
+  // `enqueue_kernel` (which writes the kernel's parameters and enqueues it), then reads
+  // the outputs back once and waits. Returns one entry per rect.
+  template <class F>
+  std::vector<ClRectCounts> render(const ClRuntime& rt, const ViewSetup& view,
+                                   const RenderSettings& st, std::span<const Rect> rects,
+                                   Framebuffer& out, F enqueue_kernel) {
+    std::vector<ClRectCounts> counts(rects.size());
+    for (const std::vector<ClLaunchRect>& launch : plan_launches(rects, rt.tile)) {
+      write(rt, view, st, launch, counts);
+      enqueue_kernel();
+      read(rt, launch, out, counts);
+    }
+    return counts;
+  }
+  // Enqueues (non-blocking) the rect list of `pieces` and, when the view has a sample map,
+  // its slice for them; adds each piece's samples (settings.spp per pixel without a map)
+  // to its rect's entry of `counts`.
+  void write(const ClRuntime& rt, const ViewSetup& view, const RenderSettings& st,
+             std::span<const ClLaunchRect> pieces, std::vector<ClRectCounts>& counts);
+  // Enqueues the reads of the outputs of `pieces`, waits for the queue, writes the
+  // radiance into `out` and adds the per-pixel counts to their rects' entries.
+  void read(const ClRuntime& rt, std::span<const ClLaunchRect> pieces, Framebuffer& out,
+            std::vector<ClRectCounts>& counts);
+
+  cl::Buffer batch, radiance, counts, spp_map;
+  BatchRects host_batch{};
+  std::vector<cl_float4> host_radiance;
+  std::vector<cl_uint> host_counts;
+  std::vector<cl_uchar> host_spp;
+};
+
+// A kernel's parameter block (LaunchParams, VolumeParams) in its device buffer, written
+// only when its bytes differ from the last ones written: every launch of a frame has the
+// same block, so most launches skip that command. `P` has no implicit padding (see
+// launch_params.h), so comparing bytes compares values.
+template <class P>
+class ClParamBlock {
+ public:
+  explicit ClParamBlock(const ClRuntime& rt) : buffer(rt.context, CL_MEM_READ_ONLY, sizeof(P)) {}
+  // Enqueues (non-blocking) the write of `p` unless the buffer holds it already. The host
+  // copy is next changed by a later call, after the caller has waited for the queue.
+  void write(const ClRuntime& rt, const P& p) {
+    if (written_ && std::memcmp(&p, &sent_, sizeof(P)) == 0) return;
+    sent_ = p;
+    written_ = true;
+    rt.queue.enqueueWriteBuffer(buffer, CL_FALSE, 0, sizeof(P), &sent_);
+  }
+
+  cl::Buffer buffer;
+
+ private:
+  P sent_{};
+  bool written_ = false;
+};
+
 // The host side of one kernel of an OpenCL device.
 class ClKernelRunner {
  public:
   virtual ~ClKernelRunner() = default;
-  // Renders `rect` of `view` into `out` (the view's full image) in launches of at most
-  // tile x tile pixels. Throws cl::Error, or std::invalid_argument for settings the kernel
-  // cannot render.
-  virtual KernelStats render_rect(const ViewSetup& view, const RenderSettings& settings, Rect rect,
-                                  Framebuffer& out) = 0;
+  // Renders `rects` of `view` into `out` (the view's full image) in as few launches as
+  // plan_launches allows; returns one entry per rect. Throws cl::Error, or
+  // std::invalid_argument for settings the kernel cannot render.
+  virtual std::vector<KernelStats> render_rects(const ViewSetup& view,
+                                                const RenderSettings& settings,
+                                                std::span<const Rect> rects, Framebuffer& out) = 0;
   bool from_cache = false;   // the program binary came from the disk cache
   uint64_t scene_bytes = 0;  // bytes of the scene buffers it uploaded
 };

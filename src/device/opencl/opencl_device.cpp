@@ -3,6 +3,7 @@
 #include <pthread.h>
 #include <sched.h>
 
+#include <algorithm>
 #include <atomic>
 #include <map>
 #include <stdexcept>
@@ -24,6 +25,17 @@ void pin_current_thread(const std::vector<int>& cores) {
   CPU_ZERO(&set);
   for (int c : cores) CPU_SET(c, &set);
   pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
+}
+
+// Splits `total_ms` over items in proportion to `weights` (their samples); by equal
+// shares when every weight is 0.
+std::vector<double> apportion(double total_ms, const std::vector<double>& weights) {
+  double sum = 0;
+  for (double w : weights) sum += w;
+  std::vector<double> out(weights.size());
+  for (size_t k = 0; k < weights.size(); ++k)
+    out[k] = sum > 0 ? total_ms * weights[k] / sum : total_ms / double(weights.size());
+  return out;
 }
 
 }  // namespace
@@ -57,6 +69,49 @@ struct OpenClDevice::Impl {
                                   kernel_names() + ")");
     throw std::invalid_argument("opencl device has no kernel '" + name + "' for this scene");
   }
+  // How many items to take after `first` for its batch: up to opts.batch in all, no more
+  // than one launch holds if the others are as large as `first` (a batch is then about one
+  // launch of work, so what the device holds back from stealing stays as today's one
+  // large item), and none past fail_after.
+  size_t batch_more(const WorkItem& first) const {
+    const size_t capacity = size_t(runtime->tile) * size_t(runtime->tile);
+    const size_t area = size_t(std::max<int64_t>(1, first.rect.area()));
+    size_t items = std::min(size_t(std::max(1, opts.batch)), std::max<size_t>(1, capacity / area));
+    if (opts.fail_after >= 0)
+      items = std::min(items, size_t(std::max(1, opts.fail_after - units_done)));
+    return items - 1;
+  }
+  // Renders `ids` (taken in one go) as batches of consecutive items of one view, one
+  // render_rects call each, and reports one ItemReport per item.
+  void render_batches(const FrameJob& job, WorkSource& source, ClKernelRunner& kernel,
+                      const std::vector<uint32_t>& ids, SlowdownEmulator& slowdown,
+                      DeviceReport& report) {
+    for (size_t begin = 0, end; begin < ids.size(); begin = end) {
+      const int view = source.item(ids[begin]).view;
+      std::vector<Rect> rects;
+      for (end = begin; end < ids.size() && source.item(ids[end]).view == view; ++end)
+        rects.push_back(source.item(ids[end]).rect);
+      const Stopwatch clock;
+      const std::vector<KernelStats> ks = kernel.render_rects(
+          job.views.at(size_t(view)), job.settings, rects, job.outputs->at(size_t(view)));
+      const double busy = clock.elapsed_ms();
+      slowdown.after_unit(busy);
+      const double time = clock.elapsed_ms();
+      // One launch rendered the whole batch, so no item has a time of its own: the batch's
+      // time (and busy time) is split over its items in proportion to their samples, the
+      // work the balancers learn a device's speed from. With batch=1 this is the item's
+      // own time.
+      std::vector<double> weights;
+      for (const KernelStats& k : ks) weights.push_back(double(k.samples));
+      const std::vector<double> times = apportion(time, weights), busys = apportion(busy, weights);
+      for (size_t k = 0; k < rects.size(); ++k) {
+        const uint32_t id = ids[begin + k];
+        report.add(ItemReport{source.item(id), times[k], double(ks[k].samples), busys[k], id},
+                   ks[k].rays);
+        ++units_done;
+      }
+    }
+  }
   static std::string kernel_names() {
     std::string names;
     for (const ClKernelEntry& e : opencl_kernels()) names += (names.empty() ? "" : ", ") + e.name;
@@ -85,6 +140,8 @@ OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::st
     throw InputError("opencl device: tile must be in 1..4096");
   if (opts.work_group < 1 || opts.work_group > 4096)
     throw InputError("opencl device: wg must be in 1..4096");
+  if (opts.batch < 1 || opts.batch > MR_BATCH_MAX)
+    throw InputError("opencl device: batch must be in 1.." + std::to_string(MR_BATCH_MAX));
   const int ncpu = int(std::thread::hardware_concurrency());
   for (int c : opts.cores)
     if (c < 0 || (ncpu > 0 && c >= ncpu))
@@ -175,6 +232,7 @@ DeviceReport OpenClDevice::render(const FrameJob& job, WorkSource& source, int i
   try {
     SlowdownEmulator slowdown(impl_->speed.load());
     ClKernelRunner& kernel = impl_->kernel(job.settings.kernel);
+    std::vector<uint32_t> ids;
     for (uint32_t id; source.next(index, id);) {
       if (impl_->opts.fail_after >= 0 && impl_->units_done >= impl_->opts.fail_after) {
         report.failed = true;
@@ -182,14 +240,10 @@ DeviceReport OpenClDevice::render(const FrameJob& job, WorkSource& source, int i
                        " units (fail_after, a testing aid)";
         break;
       }
-      const Stopwatch item_clock;
-      const WorkItem& item = source.item(id);
-      const KernelStats ks = kernel.render_rect(job.views.at(size_t(item.view)), job.settings,
-                                                item.rect, job.outputs->at(size_t(item.view)));
-      const double busy = item_clock.elapsed_ms();
-      slowdown.after_unit(busy);
-      report.add(ItemReport{item, item_clock.elapsed_ms(), double(ks.samples), busy, id}, ks.rays);
-      ++impl_->units_done;
+      ids.assign(1, id);
+      const size_t more = impl_->batch_more(source.item(id));
+      if (more > 0) source.next(index, more, ids);
+      impl_->render_batches(job, source, kernel, ids, slowdown, report);
     }
   } catch (const cl::Error& e) {
     report.failed = true;

@@ -6,7 +6,10 @@
 // materials, lights, textures), for a volume the raycaster (opencl_volume.h: the values,
 // then the transfer table per style), uploaded once when the device is created; each work
 // unit is then rendered by kernel launches of at most tile x tile pixels, timed on the
-// host around enqueue + finish.
+// host around enqueue + finish. Small units are taken and rendered in batches (`batch`:
+// up to that many units of one view in one launch, cl_runtime.h's plan_launches) to pay
+// a launch's fixed cost once per batch; each unit's time is then its share of the
+// batch's, by samples.
 //
 // Images are the CPU's statistically (path tracer: same materials, lights, RNG streams;
 // raycaster: the same arithmetic, expm1 rounding aside) and exactly the same on every
@@ -28,6 +31,7 @@ struct OpenClDeviceOptions {
   double speed = 1.0;         // emulated speed in (0, 1]: idles after each unit
   int tile = 256;             // side of the largest square one kernel launch renders
   int work_group = 64;        // work-group size, clamped to what the kernel allows
+  int batch = 16;             // items taken together and rendered in one launch, 1..64
   std::vector<int> cores{};   // pin the thread that drives the device (empty: not pinned)
   int fail_after = -1;        // testing aid: fail when pulling a unit after this many units
   bool compact = false;       // upload the compact scene representation (compact_scene.h)

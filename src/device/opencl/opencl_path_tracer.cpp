@@ -14,7 +14,7 @@ namespace {
 
 class ClPathTracer : public ClKernelRunner {
  public:
-  ClPathTracer(const ClRuntime& rt, const RenderScene& rs) : rt_(rt), out_(rt) {
+  ClPathTracer(const ClRuntime& rt, const RenderScene& rs) : rt_(rt), out_(rt), params_block_(rt) {
     const ClScene s = build_cl_scene(rs);
     scene_bytes = cl_scene_bytes(s);
     // One program per representation: the compact one traverses the quantized tree and
@@ -54,8 +54,8 @@ class ClPathTracer : public ClKernelRunner {
     ray_eps_ = s.ray_eps;
     params_.has_tangents = s.tangents.empty() ? 0u : 1u;
     params_.cutouts = s.cutouts ? 1u : 0u;
-    params_buffer_ = cl::Buffer(rt.context, CL_MEM_READ_ONLY, sizeof(LaunchParams));
-    args[MR_ARG_params] = params_buffer_;
+    args[MR_ARG_params] = params_block_.buffer;
+    args[MR_ARG_batch] = out_.batch;
     args[MR_ARG_radiance] = out_.radiance;
     args[MR_ARG_rays] = out_.counts;
     args[MR_ARG_spp_map] = out_.spp_map;
@@ -67,9 +67,8 @@ class ClPathTracer : public ClKernelRunner {
     }
   }
 
-  KernelStats render_rect(const ViewSetup& view, const RenderSettings& st, Rect r,
-                          Framebuffer& out) override {
-    KernelStats stats;
+  std::vector<KernelStats> render_rects(const ViewSetup& view, const RenderSettings& st,
+                                        std::span<const Rect> rects, Framebuffer& out) override {
     params_.camera = PinholeCamera(view.camera, view.width, view.height).block();
     params_.width = cl_uint(view.width);
     params_.spp = cl_int(st.spp);
@@ -83,17 +82,16 @@ class ClPathTracer : public ClKernelRunner {
     // As PathTracer::step's p_env.
     const float p_env = st.sample_environment ? sky_choice_ : 0.0f;
     params_.env_choice_eps = cl_f4(Vec3(p_env, 0.0f, 0.0f), ray_eps_);
-    for_each_launch(r, rt_.tile, [&](const ClLaunchRect& piece) {
+    const std::vector<ClRectCounts> counts = out_.render(rt_, view, st, rects, out, [&] {
       // Always `launch_items` work-items (see ClRuntime::build_kernel); those beyond the
-      // piece's pixels return at once. Non-blocking writes: the host copies stay
-      // unchanged until read() waits for the queue.
-      params_.rect = mr_int4{piece.x, piece.y, piece.w, piece.h};
-      rt_.queue.enqueueWriteBuffer(params_buffer_, CL_FALSE, 0, sizeof(LaunchParams), &params_);
-      stats.samples += out_.write_spp(rt_, view, st, piece);
+      // batch's pixels return at once.
+      params_block_.write(rt_, params_);
       rt_.queue.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(rt_.launch_items),
                                      cl::NDRange(rt_.local));
-      stats.rays += out_.read(rt_, piece, out);
     });
+    std::vector<KernelStats> stats(counts.size());
+    for (size_t k = 0; k < counts.size(); ++k)
+      stats[k].samples = counts[k].samples, stats[k].rays = counts[k].counts;
     return stats;
   }
 
@@ -108,7 +106,7 @@ class ClPathTracer : public ClKernelRunner {
   cl::Kernel kernel_;
   std::vector<cl::Buffer> scene_;  // kept alive while the kernel refers to them
   ClLaunchBuffers out_;
-  cl::Buffer params_buffer_;  // `params_`, rewritten before every launch
+  ClParamBlock<LaunchParams> params_block_;  // `params_` on the device
   LaunchParams params_{};
   float sky_choice_ = 0;  // RenderScene::environment_choice()
   float ray_eps_ = 0;     // ray-origin offset

@@ -1,7 +1,8 @@
 // The host side of the OpenCL path tracer (kernels/path_tracer.cl): the scene flattened
 // into its own buffers (BVH built on the host, shading records, materials, lights,
 // textures; or the compact scene's quantized mesh and tree when the RenderScene has one),
-// uploaded once, then one launch per tile x tile piece of a rect.
+// uploaded once, then launches of up to tile x tile pixels, each a batch of rects
+// (cl_runtime.h, plan_launches).
 #pragma once
 
 #include <memory>

@@ -17,7 +17,8 @@ std::string megabytes(uint64_t bytes) { return std::to_string((bytes + (1u << 20
 
 class ClVolumeRaycaster : public ClKernelRunner {
  public:
-  ClVolumeRaycaster(const ClRuntime& rt, const VolumeScene& vs) : rt_(rt), vs_(vs), out_(rt) {
+  ClVolumeRaycaster(const ClRuntime& rt, const VolumeScene& vs)
+      : rt_(rt), vs_(vs), out_(rt), params_block_(rt) {
     // Division and sqrt correctly rounded, as on the CPU (OpenCL allows 2.5 and 3 ulp).
     kernel_ = rt.build_kernel(kVolumeSource, "render_volume", MR_VARG_COUNT,
                               "-cl-fp32-correctly-rounded-divide-sqrt", from_cache);
@@ -25,10 +26,10 @@ class ClVolumeRaycaster : public ClKernelRunner {
     values_ = rt.upload(v.values.data(), v.values.size() * sizeof(float), "the volume");
     opacity_ = cl::Buffer(rt.context, CL_MEM_READ_ONLY,
                           std::max<size_t>(1, vs.blocks.count()) * sizeof(float));
-    params_buffer_ = cl::Buffer(rt.context, CL_MEM_READ_ONLY, sizeof(VolumeParams));
     kernel_.setArg(MR_VARG_values, values_);
     kernel_.setArg(MR_VARG_block_opacity, opacity_);
-    kernel_.setArg(MR_VARG_params, params_buffer_);
+    kernel_.setArg(MR_VARG_params, params_block_.buffer);
+    kernel_.setArg(MR_VARG_batch, out_.batch);
     kernel_.setArg(MR_VARG_spp_map, out_.spp_map);
     kernel_.setArg(MR_VARG_radiance, out_.radiance);
     kernel_.setArg(MR_VARG_steps, out_.counts);
@@ -39,23 +40,24 @@ class ClVolumeRaycaster : public ClKernelRunner {
     params_.blocks = mr_int4{vs.blocks.bx, vs.blocks.by, vs.blocks.bz, 0};
   }
 
-  KernelStats render_rect(const ViewSetup& view, const RenderSettings& st, Rect r,
-                          Framebuffer& out) override {
+  std::vector<KernelStats> render_rects(const ViewSetup& view, const RenderSettings& st,
+                                        std::span<const Rect> rects, Framebuffer& out) override {
     if (!st.volume_style)
       throw std::invalid_argument("the volume kernel needs a transfer function (volume_style)");
     use_style(st.volume_style);
     set_frame_params(view, st);
-    KernelStats stats;
-    for_each_launch(r, rt_.tile, [&](const ClLaunchRect& piece) {
+    const std::vector<ClRectCounts> counts = out_.render(rt_, view, st, rects, out, [&] {
       // Always `launch_items` work-items (see ClRuntime::build_kernel).
-      params_.rect = mr_int4{piece.x, piece.y, piece.w, piece.h};
-      rt_.queue.enqueueWriteBuffer(params_buffer_, CL_FALSE, 0, sizeof(VolumeParams), &params_);
-      stats.samples += out_.write_spp(rt_, view, st, piece);
+      params_block_.write(rt_, params_);
       rt_.queue.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(rt_.launch_items),
                                      cl::NDRange(rt_.local));
-      stats.steps += out_.read(rt_, piece, out);
     });
-    stats.rays = stats.samples;  // one camera ray per sample
+    std::vector<KernelStats> stats(counts.size());
+    for (size_t k = 0; k < counts.size(); ++k) {
+      stats[k].samples = counts[k].samples;
+      stats[k].rays = counts[k].samples;  // one camera ray per sample
+      stats[k].steps = counts[k].counts;
+    }
     return stats;
   }
 
@@ -84,7 +86,7 @@ class ClVolumeRaycaster : public ClKernelRunner {
     style_ = style;
   }
 
-  // The scalars of every launch of this rect, computed as VolumeRaycaster does.
+  // The scalars of every launch of these rects, computed as VolumeRaycaster does.
   void set_frame_params(const ViewSetup& view, const RenderSettings& st) {
     const VolumeStyle& style = *style_;
     params_.camera = PinholeCamera(view.camera, view.width, view.height).block();
@@ -112,7 +114,7 @@ class ClVolumeRaycaster : public ClKernelRunner {
   size_t table_bytes_ = 0;
   std::shared_ptr<const VolumeStyle> style_;  // whose table and opacities are on the device
   ClLaunchBuffers out_;
-  cl::Buffer params_buffer_;  // `params_`, rewritten before every launch
+  ClParamBlock<VolumeParams> params_block_;  // `params_` on the device
   VolumeParams params_{};
 };
 
@@ -125,7 +127,7 @@ ClVolumeMemory cl_volume_memory(const VolumeScene& vs, int tile, size_t table_en
   m.total = m.values + uint64_t(vs.blocks.count()) * sizeof(float) +
             uint64_t(table_entries) * sizeof(cl_float4) +
             pixels * (sizeof(cl_float4) + sizeof(cl_uint) + sizeof(cl_uchar)) +
-            sizeof(VolumeParams);
+            sizeof(VolumeParams) + sizeof(BatchRects);
   return m;
 }
 

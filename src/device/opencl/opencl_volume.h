@@ -1,8 +1,8 @@
 // The host side of the OpenCL volume raycaster (kernels/volume.cl, the CPU's
 // VolumeRaycaster step for step): the volume's values go to the device once, as floats;
 // the frame's transfer table and per-block maximum opacities whenever
-// RenderSettings::volume_style changes (a different shared_ptr); then one launch per
-// tile x tile piece of a rect.
+// RenderSettings::volume_style changes (a different shared_ptr); then launches of up to
+// tile x tile pixels, each a batch of rects (cl_runtime.h, plan_launches).
 #pragma once
 
 #include <cstdint>

@@ -6,7 +6,7 @@
 // render/shared/camera.h's, shared with volume_params.h and the CPU's PinholeCamera.
 //
 // LaunchParams: the scalars of one launch, passed as one small `__constant` buffer that
-// the host rewrites before every launch. Not a by-value struct argument: OpenCL leaves the
+// the host rewrites when it changes. Not a by-value struct argument: OpenCL leaves the
 // ABI of aggregate kernel arguments to the driver, PoCL mapped them wrongly for years
 // (pocl issues #1 and #197: split structs, miscounted arguments) and its maintainers
 // advise against them; a buffer is plain bytes, the contract every scene buffer already
@@ -41,6 +41,7 @@ typedef struct {
   // choice, or 0 when RenderSettings::sample_environment is off); w: the ray-origin
   // offset; y, z unused.
   mr_float4 env_choice_eps;  //  80
+  // Unused (zero): the kernel reads its rects from the `batch` argument (batch_rects.h).
   // Pixels [x, x + z) x [y, y + w) of the view.
   mr_int4 rect;          //  96
   mr_ulong seed;         // 112
@@ -87,6 +88,7 @@ typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 176 ? 1 : -1];
   X(uv_shifts, const __global short*) SEP()             \
   X(material_ids, const __global ushort*) SEP()         \
   X(compact, const __global CompactInfo*) SEP()         \
+  X(batch, const __global BatchRects*) SEP()            \
   X(params, __constant LaunchParams*) SEP()             \
   X(spp_map, const __global uchar*) SEP()               \
   X(radiance, __global float4*) SEP()                   \

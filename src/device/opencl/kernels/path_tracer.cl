@@ -136,27 +136,30 @@ float3 trace_path(const SceneData* sc, Ray ray, RngState* rng, int max_bounces, 
   }
 }
 
-// Renders pixels [rect.x, rect.x + rect.z) x [rect.y, rect.y + rect.w) of a view `width`
-// pixels wide (rect, width and every other scalar are in *params, see launch_params.h,
-// which also lists the arguments); work-item i does pixel (rect.x + i % rect.z,
-// rect.y + i / rect.z) with `spp` samples, or spp_map[i] when use_spp_map (irregular
-// sampling), and writes its mean radiance to radiance[i] (w unused; 0 for a pixel without
-// samples) and its ray count to rays[i].
+// Renders the rects of *batch (batch_rects.h: work-item i finds its rect and pixel (x, y)
+// there) of a view `width` pixels wide (width and every other scalar are in *params, see
+// launch_params.h, which also lists the arguments); work-item i does its pixel with `spp`
+// samples, or spp_map[i] when use_spp_map (irregular sampling), and writes its mean
+// radiance to radiance[i] (w unused; 0 for a pixel without samples) and its ray count to
+// rays[i].
 // Built with -DMR_GROUP_ITEMS (the work-group size every launch uses) and
 // -DMR_LAUNCH_ITEMS (the global size every launch uses, see opencl_device.cpp).
 #define REQD_GROUP_SIZE __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1)))
 __kernel REQD_GROUP_SIZE void render_rect(MR_RENDER_RECT_ARGS(MR_ARG_PARAM, MR_ARG_COMMA)) {
   const LaunchParams p = *params;
-  const size_t i = get_global_id(0);
-  if (i >= (size_t)p.rect.z * (size_t)p.rect.w) return;
+  const uint i = (uint)get_global_id(0);
+  uint first;
+  const int k = batch_rect_of(batch, i, &first);
+  if (k < 0) return;
+  const int4 rect = batch->rects[k];
   const SceneData sc = {nodes,         tris,           shading,   materials,        lights,
                         light_cdf,     light_pdf_by_prim, texels, textures,         texel_luts,
                         tangents,      sky,            sky_data,  cnodes,           prims,
                         qpos,          cells,          indices,   qnormals,         quvs,
                         uv_shifts,     material_ids,   compact,   p.light_count,  p.has_tangents != 0, p.cutouts != 0,
                         p.env_choice_eps.x, p.env_choice_eps.w};
-  const int x = p.rect.x + (int)(i % (size_t)p.rect.z);
-  const int y = p.rect.y + (int)(i / (size_t)p.rect.z);
+  const int x = rect.x + (int)((i - first) % (uint)rect.z);
+  const int y = rect.y + (int)((i - first) / (uint)rect.z);
   const uint pixel = (uint)y * p.width + (uint)x;
   float3 sum = (float3)(0.0f);
   uint count = 0;

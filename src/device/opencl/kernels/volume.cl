@@ -87,25 +87,28 @@ float3 cast(const Grid* g, const Style* s, const int bn[3], float3 lower, float3
   return acc.colour + background * (1.0f - acc.alpha);
 }
 
-// Renders pixels [rect.x, rect.x + rect.z) x [rect.y, rect.y + rect.w) of a view `width`
-// pixels wide (every scalar is in *params, volume_params.h, which also lists the
-// arguments); work-item i does pixel (rect.x + i % rect.z, rect.y + i / rect.z) with `spp`
-// samples, or spp_map[i] when use_spp_map, and writes its mean radiance to radiance[i]
-// (w unused; 0 for a pixel without samples) and its volume samples to steps[i].
+// Renders the rects of *batch (batch_rects.h: work-item i finds its rect and pixel (x, y)
+// there) of a view `width` pixels wide (every scalar is in *params, volume_params.h, which
+// also lists the arguments); work-item i does its pixel with `spp` samples, or spp_map[i]
+// when use_spp_map, and writes its mean radiance to radiance[i] (w unused; 0 for a pixel
+// without samples) and its volume samples to steps[i].
 // Built with -DMR_GROUP_ITEMS and -DMR_LAUNCH_ITEMS as the path tracer.
 #define REQD_GROUP_SIZE __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1)))
 __kernel REQD_GROUP_SIZE void render_volume(MR_VOLUME_ARGS(MR_ARG_PARAM, MR_ARG_COMMA)) {
   const VolumeParams p = *params;
-  const size_t i = get_global_id(0);
-  if (i >= (size_t)p.rect.z * (size_t)p.rect.w) return;
+  const uint i = (uint)get_global_id(0);
+  uint first;
+  const int k = batch_rect_of(batch, i, &first);
+  if (k < 0) return;
+  const int4 rect = batch->rects[k];
   const Grid g = {values, {p.dims.x, p.dims.y, p.dims.z}, p.spacing.xyz};
   // clang-format off
   const Style s = {table, block_opacity, p.table_size, p.table_lo, p.table_to_index, p.dt,
                    p.step_ratio, p.ert_threshold, p.blocks.w != 0};
   // clang-format on
   const int bn[3] = {p.blocks.x, p.blocks.y, p.blocks.z};
-  const int x = p.rect.x + (int)(i % (size_t)p.rect.z);
-  const int y = p.rect.y + (int)(i / (size_t)p.rect.z);
+  const int x = rect.x + (int)((i - first) % (uint)rect.z);
+  const int y = rect.y + (int)((i - first) / (uint)rect.z);
   const uint pixel = (uint)y * p.width + (uint)x;
   const int samples = p.use_spp_map ? (int)spp_map[i] : p.spp;
   float3 sum = (float3)(0.0f);

@@ -3,8 +3,8 @@
 // rules hold here). Embedded after launch_params.h, whose scalar typedefs and argument
 // macros it uses; the host includes it from opencl_volume.cpp.
 //
-// VolumeParams: the scalars of one launch (camera, rect, sampling keys) and of the frame's
-// style and step, rewritten before every launch as one small `__constant` buffer. No
+// VolumeParams: the scalars of one launch (camera, sampling keys) and of the frame's
+// style and step, rewritten when it changes, as one small `__constant` buffer. No
 // implicit padding, size a multiple of 16, no float3.
 //
 // MR_VOLUME_ARGS: every argument of render_volume in order, X(name, OpenCL C type),
@@ -27,7 +27,7 @@ typedef struct {
   mr_float4 lower;       //  80: Volume::lower(), world units (w unused)
   mr_float4 spacing;     //  96: Volume::spacing, world units (w unused)
   mr_float4 background;  // 112: VolumeStyle::background (w unused)
-  mr_int4 rect;          // 128: pixels [x, x + z) x [y, y + w) of the view
+  mr_int4 rect;          // 128: unused (zero): the rects are the `batch` argument's
   mr_int4 dims;          // 144: voxels per axis (w unused)
   mr_int4 blocks;        // 160: blocks per axis; w: 1 to skip blocks of opacity 0
   mr_ulong seed;         // 176
@@ -54,6 +54,7 @@ typedef char mr_volume_params_size_check[sizeof(VolumeParams) == 240 ? 1 : -1];
   X(values, const __global float*) SEP()        \
   X(table, const __global float4*) SEP()        \
   X(block_opacity, const __global float*) SEP() \
+  X(batch, const __global BatchRects*) SEP()    \
   X(params, __constant VolumeParams*) SEP()     \
   X(spp_map, const __global uchar*) SEP()       \
   X(radiance, __global float4*) SEP()           \
