@@ -54,6 +54,12 @@ static_assert(aggregate_field_count<RenderSettings>() ==
               "a RenderSettings field is neither sent nor rank-local: add it to "
               "for_each_sent_setting or kRankLocalSettings (render/render_settings.h)");
 
+// The Frame message field by field (encode/decode below; run settings beside
+// RenderSettings, such as --result-encoding, travel here): a new field must be written,
+// read, and shown to travel in tests/mpi (result_encoding_test.cpp checks `results`).
+static_assert(aggregate_field_count<FrameMessage>() == 5,
+              "a FrameMessage field is not on the wire: encode and decode it");
+
 struct SettingWriter {
   ByteWriter& w;
   void operator()(const char*, int v) const { w.put(int32_t(v)); }
