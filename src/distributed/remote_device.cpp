@@ -89,11 +89,13 @@ void RemoteDevice::ship(WorkSource& source, const std::vector<uint32_t>& ids, bo
 }
 
 size_t RemoteDevice::take_results(const Message& m, const FrameJob& job, DeviceReport& report) {
+  // A frame given up on, whose image may have had another size (a plan's image_scale):
+  // dropped unread. (The epoch leads every Result.)
+  if (ByteReader(m.bytes).get<uint32_t>() != epoch_) return 0;
   ResultBounds bounds{0, 0, int(job.outputs->size())};
   if (!job.outputs->empty())
     bounds.width = job.outputs->front().width, bounds.height = job.outputs->front().height;
   const ResultMessage r = decode_result(m.bytes, bounds);
-  if (r.epoch != epoch_) return 0;        // a frame given up on
   report.result_bytes += m.bytes.size();  // as they crossed the (emulated) link
   for (const ItemResult& it : r.items) {
     const WorkItem& item = it.report.item;
