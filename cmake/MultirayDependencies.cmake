@@ -130,3 +130,26 @@ if(_multiray_viewer_mode STREQUAL "AUTO" OR _multiray_viewer_mode STREQUAL "ON")
 elseif(NOT _multiray_viewer_mode STREQUAL "OFF")
   message(FATAL_ERROR "MULTIRAY_WITH_VIEWER must be AUTO, ON or OFF, not '${MULTIRAY_WITH_VIEWER}'")
 endif()
+
+# zstd (Debian's libzstd-dev) compresses the results workers send to the master
+# (`--result-encoding float+zstd` and `half+zstd`, src/distributed/pixel_codec.cpp).
+# MULTIRAY_WITH_ZSTD: AUTO (default) use it when found, else warn: those encodings are then
+# refused in one line and results travel as plain floats; ON strict; OFF never.
+# Sets MULTIRAY_ZSTD_ENABLED (target PkgConfig::ZSTD) for src/distributed.
+set(MULTIRAY_WITH_ZSTD AUTO CACHE STRING "Compress distributed results with zstd: AUTO, ON or OFF")
+set_property(CACHE MULTIRAY_WITH_ZSTD PROPERTY STRINGS AUTO ON OFF)
+string(TOUPPER "${MULTIRAY_WITH_ZSTD}" _multiray_zstd_mode)
+set(MULTIRAY_ZSTD_ENABLED OFF)
+if(_multiray_zstd_mode STREQUAL "AUTO" OR _multiray_zstd_mode STREQUAL "ON")
+  pkg_check_modules(ZSTD QUIET IMPORTED_TARGET libzstd)
+  if(ZSTD_FOUND AND TARGET PkgConfig::ZSTD)
+    set(MULTIRAY_ZSTD_ENABLED ON)
+    message(STATUS "multiray: zstd ${ZSTD_VERSION} enabled (compressed results)")
+  elseif(_multiray_zstd_mode STREQUAL "ON")
+    message(FATAL_ERROR "MULTIRAY_WITH_ZSTD=ON but zstd was not found (libzstd-dev)")
+  else()
+    message(WARNING "multiray: zstd not found (libzstd-dev): --result-encoding *+zstd disabled")
+  endif()
+elseif(NOT _multiray_zstd_mode STREQUAL "OFF")
+  message(FATAL_ERROR "MULTIRAY_WITH_ZSTD must be AUTO, ON or OFF, not '${MULTIRAY_WITH_ZSTD}'")
+endif()

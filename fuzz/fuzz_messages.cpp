@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "distributed/pixel_codec.h"
 #include "distributed/protocol.h"
 #include "distributed/scene_codec.h"
 #include "distributed/wire.h"
@@ -41,6 +42,9 @@ std::vector<uint8_t> valid(uint8_t kind) {
       it.report.item = WorkItem{Rect{0, 0, 2, 1}, 0};
       it.pixels = {{1, 2, 3}, {4, 5, 6}};
       m.items = {it};
+      // Every --result-encoding this build has, by the kind byte's higher values.
+      m.encoding = ResultEncoding(kind / 6 % kResultEncodings);
+      if (uses_zstd(m.encoding) && !zstd_available()) m.encoding = ResultEncoding::float32;
       m.local = {{1, 1}};
       return encode(m);
     }
@@ -66,7 +70,7 @@ std::vector<uint8_t> round_trip(uint8_t kind, const std::vector<uint8_t>& bytes)
     case 1:
       return encode(decode_work(bytes));
     case 2:
-      return encode(decode_result(bytes));
+      return encode(decode_result(bytes, ResultBounds{64, 64, 2}));
     case 3:
       return encode(decode_hello(bytes));
     case 4:

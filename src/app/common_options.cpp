@@ -7,6 +7,7 @@
 
 #include "app/commands.h"
 #include "app/console.h"
+#include "distributed/pixel_codec.h"
 #include "run/catalog.h"
 
 namespace multiray::app {
@@ -91,6 +92,14 @@ void add_distributed_options(CLI::App& cmd, DistributedOptions& o) {
                  "Where workers get the scene: shared (each loads the same path: a shared "
                  "folder or a copy on every machine) or master (the master sends the scene it "
                  "loaded, lighting included; up to 2 GiB)")
+      ->capture_default_str();
+  if (!remote::zstd_available()) o.result_encoding = "float";  // built without zstd
+  cmd.add_option("--result-encoding", o.result_encoding,
+                 "How workers send pixels to the master: float (12 bytes a pixel, exact), "
+                 "float+zstd (the same floats compressed with zstd: exact, fewer bytes), half "
+                 "(16-bit half floats, 6 bytes: LOSSY, about 3 significant digits, values "
+                 "beyond 65504 clamp to it) or half+zstd (half, compressed); zstd needs a "
+                 "build with libzstd-dev (docs/distributed.md)")
       ->capture_default_str();
   cmd.add_option("--worker-timeout", o.worker_timeout_s,
                  "Seconds of silence (no result, no heartbeat) after which a worker is given "

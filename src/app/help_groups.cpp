@@ -32,7 +32,8 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& groups() {
        {"--port", "--bind", "--max-clients", "--max-frames", "--frame-spp", "--move-scale"}},
       {"Several machines (MPI)",
        {"--distributed", "--rank-devices", "--master-renders", "--rank-balancer",
-        "--rank-same-direction", "--link", "--scene-from", "--worker-timeout"}},
+        "--rank-same-direction", "--link", "--scene-from", "--result-encoding",
+        "--worker-timeout"}},
   };
   return table;
 }

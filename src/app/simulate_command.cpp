@@ -18,6 +18,7 @@
 #include "core/file_io.h"
 #include "run/run.h"
 #include "util/parse.h"
+#include "util/result_encoding.h"
 #include "util/spec.h"
 
 namespace multiray::app {
@@ -31,7 +32,9 @@ struct SimulateOptions {
   double noise = 0;
   double slowdown = 1;
   std::string link = "none";
-  std::string balancers;  // empty: all
+  std::string results = "rgba8";  // result bytes per pixel (balance::simulated_bytes_per_pixel)
+  double zstd_ratio = -1;         // negative: the measured one
+  std::string balancers;          // empty: all
   int frames = 0;
   int warmup = -1;  // -1: a tenth of the frames
   uint64_t seed = 0;
@@ -136,6 +139,18 @@ Runner add_simulate_command(CLI::App& app) {
                   "200 Mbit/s, as Seo et al.'s mobile cluster) or LATENCY_MS,MBIT[,separate] (as "
                   "render --link); the master's link is shared by all devices unless 'separate'")
       ->capture_default_str();
+  cmd->add_option("--result-encoding", o->results,
+                  "What each result pixel costs on the link: rgba8 (4 bytes, Seo et al.'s 8-bit "
+                  "colour), or as render --result-encoding: float (12), half (6), float+zstd or "
+                  "half+zstd (raw bytes times --zstd-ratio)")
+      ->capture_default_str();
+  cmd->add_option("--zstd-ratio", o->zstd_ratio,
+                  "Compressed / raw size of the zstd encodings, in (0, 1]; default: measured on "
+                  "one Sponza frame (float+zstd " +
+                      fmt::format("{:.3f}", measured_zstd_ratio(ResultEncoding::float_zstd)) +
+                      ", half+zstd " +
+                      fmt::format("{:.3f}", measured_zstd_ratio(ResultEncoding::half_zstd)) +
+                      ", docs/distributed.md)");
   cmd->add_option("--balancers", o->balancers, "Balancer specs, comma-separated (default: all)");
   cmd->add_option("--frames", o->frames, "Frames to simulate (0: the trace's; more cycle it)")
       ->capture_default_str();
@@ -174,6 +189,11 @@ Runner add_simulate_command(CLI::App& app) {
     } catch (const std::invalid_argument& e) {
       throw InputError(std::string("--link: ") + e.what());
     }
+    try {
+      config.link.bytes_per_pixel = balance::simulated_bytes_per_pixel(o->results, o->zstd_ratio);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(std::string("--result-encoding: ") + e.what());
+    }
     // Everything is checked before anything is printed: one line for bad input.
     std::vector<std::vector<double>> speeds;
     for (int n : counts) {
@@ -192,8 +212,9 @@ Runner add_simulate_command(CLI::App& app) {
               trace.devices.size());
     print_out(
         "simulated (virtual time, emulated devices and link): {} frames, warm-up {}, speeds {}, "
-        "slowdown {}, noise {}, link {}\n",
-        frames, config.warmup, o->speeds, o->slowdown, o->noise, o->link);
+        "slowdown {}, noise {}, link {}, results {} ({:.3g} bytes a pixel)\n",
+        frames, config.warmup, o->speeds, o->slowdown, o->noise, o->link, o->results,
+        config.link.bytes_per_pixel);
     print_out("{:>7}  {:<16} {:>12} {:>12} {:>10} {:>10} {:>10}\n", "devices", "balancer",
               "frame ms", "ideal ms", "efficiency", "imbalance", "deviation");
     const auto start = std::chrono::steady_clock::now();
@@ -232,6 +253,8 @@ Runner add_simulate_command(CLI::App& app) {
                          {"noise", o->noise},
                          {"slowdown", o->slowdown},
                          {"link", o->link},
+                         {"result_encoding", o->results},
+                         {"result_bytes_per_pixel", config.link.bytes_per_pixel},
                          {"frames", frames},
                          {"warmup", config.warmup},
                          {"timing",

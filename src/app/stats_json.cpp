@@ -45,7 +45,8 @@ nlohmann::json distributed_to_json(const Run& s) {
           {"link_emulated", s.cluster->link().active()},
           {"worker_timeout_s", o.worker_timeout_s},
           {"depth", o.depth},
-          {"scene_from", o.scene_from}};
+          {"scene_from", o.scene_from},
+          {"result_encoding", o.result_encoding}};
 }
 
 // True when every string in `doc` (keys too) is valid UTF-8: the common case, dumped
@@ -121,7 +122,8 @@ nlohmann::json frame_result_to_json(const FrameResult& r) {
 nlohmann::json frame_to_json(const FrameRecord& rec) {
   nlohmann::json device_ms = nlohmann::json::array(), busy_ms = nlohmann::json::array(),
                  share = nlohmann::json::array(), planned = nlohmann::json::array(),
-                 samples = nlohmann::json::array(), pixels = nlohmann::json::array();
+                 samples = nlohmann::json::array(), pixels = nlohmann::json::array(),
+                 result_bytes = nlohmann::json::array();
   // Every device at the bottom of the hierarchy: a rank's own devices, or the device.
   nlohmann::json leaf_ms = nlohmann::json::array();
   std::vector<double> leaves;
@@ -140,6 +142,7 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
     planned.push_back(d.planned_share);
     samples.push_back(d.samples);
     pixels.push_back(d.pixels);
+    result_bytes.push_back(d.result_bytes);
   }
   return {{"frame", rec.frame},
           {"frame_ms", rec.frame_ms},
@@ -150,6 +153,7 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
           {"planned_share", planned},
           {"samples", samples},
           {"pixels", pixels},
+          {"result_bytes", result_bytes},
           {"imbalance", rec.imbalance},
           {"deviation", rec.deviation},
           {"leaf_device_ms", leaf_ms},

@@ -8,6 +8,7 @@
 
 #include "util/link.h"
 #include "util/parse.h"
+#include "util/result_encoding.h"
 
 namespace multiray::balance {
 
@@ -70,6 +71,18 @@ SimLink simulated_link(const std::string& text) {
   l.mbit_per_s = spec.mbit_per_s;
   l.shared_master = spec.shared;
   return l;
+}
+
+double simulated_bytes_per_pixel(const std::string& encoding, double zstd_ratio) {
+  if (encoding == "rgba8") return 4;
+  ResultEncoding e{};
+  try {
+    e = parse_result_encoding(encoding);
+  } catch (const std::invalid_argument&) {
+    throw std::invalid_argument("'" + encoding +
+                                "' must be rgba8, float, half, float+zstd or half+zstd");
+  }
+  return result_bytes_per_pixel(e, zstd_ratio);  // throws for a ratio outside (0, 1]
 }
 
 double study_memory_bytes(const Trace& trace, int devices, int frames) {

@@ -114,6 +114,9 @@ struct DeviceReport {
   // A worker rank (device/remote): each of its own devices' time in this frame, measured
   // there (Harada's deviation is over these); empty for a device that is not a rank.
   std::vector<double> local_ms;
+  // A worker rank: the bytes of its result messages this frame, as they travelled
+  // (compressed with --result-encoding *+zstd); 0 for a device that is not a rank.
+  uint64_t result_bytes = 0;
 
   // Adds one finished item.
   void add(const ItemReport& r, uint64_t rays_of_item);

@@ -8,6 +8,7 @@
 #include <fmt/core.h>
 
 #include "core/error.h"
+#include "distributed/pixel_codec.h"
 
 #ifdef MULTIRAY_HAS_MPI
 #include "distributed/protocol.h"
@@ -43,6 +44,23 @@ int parse_depth(const std::string& text) {
       std::stoi(text) > 64)
     throw InputError("--depth '" + text + "' must be auto or a whole number in 1..64");
   return std::stoi(text);
+}
+
+// --result-encoding, checked: a name, an encoding this build can send, and never a lossy
+// one beside the master's own unrounded pixels.
+ResultEncoding parse_results(const DistributedOptions& o) {
+  ResultEncoding e{};
+  try {
+    e = parse_result_encoding(o.result_encoding);
+    remote::check_result_encoding(e);
+  } catch (const std::invalid_argument& err) {
+    throw InputError(std::string("--result-encoding ") + err.what());
+  }
+  if (is_lossy(e) && o.master_renders)
+    throw InputError("--result-encoding " + o.result_encoding +
+                     " rounds the workers' pixels, which --master-renders would mix with the "
+                     "master's own: use float or float+zstd");
+  return e;
 }
 
 }  // namespace
@@ -84,6 +102,7 @@ Cluster::Cluster(const DistributedOptions& o) : options_(o), link_(checked_link(
   if (!(o.worker_timeout_s >= 0.5 && o.worker_timeout_s <= 86400))
     throw InputError("--worker-timeout must be in [0.5, 86400] seconds");
   parse_depth(o.depth);
+  parse_results(o);
   if (o.scene_from != "shared" && o.scene_from != "master")
     throw InputError("--scene-from '" + o.scene_from + "' must be shared or master");
   for (const std::string& entry : o.rank_devices) parse_rank_devices(entry);
@@ -183,6 +202,7 @@ std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {
   ro.depth = parse_depth(options_.depth);
   ro.auto_depth = options_.depth == "auto";
   ro.kill_at_frame = test_kill_frame(0);
+  ro.results = parse_results(options_);
   for (int r = 1; r < size(); ++r)
     devices.push_back(
         std::make_unique<remote::RemoteDevice>(*transport_, r, *hellos[size_t(r)], ro));

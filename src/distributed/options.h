@@ -17,6 +17,9 @@ struct DistributedOptions {
   double worker_timeout_s = 10;
   std::string depth = "auto";         // auto (adapts, from 2) or a fixed depth
   std::string scene_from = "shared";  // shared: every rank loads it; master: sent to workers
+  // How workers send pixels back (util/result_encoding.h); the master's choice is sent to
+  // every worker with each frame. Lossless by default.
+  std::string result_encoding = "float+zstd";
 };
 
 }  // namespace multiray

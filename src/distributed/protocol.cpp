@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iterator>
 
+#include "distributed/pixel_codec.h"
 #include "distributed/wire.h"
 #include "util/aggregate.h"
 
@@ -53,6 +54,12 @@ static_assert(aggregate_field_count<RenderSettings>() ==
               "a RenderSettings field is neither sent nor rank-local: add it to "
               "for_each_sent_setting or kRankLocalSettings (render/render_settings.h)");
 
+// The Frame message field by field (encode/decode below; run settings beside
+// RenderSettings, such as --result-encoding, travel here): a new field must be written,
+// read, and shown to travel in tests/mpi (result_encoding_test.cpp checks `results`).
+static_assert(aggregate_field_count<FrameMessage>() == 5,
+              "a FrameMessage field is not on the wire: encode and decode it");
+
 struct SettingWriter {
   ByteWriter& w;
   void operator()(const char*, int v) const { w.put(int32_t(v)); }
@@ -82,6 +89,12 @@ RenderSettings get_settings(ByteReader& r) {
       !(s.step_scale > 0) || !std::isfinite(s.sample_clamp) || !(s.sample_clamp >= 0))
     throw WireError("render settings out of range");
   return s;
+}
+
+ResultEncoding get_encoding(ByteReader& r) {
+  const uint8_t e = r.get<uint8_t>();
+  if (e >= kResultEncodings) throw WireError("unknown result encoding " + std::to_string(e));
+  return ResultEncoding(e);
 }
 
 // A message that is one number.
@@ -121,6 +134,7 @@ std::vector<uint8_t> encode(const FrameMessage& m) {
     w.put(int32_t(v.width)), w.put(int32_t(v.height)), w.put(v.view), w.put(v.frame);
     w.put_array(i < m.spp_maps.size() ? m.spp_maps[i] : std::vector<uint8_t>{});
   }
+  w.put(uint8_t(m.results));
   return w.take();
 }
 
@@ -144,6 +158,7 @@ FrameMessage decode_frame(const std::vector<uint8_t>& bytes) {
     m.views.push_back(v);
   }
   if (m.views.empty()) throw WireError("a frame without views");
+  m.results = get_encoding(r);
   return m;
 }
 
@@ -170,29 +185,35 @@ WorkMessage decode_work(const std::vector<uint8_t>& bytes) {
 
 std::vector<uint8_t> encode(const ResultMessage& m) {
   ByteWriter w;
-  w.put(m.epoch), w.put(uint64_t(m.items.size()));
+  w.put(m.epoch), w.put(uint8_t(m.encoding)), w.put(uint64_t(m.items.size()));
   for (const ItemResult& it : m.items) {
     w.put(it.report.id), put_item(w, it.report.item);
     w.put(it.report.time_ms), w.put(it.report.busy_ms), w.put(it.report.samples), w.put(it.rays);
-    w.put_array(it.pixels);
+    put_pixels(w, it.pixels, m.encoding);
   }
   w.put_array(m.local);
   w.put(m.idle_ms);
   return w.take();
 }
 
-ResultMessage decode_result(const std::vector<uint8_t>& bytes) {
+ResultMessage decode_result(const std::vector<uint8_t>& bytes, const ResultBounds& bounds) {
   ByteReader r(bytes);
   ResultMessage m;
   m.epoch = r.get<uint32_t>();
+  m.encoding = get_encoding(r);
+  // Pixels this message may still hold: bounded before any item's pixels are read.
+  int64_t budget = int64_t(bounds.width) * bounds.height * bounds.views;
   for (uint64_t n = r.count(60); n > 0; --n) {
     ItemResult it;
     it.report.id = r.get<uint32_t>(), it.report.item = get_item(r);
     it.report.time_ms = r.get<double>(), it.report.busy_ms = r.get<double>();
     it.report.samples = r.get<double>(), it.rays = r.get<uint64_t>();
-    it.pixels = r.get_array<Vec3>();
-    if (int64_t(it.pixels.size()) != it.report.item.rect.area())
-      throw WireError("result pixels do not match the item's rect");
+    const WorkItem& item = it.report.item;
+    if (item.rect.x1 > bounds.width || item.rect.y1 > bounds.height || item.view >= bounds.views)
+      throw WireError("result outside the frame");
+    budget -= item.rect.area();
+    if (budget < 0) throw WireError("results of more pixels than the frame has");
+    it.pixels = get_pixels(r, m.encoding, size_t(item.rect.area()));
     m.items.push_back(std::move(it));
   }
   m.local = r.get_array<LocalDeviceTime>();

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "device/device.h"
+#include "util/result_encoding.h"
 
 namespace multiray::remote {
 
@@ -46,6 +47,8 @@ struct FrameMessage {
   std::vector<ViewSetup> views;
   // Adaptive sampling: each view's sample map (empty: none), for views[i].spp_map.
   std::vector<std::vector<uint8_t>> spp_maps;
+  // How the worker sends this frame's pixels back (--result-encoding: the master's).
+  ResultEncoding results = ResultEncoding::float32;
 };
 
 struct WorkMessage {
@@ -72,6 +75,8 @@ struct ItemResult {
 
 struct ResultMessage {
   uint32_t epoch = 0;
+  // How the items' pixels travel (pixel_codec.h); decoding gives them back as floats.
+  ResultEncoding encoding = ResultEncoding::float32;
   std::vector<ItemResult> items;
   std::vector<LocalDeviceTime> local;  // per local device, the frame so far
   // The frame so far: ms the worker waited for its next item after finishing one (work
@@ -93,11 +98,18 @@ std::vector<uint8_t> encode_ready(uint32_t epoch);
 std::vector<uint8_t> encode_speed(double speed);
 std::vector<uint8_t> encode_quit(bool rank_lost);
 
+// What a Result may hold: every item inside a `width` x `height` frame of `views` views,
+// and no more pixels in all than the frame has. The master passes its frame, so that no
+// message makes it allocate more than that.
+struct ResultBounds {
+  int width = 0, height = 0, views = 1;
+};
+
 // Each throws WireError for a message that does not parse or holds impossible values.
 HelloMessage decode_hello(const std::vector<uint8_t>& bytes);
 FrameMessage decode_frame(const std::vector<uint8_t>& bytes);
 WorkMessage decode_work(const std::vector<uint8_t>& bytes);
-ResultMessage decode_result(const std::vector<uint8_t>& bytes);
+ResultMessage decode_result(const std::vector<uint8_t>& bytes, const ResultBounds& bounds);
 FailureMessage decode_failure(const std::vector<uint8_t>& bytes);
 // The epoch of a Ready message.
 uint32_t decode_ready(const std::vector<uint8_t>& bytes);

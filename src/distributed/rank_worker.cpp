@@ -6,6 +6,7 @@
 
 #include "balance/hierarchy.h"
 #include "core/error.h"
+#include "distributed/pixel_codec.h"
 #include "distributed/wire.h"
 
 namespace multiray {
@@ -85,6 +86,7 @@ void RankWorker::start_frame(const FrameMessage& m) {
   failed_ = false;
   settings_ = m.settings;
   settings_.volume_style = base_.volume_style;
+  results_ = m.results;
   views_ = m.views;
   spp_maps_ = m.spp_maps;
   for (size_t i = 0; i < views_.size(); ++i)
@@ -92,6 +94,11 @@ void RankWorker::start_frame(const FrameMessage& m) {
   times_.assign(local_.size(), LocalDeviceTime{});
   idle_ms_ = 0;
   idle_since_.reset();
+  try {
+    check_result_encoding(results_);
+  } catch (const std::invalid_argument& e) {  // a master built with zstd, this rank without
+    fail(std::string("--result-encoding ") + e.what());
+  }
 }
 
 void RankWorker::fail(const std::string& why) {
@@ -134,7 +141,7 @@ void RankWorker::render_work(const WorkMessage& m) {
     idle_ms_ +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - *idle_since_)
             .count();
-  ResultMessage batch{epoch_, {}, {}, 0};
+  ResultMessage batch{epoch_, results_, {}, {}, 0};
   for (size_t i = 0; i < m.items.size(); ++i) {
     ItemResult r;
     try {
@@ -149,7 +156,7 @@ void RankWorker::render_work(const WorkMessage& m) {
       // The paper's form: ready first (a few bytes), so the next item is on its way while
       // this one's pixels upload.
       if (m.report_ready) transport_.send(0, kReady, encode_ready(epoch_));
-      ResultMessage one{epoch_, {}, times_, idle_ms_};
+      ResultMessage one{epoch_, results_, {}, times_, idle_ms_};
       one.items.push_back(std::move(r));
       transport_.send(0, kResult, encode(one));
     }

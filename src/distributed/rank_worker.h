@@ -73,7 +73,8 @@ class RankWorker {
   std::vector<Framebuffer> images_;
   std::vector<remote::LocalDeviceTime> times_;  // per local device, this frame so far
   uint32_t epoch_ = 0;
-  bool failed_ = false;  // this frame: every local device failed
+  ResultEncoding results_ = ResultEncoding::float32;  // this frame's, from the master
+  bool failed_ = false;                               // this frame: every local device failed
   // Waiting for the next item after finishing one, this frame (ms), and since when.
   double idle_ms_ = 0;
   std::optional<std::chrono::steady_clock::time_point> idle_since_;

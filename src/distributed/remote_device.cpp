@@ -71,6 +71,7 @@ FrameMessage RemoteDevice::frame_message(const FrameJob& job) const {
   m.epoch = epoch_;
   m.settings = job.settings;
   m.views = job.views;
+  m.results = options_.results;
   for (const ViewSetup& v : job.views)
     m.spp_maps.push_back(v.spp_map ? *v.spp_map : std::vector<uint8_t>{});
   return m;
@@ -88,8 +89,14 @@ void RemoteDevice::ship(WorkSource& source, const std::vector<uint32_t>& ids, bo
 }
 
 size_t RemoteDevice::take_results(const Message& m, const FrameJob& job, DeviceReport& report) {
-  const ResultMessage r = decode_result(m.bytes);
-  if (r.epoch != epoch_) return 0;  // a frame given up on
+  // A frame given up on, whose image may have had another size (a plan's image_scale):
+  // dropped unread. (The epoch leads every Result.)
+  if (ByteReader(m.bytes).get<uint32_t>() != epoch_) return 0;
+  ResultBounds bounds{0, 0, int(job.outputs->size())};
+  if (!job.outputs->empty())
+    bounds.width = job.outputs->front().width, bounds.height = job.outputs->front().height;
+  const ResultMessage r = decode_result(m.bytes, bounds);
+  report.result_bytes += m.bytes.size();  // as they crossed the (emulated) link
   for (const ItemResult& it : r.items) {
     const WorkItem& item = it.report.item;
     if (size_t(item.view) >= job.outputs->size()) throw WireError("result for an unknown view");

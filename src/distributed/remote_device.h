@@ -39,6 +39,7 @@ struct RemoteOptions {
   int depth = 2;                             // ours: items on demand kept at the worker, >= 1
   bool auto_depth = true;                    // adapt depth (starting from `depth`)
   int kill_at_frame = -1;  // testing aid: the master SIGKILLs itself as it starts this frame
+  ResultEncoding results = ResultEncoding::float32;  // --result-encoding, sent with each frame
 };
 
 // The depth of the next frame from this frame's: the worker waited `idle_ms` for items

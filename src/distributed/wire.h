@@ -37,6 +37,7 @@ class ByteWriter {
     const auto* p = reinterpret_cast<const uint8_t*>(v.data());
     bytes_.insert(bytes_.end(), p, p + v.size() * sizeof(T));
   }
+  void put_bytes(const uint8_t* p, size_t n) { bytes_.insert(bytes_.end(), p, p + n); }
   std::vector<uint8_t> take() { return std::move(bytes_); }
 
  private:
@@ -68,6 +69,13 @@ class ByteReader {
     if (n) std::memcpy(v.data(), bytes_.data() + pos_, size_t(n) * sizeof(T));
     pos_ += size_t(n) * sizeof(T);
     return v;
+  }
+  // The next `n` bytes, in place (valid while the message is).
+  const uint8_t* get_bytes(size_t n) {
+    need(n);
+    const uint8_t* p = bytes_.data() + pos_;
+    pos_ += n;
+    return p;
   }
   // A count of elements of `size` bytes that the rest of the message can hold.
   uint64_t count(size_t size) {

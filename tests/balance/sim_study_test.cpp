@@ -2,6 +2,8 @@
 // a known trace must give.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "balance/sim_study.h"
 #include "sim_harness.h"
 
@@ -47,6 +49,36 @@ TEST(SimStudy, Links) {
   EXPECT_FALSE(simulated_link("2,100,separate").shared_master);
   for (const char* bad : {"", "fast", "2", "2:100", "-1,10", "x,10", "1,inf", "1,2,other"})
     EXPECT_THROW(simulated_link(bad), std::invalid_argument) << bad;
+}
+
+// simulate --result-encoding: what a result pixel costs on the link, and a link that
+// carries compressed results charges their compressed bytes.
+TEST(SimStudy, ResultEncodingsSetTheBytesAPixelCosts) {
+  EXPECT_EQ(simulated_bytes_per_pixel("rgba8"), 4);
+  EXPECT_EQ(simulated_bytes_per_pixel("float"), 12);
+  EXPECT_EQ(simulated_bytes_per_pixel("half"), 6);
+  EXPECT_EQ(simulated_bytes_per_pixel("float+zstd", 0.25), 3);
+  EXPECT_EQ(simulated_bytes_per_pixel("half+zstd", 0.5), 3);
+  EXPECT_EQ(simulated_bytes_per_pixel("float", 0.25), 12);  // the ratio is zstd's alone
+  // The default ratio is the measured one, below 1 (zstd does compress a rendered frame).
+  const double measured = simulated_bytes_per_pixel("float+zstd");
+  EXPECT_GT(measured, 0);
+  EXPECT_LT(measured, 12);
+  for (const char* bad : {"", "rgb8", "zstd", "float+lz4"})
+    EXPECT_THROW(simulated_bytes_per_pixel(bad), std::invalid_argument) << bad;
+  for (double bad : {0.0, 1.5, double(NAN)})
+    EXPECT_THROW(simulated_bytes_per_pixel("half+zstd", bad), std::invalid_argument) << bad;
+
+  // Two devices send half a 64x48 frame each over a shared 1-byte-per-ms link: at 3
+  // bytes a pixel (float+zstd at 0.25), 1536 px x 3 bytes = 4608 ms each, in turn.
+  auto b = make_balancer("uniform", 2);
+  const FrameShape shape{64, 48, 1, {}};
+  SimLink link;
+  link.mbit_per_s = 8e-3;
+  link.bytes_per_pixel = simulated_bytes_per_pixel("float+zstd", 0.25);
+  const auto f = simulate_linked(b->plan(shape, 0), shape, {SimDevice{}, SimDevice{}},
+                                 uniform_cost(shape, 0.01), link);
+  EXPECT_NEAR(f.frame_ms, 15.36 + 2 * 4608, 1e-6);
 }
 
 TEST(SimStudy, WithoutLinkAStaticSplitOfEqualDevicesIsIdeal) {

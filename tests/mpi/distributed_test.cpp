@@ -215,6 +215,39 @@ TEST(Distributed, BadSetupsFailInOneLine) {
   EXPECT_THAT(r.out, ::testing::HasSubstr("foveated"));
 }
 
+// --result-encoding: compressed floats give the master the very pixels of plain floats
+// (and of one process) in fewer bytes; halves give one image whatever the split (each
+// pixel is rounded on its own), unlike the floats' image. Two workers, one 64x64 frame.
+TEST(Distributed, ResultEncodingsOverTheWire) {
+  const std::string args = "render -q --res 64x64 --spp 1 --bounces 2 --devices cpu:threads=1 ";
+  const std::string ref = out_dir("ref");
+  ASSERT_EQ(single(args + "--out " + ref).code, 0);
+  const auto run = [&](const std::string& extra) {
+    const std::string dir = out_dir("run");
+    const CliResult r = distributed(3, args + extra + " --out " + dir);
+    EXPECT_EQ(r.code, 0) << extra << ": " << r.out;
+    const nlohmann::json s = stats(dir);
+    uint64_t bytes = 0;
+    for (const auto& b : s.at("frames").at(0).at("result_bytes")) bytes += b.get<uint64_t>();
+    return std::pair{hashes(dir), bytes};
+  };
+  const auto [plain, plain_bytes] = run("--result-encoding float --balancer uniform");
+  const auto [packed, packed_bytes] = run("--result-encoding float+zstd --balancer uniform");
+  EXPECT_EQ(plain, hashes(ref));
+  EXPECT_EQ(packed, plain);
+  EXPECT_GT(plain_bytes, 64u * 64 * 12);  // every pixel, 12 bytes each, and the headers
+  EXPECT_LT(packed_bytes, plain_bytes);
+  const auto [half_rows, half_bytes] = run("--result-encoding half --balancer uniform");
+  const std::vector<std::string> half_tiles =
+      run("--result-encoding half --balancer queue:tile=16").first;
+  EXPECT_EQ(half_rows, half_tiles);
+  EXPECT_NE(half_rows, plain);
+  EXPECT_LT(half_bytes, plain_bytes);
+  const CliResult mixed = distributed(2, args + "--result-encoding half --master-renders");
+  EXPECT_EQ(mixed.code, 2) << mixed.out;
+  EXPECT_THAT(mixed.out, ::testing::HasSubstr("--master-renders"));
+}
+
 // --scene-from master: the workers are given a scene path that does not exist (mpirun's
 // MPMD form gives ranks different command lines) and still render the master's scene
 // bit for bit; without it, the worker that cannot load says so through the master.

@@ -30,6 +30,9 @@ FrameMessage sample_frame() {
   return m;
 }
 
+// The frame sample_result() belongs to: two views of 4x2.
+const ResultBounds kBounds{4, 2, 2};
+
 ResultMessage sample_result() {
   ResultMessage m;
   m.epoch = 3;
@@ -62,7 +65,7 @@ TEST(Protocol, MessagesSurviveARoundTrip) {
   EXPECT_EQ(w2.ids, w.ids);
   EXPECT_EQ(w2.items, w.items);
 
-  const ResultMessage r = decode_result(encode(sample_result()));
+  const ResultMessage r = decode_result(encode(sample_result()), kBounds);
   ASSERT_EQ(r.items.size(), 1u);
   EXPECT_EQ(r.items[0].report.item, (WorkItem{Rect{1, 1, 3, 2}, 1}));
   EXPECT_FLOAT_EQ(r.items[0].pixels[1].z, 6);
@@ -136,7 +139,7 @@ TEST(Protocol, EveryTruncationIsRefused) {
     EXPECT_THROW(decode_frame(std::vector<uint8_t>(frame.begin(), frame.begin() + n)), WireError)
         << n;
   for (size_t n = 0; n < result.size(); ++n)
-    EXPECT_THROW(decode_result(std::vector<uint8_t>(result.begin(), result.begin() + n)),
+    EXPECT_THROW(decode_result(std::vector<uint8_t>(result.begin(), result.begin() + n), kBounds),
                  WireError)
         << n;
 }
@@ -144,7 +147,7 @@ TEST(Protocol, EveryTruncationIsRefused) {
 TEST(Protocol, ImpossibleValuesAreRefused) {
   ResultMessage r = sample_result();
   r.items[0].pixels.pop_back();  // fewer pixels than the rect holds
-  EXPECT_THROW(decode_result(encode(r)), WireError);
+  EXPECT_THROW(decode_result(encode(r), kBounds), WireError);
   FrameMessage f = sample_frame();
   f.spp_maps[1].pop_back();  // a sample map of the wrong size
   EXPECT_THROW(decode_frame(encode(f)), WireError);
@@ -163,8 +166,8 @@ TEST(Protocol, ImpossibleValuesAreRefused) {
   EXPECT_THROW(decode_quit({2}), WireError);
   // A count far beyond the message's length must not allocate.
   ByteWriter big;
-  big.put(uint32_t(1)), big.put(uint64_t(1) << 60);
-  EXPECT_THROW(decode_result(big.take()), WireError);
+  big.put(uint32_t(1)), big.put(uint8_t(0)), big.put(uint64_t(1) << 60);
+  EXPECT_THROW(decode_result(big.take(), kBounds), WireError);
 }
 
 TEST(Link, PresetsAndCustomLinks) {
