@@ -131,7 +131,9 @@ TEST(ResultEncoding, EveryEncodingRoundTrips) {
               << " for " << want;
         }
       }
-    if (!uses_zstd(e)) EXPECT_EQ(bytes.size(), 8 + px.size() * raw_bytes_per_pixel(e));
+    if (!uses_zstd(e)) {
+      EXPECT_EQ(bytes.size(), 8 + px.size() * raw_bytes_per_pixel(e));
+    }
   }
 }
 
