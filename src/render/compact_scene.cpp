@@ -15,9 +15,9 @@ CompactMesh::Parts CompactMesh::parts() const {
   p.cell_table = grid.table_bytes();
   p.normals = normals.size() * 2;
   p.uvs = uvs.size() * 2;
-  p.uv_shifts = uv_shifts.size() * 2;
-  p.faces = indices.size() * 4;
-  p.materials = material_ids.size() * 2;
+  p.uv_shifts = uv_shifts.bytes();
+  p.faces = indices.bytes();
+  p.materials = material_ids.bytes();
   return p;
 }
 
@@ -37,8 +37,9 @@ CompactMesh build_compact_mesh(const Scene& scene) {
     m.uvs = std::move(q.codes);
     m.uv_shifts = std::move(q.shifts);
   }
-  m.indices = scene.indices;
-  m.material_ids.assign(scene.material_ids.begin(), scene.material_ids.end());
+  m.indices = PackedUints::pack(
+      scene.indices, bits_for(uint32_t(std::max<size_t>(scene.positions.size(), 1) - 1)));
+  m.material_ids = PackedUints::pack(scene.material_ids);
   return m;
 }
 
@@ -90,7 +91,7 @@ CompactScene build_compact_scene(const Scene& scene) {
   c.mesh = build_compact_mesh(scene);
   // The tree is built over the decoded positions: its boxes must bound what is tested.
   Scene decoded;
-  decoded.indices = scene.indices;
+  decoded.indices = c.mesh.indices.unpacked();
   decoded.positions.reserve(scene.positions.size());
   for (uint32_t v = 0; v < c.mesh.positions.size(); ++v)
     decoded.positions.push_back(c.mesh.position(v));
@@ -125,14 +126,28 @@ SceneBytes full_precision_bytes(const Scene& s, size_t tree_nodes) {
   return b;
 }
 
+namespace {
+
+size_t packed_bytes(size_t count, uint32_t width) {
+  return (uint64_t(count) * width + 31) / 32 * 4;
+}
+
+}  // namespace
+
 SceneBytes estimate_compact_bytes(const Scene& s) {
   SceneBytes b;
-  // The cell table at its largest: a geometry cell per vertex, at most 2^16, each three
-  // 16-bit coordinates.
+  // Welding can only lower the vertex count, so the scene's own counts bound every
+  // per-vertex part and the width of the faces. The cell table at its largest: a geometry
+  // cell per vertex, at most 2^16, each three 16-bit coordinates. Uv shifts at their
+  // widest: 16 bits per component.
+  uint32_t largest_material = 0;
+  for (uint32_t id : s.material_ids) largest_material = std::max(largest_material, id);
+  const uint32_t index_bits = bits_for(uint32_t(std::max<size_t>(s.positions.size(), 1) - 1));
   b.mesh = s.positions.size() * sizeof(QuantizedPosition) +
            std::min(s.positions.size(), size_t(kMaxGridCells)) * 6 + s.normals.size() * 2 +
-           s.uvs.size() * 4 + (s.uvs.empty() ? 0 : s.triangle_count() * 4) + s.indices.size() * 4 +
-           s.material_ids.size() * 2;
+           s.uvs.size() * 4 + (s.uvs.empty() ? 0 : packed_bytes(s.triangle_count(), 32)) +
+           packed_bytes(s.indices.size(), index_bits) +
+           packed_bytes(s.material_ids.size(), bits_for(largest_material));
   b.structure = s.triangle_count() * (sizeof(CompactNode) + 4);
   return b;
 }

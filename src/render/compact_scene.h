@@ -22,29 +22,36 @@
 #include <string>
 #include <vector>
 
+#include "render/compact_packed.h"
 #include "render/compact_quantize.h"
 #include "scene/scene.h"
 
 namespace multiray {
 
-// Faces stay uncompressed (random access), as in the paper.
+// The quantized mesh. Vertices that the loader duplicated with the same position, normal
+// and uv are stored once (welded; the full-precision scene keeps its own vertices), and
+// the per-triangle arrays are bit-packed (render/compact_packed.h): faces in the bits of
+// the largest vertex index, material ids in the bits of the largest id, uv shifts relative
+// to the smallest shift. Each keeps random access, as the paper's faces do.
 struct CompactMesh {
-  PositionGrid grid;  // with the cell-index table of the geometry cells
-  std::vector<QuantizedPosition> positions;
-  std::vector<uint16_t> normals;  // one octahedral code per position, or empty
+  PositionGrid grid;                         // with the cell-index table of the geometry cells
+  std::vector<QuantizedPosition> positions;  // one per welded vertex
+  std::vector<uint16_t> normals;             // one octahedral code per position, or empty
   UvCoding uv_coding;
-  std::vector<uint16_t> uvs;           // two codes per position, or empty
-  std::vector<int16_t> uv_shifts;      // two per triangle when there are uvs
-  std::vector<uint32_t> indices;       // three per triangle, as Scene::indices
-  std::vector<uint16_t> material_ids;  // one per triangle
+  std::vector<uint16_t> uvs;  // two codes per position, or empty
+  UvShifts uv_shifts;         // one entry per triangle when there are uvs
+  PackedUints indices;        // three vertex indices per triangle, as Scene::indices
+  PackedUints material_ids;   // one per triangle
 
+  size_t triangle_count() const { return indices.size() / 3; }
+  uint32_t vertex(uint32_t tri, int k) const { return indices[3 * size_t(tri) + size_t(k)]; }
+  uint32_t material(uint32_t tri) const { return material_ids[tri]; }
   Vec3 position(uint32_t v) const { return decode_position(grid, positions[v]); }
-  Vec3 corner(uint32_t tri, int k) const { return position(indices[3 * size_t(tri) + k]); }
+  Vec3 corner(uint32_t tri, int k) const { return position(vertex(tri, k)); }
   // The uv of corner `k` of triangle `tri` (zero without uvs).
   Vec2 uv(uint32_t tri, int k) const {
     return uvs.empty() ? Vec2{}
-                       : decode_uv(uv_coding, &uv_shifts[2 * size_t(tri)],
-                                   &uvs[2 * size_t(indices[3 * size_t(tri) + k])]);
+                       : decode_uv(uv_coding, uv_shifts, tri, &uvs[2 * size_t(vertex(tri, k))]);
   }
   // Bytes by part (the memory reports: docs/compact.md, bench/compact_bench.cpp).
   struct Parts {
