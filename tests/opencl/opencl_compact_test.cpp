@@ -148,7 +148,10 @@ TEST(OpenClCompact, TilingUvsAgreeWithTheCpuCompactImage) {
   const UvShifts shifts = build_compact_mesh(scene).uv_shifts;
   ASSERT_GT(shifts.bits[0], 0u);
   ASSERT_GT(shifts.bits[1], 0u);
-  EXPECT_GE(testing::same_seed_agreement(scene, true, true), 0.9);
+  // 100% of channels measured; a kernel that reads v's shift from the wrong bits decodes
+  // some corners a period off and agrees in 97%. (A shift off by a whole period alone
+  // would not show: the texture repeats.)
+  EXPECT_GE(testing::same_seed_agreement(scene, true, true), 0.995);
 }
 
 // Any split, any launch size, one device or two: bit for bit.
