@@ -1,7 +1,10 @@
 #include "render/compact_scene.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <unordered_map>
 #include <utility>
 
 #include "core/error.h"
@@ -21,24 +24,79 @@ CompactMesh::Parts CompactMesh::parts() const {
   return p;
 }
 
+namespace {
+
+// Vertices of `s` merged where the loader duplicated them: same position, normal and uv
+// bits (so every corner decodes as its own vertex would). `first` lists, per welded
+// vertex, the scene vertex it stands for (the first of its copies, so the order is the
+// scene's); `remap` gives every scene vertex's welded index.
+struct Welded {
+  std::vector<uint32_t> first, remap;
+};
+
+Welded weld_vertices(const Scene& s) {
+  using Key = std::array<uint32_t, 8>;
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      uint64_t h = 0xcbf29ce484222325ull;
+      for (uint32_t x : k) h = (h ^ x) * 0x100000001b3ull;
+      return size_t(h ^ (h >> 29));
+    }
+  };
+  const auto bits = [](float f) { return std::bit_cast<uint32_t>(f); };
+  std::unordered_map<Key, uint32_t, KeyHash> index;
+  index.reserve(s.positions.size());
+  Welded w;
+  w.remap.resize(s.positions.size());
+  for (size_t v = 0; v < s.positions.size(); ++v) {
+    Key k{};
+    const Vec3 p = s.positions[v];
+    k[0] = bits(p.x), k[1] = bits(p.y), k[2] = bits(p.z);
+    if (!s.normals.empty()) {
+      const Vec3 n = s.normals[v];
+      k[3] = bits(n.x), k[4] = bits(n.y), k[5] = bits(n.z);
+    }
+    if (!s.uvs.empty()) k[6] = bits(s.uvs[v].x), k[7] = bits(s.uvs[v].y);
+    const auto [it, added] = index.emplace(k, uint32_t(w.first.size()));
+    if (added) w.first.push_back(uint32_t(v));
+    w.remap[v] = it->second;
+  }
+  return w;
+}
+
+}  // namespace
+
 CompactMesh build_compact_mesh(const Scene& scene) {
   if (scene.materials.size() > 65535)
     throw InputError("the compact representation holds at most 65,535 materials, the scene has " +
                      std::to_string(scene.materials.size()));
+  const Welded w = weld_vertices(scene);
+  std::vector<Vec3> positions;
+  std::vector<Vec2> uvs;
+  positions.reserve(w.first.size());
+  for (uint32_t v : w.first) positions.push_back(scene.positions[v]);
+  if (!scene.uvs.empty())
+    for (uint32_t v : w.first) uvs.push_back(scene.uvs[v]);
+  std::vector<uint32_t> indices(scene.indices.size());
+  for (size_t i = 0; i < indices.size(); ++i) indices[i] = w.remap[scene.indices[i]];
+
   CompactMesh m;
-  m.grid = PositionGrid::fit(scene.positions, geometry_cell_limit(scene.positions.size()));
-  m.positions.reserve(scene.positions.size());
-  for (const Vec3& p : scene.positions) m.positions.push_back(encode_position(m.grid, p));
-  m.normals.reserve(scene.normals.size());
-  for (const Vec3& n : scene.normals) m.normals.push_back(encode_normal(n));
-  if (!scene.uvs.empty()) {
-    QuantizedUvs q = quantize_uvs(scene.uvs, scene.indices);
+  // The table's limit counts the scene's vertices, not the welded ones: the grid, and so
+  // every decoded position, is the one the scene's own vertices give (welding loses
+  // nothing; the welded vertices are the same point set).
+  m.grid = PositionGrid::fit(positions, geometry_cell_limit(scene.positions.size()));
+  m.positions.reserve(positions.size());
+  for (const Vec3& p : positions) m.positions.push_back(encode_position(m.grid, p));
+  if (!scene.normals.empty())
+    for (uint32_t v : w.first) m.normals.push_back(encode_normal(scene.normals[v]));
+  if (!uvs.empty()) {
+    QuantizedUvs q = quantize_uvs(uvs, indices);
     m.uv_coding = q.coding;
     m.uvs = std::move(q.codes);
     m.uv_shifts = std::move(q.shifts);
   }
-  m.indices = PackedUints::pack(
-      scene.indices, bits_for(uint32_t(std::max<size_t>(scene.positions.size(), 1) - 1)));
+  m.indices =
+      PackedUints::pack(indices, bits_for(uint32_t(std::max<size_t>(positions.size(), 1) - 1)));
   m.material_ids = PackedUints::pack(scene.material_ids);
   return m;
 }

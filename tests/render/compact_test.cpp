@@ -3,6 +3,8 @@
 // images within the PSNR bound of full precision, split independence and the `mem=` limit.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -324,6 +326,57 @@ TEST(CompactScene, FacesAndMaterialsTakeTheBitsOfTheirLargestValue) {
   EXPECT_EQ(build_compact_mesh(one_material).parts().materials, 0u);
 }
 
+// Every corner its own vertex, as an OBJ loader makes them.
+Scene unindexed(const Scene& s) {
+  Scene out = s;
+  out.positions.clear(), out.normals.clear(), out.uvs.clear(), out.indices.clear();
+  for (uint32_t i : s.indices) {
+    out.indices.push_back(uint32_t(out.positions.size()));
+    out.positions.push_back(s.positions[i]);
+    if (!s.normals.empty()) out.normals.push_back(s.normals[i]);
+    if (!s.uvs.empty()) out.uvs.push_back(s.uvs[i]);
+  }
+  return out;
+}
+
+// Vertices duplicated with the same position, normal and uv are stored once: the
+// unindexed sphere's compact mesh has as many vertices as distinct (position, normal, uv),
+// and every corner, normal and uv decodes exactly as the unwelded vertices' codes would
+// (same grid, same uv coding).
+TEST(CompactScene, DuplicatedVerticesAreWelded) {
+  Scene indexed = make_lit_sphere(0.8f, 48, 96, true);
+  ASSERT_FALSE(indexed.normals.empty());
+  indexed.uvs.clear();  // tiling uvs, from the positions
+  for (const Vec3& p : indexed.positions) indexed.uvs.push_back(Vec2{3 * p.x, 2 * p.y + p.z});
+  const Scene s = unindexed(indexed);
+  std::set<std::array<uint32_t, 8>> distinct;  // bit patterns: -0 is not +0
+  const auto bits = [](float f) { return std::bit_cast<uint32_t>(f); };
+  for (size_t v = 0; v < s.positions.size(); ++v) {
+    const Vec3 p = s.positions[v], n = s.normals[v];
+    const Vec2 uv = s.uvs[v];
+    distinct.insert({bits(p.x), bits(p.y), bits(p.z), bits(n.x), bits(n.y), bits(n.z), bits(uv.x),
+                     bits(uv.y)});
+  }
+  const CompactMesh m = build_compact_mesh(s);
+  EXPECT_EQ(m.positions.size(), distinct.size());
+  EXPECT_LT(3 * m.positions.size(), s.positions.size());
+  const PositionGrid grid =
+      PositionGrid::fit(s.positions, geometry_cell_limit(s.positions.size()));
+  EXPECT_EQ(m.grid.cells, grid.cells);
+  const QuantizedUvs uvs = quantize_uvs(s.uvs, s.indices);
+  for (uint32_t t = 0; t < s.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = s.indices[3 * t + k];
+      ASSERT_TRUE(
+          same(m.corner(t, k), decode_position(grid, encode_position(grid, s.positions[v]))))
+          << t;
+      ASSERT_EQ(m.normals[m.vertex(t, k)], encode_normal(s.normals[v])) << t;
+      const Vec2 want = decoded_uv(uvs, s.indices, t, k), got = m.uv(t, k);
+      ASSERT_EQ(got.x, want.x) << t;
+      ASSERT_EQ(got.y, want.y) << t;
+    }
+}
+
 // The uv shifts are packed relative to the smallest shift per component: uvs within one
 // repeat need no shifts stored at all, tiling uvs as many bits as their shifts' range,
 // and both decode within the bound of the period's step.
@@ -385,9 +438,10 @@ std::vector<Ray> random_rays(const Scene& s, int n) {
 TEST(CompactTraversal, FindsTheHitsOfTheDecodedTriangles) {
   for (const Scene& scene : {make_cornell_box(), sphere_scene()}) {
     const CompactScene c = build_compact_scene(scene);
-    Scene decoded = scene;
-    for (uint32_t v = 0; v < decoded.positions.size(); ++v)
-      decoded.positions[v] = c.mesh.position(v);
+    Scene decoded = scene;  // the compact mesh's vertices are welded: set them by corner
+    for (uint32_t t = 0; t < scene.triangle_count(); ++t)
+      for (int k = 0; k < 3; ++k)
+        decoded.positions[scene.indices[3 * t + k]] = c.mesh.corner(t, k);
     const Accel embree(decoded);
     int hits = 0, same = 0, missed = 0, other = 0;
     for (const Ray& ray : random_rays(scene, 20000)) {
