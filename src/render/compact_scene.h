@@ -112,7 +112,8 @@ SceneBytes full_precision_bytes(const Scene& scene, size_t tree_nodes);
 SceneBytes estimate_compact_bytes(const Scene& scene);
 SceneBytes compact_bytes(const CompactScene& c);
 
-// Throws InputError when the scene has more than 65,535 materials (16-bit material ids),
+// Throws InputError when the scene has more than 65,535 materials (a limit kept from the
+// 16-bit material ids; the packed ids would hold more),
 // DeviceError when the tree cannot be built (see build_flat_bvh).
 CompactScene build_compact_scene(const Scene& scene);
 

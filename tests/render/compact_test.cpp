@@ -311,6 +311,7 @@ TEST(CompactScene, FacesAndMaterialsTakeTheBitsOfTheirLargestValue) {
     const CompactMesh::Parts parts = m.parts();
     EXPECT_EQ(parts.faces, (3 * tris * index_bits + 31) / 32 * 4) << scene.name;
     EXPECT_EQ(parts.materials, (tris * bits_for(largest_material) + 31) / 32 * 4) << scene.name;
+    EXPECT_GE(estimate_compact_bytes(scene).mesh, m.bytes()) << scene.name;
     for (uint32_t t = 0; t < tris; ++t) {
       ASSERT_EQ(m.material(t), scene.material_ids[t]) << scene.name << " " << t;
       for (int k = 0; k < 3; ++k)
@@ -363,6 +364,7 @@ TEST(CompactScene, DuplicatedVerticesAreWelded) {
   const PositionGrid grid =
       PositionGrid::fit(s.positions, geometry_cell_limit(s.positions.size()));
   EXPECT_EQ(m.grid.cells, grid.cells);
+  EXPECT_GE(estimate_compact_bytes(s).mesh, m.bytes());  // the `mem=` check's upper bound
   const QuantizedUvs uvs = quantize_uvs(s.uvs, s.indices);
   for (uint32_t t = 0; t < s.triangle_count(); ++t)
     for (int k = 0; k < 3; ++k) {
