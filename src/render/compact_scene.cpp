@@ -164,8 +164,11 @@ CompactScene build_compact_scene(const Scene& scene) {
   if (!any_area) return c;
   const FlatBvh flat = build_flat_bvh(decoded);
   c.bvh.depth = flat.depth;
-  c.bvh.prims.reserve(flat.triangles.size());
-  for (const FlatTriangle& t : flat.triangles) c.bvh.prims.push_back(t.prim);
+  std::vector<uint32_t> prims;
+  prims.reserve(flat.triangles.size());
+  for (const FlatTriangle& t : flat.triangles) prims.push_back(t.prim);
+  c.bvh.prims = PackedUints::pack(
+      prims, bits_for(uint32_t(std::max<size_t>(scene.triangle_count(), 1) - 1)));
   const FlatNode& r = flat.nodes[0];
   c.bvh.root.lo = Vec3(std::min(r.lo[0][0], r.lo[1][0]), std::min(r.lo[0][1], r.lo[1][1]),
                        std::min(r.lo[0][2], r.lo[1][2]));

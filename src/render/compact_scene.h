@@ -79,9 +79,11 @@ static_assert(sizeof(CompactNode) == 20, "kernels expect 20-byte nodes");
 struct CompactBvh {
   Bounds3 root;                    // the root node's own box, at full precision
   std::vector<CompactNode> nodes;  // nodes[0] is the root; empty: nothing can be hit
-  std::vector<uint32_t> prims;     // scene triangle indices, in leaf order
+  // Scene triangle indices, in leaf order, bit-packed in the bits of the largest index
+  // (ours: 17 bits a reference for 69,451 triangles instead of 32).
+  PackedUints prims;
   int depth = 0;
-  size_t bytes() const { return nodes.size() * sizeof(CompactNode) + prims.size() * 4; }
+  size_t bytes() const { return nodes.size() * sizeof(CompactNode) + prims.bytes(); }
 };
 
 // A child's box from its parent's decoded box `lo`..`hi` and its 8-bit planes

@@ -340,6 +340,29 @@ Scene unindexed(const Scene& s) {
   return out;
 }
 
+// The tree's triangle references take the bits of the largest triangle index, and every
+// triangle with an area is referenced from the leaves.
+TEST(CompactScene, TreeReferencesTakeTheBitsOfTheLargestTriangle) {
+  const Scene scene = make_lit_sphere(0.8f, 48, 96, true);
+  const CompactScene c = build_compact_scene(scene);
+  const uint32_t bits = bits_for(uint32_t(scene.triangle_count() - 1));
+  EXPECT_EQ(c.bvh.prims.width, bits);
+  EXPECT_EQ(c.bvh.bytes(),
+            c.bvh.nodes.size() * sizeof(CompactNode) + (c.bvh.prims.size() * bits + 31) / 32 * 4);
+  std::vector<int> seen(scene.triangle_count(), 0);
+  for (uint32_t p : c.bvh.prims.unpacked()) {
+    ASSERT_LT(p, scene.triangle_count());
+    ++seen[p];
+  }
+  for (uint32_t t = 0; t < scene.triangle_count(); ++t) {
+    if (seen[t] > 0) continue;  // only triangles without area (the sphere's poles) are left out
+    const Vec3 a = c.mesh.corner(t, 0);
+    const Vec3 n = cross(c.mesh.corner(t, 1) - a, c.mesh.corner(t, 2) - a);
+    EXPECT_EQ(length(n), 0.0f) << t;
+  }
+  EXPECT_GE(estimate_compact_bytes(scene).structure, c.bvh.bytes());
+}
+
 // Vertices duplicated with the same position, normal and uv are stored once: the
 // unindexed sphere's compact mesh has as many vertices as distinct (position, normal, uv),
 // and every corner, normal and uv decodes exactly as the unwelded vertices' codes would

@@ -93,7 +93,8 @@ ClCompactScene to_cl(const CompactScene& c) {
   i.widths = m.indices.width | m.material_ids.width << 8 | m.uv_shifts.bits[0] << 16 |
              m.uv_shifts.bits[1] << 24;
   k.nodes = c.bvh.nodes;
-  k.prims = c.bvh.prims;
+  k.prims = c.bvh.prims.words;
+  i.prim_bits = c.bvh.prims.width;
   k.positions = m.positions;
   k.cells = m.grid.cells;
   k.indices = m.indices.words;

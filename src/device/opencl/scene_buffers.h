@@ -91,8 +91,10 @@ struct ClCompactInfo {
   // material id 8-15, uv shift offsets u 16-23 and v 24-31.
   uint32_t widths;
   int32_t uv_shift_base[2];
+  uint32_t prim_bits;  // width of the tree's packed triangle references
+  uint32_t pad[3];
 };
-static_assert(sizeof(ClCompactInfo) == 80);
+static_assert(sizeof(ClCompactInfo) == 96);
 
 // The compact scene's arrays as the kernel reads them (render/compact_scene.h): its nodes
 // and QuantizedPosition are uploaded byte for byte, the cell-index table as 3 ushorts per

@@ -47,6 +47,8 @@ typedef struct {
   // material id 8-15, uv shift offsets u 16-23 and v 24-31.
   uint widths;
   int uv_shift_base[2];
+  uint prim_bits;  // width of the tree's packed triangle references (SceneData::prims)
+  uint pad[3];
 } CompactInfo;
 
 typedef struct {
