@@ -292,7 +292,8 @@ nlohmann::json run(const std::string& path, const Options& o) {
       {"full_bytes", {{"mesh", fb.mesh}, {"structure", fb.structure}, {"both", fb.total()}}},
       {"compact_bytes", {{"mesh", cb.mesh}, {"structure", cb.structure}, {"both", cb.total()}}},
       {"compact_mesh_parts",
-       {{"positions", parts.positions},
+       {{"vertices", compact.mesh.positions.size()},
+        {"positions", parts.positions},
         {"cell_table", parts.cell_table},
         {"normals", parts.normals},
         {"uvs", parts.uvs},
@@ -363,12 +364,14 @@ nlohmann::json run(const std::string& path, const Options& o) {
              err.psnr_db);
   fmt::print(
       stderr,
-      "{:<40} compact mesh: positions {:.2f} MB, cell table {:.3f} MB ({} geometry cells, "
-      "{} divisions, step {:.3g}), normals {:.2f}, uvs {:.2f} + shifts {:.2f}, faces {:.2f}, "
-      "materials {:.2f} MB\n",
-      "", parts.positions / 1e6, parts.cell_table / 1e6, compact.mesh.grid.cell_count(),
-      compact.mesh.grid.divisions, compact.mesh.grid.step, parts.normals / 1e6, parts.uvs / 1e6,
-      parts.uv_shifts / 1e6, parts.faces / 1e6, parts.materials / 1e6);
+      "{:<40} compact mesh: {} vertices, positions {:.3f} MB, cell table {:.3f} MB ({} geometry "
+      "cells, "
+      "{} divisions, step {:.3g}), normals {:.3f}, uvs {:.3f} + shifts {:.3f}, faces {:.3f}, "
+      "materials {:.3f} MB\n",
+      "", compact.mesh.positions.size(), parts.positions / 1e6, parts.cell_table / 1e6,
+      compact.mesh.grid.cell_count(), compact.mesh.grid.divisions, compact.mesh.grid.step,
+      parts.normals / 1e6, parts.uvs / 1e6, parts.uv_shifts / 1e6, parts.faces / 1e6,
+      parts.materials / 1e6);
   fmt::print(stderr, "{:<40} BVH {} nodes {} refs {:.2f} MB | {} rays: bvh {:.0f} ms\n", "",
              compact.bvh.nodes.size(), compact.bvh.prims.size(), compact.bvh.bytes() / 1e6,
              tr.rays.size(), median(t_bvh));

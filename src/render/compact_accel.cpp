@@ -45,7 +45,7 @@ Bounds3 child_box(const CompactNode& n, int c, const Bounds3& parent) {
 
 bool cut_out(const CompactMesh& m, const Scene& scene, const Ray& ray, uint32_t prim, float u,
              float v) {
-  const Material& mat = scene.materials[m.material_ids[prim]];
+  const Material& mat = scene.materials[m.material(prim)];
   if (!mat.may_be_transparent()) return false;
   Vec2 uv{};
   if (!m.uvs.empty()) {

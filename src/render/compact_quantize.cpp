@@ -199,10 +199,35 @@ uint16_t encode_normal(Vec3 n) {
   return best;
 }
 
+namespace {
+
+// Packs the triangles' shifts (two per triangle) relative to each component's smallest.
+UvShifts pack_shifts(const std::vector<int32_t>& shifts) {
+  UvShifts s;
+  const size_t triangles = shifts.size() / 2;
+  int32_t hi[2] = {0, 0};
+  for (int a = 0; a < 2; ++a) {
+    if (triangles > 0) s.base[a] = hi[a] = shifts[a];
+    for (size_t t = 0; t < triangles; ++t) {
+      s.base[a] = std::min(s.base[a], shifts[2 * t + a]);
+      hi[a] = std::max(hi[a], shifts[2 * t + a]);
+    }
+    s.bits[a] = bits_for(uint32_t(hi[a] - s.base[a]));
+  }
+  std::vector<uint32_t> entries(triangles);
+  for (size_t t = 0; t < triangles; ++t)
+    entries[t] = uint32_t(shifts[2 * t] - s.base[0]) | uint32_t(shifts[2 * t + 1] - s.base[1])
+                                                           << s.bits[0];
+  s.packed = PackedUints::pack(entries, s.bits[0] + s.bits[1]);
+  return s;
+}
+
+}  // namespace
+
 QuantizedUvs quantize_uvs(const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices) {
   QuantizedUvs q;
   const size_t triangles = indices.size() / 3;
-  q.shifts.resize(2 * triangles);
+  std::vector<int32_t> shifts(2 * triangles);
   q.codes.assign(2 * uvs.size(), 0);
   for (int a = 0; a < 2; ++a) {
     // Shifts, and the largest offset of a corner from its triangle's shift.
@@ -215,7 +240,7 @@ QuantizedUvs quantize_uvs(const std::vector<Vec2>& uvs, const std::vector<uint32
         if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
       }
       const double shift = std::isfinite(lo) ? std::clamp(std::floor(lo), -32768.0, 32767.0) : 0.0;
-      q.shifts[2 * t + a] = int16_t(shift);
+      shifts[2 * t + a] = int32_t(shift);
       if (std::isfinite(hi)) widest = std::max(widest, hi - shift);
     }
     // The smallest period whose 16-bit steps hold the widest offset once rounded.
@@ -233,6 +258,7 @@ QuantizedUvs quantize_uvs(const std::vector<Vec2>& uvs, const std::vector<uint32
       q.codes[2 * v + a] = uint16_t(int64_t(steps) & 0xffff);
     }
   }
+  q.shifts = pack_shifts(shifts);
   return q;
 }
 

@@ -3,7 +3,8 @@
 // 2022, §3): positions as a 16-bit index into a table of the grid's geometry cells plus
 // three 10-bit offsets inside the cell (6 bytes instead of 12), unit normals in 16 bits (2
 // instead of 12), texture coordinates as a per-triangle integer shift and 16 bits per
-// component relative to it (4 bytes a vertex and 4 a triangle instead of 8 a vertex).
+// component relative to it (4 bytes a vertex, and the shifts bit-packed per triangle,
+// instead of 8 a vertex).
 // Decoding (render/shared/compact.h, shared with the OpenCL kernel) is a table read and a
 // few multiply-adds, done on access by the traversal and the shading of the device that
 // chose the compact representation.
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "render/compact_packed.h"
 #include "render/shared/compact.h"
 
 namespace multiray {
@@ -119,20 +121,35 @@ struct UvCoding {
   float max_error(int axis) const { return 0.5f * step[axis]; }
 };
 
-// Quantized uvs of a mesh: `codes` two per vertex, `shifts` two per triangle (u, v).
+// The triangles' integer shifts, packed (render/compact_packed.h): a triangle's entry holds
+// its u shift's offset from base[0] in the low bits[0] bits and its v shift's offset from
+// base[1] in the bits[1] bits above (ours; the paper stores a full integer per shift). A
+// scene whose triangles all share one shift per component, as every scene with uvs in
+// [0, 1] does, stores no entries at all.
+struct UvShifts {
+  int32_t base[2] = {0, 0};
+  uint32_t bits[2] = {0, 0};
+  PackedUints packed;  // one entry per triangle, bits[0] + bits[1] wide
+  size_t bytes() const { return packed.bytes(); }
+  int32_t shift(size_t tri, int axis) const {
+    return compact_uv_shift(packed[tri], bits[0], base[axis], uint32_t(axis));
+  }
+};
+
+// Quantized uvs of a mesh: `codes` two per vertex, `shifts` one entry per triangle.
 struct QuantizedUvs {
   UvCoding coding;
   std::vector<uint16_t> codes;
-  std::vector<int16_t> shifts;
+  UvShifts shifts;
 };
 // `uvs` one per vertex, `indices` three per triangle. Shifts are clamped to the int16
 // range (coordinates beyond +-32,767 lose the bound), periods to 2^15.
 QuantizedUvs quantize_uvs(const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices);
 
-// Corner `code` (two per vertex) of a triangle with shifts `shift` (two).
-inline Vec2 decode_uv(const UvCoding& c, const int16_t shift[2], const uint16_t code[2]) {
-  return Vec2{compact_decode_uv(shift[0], code[0], c.period_log2[0], c.step[0]),
-              compact_decode_uv(shift[1], code[1], c.period_log2[1], c.step[1])};
+// Corner `code` (two per vertex) of triangle `tri`.
+inline Vec2 decode_uv(const UvCoding& c, const UvShifts& s, size_t tri, const uint16_t code[2]) {
+  return Vec2{compact_decode_uv(s.shift(tri, 0), code[0], c.period_log2[0], c.step[0]),
+              compact_decode_uv(s.shift(tri, 1), code[1], c.period_log2[1], c.step[1])};
 }
 
 }  // namespace multiray

@@ -1,7 +1,10 @@
 #include "render/compact_scene.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <unordered_map>
 #include <utility>
 
 #include "core/error.h"
@@ -15,30 +18,86 @@ CompactMesh::Parts CompactMesh::parts() const {
   p.cell_table = grid.table_bytes();
   p.normals = normals.size() * 2;
   p.uvs = uvs.size() * 2;
-  p.uv_shifts = uv_shifts.size() * 2;
-  p.faces = indices.size() * 4;
-  p.materials = material_ids.size() * 2;
+  p.uv_shifts = uv_shifts.bytes();
+  p.faces = indices.bytes();
+  p.materials = material_ids.bytes();
   return p;
 }
+
+namespace {
+
+// Vertices of `s` merged where the loader duplicated them: same position, normal and uv
+// bits (so every corner decodes as its own vertex would). `first` lists, per welded
+// vertex, the scene vertex it stands for (the first of its copies, so the order is the
+// scene's); `remap` gives every scene vertex's welded index.
+struct Welded {
+  std::vector<uint32_t> first, remap;
+};
+
+Welded weld_vertices(const Scene& s) {
+  using Key = std::array<uint32_t, 8>;
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      uint64_t h = 0xcbf29ce484222325ull;
+      for (uint32_t x : k) h = (h ^ x) * 0x100000001b3ull;
+      return size_t(h ^ (h >> 29));
+    }
+  };
+  const auto bits = [](float f) { return std::bit_cast<uint32_t>(f); };
+  std::unordered_map<Key, uint32_t, KeyHash> index;
+  index.reserve(s.positions.size());
+  Welded w;
+  w.remap.resize(s.positions.size());
+  for (size_t v = 0; v < s.positions.size(); ++v) {
+    Key k{};
+    const Vec3 p = s.positions[v];
+    k[0] = bits(p.x), k[1] = bits(p.y), k[2] = bits(p.z);
+    if (!s.normals.empty()) {
+      const Vec3 n = s.normals[v];
+      k[3] = bits(n.x), k[4] = bits(n.y), k[5] = bits(n.z);
+    }
+    if (!s.uvs.empty()) k[6] = bits(s.uvs[v].x), k[7] = bits(s.uvs[v].y);
+    const auto [it, added] = index.emplace(k, uint32_t(w.first.size()));
+    if (added) w.first.push_back(uint32_t(v));
+    w.remap[v] = it->second;
+  }
+  return w;
+}
+
+}  // namespace
 
 CompactMesh build_compact_mesh(const Scene& scene) {
   if (scene.materials.size() > 65535)
     throw InputError("the compact representation holds at most 65,535 materials, the scene has " +
                      std::to_string(scene.materials.size()));
+  const Welded w = weld_vertices(scene);
+  std::vector<Vec3> positions;
+  std::vector<Vec2> uvs;
+  positions.reserve(w.first.size());
+  for (uint32_t v : w.first) positions.push_back(scene.positions[v]);
+  if (!scene.uvs.empty())
+    for (uint32_t v : w.first) uvs.push_back(scene.uvs[v]);
+  std::vector<uint32_t> indices(scene.indices.size());
+  for (size_t i = 0; i < indices.size(); ++i) indices[i] = w.remap[scene.indices[i]];
+
   CompactMesh m;
-  m.grid = PositionGrid::fit(scene.positions, geometry_cell_limit(scene.positions.size()));
-  m.positions.reserve(scene.positions.size());
-  for (const Vec3& p : scene.positions) m.positions.push_back(encode_position(m.grid, p));
-  m.normals.reserve(scene.normals.size());
-  for (const Vec3& n : scene.normals) m.normals.push_back(encode_normal(n));
-  if (!scene.uvs.empty()) {
-    QuantizedUvs q = quantize_uvs(scene.uvs, scene.indices);
+  // The table's limit counts the scene's vertices, not the welded ones: the grid, and so
+  // every decoded position, is the one the scene's own vertices give (welding loses
+  // nothing; the welded vertices are the same point set).
+  m.grid = PositionGrid::fit(positions, geometry_cell_limit(scene.positions.size()));
+  m.positions.reserve(positions.size());
+  for (const Vec3& p : positions) m.positions.push_back(encode_position(m.grid, p));
+  if (!scene.normals.empty())
+    for (uint32_t v : w.first) m.normals.push_back(encode_normal(scene.normals[v]));
+  if (!uvs.empty()) {
+    QuantizedUvs q = quantize_uvs(uvs, indices);
     m.uv_coding = q.coding;
     m.uvs = std::move(q.codes);
     m.uv_shifts = std::move(q.shifts);
   }
-  m.indices = scene.indices;
-  m.material_ids.assign(scene.material_ids.begin(), scene.material_ids.end());
+  m.indices =
+      PackedUints::pack(indices, bits_for(uint32_t(std::max<size_t>(positions.size(), 1) - 1)));
+  m.material_ids = PackedUints::pack(scene.material_ids);
   return m;
 }
 
@@ -90,7 +149,7 @@ CompactScene build_compact_scene(const Scene& scene) {
   c.mesh = build_compact_mesh(scene);
   // The tree is built over the decoded positions: its boxes must bound what is tested.
   Scene decoded;
-  decoded.indices = scene.indices;
+  decoded.indices = c.mesh.indices.unpacked();
   decoded.positions.reserve(scene.positions.size());
   for (uint32_t v = 0; v < c.mesh.positions.size(); ++v)
     decoded.positions.push_back(c.mesh.position(v));
@@ -105,8 +164,11 @@ CompactScene build_compact_scene(const Scene& scene) {
   if (!any_area) return c;
   const FlatBvh flat = build_flat_bvh(decoded);
   c.bvh.depth = flat.depth;
-  c.bvh.prims.reserve(flat.triangles.size());
-  for (const FlatTriangle& t : flat.triangles) c.bvh.prims.push_back(t.prim);
+  std::vector<uint32_t> prims;
+  prims.reserve(flat.triangles.size());
+  for (const FlatTriangle& t : flat.triangles) prims.push_back(t.prim);
+  c.bvh.prims = PackedUints::pack(
+      prims, bits_for(uint32_t(std::max<size_t>(scene.triangle_count(), 1) - 1)));
   const FlatNode& r = flat.nodes[0];
   c.bvh.root.lo = Vec3(std::min(r.lo[0][0], r.lo[1][0]), std::min(r.lo[0][1], r.lo[1][1]),
                        std::min(r.lo[0][2], r.lo[1][2]));
@@ -125,14 +187,28 @@ SceneBytes full_precision_bytes(const Scene& s, size_t tree_nodes) {
   return b;
 }
 
+namespace {
+
+size_t packed_bytes(size_t count, uint32_t width) {
+  return (uint64_t(count) * width + 31) / 32 * 4;
+}
+
+}  // namespace
+
 SceneBytes estimate_compact_bytes(const Scene& s) {
   SceneBytes b;
-  // The cell table at its largest: a geometry cell per vertex, at most 2^16, each three
-  // 16-bit coordinates.
+  // Welding can only lower the vertex count, so the scene's own counts bound every
+  // per-vertex part and the width of the faces. The cell table at its largest: a geometry
+  // cell per vertex, at most 2^16, each three 16-bit coordinates. Uv shifts at their
+  // widest: 16 bits per component.
+  uint32_t largest_material = 0;
+  for (uint32_t id : s.material_ids) largest_material = std::max(largest_material, id);
+  const uint32_t index_bits = bits_for(uint32_t(std::max<size_t>(s.positions.size(), 1) - 1));
   b.mesh = s.positions.size() * sizeof(QuantizedPosition) +
            std::min(s.positions.size(), size_t(kMaxGridCells)) * 6 + s.normals.size() * 2 +
-           s.uvs.size() * 4 + (s.uvs.empty() ? 0 : s.triangle_count() * 4) + s.indices.size() * 4 +
-           s.material_ids.size() * 2;
+           s.uvs.size() * 4 + (s.uvs.empty() ? 0 : packed_bytes(s.triangle_count(), 32)) +
+           packed_bytes(s.indices.size(), index_bits) +
+           packed_bytes(s.material_ids.size(), bits_for(largest_material));
   b.structure = s.triangle_count() * (sizeof(CompactNode) + 4);
   return b;
 }

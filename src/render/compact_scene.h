@@ -8,10 +8,10 @@
 // BVH (render/flat_bvh.h, Embree's binned SAH builder) instead, as compressed wide BVHs do
 // (Ylitie, Karras & Laine, HPG 2017): each node stores its two children's boxes in 8 bits
 // per plane relative to its own box (20 bytes a node instead of 64), and leaves refer to
-// triangles by index instead of holding copies of their vertices (4 bytes a triangle
-// instead of 48). Why not the kd-tree: the renderer's traversals are BVH traversals, a
-// kd-tree would duplicate references of triangles that straddle a split, and our
-// measurements (docs/compact.md) put the quantized BVH under the goal without one.
+// triangles by bit-packed index instead of holding copies of their vertices (17 bits a
+// triangle for 100,000 triangles, instead of 48 bytes). Why not the kd-tree: the renderer's
+// traversals are BVH traversals, a kd-tree would duplicate references of triangles that straddle a
+// split, and our measurements (docs/compact.md) put the quantized BVH under the goal without one.
 //
 // The tree is built over the *decoded* positions, so its boxes bound the triangles the
 // traversal actually tests.
@@ -22,29 +22,36 @@
 #include <string>
 #include <vector>
 
+#include "render/compact_packed.h"
 #include "render/compact_quantize.h"
 #include "scene/scene.h"
 
 namespace multiray {
 
-// Faces stay uncompressed (random access), as in the paper.
+// The quantized mesh. Vertices that the loader duplicated with the same position, normal
+// and uv are stored once (welded; the full-precision scene keeps its own vertices), and
+// the per-triangle arrays are bit-packed (render/compact_packed.h): faces in the bits of
+// the largest vertex index, material ids in the bits of the largest id, uv shifts relative
+// to the smallest shift. Each keeps random access, as the paper's faces do.
 struct CompactMesh {
-  PositionGrid grid;  // with the cell-index table of the geometry cells
-  std::vector<QuantizedPosition> positions;
-  std::vector<uint16_t> normals;  // one octahedral code per position, or empty
+  PositionGrid grid;                         // with the cell-index table of the geometry cells
+  std::vector<QuantizedPosition> positions;  // one per welded vertex
+  std::vector<uint16_t> normals;             // one octahedral code per position, or empty
   UvCoding uv_coding;
-  std::vector<uint16_t> uvs;           // two codes per position, or empty
-  std::vector<int16_t> uv_shifts;      // two per triangle when there are uvs
-  std::vector<uint32_t> indices;       // three per triangle, as Scene::indices
-  std::vector<uint16_t> material_ids;  // one per triangle
+  std::vector<uint16_t> uvs;  // two codes per position, or empty
+  UvShifts uv_shifts;         // one entry per triangle when there are uvs
+  PackedUints indices;        // three vertex indices per triangle, as Scene::indices
+  PackedUints material_ids;   // one per triangle
 
+  size_t triangle_count() const { return indices.size() / 3; }
+  uint32_t vertex(uint32_t tri, int k) const { return indices[3 * size_t(tri) + size_t(k)]; }
+  uint32_t material(uint32_t tri) const { return material_ids[tri]; }
   Vec3 position(uint32_t v) const { return decode_position(grid, positions[v]); }
-  Vec3 corner(uint32_t tri, int k) const { return position(indices[3 * size_t(tri) + k]); }
+  Vec3 corner(uint32_t tri, int k) const { return position(vertex(tri, k)); }
   // The uv of corner `k` of triangle `tri` (zero without uvs).
   Vec2 uv(uint32_t tri, int k) const {
     return uvs.empty() ? Vec2{}
-                       : decode_uv(uv_coding, &uv_shifts[2 * size_t(tri)],
-                                   &uvs[2 * size_t(indices[3 * size_t(tri) + k])]);
+                       : decode_uv(uv_coding, uv_shifts, tri, &uvs[2 * size_t(vertex(tri, k))]);
   }
   // Bytes by part (the memory reports: docs/compact.md, bench/compact_bench.cpp).
   struct Parts {
@@ -72,9 +79,11 @@ static_assert(sizeof(CompactNode) == 20, "kernels expect 20-byte nodes");
 struct CompactBvh {
   Bounds3 root;                    // the root node's own box, at full precision
   std::vector<CompactNode> nodes;  // nodes[0] is the root; empty: nothing can be hit
-  std::vector<uint32_t> prims;     // scene triangle indices, in leaf order
+  // Scene triangle indices, in leaf order, bit-packed in the bits of the largest index
+  // (ours: 17 bits a reference for 69,451 triangles instead of 32).
+  PackedUints prims;
   int depth = 0;
-  size_t bytes() const { return nodes.size() * sizeof(CompactNode) + prims.size() * 4; }
+  size_t bytes() const { return nodes.size() * sizeof(CompactNode) + prims.bytes(); }
 };
 
 // A child's box from its parent's decoded box `lo`..`hi` and its 8-bit planes
@@ -105,7 +114,8 @@ SceneBytes full_precision_bytes(const Scene& scene, size_t tree_nodes);
 SceneBytes estimate_compact_bytes(const Scene& scene);
 SceneBytes compact_bytes(const CompactScene& c);
 
-// Throws InputError when the scene has more than 65,535 materials (16-bit material ids),
+// Throws InputError when the scene has more than 65,535 materials (a limit kept from the
+// 16-bit material ids; the packed ids would hold more),
 // DeviceError when the tree cannot be built (see build_flat_bvh).
 CompactScene build_compact_scene(const Scene& scene);
 

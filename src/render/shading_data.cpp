@@ -25,7 +25,7 @@ std::vector<TriangleShading> build_shading_data(const Scene& s) {
 
 TriangleShading decode_shading(const CompactScene& c, uint32_t prim) {
   const CompactMesh& m = c.mesh;
-  const uint32_t* idx = &m.indices[3 * size_t(prim)];
+  const uint32_t idx[3] = {m.vertex(prim, 0), m.vertex(prim, 1), m.vertex(prim, 2)};
   TriangleShading r;
   if (m.normals.empty()) {
     const Vec3 p0 = m.position(idx[0]);
@@ -35,7 +35,7 @@ TriangleShading decode_shading(const CompactScene& c, uint32_t prim) {
     for (int k = 0; k < 3; ++k) r.normal[k] = decode_normal(m.normals[idx[k]]);
   }
   for (int k = 0; k < 3; ++k) r.uv[k] = m.uv(prim, k);
-  r.material = m.material_ids[prim];
+  r.material = m.material(prim);
   return r;
 }
 

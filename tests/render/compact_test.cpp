@@ -3,6 +3,8 @@
 // images within the PSNR bound of full precision, split independence and the `mem=` limit.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -219,8 +221,10 @@ TEST(CompactQuantize, EveryNormalCodeDecodesToAUnitVectorThatEncodesBack) {
   }
 }
 
+bool same(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
 Vec2 decoded_uv(const QuantizedUvs& q, const std::vector<uint32_t>& indices, size_t tri, int k) {
-  return decode_uv(q.coding, &q.shifts[2 * tri], &q.codes[2 * indices[3 * tri + k]]);
+  return decode_uv(q.coding, q.shifts, tri, &q.codes[2 * indices[3 * tri + k]]);
 }
 
 // Triangles spanning less than one texture repeat each, anywhere in [-100, 100]: after the
@@ -261,15 +265,178 @@ TEST(CompactQuantize, TilingUvsDecodeRight) {
                                  {38.5f, 1.5f}};
   const std::vector<uint32_t> indices = {0, 1, 2, 3, 4, 5, 1, 6, 2};
   const QuantizedUvs q = quantize_uvs(uvs, indices);
-  EXPECT_EQ(q.shifts[0], 37);
-  EXPECT_EQ(q.shifts[1], 0);
-  EXPECT_EQ(q.shifts[3], -3);
+  EXPECT_EQ(q.shifts.shift(0, 0), 37);
+  EXPECT_EQ(q.shifts.shift(0, 1), 0);
+  EXPECT_EQ(q.shifts.shift(1, 1), -3);
   for (size_t t = 0; t < 3; ++t)
     for (int k = 0; k < 3; ++k) {
       const Vec2 want = uvs[indices[3 * t + k]], got = decoded_uv(q, indices, t, k);
       EXPECT_EQ(got.x, want.x) << t << " " << k;
       EXPECT_EQ(got.y, want.y) << t << " " << k;
     }
+}
+
+// Bit packing (render/compact_packed.h): values of every width from 0 to 32 bits come back
+// from compact_read_bits (the kernel's reader), across word boundaries, and the array
+// takes ceil(count x width / 32) words.
+TEST(CompactPacked, ValuesOfEveryWidthRoundTrip) {
+  std::mt19937 rng(17);
+  for (uint32_t width = 0; width <= 32; ++width) {
+    std::vector<uint32_t> values(1001);
+    for (uint32_t& v : values) v = width == 32 ? rng() : (rng() & ((1u << width) - 1u));
+    if (width > 0) values[7] = width == 32 ? ~0u : (1u << width) - 1u;  // the largest
+    const PackedUints p = PackedUints::pack(values);
+    EXPECT_EQ(p.width, width);
+    EXPECT_EQ(p.bytes(), (values.size() * width + 31) / 32 * 4) << width;
+    for (size_t i = 0; i < values.size(); ++i)
+      ASSERT_EQ(compact_read_bits(p.words.data(), i, width), values[i]) << width << " " << i;
+  }
+  EXPECT_EQ(bits_for(0), 0u);
+  EXPECT_EQ(bits_for(1), 1u);
+  EXPECT_EQ(bits_for(65535), 16u);
+  EXPECT_EQ(bits_for(65536), 17u);
+  EXPECT_EQ(bits_for(~0u), 32u);
+}
+
+// The faces take the bits of the largest vertex index and the material ids those of the
+// largest id (none for one material), and decode to the scene's.
+TEST(CompactScene, FacesAndMaterialsTakeTheBitsOfTheirLargestValue) {
+  for (const Scene& scene : {make_cornell_box(), make_lit_sphere(0.8f, 48, 96, true)}) {
+    const CompactMesh m = build_compact_mesh(scene);
+    const size_t tris = scene.triangle_count();
+    ASSERT_EQ(m.triangle_count(), tris);
+    uint32_t largest_material = 0;
+    for (uint32_t id : scene.material_ids) largest_material = std::max(largest_material, id);
+    const uint32_t index_bits = bits_for(uint32_t(m.positions.size() - 1));
+    const CompactMesh::Parts parts = m.parts();
+    EXPECT_EQ(parts.faces, (3 * tris * index_bits + 31) / 32 * 4) << scene.name;
+    EXPECT_EQ(parts.materials, (tris * bits_for(largest_material) + 31) / 32 * 4) << scene.name;
+    EXPECT_GE(estimate_compact_bytes(scene).mesh, m.bytes()) << scene.name;
+    for (uint32_t t = 0; t < tris; ++t) {
+      ASSERT_EQ(m.material(t), scene.material_ids[t]) << scene.name << " " << t;
+      for (int k = 0; k < 3; ++k)
+        ASSERT_TRUE(
+            same(m.corner(t, k),
+                 decode_position(
+                     m.grid, encode_position(m.grid, scene.positions[scene.indices[3 * t + k]]))))
+            << scene.name << " " << t;
+    }
+  }
+  Scene one_material = make_lit_sphere(0.8f, 48, 96, true);
+  std::fill(one_material.material_ids.begin(), one_material.material_ids.end(), 0u);
+  EXPECT_EQ(build_compact_mesh(one_material).parts().materials, 0u);
+}
+
+// Every corner its own vertex, as an OBJ loader makes them.
+Scene unindexed(const Scene& s) {
+  Scene out = s;
+  out.positions.clear(), out.normals.clear(), out.uvs.clear(), out.indices.clear();
+  for (uint32_t i : s.indices) {
+    out.indices.push_back(uint32_t(out.positions.size()));
+    out.positions.push_back(s.positions[i]);
+    if (!s.normals.empty()) out.normals.push_back(s.normals[i]);
+    if (!s.uvs.empty()) out.uvs.push_back(s.uvs[i]);
+  }
+  return out;
+}
+
+// The tree's triangle references take the bits of the largest triangle index, and every
+// triangle with an area is referenced from the leaves.
+TEST(CompactScene, TreeReferencesTakeTheBitsOfTheLargestTriangle) {
+  const Scene scene = make_lit_sphere(0.8f, 48, 96, true);
+  const CompactScene c = build_compact_scene(scene);
+  const uint32_t bits = bits_for(uint32_t(scene.triangle_count() - 1));
+  EXPECT_EQ(c.bvh.prims.width, bits);
+  EXPECT_EQ(c.bvh.bytes(),
+            c.bvh.nodes.size() * sizeof(CompactNode) + (c.bvh.prims.size() * bits + 31) / 32 * 4);
+  std::vector<int> seen(scene.triangle_count(), 0);
+  for (uint32_t p : c.bvh.prims.unpacked()) {
+    ASSERT_LT(p, scene.triangle_count());
+    ++seen[p];
+  }
+  for (uint32_t t = 0; t < scene.triangle_count(); ++t) {
+    if (seen[t] > 0) continue;  // only triangles without area (the sphere's poles) are left out
+    const Vec3 a = c.mesh.corner(t, 0);
+    const Vec3 n = cross(c.mesh.corner(t, 1) - a, c.mesh.corner(t, 2) - a);
+    EXPECT_EQ(length(n), 0.0f) << t;
+  }
+  EXPECT_GE(estimate_compact_bytes(scene).structure, c.bvh.bytes());
+}
+
+// Vertices duplicated with the same position, normal and uv are stored once: the
+// unindexed sphere's compact mesh has as many vertices as distinct (position, normal, uv),
+// and every corner, normal and uv decodes exactly as the unwelded vertices' codes would
+// (same grid, same uv coding).
+TEST(CompactScene, DuplicatedVerticesAreWelded) {
+  Scene indexed = make_lit_sphere(0.8f, 48, 96, true);
+  ASSERT_FALSE(indexed.normals.empty());
+  indexed.uvs.clear();  // tiling uvs, from the positions
+  for (const Vec3& p : indexed.positions) indexed.uvs.push_back(Vec2{3 * p.x, 2 * p.y + p.z});
+  const Scene s = unindexed(indexed);
+  std::set<std::array<uint32_t, 8>> distinct;  // bit patterns: -0 is not +0
+  const auto bits = [](float f) { return std::bit_cast<uint32_t>(f); };
+  for (size_t v = 0; v < s.positions.size(); ++v) {
+    const Vec3 p = s.positions[v], n = s.normals[v];
+    const Vec2 uv = s.uvs[v];
+    distinct.insert({bits(p.x), bits(p.y), bits(p.z), bits(n.x), bits(n.y), bits(n.z), bits(uv.x),
+                     bits(uv.y)});
+  }
+  const CompactMesh m = build_compact_mesh(s);
+  EXPECT_EQ(m.positions.size(), distinct.size());
+  EXPECT_LT(3 * m.positions.size(), s.positions.size());
+  const PositionGrid grid =
+      PositionGrid::fit(s.positions, geometry_cell_limit(s.positions.size()));
+  EXPECT_EQ(m.grid.cells, grid.cells);
+  EXPECT_GE(estimate_compact_bytes(s).mesh, m.bytes());  // the `mem=` check's upper bound
+  const QuantizedUvs uvs = quantize_uvs(s.uvs, s.indices);
+  for (uint32_t t = 0; t < s.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = s.indices[3 * t + k];
+      ASSERT_TRUE(
+          same(m.corner(t, k), decode_position(grid, encode_position(grid, s.positions[v]))))
+          << t;
+      ASSERT_EQ(m.normals[m.vertex(t, k)], encode_normal(s.normals[v])) << t;
+      const Vec2 want = decoded_uv(uvs, s.indices, t, k), got = m.uv(t, k);
+      ASSERT_EQ(got.x, want.x) << t;
+      ASSERT_EQ(got.y, want.y) << t;
+    }
+}
+
+// The uv shifts are packed relative to the smallest shift per component: uvs within one
+// repeat need no shifts stored at all, tiling uvs as many bits as their shifts' range,
+// and both decode within the bound of the period's step.
+TEST(CompactQuantize, UvShiftsTakeTheBitsOfTheirRange) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<Vec2> uvs;
+  std::vector<uint32_t> indices;
+  for (int t = 0; t < 3000; ++t)
+    for (int k = 0; k < 3; ++k) {
+      indices.push_back(uint32_t(uvs.size()));
+      uvs.push_back(Vec2{0.999f * u(rng), 0.999f * u(rng)});
+    }
+  const QuantizedUvs unit = quantize_uvs(uvs, indices);
+  EXPECT_EQ(unit.shifts.bytes(), 0u);
+  // Shift each triangle by an integer in [-3, 37] in u and [5, 6] in v.
+  for (size_t t = 0; t < indices.size() / 3; ++t)
+    for (int k = 0; k < 3; ++k) {
+      Vec2& uv = uvs[indices[3 * t + k]];
+      uv.x += float(int(t % 41) - 3), uv.y += float(5 + t % 2);
+    }
+  const QuantizedUvs tiled = quantize_uvs(uvs, indices);
+  EXPECT_EQ(tiled.shifts.base[0], -3);
+  EXPECT_EQ(tiled.shifts.base[1], 5);
+  EXPECT_EQ(tiled.shifts.bits[0], 6u);
+  EXPECT_EQ(tiled.shifts.bits[1], 1u);
+  EXPECT_EQ(tiled.shifts.bytes(), (3000 * 7 + 31) / 32 * 4);
+  for (size_t t = 0; t < indices.size() / 3; ++t) {
+    EXPECT_EQ(tiled.shifts.shift(t, 0), int(t % 41) - 3);
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 want = uvs[indices[3 * t + k]], got = decoded_uv(tiled, indices, t, k);
+      ASSERT_LE(std::fabs(got.x - want.x), tiled.coding.max_error(0) + 4e-6f) << t;
+      ASSERT_LE(std::fabs(got.y - want.y), tiled.coding.max_error(1) + 4e-6f) << t;
+    }
+  }
 }
 
 // A sphere of many small triangles, with normals and uvs.
@@ -296,9 +463,10 @@ std::vector<Ray> random_rays(const Scene& s, int n) {
 TEST(CompactTraversal, FindsTheHitsOfTheDecodedTriangles) {
   for (const Scene& scene : {make_cornell_box(), sphere_scene()}) {
     const CompactScene c = build_compact_scene(scene);
-    Scene decoded = scene;
-    for (uint32_t v = 0; v < decoded.positions.size(); ++v)
-      decoded.positions[v] = c.mesh.position(v);
+    Scene decoded = scene;  // the compact mesh's vertices are welded: set them by corner
+    for (uint32_t t = 0; t < scene.triangle_count(); ++t)
+      for (int k = 0; k < 3; ++k)
+        decoded.positions[scene.indices[3 * t + k]] = c.mesh.corner(t, k);
     const Accel embree(decoded);
     int hits = 0, same = 0, missed = 0, other = 0;
     for (const Ray& ray : random_rays(scene, 20000)) {

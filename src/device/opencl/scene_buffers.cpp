@@ -88,16 +88,20 @@ ClCompactScene to_cl(const CompactScene& c) {
   i.has_nodes = c.bvh.nodes.empty() ? 0u : 1u;
   put(i.root_lo, c.bvh.root.lo), put(i.root_hi, c.bvh.root.hi);
   for (int a = 0; a < 2; ++a)
-    i.uv_step[a] = m.uv_coding.step[a], i.uv_period_log2[a] = m.uv_coding.period_log2[a];
+    i.uv_step[a] = m.uv_coding.step[a], i.uv_period_log2[a] = m.uv_coding.period_log2[a],
+    i.uv_shift_base[a] = m.uv_shifts.base[a];
+  i.widths = m.indices.width | m.material_ids.width << 8 | m.uv_shifts.bits[0] << 16 |
+             m.uv_shifts.bits[1] << 24;
   k.nodes = c.bvh.nodes;
-  k.prims = c.bvh.prims;
+  k.prims = c.bvh.prims.words;
+  i.prim_bits = c.bvh.prims.width;
   k.positions = m.positions;
   k.cells = m.grid.cells;
-  k.indices = m.indices;
+  k.indices = m.indices.words;
   k.normals = m.normals;
   k.uvs = m.uvs;
-  k.uv_shifts = m.uv_shifts;
-  k.material_ids = m.material_ids;
+  k.uv_shifts = m.uv_shifts.packed.words;
+  k.material_ids = m.material_ids.words;
   return k;
 }
 

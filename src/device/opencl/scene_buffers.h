@@ -87,22 +87,26 @@ struct ClCompactInfo {
   float uv_step[2];
   uint32_t uv_period_log2[2];
   float step;
+  // Bit widths of the packed arrays (render/compact_packed.h): vertex index in bits 0-7,
+  // material id 8-15, uv shift offsets u 16-23 and v 24-31.
+  uint32_t widths;
+  int32_t uv_shift_base[2];
+  uint32_t prim_bits;  // width of the tree's packed triangle references
   uint32_t pad[3];
 };
-static_assert(sizeof(ClCompactInfo) == 80);
+static_assert(sizeof(ClCompactInfo) == 96);
 
 // The compact scene's arrays as the kernel reads them (render/compact_scene.h): its nodes
 // and QuantizedPosition are uploaded byte for byte, the cell-index table as 3 ushorts per
-// geometry cell.
+// geometry cell, the bit-packed faces, material ids and uv shifts as their 32-bit words.
 struct ClCompactScene {
   ClCompactInfo info{};
   std::vector<CompactNode> nodes;
   std::vector<uint32_t> prims;
   std::vector<QuantizedPosition> positions;
   std::vector<uint16_t> cells;
-  std::vector<uint32_t> indices;
-  std::vector<uint16_t> normals, uvs, material_ids;
-  std::vector<int16_t> uv_shifts;
+  std::vector<uint32_t> indices, material_ids, uv_shifts;
+  std::vector<uint16_t> normals, uvs;
 };
 
 struct ClScene {

@@ -31,6 +31,30 @@ MR_DEVICE mr_float3 compact_decode_position(mr_float3 origin, float cell, float 
                    origin.z + cell * (float)c[2] + step * (float)((offsets >> 20) & 1023u));
 }
 
+// Value `index` of an array of `width`-bit unsigned values (0..32 bits) packed end to end,
+// least significant bit first, into 32-bit words: the faces' vertex indices, the material
+// ids and the uv shifts are stored so, each in as many bits as its largest value needs,
+// and every value stays one or two word reads away (random access, as the paper requires).
+// A width of 0 reads no memory and gives 0 (every value equal, nothing stored).
+MR_DEVICE mr_uint compact_read_bits(const MR_GLOBAL mr_uint* words, mr_ulong index,
+                                    mr_uint width) {
+  if (width == 0u) return 0u;
+  const mr_ulong bit = index * (mr_ulong)width;
+  const mr_ulong word = bit >> 5;
+  const mr_uint shift = (mr_uint)(bit & 31u);
+  mr_uint v = words[word] >> shift;
+  if (shift + width > 32u) v |= words[word + 1u] << (32u - shift);
+  return width == 32u ? v : (v & ((1u << width) - 1u));
+}
+
+// A triangle's integer uv shift along `axis` (0: u, 1: v) from its packed entry: u's
+// offset from the scene's smallest u shift in the low `bits_u` bits, v's above them
+// (each at most 16 bits: shifts are int16).
+MR_DEVICE mr_int compact_uv_shift(mr_uint entry, mr_uint bits_u, mr_int base, mr_uint axis) {
+  const mr_uint offset = axis == 0u ? (entry & ((1u << bits_u) - 1u)) : (entry >> bits_u);
+  return base + (mr_int)offset;
+}
+
 // One texture coordinate of a triangle's corner. The vertex stores its coordinate modulo
 // the scene's period 2^period_log2 in 16-bit steps of `step` (= 2^period_log2 / 65536); the
 // triangle stores its integer shift (the floor of its smallest coordinate). The code

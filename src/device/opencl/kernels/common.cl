@@ -43,6 +43,11 @@ typedef struct {
   float uv_step[2];
   uint uv_period_log2[2];
   float step;  // PositionGrid::step: cell / 1023
+  // Bit widths of the packed arrays (compact_read_bits): vertex index in bits 0-7,
+  // material id 8-15, uv shift offsets u 16-23 and v 24-31.
+  uint widths;
+  int uv_shift_base[2];
+  uint prim_bits;  // width of the tree's packed triangle references (SceneData::prims)
   uint pad[3];
 } CompactInfo;
 
@@ -171,8 +176,8 @@ typedef struct {
   const __global float* sky_data;
   // The compact scene (placeholders without MR_COMPACT): the tree, triangle references in
   // leaf order, 3 ushorts per vertex (QuantizedPosition), the cell-index table (3 ushorts
-  // per geometry cell), faces, normal codes and uv codes per vertex, uv shifts (2 per
-  // triangle) and material per triangle.
+  // per geometry cell), faces (bit-packed vertex indices), normal codes and uv codes per
+  // vertex, uv shifts and material ids per triangle (bit-packed; widths in CompactInfo).
   const __global CompactNode* cnodes;
   const __global uint* prims;
   const __global ushort* qpos;
@@ -180,8 +185,8 @@ typedef struct {
   const __global uint* indices;
   const __global ushort* qnormals;
   const __global ushort* quvs;
-  const __global short* uv_shifts;
-  const __global ushort* material_ids;
+  const __global uint* uv_shifts;     // bit-packed, one entry per triangle
+  const __global uint* material_ids;  // bit-packed
   const __global CompactInfo* compact;
   uint light_count;
   bool has_tangents;  // some material has a normal map (and the scene has uvs)

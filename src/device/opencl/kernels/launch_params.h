@@ -85,8 +85,8 @@ typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 176 ? 1 : -1];
   X(indices, const __global uint*) SEP()                \
   X(qnormals, const __global ushort*) SEP()             \
   X(quvs, const __global ushort*) SEP()                 \
-  X(uv_shifts, const __global short*) SEP()             \
-  X(material_ids, const __global ushort*) SEP()         \
+  X(uv_shifts, const __global uint*) SEP()              \
+  X(material_ids, const __global uint*) SEP()           \
   X(compact, const __global CompactInfo*) SEP()         \
   X(batch, const __global BatchRects*) SEP()            \
   X(params, __constant LaunchParams*) SEP()             \

@@ -14,8 +14,13 @@ float3 compact_position(const SceneData* sc, uint vertex) {
                                  g->step, sc->cells, q[0], (uint)q[1] | (uint)q[2] << 16);
 }
 
+// Vertex k of a triangle: the faces are bit-packed (render/compact_packed.h).
+uint compact_vertex(const SceneData* sc, uint prim, int k) {
+  return compact_read_bits(sc->indices, 3 * (ulong)prim + (ulong)k, sc->compact->widths & 0xffu);
+}
+
 float3 compact_corner(const SceneData* sc, uint prim, int k) {
-  return compact_position(sc, sc->indices[3 * (size_t)prim + (size_t)k]);
+  return compact_position(sc, compact_vertex(sc, prim, k));
 }
 
 float3 compact_normal(uint code) { return compact_decode_normal(code); }
@@ -23,13 +28,18 @@ float3 compact_normal(uint code) { return compact_decode_normal(code); }
 // Corner k's uv: the triangle's shifts and the vertex's codes (render/shared/compact.h).
 float2 compact_uv(const SceneData* sc, uint prim, int k) {
   const __global CompactInfo* g = sc->compact;
-  const __global ushort* q = &sc->quvs[2 * (size_t)sc->indices[3 * (size_t)prim + (size_t)k]];
-  const __global short* shift = &sc->uv_shifts[2 * (size_t)prim];
-  return (float2)(compact_decode_uv(shift[0], q[0], g->uv_period_log2[0], g->uv_step[0]),
-                  compact_decode_uv(shift[1], q[1], g->uv_period_log2[1], g->uv_step[1]));
+  const __global ushort* q = &sc->quvs[2 * (size_t)compact_vertex(sc, prim, k)];
+  const uint bits_u = (g->widths >> 16) & 0xffu, bits_v = g->widths >> 24;
+  const uint entry = compact_read_bits(sc->uv_shifts, prim, bits_u + bits_v);
+  return (float2)(compact_decode_uv(compact_uv_shift(entry, bits_u, g->uv_shift_base[0], 0u), q[0],
+                                    g->uv_period_log2[0], g->uv_step[0]),
+                  compact_decode_uv(compact_uv_shift(entry, bits_u, g->uv_shift_base[1], 1u), q[1],
+                                    g->uv_period_log2[1], g->uv_step[1]));
 }
 
-uint material_of(const SceneData* sc, uint prim) { return sc->material_ids[prim]; }
+uint material_of(const SceneData* sc, uint prim) {
+  return compact_read_bits(sc->material_ids, prim, (sc->compact->widths >> 8) & 0xffu);
+}
 
 // The uv at barycentrics (b0, b1, b2) of the triangle's vertices 0, 1, 2.
 float2 uv_at(const SceneData* sc, uint prim, float b0, float b1, float b2) {
@@ -40,7 +50,8 @@ float2 uv_at(const SceneData* sc, uint prim, float b0, float b1, float b2) {
 // The interpolated (unnormalised) shading normal; the face normal for a mesh without
 // normals, as decode_shading.
 float3 normal_at(const SceneData* sc, uint prim, float b0, float b1, float b2) {
-  const __global uint* idx = &sc->indices[3 * (size_t)prim];
+  const uint idx[3] = {compact_vertex(sc, prim, 0), compact_vertex(sc, prim, 1),
+                       compact_vertex(sc, prim, 2)};
   if (!sc->compact->has_normals) {
     const float3 p0 = compact_position(sc, idx[0]);
     const float3 face =

@@ -41,7 +41,7 @@ bool traverse(const SceneData* sc, const Ray* ray, bool any_hit, Hit* hit) {
       const uint first = (ref & ~LEAF_BIT) >> LEAF_COUNT_BITS;
       const uint count = (ref & ((1u << LEAF_COUNT_BITS) - 1u)) + 1u;
       for (uint i = first; i < first + count; ++i)
-        if (compact_tri_hit(sc, sc->prims[i], ray, &tmax, hit)) {
+        if (compact_tri_hit(sc, compact_read_bits(sc->prims, i, info->prim_bits), ray, &tmax, hit)) {
           found = true;
           if (any_hit) return true;
         }
