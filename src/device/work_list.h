@@ -25,10 +25,15 @@ class ListWorkSource : public WorkSource {
     id = ids_[pos_++];
     return true;
   }
+  // The whole list is its one device's: every item not yet started is that device's own.
+  size_t pending(int) const override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return items_.size() - pos_;
+  }
   const WorkItem& item(uint32_t id) const override { return items_[by_id_.at(id)]; }
 
  private:
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::vector<WorkItem> items_;
   std::vector<uint32_t> ids_;
   std::map<uint32_t, size_t> by_id_;

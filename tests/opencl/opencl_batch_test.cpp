@@ -187,6 +187,43 @@ TEST(OpenClBatch, ReportsEachItemWithItsShareOfTheBatchTime) {
   EXPECT_LE(distinct, 4u);
 }
 
+// A source whose items are not the device's own (a shared queue, other devices' lists):
+// the device takes them one at a time, whatever `batch` says.
+class SharedOnlySource : public WorkSource {
+ public:
+  explicit SharedOnlySource(std::vector<WorkItem> items) : list_(std::move(items)) {}
+  bool next(int device, uint32_t& id) override { return list_.next(device, id); }
+  size_t next(int device, size_t max, std::vector<uint32_t>& ids) override {
+    ++batch_requests;
+    return WorkSource::next(device, max, ids);
+  }
+  size_t pending(int) const override { return 0; }
+  const WorkItem& item(uint32_t id) const override { return list_.item(id); }
+  int batch_requests = 0;
+
+ private:
+  ListWorkSource list_;
+};
+
+TEST(OpenClBatch, BatchesOnlyItemsAlreadyItsOwn) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  const Scene scene = make_cornell_box();
+  SceneCache rs(scene);
+  const ViewSetup view = view_of(scene, 64, 32);
+  const RenderSettings s{.spp = 1, .max_bounces = 1};
+  const std::vector<WorkItem> items = items_of(strips(64, 32, 16));
+  OpenClDevice d(rs, with_batch(16), "opencl:0:batch=16");
+  SharedOnlySource shared(items);
+  std::vector<Framebuffer> images{Framebuffer(64, 32)};
+  const FrameJob job{{view}, s, &images};
+  const DeviceReport r = d.render(job, shared, 0);
+  ASSERT_FALSE(r.failed) << r.error;
+  EXPECT_EQ(r.items.size(), items.size());
+  EXPECT_EQ(shared.batch_requests, 0);  // never more than one shared item at a time
+  // Its own list (ListWorkSource: all pending) is taken in batches: 16 strips, one launch.
+  EXPECT_EQ(render_items(d, {view}, s, items).report.items.size(), items.size());
+}
+
 // batch= is checked where it is parsed and where the device is made.
 TEST(OpenClBatch, OptionRangeIsEnforced) {
   EXPECT_NO_THROW(parse_device_specs("opencl:0:batch=1"));
