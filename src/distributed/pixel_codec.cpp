@@ -52,20 +52,13 @@ std::vector<Vec3> from_values(const uint8_t* bytes, size_t count, bool half) {
   return out;
 }
 
-// Values of `size` bytes → byte planes (plane b: byte b of every value), and back.
-std::vector<uint8_t> to_planes(const std::vector<uint8_t>& values, size_t size) {
-  const size_t n = values.size() / size;
-  std::vector<uint8_t> out(values.size());
-  for (size_t i = 0; i < n; ++i)
-    for (size_t b = 0; b < size; ++b) out[b * n + i] = values[i * size + b];
-  return out;
-}
-
-std::vector<uint8_t> from_planes(const std::vector<uint8_t>& planes, size_t size) {
-  const size_t n = planes.size() / size;
-  std::vector<uint8_t> out(planes.size());
-  for (size_t i = 0; i < n; ++i)
-    for (size_t b = 0; b < size; ++b) out[i * size + b] = planes[b * n + i];
+// `bytes` read as a rows x cols matrix, transposed. Values of `size` bytes become byte
+// planes (plane b: byte b of every value) with rows = count, cols = size; back with the two
+// swapped.
+std::vector<uint8_t> transpose(const std::vector<uint8_t>& bytes, size_t rows, size_t cols) {
+  std::vector<uint8_t> out(bytes.size());
+  for (size_t r = 0; r < rows; ++r)
+    for (size_t c = 0; c < cols; ++c) out[c * rows + r] = bytes[r * cols + c];
   return out;
 }
 
@@ -139,7 +132,8 @@ void put_pixels(ByteWriter& w, const std::vector<Vec3>& pixels, ResultEncoding e
   const bool half = is_lossy(e);
   std::vector<uint8_t> payload = raw_values(pixels, half);
 #ifdef MULTIRAY_HAS_ZSTD
-  if (uses_zstd(e)) payload = compress(to_planes(payload, half ? 2 : 4));
+  if (uses_zstd(e))
+    payload = compress(transpose(payload, payload.size() / (half ? 2 : 4), half ? 2 : 4));
 #endif
   w.put(uint64_t(payload.size()));
   w.put_bytes(payload.data(), payload.size());
@@ -156,7 +150,8 @@ std::vector<Vec3> get_pixels(ByteReader& r, ResultEncoding e, size_t count) {
   }
 #ifdef MULTIRAY_HAS_ZSTD
   const std::vector<uint8_t> planes = decompress(payload, n, expected);
-  return from_values(from_planes(planes, half ? 2 : 4).data(), count, half);
+  return from_values(transpose(planes, half ? 2 : 4, planes.size() / (half ? 2 : 4)).data(), count,
+                     half);
 #else
   throw WireError("result pixels compressed with zstd, and this multiray has no zstd");
 #endif
