@@ -25,6 +25,7 @@
 #include "scene/builders.h"
 #include "scene/camera_check.h"
 #include "scene/loaders.h"
+#include "util/result_encoding.h"
 #include "util/spec.h"
 #include "volume/volume.h"
 
@@ -134,6 +135,12 @@ std::string check_kernel(const RunConfig& o, bool volume_input) {
   // The volume options are checked for meshes too: a mistyped value is an error, not
   // silently ignored because the scene happened to be a mesh.
   check_volume_options(o.volume);
+  // Likewise --result-encoding without --distributed (it only matters to workers).
+  try {
+    parse_result_encoding(o.distributed.result_encoding);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("--result-encoding ") + e.what());
+  }
   if (volume_input) {
     if (o.sampling != "uniform")
       throw InputError("--sampling " + o.sampling + " is for meshes; volumes use uniform");

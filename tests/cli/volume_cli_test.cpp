@@ -90,6 +90,7 @@ TEST(VolumeCli, BadVolumesAndOptionsAreOneLine) {
   // is refused, not ignored.
   expect_input_error("render --res 8x8 --cost-model nonsense", "--cost-model");
   expect_input_error("render --res 8x8 --step 0", "--step");
+  expect_input_error("render --res 8x8 --result-encoding bogus", "--result-encoding");
 }
 
 // A sequence that says how many frames it lasts renders all of them unless --frames says
