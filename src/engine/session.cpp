@@ -47,7 +47,8 @@ std::shared_ptr<FrameResult> Session::free_buffer(size_t lane) {
 }
 
 int Session::run(int first, int count, FrameObserver& observer) {
-  stop_ = false;
+  // A stop requested before this call (a Ctrl-C right after the viewer printed its address)
+  // must hold: the flag is cleared when run() returns, never when it starts.
   int done = 0;
   for (int frame = first; frame < first + count && !stop_; ++frame, ++done) {
     const FrameInput input = views_.make(frame, camera_at(frame));
@@ -69,6 +70,7 @@ int Session::run(int first, int count, FrameObserver& observer) {
       observer.on_frame(out);
     }
   }
+  stop_ = false;  // consumed: the next run() renders again
   return done;
 }
 

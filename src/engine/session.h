@@ -72,8 +72,9 @@ class Session {
   // The camera of the following frames, instead of the path's: for interactive use.
   // Thread-safe; takes effect at the next frame. std::nullopt returns to the path.
   void set_camera(std::optional<Camera> camera);
-  // Asks run() to return after the frame being rendered. Thread-safe (signal handlers
-  // should set a flag that an observer or another thread turns into this call).
+  // Asks run() to return after the frame being rendered; asked between runs, the next
+  // run() returns before its first frame. Each request stops one run. Thread-safe (signal
+  // handlers should set a flag that an observer or another thread turns into this call).
   void request_stop() { stop_ = true; }
 
   // Renders frames [first, first + count) on every lane, calling `observer` as described

@@ -120,6 +120,23 @@ TEST(Session, CameraSetBetweenFramesTakesEffectAtTheNextFrame) {
   EXPECT_NEAR(keep.results[2]->images[0].at(0, 0).x, expected_depth(0, 0, 1, 60), 1e-4f);
 }
 
+// A Ctrl-C that arrives before run() starts (the viewer prints its address first) used to
+// be forgotten, and the viewer ran on: a stop asked between runs stops the next one.
+TEST(Session, StopRequestedBeforeRunIsKeptForOneRun) {
+  const Scene scene = make_lit_plane(0.5f, 1.0f);
+  SceneCache cache(scene);
+  CpuDevice a(cache, {}, "cpu");
+  std::vector<std::unique_ptr<balance::Balancer>> one;
+  one.push_back(balance::make_balancer("uniform", 1));
+  Session session({&a}, std::move(one), FrameViews(CameraRig::single(), kW, kH, {}),
+                  CameraPath::fixed(scene.cameras[0]), RenderSettings{.spp = 1});
+  Keeper keep;
+  session.request_stop();
+  EXPECT_EQ(session.run(0, 1000000, keep), 0);
+  EXPECT_TRUE(keep.results.empty());
+  EXPECT_EQ(session.run(0, 2, keep), 2) << "the request stops one run, not every later one";
+}
+
 // Plans a frame at a reduced quality, as frame-time targeting will.
 class ReducedQuality : public balance::Balancer {
  public:

@@ -151,6 +151,9 @@ TEST(ViewerBind, InvalidAddressesAreRefusedInOneLine) {
   }
   ViewerProcess local(std::string("--bind localhost ") + kArgs);
   EXPECT_GT(local.port(), 0) << "localhost is 127.0.0.1";
+  // Stopped right after it printed its address: the Ctrl-C must not be lost (it was, when
+  // it reached the session before its first frame; Session.StopRequestedBeforeRun...).
+  EXPECT_EQ(local.stop(), 128 + SIGINT);
 }
 
 // IPv6 loopback: served at http://[::1]:PORT/ when civetweb has IPv6, else refused in one

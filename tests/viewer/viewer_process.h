@@ -43,12 +43,25 @@ class ViewerProcess {
   ~ViewerProcess() { stop(); }
   int port() const { return port_; }
   const std::string& url() const { return url_; }
-  // SIGINT, then the exit code (128 + SIGINT expected).
+  // SIGINT, then the exit code (128 + SIGINT expected). A viewer that has not exited 30 s
+  // later is killed and reported as -1, so that a lost Ctrl-C fails the test in seconds
+  // instead of hanging it until ctest's timeout.
   int stop() {
     if (pid_ <= 0) return code_;
     kill(pid_, SIGINT);
     int status = 0;
-    waitpid(pid_, &status, 0);
+    bool exited = false;
+    for (int i = 0; i < 3000 && !exited; ++i) {
+      exited = waitpid(pid_, &status, WNOHANG) == pid_;
+      if (!exited) usleep(10000);
+    }
+    if (!exited) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, &status, 0);
+      pid_ = -1;
+      if (out_) fclose(out_), out_ = nullptr;
+      return code_ = -1;
+    }
     pid_ = -1;
     if (out_) fclose(out_), out_ = nullptr;
     code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
