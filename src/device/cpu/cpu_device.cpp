@@ -1,8 +1,5 @@
 #include "device/cpu/cpu_device.h"
 
-#include <pthread.h>
-#include <sched.h>
-
 #include <algorithm>
 #include <atomic>
 #include <map>
@@ -15,48 +12,17 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 #include <oneapi/tbb/task_group.h>
-#include <oneapi/tbb/task_scheduler_observer.h>
 
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/cpu/cgroup_quota.h"
 #include "device/cpu/item_time_share.h"
+#include "device/cpu/thread_setup.h"
 #include "device/scene_memory.h"
 #include "render/foveated.h"
 #include "render/kernel.h"
 
 namespace multiray {
-
-namespace {
-
-// Prepares every thread that enters the device's arena: float mode, core pinning, quota.
-class ThreadSetup : public oneapi::tbb::task_scheduler_observer {
- public:
-  ThreadSetup(oneapi::tbb::task_arena& arena, std::vector<int> cores, const CgroupQuota* quota)
-      : task_scheduler_observer(arena), cores_(std::move(cores)), quota_(quota) {
-    observe(true);
-  }
-  ~ThreadSetup() override { observe(false); }
-
-  void on_scheduler_entry(bool) override { prepare_current_thread(); }
-
-  void prepare_current_thread() const {
-    set_fast_float_mode();
-    if (!cores_.empty()) {
-      cpu_set_t set;
-      CPU_ZERO(&set);
-      for (int c : cores_) CPU_SET(c, &set);
-      pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
-    }
-    if (quota_) quota_->join_current_thread();
-  }
-
- private:
-  std::vector<int> cores_;
-  const CgroupQuota* quota_;
-};
-
-}  // namespace
 
 struct CpuDevice::Impl {
   // Builds every CPU kernel that can render the cache's scene (each from the
