@@ -38,7 +38,10 @@ inline bool operator!=(const WorkItem& a, const WorkItem& b) { return !(a == b);
 // One item as a device rendered it, measured inside the device: `time_ms` is the whole
 // item cost the device (rendering + emulated idle + per-item overhead), `busy_ms` the
 // rendering alone (0 where unknown); `samples` the samples it took (0 if not counted);
-// `id` its number in the frame's Dispatcher (Plan::all_items() order).
+// `id` its number in the frame's Dispatcher (Plan::all_items() order). A device rendering
+// several items at once charges each its share of the time (a CPU device's threads: the
+// time is split evenly among the items in progress), so a frame's item times add up to
+// the device's time either way.
 struct ItemReport {
   WorkItem item;
   double time_ms = 0;

@@ -1,11 +1,9 @@
 #include "device/cpu/cpu_device.h"
 
-#include <pthread.h>
-#include <sched.h>
-
 #include <algorithm>
 #include <atomic>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <thread>
@@ -13,47 +11,18 @@
 #include <oneapi/tbb/blocked_range2d.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
-#include <oneapi/tbb/task_scheduler_observer.h>
+#include <oneapi/tbb/task_group.h>
 
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/cpu/cgroup_quota.h"
+#include "device/cpu/item_time_share.h"
+#include "device/cpu/thread_setup.h"
 #include "device/scene_memory.h"
 #include "render/foveated.h"
 #include "render/kernel.h"
 
 namespace multiray {
-
-namespace {
-
-// Prepares every thread that enters the device's arena: float mode, core pinning, quota.
-class ThreadSetup : public oneapi::tbb::task_scheduler_observer {
- public:
-  ThreadSetup(oneapi::tbb::task_arena& arena, std::vector<int> cores, const CgroupQuota* quota)
-      : task_scheduler_observer(arena), cores_(std::move(cores)), quota_(quota) {
-    observe(true);
-  }
-  ~ThreadSetup() override { observe(false); }
-
-  void on_scheduler_entry(bool) override { prepare_current_thread(); }
-
-  void prepare_current_thread() const {
-    set_fast_float_mode();
-    if (!cores_.empty()) {
-      cpu_set_t set;
-      CPU_ZERO(&set);
-      for (int c : cores_) CPU_SET(c, &set);
-      pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
-    }
-    if (quota_) quota_->join_current_thread();
-  }
-
- private:
-  std::vector<int> cores_;
-  const CgroupQuota* quota_;
-};
-
-}  // namespace
 
 struct CpuDevice::Impl {
   // Builds every CPU kernel that can render the cache's scene (each from the
@@ -85,12 +54,14 @@ struct CpuDevice::Impl {
   std::vector<Vec3> sample_values;
   std::vector<uint64_t> sample_stamp;
   uint64_t render_calls = 0;
+  uint64_t arena_entries = 0;  // testing aid: times render() entered `arena`
+  int takers = 0;              // testing aid: threads that took items, last frame
   CpuDeviceOptions opts;
   std::optional<CgroupQuota> quota;  // declared before `setup`, which points to it
   oneapi::tbb::task_arena arena;
   std::optional<ThreadSetup> setup;
   std::atomic<double> speed{1.0};
-  int items_done = 0;  // over the device's lifetime, for fail_after
+  std::atomic<int> items_done{0};  // over the device's lifetime, for fail_after
 };
 
 CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec) {
@@ -147,10 +118,30 @@ DeviceCapabilities CpuDevice::capabilities() {
   return caps;
 }
 
+uint64_t CpuDevice::arena_entries() const { return impl_->arena_entries; }
+int CpuDevice::item_takers() const { return impl_->takers; }
+
 void CpuDevice::set_emulated_speed(double speed) {
   impl_->speed = speed;
   info_.emulated_speed = speed;
 }
+
+// One frame of one device, shared by the threads that render it.
+struct CpuDevice::Frame {
+  Frame(const FrameJob& j, const Kernel& k, WorkSource& s, int i, DeviceReport& r)
+      : job(j), kernel(k), source(s), index(i), report(r) {}
+  const FrameJob& job;
+  const Kernel& kernel;
+  WorkSource& source;
+  int index;
+  DeviceReport& report;
+  std::atomic<int64_t> stolen_ns{0};  // multi-threaded: summed over the arena's threads
+  // Team mode only:
+  std::mutex mutex;               // guards `report`
+  ItemTimeShare share;            // the items' times (ItemReport::time_ms)
+  std::atomic<bool> stop{false};  // a thread failed: the others take no more items
+  std::atomic<int> takers{0};     // team loops that took at least one item
+};
 
 DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int index) {
   DeviceReport report;
@@ -163,59 +154,132 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
   }
   const Stopwatch frame_clock;
   ++impl_->render_calls;
-  const int tile = std::max(1, impl_->opts.tile);
   // Stolen time (DeviceReport::stolen_ms): with one thread, per item on this thread; with
   // several, per chunk on each arena thread, averaged over the threads. A quota's
   // throttling is this device's emulated speed, and foveated units are not measured.
   const bool one_thread = impl_->opts.threads == 1;
   report.stolen_measured = !impl_->quota;
-  std::atomic<int64_t> stolen_ns{0};  // multi-threaded: summed over the arena's threads
   try {
-    SlowdownEmulator slowdown(impl_->speed.load());
-    const Kernel& kernel = impl_->kernel(job.settings.kernel);
-    for (uint32_t id; source.next(index, id);) {
-      if (impl_->opts.fail_after >= 0 && impl_->items_done >= impl_->opts.fail_after)
-        throw std::runtime_error("injected failure after " + std::to_string(impl_->items_done) +
-                                 " items (fail_after, a testing aid)");
-      ++impl_->items_done;
-      const Stopwatch item_clock;
-      // With one thread the arena runs the item on this thread: its CPU time is the
-      // device's own work (see SlowdownEmulator).
-      const double cpu_start = one_thread ? SlowdownEmulator::thread_cpu_ms() : 0;
-      const WorkItem& item = source.item(id);
-      const ViewSetup& view = job.views.at(size_t(item.view));
-      Framebuffer& out = job.outputs->at(size_t(item.view));
-      std::atomic<uint64_t> samples{0}, rays{0};
-      const Rect r = item.rect;
-      impl_->arena.execute([&] {
-        if (view.foveation) {
-          report.stolen_measured &= one_thread;
-          return render_foveated(job, kernel, view, r, out, samples, rays);
-        }
-        oneapi::tbb::parallel_for(
-            oneapi::tbb::blocked_range2d<int>(r.y0, r.y1, tile, r.x0, r.x1, tile),
-            [&](const oneapi::tbb::blocked_range2d<int>& b) {
-              const ThreadTimes chunk(one_thread ? nullptr : &stolen_ns);
-              const Rect sub{b.cols().begin(), b.rows().begin(), b.cols().end(), b.rows().end()};
-              const KernelStats ks = kernel.render_rect(view, job.settings, sub, out);
-              samples += ks.samples;
-              rays += ks.rays;
-            });
-      });
-      const double busy = item_clock.elapsed_ms();
-      const double cpu = one_thread ? SlowdownEmulator::thread_cpu_ms() - cpu_start : busy;
-      if (one_thread) report.stolen_ms += std::max(0.0, busy - cpu);
-      slowdown.after_unit(cpu);
-      report.add(ItemReport{item, item_clock.elapsed_ms(), double(samples.load()), busy, id},
-                 rays);
-    }
+    Frame f(job, impl_->kernel(job.settings.kernel), source, index, report);
+    // Threads take items themselves unless the frame needs items one at a time: the
+    // emulated speed idles after each item, and foveated units share the device's
+    // sample buffers.
+    bool team = !one_thread && impl_->speed.load() >= 1.0;
+    for (const ViewSetup& v : job.views) team = team && !v.foveation;
+    // The arena is entered once a frame, not once an item: entering and leaving it per
+    // item let its threads fall asleep between items, to be woken for the next.
+    ++impl_->arena_entries;
+    impl_->arena.execute([&] {
+      try {
+        team ? render_team(f) : render_in_turn(f);
+      } catch (const std::exception& e) {
+        report.failed = true;
+        report.error = e.what();
+      }
+    });
+    impl_->takers = team ? f.takers.load() : 1;
+    if (!one_thread) report.stolen_ms = double(f.stolen_ns.load()) * 1e-6 / impl_->opts.threads;
   } catch (const std::exception& e) {
     report.failed = true;
     report.error = e.what();
   }
-  if (!one_thread) report.stolen_ms = double(stolen_ns.load()) * 1e-6 / impl_->opts.threads;
   report.time_ms = frame_clock.elapsed_ms();
   return report;
+}
+
+void CpuDevice::count_item() {
+  const int done = impl_->items_done.fetch_add(1);
+  if (impl_->opts.fail_after >= 0 && done >= impl_->opts.fail_after)
+    throw std::runtime_error("injected failure after " + std::to_string(done) +
+                             " items (fail_after, a testing aid)");
+}
+
+void CpuDevice::render_rect(Frame& f, const ViewSetup& view, Rect r, Framebuffer& out,
+                            std::atomic<uint64_t>& samples, std::atomic<uint64_t>& rays) {
+  std::atomic<int64_t>* stolen = impl_->opts.threads == 1 ? nullptr : &f.stolen_ns;
+  const auto chunk = [&](Rect sub) {
+    const ThreadTimes times(stolen);
+    const KernelStats ks = f.kernel.render_rect(view, f.job.settings, sub, out);
+    samples += ks.samples;
+    rays += ks.rays;
+  };
+  const int tile = std::max(1, impl_->opts.tile);
+  if (r.width() <= tile && r.height() <= tile) return chunk(r);  // one tile: no split
+  // Isolated: a thread waiting for this item's tiles helps only with them, never starts
+  // another team loop (which would hold this item until the frame's end).
+  oneapi::tbb::this_task_arena::isolate([&] {
+    oneapi::tbb::parallel_for(
+        oneapi::tbb::blocked_range2d<int>(r.y0, r.y1, tile, r.x0, r.x1, tile),
+        [&](const oneapi::tbb::blocked_range2d<int>& b) {
+          chunk({b.cols().begin(), b.rows().begin(), b.cols().end(), b.rows().end()});
+        });
+  });
+}
+
+// Items one at a time, each cut into tiles for the arena's threads (the caller's thread
+// takes them). Runs inside the arena.
+void CpuDevice::render_in_turn(Frame& f) {
+  const bool one_thread = impl_->opts.threads == 1;
+  SlowdownEmulator slowdown(impl_->speed.load());
+  for (uint32_t id; f.source.next(f.index, id);) {
+    count_item();
+    const Stopwatch item_clock;
+    // With one thread the item runs on this thread: its CPU time is the device's own
+    // work (see SlowdownEmulator).
+    const double cpu_start = one_thread ? SlowdownEmulator::thread_cpu_ms() : 0;
+    const WorkItem& item = f.source.item(id);
+    const ViewSetup& view = f.job.views.at(size_t(item.view));
+    Framebuffer& out = f.job.outputs->at(size_t(item.view));
+    std::atomic<uint64_t> samples{0}, rays{0};
+    if (view.foveation) {
+      f.report.stolen_measured &= one_thread;
+      render_foveated(f.job, f.kernel, view, item.rect, out, samples, rays);
+    } else {
+      render_rect(f, view, item.rect, out, samples, rays);
+    }
+    const double busy = item_clock.elapsed_ms();
+    const double cpu = one_thread ? SlowdownEmulator::thread_cpu_ms() - cpu_start : busy;
+    if (one_thread) f.report.stolen_ms += std::max(0.0, busy - cpu);
+    slowdown.after_unit(cpu);
+    f.report.add(ItemReport{item, item_clock.elapsed_ms(), double(samples.load()), busy, id},
+                 rays);
+  }
+}
+
+// Every arena thread takes items itself until none is left: no hand-over between items.
+// An item of several tiles is still cut, its tiles open to threads that ran out of items.
+void CpuDevice::render_team(Frame& f) {
+  const auto loop = [this, &f] {
+    int taken = 0;
+    try {
+      for (uint32_t id; !f.stop && f.source.next(f.index, id);) {
+        if (taken++ == 0) ++f.takers;
+        count_item();
+        const WorkItem& item = f.source.item(id);
+        const ViewSetup& view = f.job.views.at(size_t(item.view));
+        std::atomic<uint64_t> samples{0}, rays{0};
+        const double mark = f.share.start();
+        try {
+          render_rect(f, view, item.rect, f.job.outputs->at(size_t(item.view)), samples, rays);
+        } catch (...) {
+          f.share.finish(mark);
+          throw;
+        }
+        const double ms = f.share.finish(mark);
+        const std::lock_guard<std::mutex> lock(f.mutex);
+        f.report.add(ItemReport{item, ms, double(samples.load()), ms, id}, rays);
+      }
+    } catch (const std::exception& e) {
+      const std::lock_guard<std::mutex> lock(f.mutex);
+      if (!f.report.failed) f.report.error = e.what();
+      f.report.failed = true;
+      f.stop = true;
+    }
+  };
+  oneapi::tbb::task_group team;
+  for (int t = 1; t < impl_->opts.threads; ++t) team.run(loop);
+  loop();  // the caller's thread is one of the team
+  team.wait();
 }
 
 void CpuDevice::render_foveated(const FrameJob& job, const Kernel& kernel, const ViewSetup& view,

@@ -40,7 +40,25 @@ class CpuDevice : public Device {
   DeviceReport render(const FrameJob& job, WorkSource& source, int index) override;
   void set_emulated_speed(double speed) override;
 
+  // Testing aids: how many times render() entered the device's task arena (once a frame),
+  // and how many of its threads took items in the last frame (1 when it rendered items
+  // one at a time).
+  uint64_t arena_entries() const;
+  int item_takers() const;
+
  private:
+  struct Frame;
+  // A frame's items one at a time, each cut into tiles for the threads: one thread, an
+  // emulated speed, or foveated views.
+  void render_in_turn(Frame& f);
+  // A frame's items taken by every thread of the arena, each for itself.
+  void render_team(Frame& f);
+  // Renders rect `r` of `view`: a rect of several tiles is cut into tiles for the arena's
+  // threads. Runs inside the arena.
+  void render_rect(Frame& f, const ViewSetup& view, Rect r, Framebuffer& out,
+                   std::atomic<uint64_t>& samples, std::atomic<uint64_t>& rays);
+  // Counts an item taken; throws once fail_after items were taken.
+  void count_item();
   // Renders unit rect `r` of a foveated view: its samples, then its pixels. Runs inside
   // the device's arena.
   void render_foveated(const FrameJob& job, const Kernel& kernel, const ViewSetup& view, Rect r,
