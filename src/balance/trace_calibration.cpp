@@ -236,7 +236,9 @@ bool fit_contention(const std::vector<Item>& items, const std::vector<double>& m
     }
   }
   if (!(den > 0)) return false;
-  contention = std::max(num / den, 0.0);
+  // At most 1 (two devices at work: each at half speed): beyond, the evidence (a few
+  // items, or cost differences the map could not see) is not believed.
+  contention = std::clamp(num / den, 0.0, 1.0);
   return true;
 }
 

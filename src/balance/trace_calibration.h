@@ -24,7 +24,7 @@ struct TraceCalibration {
   std::vector<CalibratedDevice> devices;
   // While k devices are at work each runs 1 + contention·(k − 1) times slower
   // (SimDevice::contention). Identified only when items ran alone (another device had
-  // run out of work) on at least kMinAloneShare of some device's cost; else as given.
+  // run out of work) on at least kMinAloneShare of some device's cost; else as given. At most 1.
   double contention = 0;
   bool contention_identified = false;
   double alone_share = 0;  // share of all the cost rendered by a device working alone
