@@ -11,6 +11,7 @@
 #include "app/commands.h"
 #include "app/console.h"
 #include "app/report_plots.h"
+#include "app/simulate_calibrated.h"
 #include "app/stats_json.h"
 #include "balance/balancer.h"
 #include "balance/sim_study.h"
@@ -40,6 +41,9 @@ struct SimulateOptions {
   uint64_t seed = 0;
   std::string json_path, plot_path;
   bool validate = false;
+  bool calibrate = false;
+  std::string predict;              // real traces, comma-separated (implies --calibrate)
+  double contention = -1;           // < 0: learnt by --calibrate
   std::string max_memory = "auto";  // as render's --max-memory
 };
 
@@ -111,6 +115,22 @@ balance::Trace load_trace(const std::string& path) {
   }
 }
 
+int calibrated(const SimulateOptions& o, const balance::Trace& trace) {
+  CalibratedRun run;
+  run.trace_path = o.trace_path;
+  run.predict = split_spec_list(o.predict);
+  run.balancers = split_spec_list(o.balancers);
+  run.warmup = o.warmup;
+  if (o.contention != -1 && !(o.contention >= 0 && o.contention <= 10))
+    throw InputError("--contention must be in [0, 10]");
+  run.contention = o.contention;
+  if (!(o.noise >= 0 && o.noise < 1)) throw InputError("--noise must be in [0, 1)");
+  run.noise = o.noise;
+  run.seed = o.seed;
+  run.json_path = o.json_path;
+  return simulate_calibrated(trace, run);
+}
+
 }  // namespace
 
 Runner add_simulate_command(CLI::App& app) {
@@ -160,6 +180,18 @@ Runner add_simulate_command(CLI::App& app) {
   cmd->add_flag("--validate", o->validate,
                 "Replay the trace with the balancer and devices that recorded it and compare "
                 "the simulated frame times with the recorded ones");
+  cmd->add_flag("--calibrate", o->calibrate,
+                "Learn the recording devices from the trace (relative speeds, fixed cost per "
+                "item and per frame, contention; docs/traces.md) and replay it on them with "
+                "--balancers (default: the trace's own) at the trace's frame size");
+  cmd->add_option("--predict", o->predict,
+                  "Traces of real runs of other balancers on the same devices, scene and "
+                  "frames, comma-separated: calibrate on TRACE and compare each run's frame "
+                  "times with its balancer replayed on the calibrated devices (implies "
+                  "--calibrate)");
+  cmd->add_option("--contention", o->contention,
+                  "With --calibrate: each device's slowdown per other device at work, in "
+                  "[0, 10], instead of the one learnt (when the trace cannot show it)");
   cmd->add_option("--plot", o->plot_path, "Write efficiency vs device count as SVG");
   cmd->add_option("--max-memory", o->max_memory,
                   "Refuse simulations estimated to need more memory than this: auto (half of "
@@ -170,6 +202,7 @@ Runner add_simulate_command(CLI::App& app) {
     if (!o->plot_path.empty()) check_output_file(o->plot_path, "--plot");
     const balance::Trace trace = load_trace(o->trace_path);
     if (o->validate) return validate(trace);
+    if (o->calibrate || !o->predict.empty()) return calibrated(*o, trace);
     const std::vector<int> counts = device_counts(o->devices);
     std::vector<std::string> specs =
         o->balancers.empty() ? balance::balancer_names() : split_spec_list(o->balancers);

@@ -111,9 +111,19 @@ SimFrame simulate_linked(const Plan& plan, const FrameShape& shape,
     if (d.alive && !(d.speed > 0 && d.speed_after > 0))
       throw std::invalid_argument("device " + std::to_string(i) + " has a speed <= 0");
     frame_factor[i] = 1 + d.frame_noise * symmetric_unit(rng);
+    if (!(d.frame_overhead_ms >= 0 && d.contention >= 0))
+      throw std::invalid_argument("device " + std::to_string(i) +
+                                  " has a negative frame overhead or contention");
     stats.devices[i].alive = d.alive;
-    if (d.alive) ready.push({link.latency_ms, i});  // the frame's start reaches it
+    if (d.alive) ready.push({link.latency_ms + d.frame_overhead_ms, i});  // frame start
   }
+  // When each device ran out of work (contention counts the devices still at work).
+  std::vector<double> done_at(n, std::numeric_limits<double>::infinity());
+  auto at_work = [&](double t) {
+    int k = 0;
+    for (size_t j = 0; j < n; ++j) k += devices[j].alive && link.latency_ms <= t && done_at[j] > t;
+    return std::max(k, 1);
+  };
 
   std::vector<Message> messages;
   std::vector<double> unsent(n, 0.0);  // batched results: pixels not yet sent
@@ -123,6 +133,7 @@ SimFrame simulate_linked(const Plan& plan, const FrameShape& shape,
     uint32_t id;
     Dispatcher::Via via;
     if (!dispatch.next(int(i), id, &via)) {  // out of work: the device is done
+      done_at[i] = clock;
       if (unsent[i] > 0) messages.push_back({clock, unsent[i] * link.bytes_per_pixel, i});
       continue;
     }
@@ -132,9 +143,10 @@ SimFrame simulate_linked(const Plan& plan, const FrameShape& shape,
     const SimDevice& d = devices[i];
     const double c = std::max(0.0, cost(item)) * (1 + d.item_noise * symmetric_unit(rng));
     const double start = clock + d.item_overhead_ms;
+    const double slow = d.contention > 0 ? 1 + d.contention * (at_work(clock) - 1) : 1.0;
     const double dt =
-        d.item_overhead_ms + run_time(start, c, d.speed * frame_factor[i], d.change_at_ms,
-                                      d.speed_after * frame_factor[i]);
+        d.item_overhead_ms + run_time(start, c, d.speed * frame_factor[i] / slow, d.change_at_ms,
+                                      d.speed_after * frame_factor[i] / slow);
     DeviceFrameStats& dev = stats.devices[i];
     dev.items.push_back(ItemReport{item, dt, w, dt, id});
     dev.time_ms = dev.busy_ms = clock + dt;

@@ -19,6 +19,14 @@ struct SimDevice {
   double frame_noise = 0;       // speed scaled by 1 + U(−x, x), drawn once per frame
   double item_noise = 0;        // each item's cost scaled by 1 + U(−x, x)
   double item_overhead_ms = 0;  // fixed cost per item (dispatch, transfer)
+  // Fixed cost per frame (start-up, thread wake-ups): the device's first item starts this
+  // many ms after the frame reached it. Counted in its time_ms, not in any item.
+  double frame_overhead_ms = 0;
+  // Slowdown by the other devices (shared caches, memory bandwidth): an item runs at
+  // speed / (1 + contention·(k − 1)) where k counts the devices at work when the item
+  // starts, this one included (per item, not re-timed when k changes during it). A device
+  // is at work from the moment the frame reaches it until it runs out of items.
+  double contention = 0;
   // Mid-frame change: from `change_at_ms` on (frame-relative) the device runs at
   // `speed_after`. An item straddling the change is split exactly.
   double change_at_ms = std::numeric_limits<double>::infinity();

@@ -102,6 +102,34 @@ TEST(Simulate, WeightsCountSamplesAndNoiseIsSeeded) {
   EXPECT_NEAR(a.devices[0].time_ms, 200.0, 20.0 + 1e-9);
 }
 
+TEST(Simulate, FrameOverheadDelaysTheFirstItem) {
+  Plan plan;
+  plan.assigned = {{row(0, 5), row(5, 5)}, {}};
+  plan.ratios = {1, 0};
+  std::vector<SimDevice> d = speeds({2, 1});
+  d[0].frame_overhead_ms = 3;
+  const FrameStats s = simulate(plan, kShape, d, uniform_cost(kShape, 1.0));
+  EXPECT_DOUBLE_EQ(s.devices[0].items[0].time_ms, 25.0);  // not in any item
+  EXPECT_DOUBLE_EQ(s.devices[0].time_ms, 53.0);           // but in the device's frame
+}
+
+TEST(Simulate, ContentionSlowsItemsStartedWhileOthersWork) {
+  // Device 0: two rows; device 1: eight. While both work each runs 1.5x slower; device 1's
+  // items started after device 0 ran dry run at full speed.
+  Plan plan;
+  plan.assigned = {{row(0), row(1)},
+                   {row(2), row(3), row(4), row(5), row(6), row(7), row(8), row(9)}};
+  plan.ratios = {0.2, 0.8};
+  std::vector<SimDevice> d = speeds({1, 1});
+  for (SimDevice& x : d) x.contention = 0.5;
+  const FrameStats s = simulate(plan, kShape, d, uniform_cost(kShape, 1.0));
+  EXPECT_DOUBLE_EQ(s.devices[0].items[0].time_ms, 15.0);  // 10 ms × 1.5
+  EXPECT_DOUBLE_EQ(s.devices[0].time_ms, 30.0);
+  EXPECT_DOUBLE_EQ(s.devices[1].items[1].time_ms, 15.0);  // started at 15: both at work
+  EXPECT_DOUBLE_EQ(s.devices[1].items[2].time_ms, 10.0);  // started at 30: alone
+  EXPECT_DOUBLE_EQ(s.devices[1].time_ms, 30.0 + 6 * 10.0);
+}
+
 TEST(Simulate, RejectsMismatchedDevices) {
   Plan plan;
   plan.assigned = {{row(0, 10)}};

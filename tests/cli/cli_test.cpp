@@ -361,3 +361,46 @@ TEST(Cli, SimulateReplaysARecordedTrace) {
 }
 
 }  // namespace cli_test
+
+namespace cli_test {
+
+// simulate --calibrate / --predict: the calibration and the comparison table on traces
+// recorded by render; a real trace of another frame size is refused in one line.
+TEST(Cli, SimulatePredictsFromACalibratedTrace) {
+  const std::string dir = ::testing::TempDir() + "/cli_simcal";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  auto record = [&](const std::string& balancer, const std::string& res) {
+    const std::string trace = dir + "/" + balancer + "-" + res + ".trace";
+    EXPECT_EQ(
+        run("render -q --res " + res + " --spp 1 --frames 4 --devices cpu,cpu --balancer " +
+            balancer + " --trace " + trace + " --out " + dir + "/out-" + balancer + "-" + res)
+            .code,
+        0);
+    return trace;
+  };
+  const std::string cal = record("hybrid", "32x24"), queue = record("queue", "32x24"),
+                    uniform = record("uniform", "32x24"), small = record("queue", "16x12");
+  const Result r = run("simulate " + cal + " --predict " + queue + "," + uniform +
+                       " --warmup 1 --json " + dir + "/predict.json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("item cost ms"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("contention"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("\nqueue"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("\nuniform"));
+  std::ifstream json(dir + "/predict.json");
+  const std::string text((std::istreambuf_iterator<char>(json)), {});
+  for (const char* key :
+       {"\"calibration\"", "\"real_mean_ms\"", "\"simulated_mean_ms\"", "\"mean_abs_error\"",
+        "\"bias\"", "\"item_overhead_ms\"", "\"frame_overhead_ms\"", "\"contention\""})
+    EXPECT_THAT(text, ::testing::HasSubstr(key));
+  const Result c = run("simulate " + cal + " --calibrate --contention 0.1 --balancers uniform");
+  ASSERT_EQ(c.code, 0) << c.out;
+  EXPECT_THAT(c.out, ::testing::HasSubstr("given by --contention"));
+  expect_input_error("simulate " + cal + " --predict " + small, "16x12");
+  expect_input_error("simulate " + cal + " --predict " + queue + ",/nonexistent.trace",
+                     "nonexistent");
+  expect_input_error("simulate " + cal + " --calibrate --contention -2", "--contention");
+}
+
+}  // namespace cli_test

@@ -1,0 +1,199 @@
+#include "app/simulate_calibrated.h"
+
+#include <cmath>
+#include <fstream>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "app/console.h"
+#include "app/stats_json.h"
+#include "balance/trace_calibration.h"
+#include "core/error.h"
+#include "core/file_io.h"
+#include "run/parse_options.h"
+
+namespace multiray::app {
+
+namespace {
+
+balance::Trace load(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot read trace '" + path + "'");
+  try {
+    return balance::read_trace(in);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("trace '" + path + "': " + e.what());
+  }
+}
+
+// A real run must be of the same devices and frames as the calibration trace.
+void check_match(const balance::Trace& cal, const balance::Trace& real, const std::string& path) {
+  auto refuse = [&](const std::string& what) {
+    throw InputError("--predict: trace '" + path + "' " + what);
+  };
+  if (real.devices.size() != cal.devices.size())
+    refuse(fmt::format("has {} devices, the calibration trace {}", real.devices.size(),
+                       cal.devices.size()));
+  if (real.frames.size() != cal.frames.size())
+    refuse(fmt::format("has {} frames, the calibration trace {}", real.frames.size(),
+                       cal.frames.size()));
+  for (size_t f = 0; f < cal.frames.size(); ++f) {
+    const balance::FrameShape &a = cal.frames[f].shape, &b = real.frames[f].shape;
+    if (!a.same_size(b))
+      refuse(fmt::format("has frames of {}x{} x {} views, the calibration trace {}x{} x {}",
+                         b.width, b.height, b.views, a.width, a.height, a.views));
+  }
+}
+
+struct Row {
+  std::string balancer;
+  bool has_real = false;
+  double real = 0, simulated = 0, error = 0, bias = 0;  // means over frames >= warm-up
+  double plain = 0, plain_error = 0;                    // without calibration
+};
+
+// Mean of `sim`, and its mean |error| per frame against `real` (frame times, ms).
+void compare(const std::vector<double>& real, const std::vector<double>& sim, double& sim_mean,
+             double& error) {
+  double s = 0, e = 0;
+  for (size_t f = 0; f < sim.size(); ++f) {
+    s += sim[f];
+    if (!real.empty() && real[f] > 0) e += std::abs(sim[f] - real[f]) / real[f];
+  }
+  sim_mean = sim.empty() ? 0 : s / double(sim.size());
+  error = sim.empty() ? 0 : e / double(sim.size());
+}
+
+std::vector<double> replayed(const balance::Trace& trace, const std::string& spec,
+                             const std::vector<balance::SimDevice>* devices, int warmup,
+                             uint64_t seed) {
+  auto balancer = make_balancer_or_throw(spec, int(trace.devices.size()), "the trace");
+  std::function<std::vector<balance::SimDevice>(int)> at;
+  if (devices) at = [devices](int) { return *devices; };
+  std::vector<double> out;
+  const auto run = balance::replay_trace(trace, *balancer, at, {}, 0, seed);
+  for (size_t f = size_t(warmup); f < run.size(); ++f) out.push_back(run[f].frame_ms);
+  return out;
+}
+
+Row row(const balance::Trace& trace, const balance::Trace& net,
+        const std::vector<balance::SimDevice>& devices, const std::string& spec,
+        const balance::Trace* real, const CalibratedRun& o, int warmup) {
+  Row r;
+  r.balancer = spec;
+  std::vector<double> truth;
+  if (real) {
+    for (size_t f = size_t(warmup); f < real->frames.size(); ++f)
+      truth.push_back(balance::frame_time_ms(real->frames[f]));
+    double sum = 0;
+    for (double t : truth) sum += t;
+    r.has_real = !truth.empty();
+    r.real = r.has_real ? sum / double(truth.size()) : 0;
+  }
+  compare(truth, replayed(net, spec, &devices, warmup, o.seed), r.simulated, r.error);
+  compare(truth, replayed(trace, spec, nullptr, warmup, o.seed), r.plain, r.plain_error);
+  r.bias = r.real > 0 ? r.simulated / r.real - 1 : 0;
+  return r;
+}
+
+void print_calibration(const balance::Trace& trace, const balance::TraceCalibration& cal,
+                       const CalibratedRun& o) {
+  print_out("calibration on {} ({} frames after warm-up, recorded with {}):\n", o.trace_path,
+            cal.frames, trace.balancer);
+  print_out("{:>6} {:>8} {:>14} {:>15} {:>6}  {}\n", "device", "speed", "item cost ms",
+            "frame cost ms", "items", "name");
+  for (size_t d = 0; d < cal.devices.size(); ++d) {
+    const balance::CalibratedDevice& c = cal.devices[d];
+    print_out("{:>6} {:>8.4f} {:>14} {:>15.4f} {:>6}  {}\n", d, c.speed,
+              c.overhead_fitted ? fmt::format("{:.4f}", c.item_overhead_ms) : "- (no fit)",
+              c.frame_overhead_ms, c.items, trace.devices[d].name);
+  }
+  print_out(
+      "contention {:.4f} ({}; {:.1f}% of the cost rendered alone), frame noise {:.4f} "
+      "(learnt; simulated with {:g})\n",
+      cal.contention,
+      o.contention >= 0           ? "given by --contention"
+      : cal.contention_identified ? "learnt"
+                                  : "not identifiable from this trace: 0, see --contention",
+      100 * cal.alone_share, cal.frame_noise, o.noise);
+}
+
+nlohmann::json to_json(const balance::TraceCalibration& cal) {
+  nlohmann::json devices = nlohmann::json::array();
+  for (const auto& d : cal.devices)
+    devices.push_back({{"speed", d.speed},
+                       {"item_overhead_ms", d.item_overhead_ms},
+                       {"item_overhead_fitted", d.overhead_fitted},
+                       {"frame_overhead_ms", d.frame_overhead_ms},
+                       {"items", d.items}});
+  return {{"devices", devices},
+          {"contention", cal.contention},
+          {"contention_identified", cal.contention_identified},
+          {"alone_share", cal.alone_share},
+          {"frame_noise", cal.frame_noise},
+          {"frames", cal.frames}};
+}
+
+}  // namespace
+
+int simulate_calibrated(const balance::Trace& trace, const CalibratedRun& o) {
+  if (!o.json_path.empty()) check_output_file(o.json_path, "--json");
+  // Everything is checked before anything is printed: one line for bad input.
+  std::vector<balance::Trace> reals;
+  for (const std::string& path : o.predict) {
+    reals.push_back(load(path));
+    check_match(trace, reals.back(), path);
+    make_balancer_or_throw(reals.back().balancer, int(trace.devices.size()), path);
+  }
+  for (const std::string& spec : o.balancers)
+    make_balancer_or_throw(spec, int(trace.devices.size()), "--balancers");
+  const int frames = int(trace.frames.size());
+  const int warmup = o.warmup >= 0 ? o.warmup : frames / 10;
+  if (warmup >= frames) throw InputError("--warmup leaves no frame of the trace");
+  const balance::TraceCalibration cal = balance::calibrate(trace, warmup, o.contention);
+  const balance::Trace net = balance::net_trace(trace, cal);
+  const std::vector<balance::SimDevice> devices = balance::calibrated_devices(cal, o.noise);
+  print_calibration(trace, cal, o);
+
+  std::vector<Row> rows;
+  for (size_t k = 0; k < reals.size(); ++k)
+    rows.push_back(row(trace, net, devices, reals[k].balancer, &reals[k], o, warmup));
+  const std::vector<std::string> own{trace.balancer};
+  for (const std::string& spec : o.balancers.empty() && reals.empty() ? own : o.balancers)
+    rows.push_back(
+        row(trace, net, devices, spec, spec == trace.balancer ? &trace : nullptr, o, warmup));
+  print_out(
+      "frames {}-{} (largest device time per frame; real: measured, simulated: virtual "
+      "time on the calibrated devices; plain: uncalibrated replay)\n",
+      warmup, frames - 1);
+  print_out("{:<24} {:>10} {:>10} {:>8} {:>8} {:>10} {:>9}\n", "balancer", "real ms", "sim ms",
+            "|err|", "bias", "plain ms", "plain err");
+  for (const Row& r : rows) {
+    auto pct = [&](double v) { return r.has_real ? fmt::format("{:.2f}%", 100 * v) : "-"; };
+    print_out("{:<24} {:>10} {:>10.3f} {:>8} {:>8} {:>10.3f} {:>9}\n", r.balancer.substr(0, 24),
+              r.has_real ? fmt::format("{:.3f}", r.real) : "-", r.simulated, pct(r.error),
+              pct(r.bias), r.plain, pct(r.plain_error));
+  }
+  if (!o.json_path.empty()) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const Row& r : rows) {
+      nlohmann::json j{{"balancer", r.balancer},
+                       {"simulated_mean_ms", r.simulated},
+                       {"plain_mean_ms", r.plain}};
+      if (r.has_real) {
+        j["real_mean_ms"] = r.real;
+        j["mean_abs_error"] = r.error;
+        j["bias"] = r.bias;
+        j["plain_mean_abs_error"] = r.plain_error;
+      }
+      list.push_back(j);
+    }
+    nlohmann::json doc{{"trace", o.trace_path}, {"predict", o.predict},        {"warmup", warmup},
+                       {"frames", frames},      {"calibration", to_json(cal)}, {"rows", list}};
+    write_file_atomically(o.json_path, dump_json(doc) + "\n");
+  }
+  return 0;
+}
+
+}  // namespace multiray::app

@@ -1,0 +1,29 @@
+// `multiray simulate TRACE --calibrate [--predict REAL,...]`: the simulator calibrated on
+// a trace (balance/trace_calibration.h) predicts other balancers on the devices that
+// recorded it, against real runs of them when given.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "balance/trace.h"
+
+namespace multiray::app {
+
+struct CalibratedRun {
+  std::string trace_path;
+  std::vector<std::string> predict;    // traces of real runs to predict (may be empty)
+  std::vector<std::string> balancers;  // without --predict: what to simulate
+  int warmup = -1;                     // -1: a tenth of the frames
+  double contention = -1;              // < 0: learnt from the trace
+  double noise = 0;                    // per-frame speed noise of the calibrated devices
+  uint64_t seed = 0;
+  std::string json_path;
+};
+
+// Prints the calibration and the table (and writes --json); InputError (exit 2, one
+// line) for a real trace whose devices or frames do not match the calibration trace's.
+int simulate_calibrated(const balance::Trace& trace, const CalibratedRun& run);
+
+}  // namespace multiray::app
