@@ -6,6 +6,8 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "balance/hybrid.h"
@@ -131,6 +133,20 @@ TEST(HybridDetect, ADoubledSpeedIsTakenAtTheFirstFrame) {
   simulate_run(b, kShape, speed_step({1, 1}, {2, 1}, 15, 0.05), flat_cost(kShape), 16, 2);
   EXPECT_EQ(b.changes()[0], 1);
   EXPECT_NEAR(ratio(b), 2, 0.2);
+  // The change itself stays out of the noise history (log 2 would lift sigma to ~0.2).
+  EXPECT_LT(b.noise()[0], 0.08);
+}
+
+TEST(HybridDetect, SpecNamesTheNewParameters) {
+  const auto b = make_balancer("hybrid:detect=fixed:z=4:frame=0", 2);
+  const std::string spec = b->spec();
+  for (const char* part : {":detect=fixed", ":z=4", ":frame=0"})
+    EXPECT_NE(spec.find(part), std::string::npos) << spec;
+  EXPECT_EQ(make_balancer(spec, 2)->spec(), spec);
+  EXPECT_NE(make_balancer("hybrid", 2)->spec().find(":detect=noise:z=3:frame=1"),
+            std::string::npos);
+  EXPECT_THROW(make_balancer("hybrid:detect=maybe", 2), std::invalid_argument);
+  EXPECT_THROW(make_balancer("hybrid:z=0.5", 2), std::invalid_argument);
 }
 
 TEST(HybridDetect, ANoisyDeviceGetsALargerTail) {
