@@ -22,20 +22,99 @@ HybridBalancer::HybridBalancer(int device_count, const Options& options)
       speed_(size_t(device_count), 0.0),
       overhead_(size_t(device_count), 0.0),
       overhead_sum_(size_t(device_count), 0.0),
-      overhead_weight_(size_t(device_count), 0.0) {}
+      overhead_weight_(size_t(device_count), 0.0),
+      noise_sum_(size_t(device_count), 0.0),
+      noise_weight_(size_t(device_count), 0.0),
+      undo_sum_(size_t(device_count), 0.0),
+      undo_weight_(size_t(device_count), 0.0),
+      noise_count_(size_t(device_count), 0),
+      pending_(size_t(device_count), 0),
+      pending_base_(size_t(device_count), 0.0),
+      changes_(size_t(device_count), 0),
+      frame_cost_(size_t(device_count), 0.0),
+      frame_seen_(size_t(device_count), false) {}
 
 std::string HybridBalancer::spec() const {
   std::ostringstream s;
   s << "hybrid:bands=" << opt_.bands << ":taper=" << opt_.taper << ":tail=" << opt_.tail
     << ":alpha=" << opt_.alpha << ":jump=" << opt_.jump << ":gamma=" << opt_.gamma
     << ":min_chunk=" << opt_.min_chunk << ":steal=" << (opt_.steal ? 1 : 0)
-    << ":overhead=" << opt_.overhead;
+    << ":overhead=" << opt_.overhead << ":detect=" << (opt_.detect_noise ? "noise" : "fixed")
+    << ":z=" << opt_.z << ":frame=" << (opt_.frame_cost ? 1 : 0);
   return s.str();
 }
 
 void HybridBalancer::reset_cost(const FrameShape& shape) {
   cost_.assign(size_t(shape.views) * size_t(shape.height), 1.0);
   cost_shape_ = FrameShape{shape.width, shape.height, shape.views, {}};
+}
+
+double HybridBalancer::noise(size_t i) const {
+  return noise_weight_[i] > 0 ? std::sqrt(noise_sum_[i] / noise_weight_[i]) : 0.0;
+}
+
+std::vector<double> HybridBalancer::noise() const {
+  std::vector<double> sigma(speed_.size());
+  for (size_t i = 0; i < sigma.size(); ++i) sigma[i] = noise(i);
+  return sigma;
+}
+
+bool HybridBalancer::jumps(size_t i, double m) const {
+  const double s = speed_[i];
+  if (!opt_.detect_noise || noise_count_[i] < kMinHistory) return std::abs(m / s - 1) > opt_.jump;
+  return std::abs(std::log(m / s)) > std::max(opt_.z * noise(i), kNoiseFloor);
+}
+
+void HybridBalancer::take_speed(size_t i, double m) {
+  double& s = speed_[i];
+  if (!(s > 0)) {  // the first measurement
+    s = m;
+    return;
+  }
+  bool change = jumps(i, m);
+  int beyond = 0;  // the side of a measurement beyond the confirmation bound
+  if (opt_.detect_noise && noise_count_[i] >= kMinHistory) {
+    const double bound = std::max(kConfirmSigmas * noise(i), kNoiseFloor);
+    const double r = std::log(m / s), r0 = std::log(m / pending_base_[i]);
+    if (!change && pending_[i] != 0 && std::abs(r0) > bound && (r0 > 0 ? 1 : -1) == pending_[i]) {
+      // The second measurement in a row beyond the bound on the same side of the estimate
+      // both were made against: a change that began with the first, which therefore
+      // leaves the noise history again.
+      change = true;
+      noise_sum_[i] = undo_sum_[i], noise_weight_[i] = undo_weight_[i], --noise_count_[i];
+    }
+    if (std::abs(r) > bound) beyond = r > 0 ? 1 : -1;
+  }
+  if (change) {
+    s = m;
+    pending_[i] = 0;
+    ++changes_[i];
+    return;
+  }
+  if (opt_.detect_noise) {
+    const double r = std::log(m / s);
+    undo_sum_[i] = noise_sum_[i], undo_weight_[i] = noise_weight_[i];
+    noise_sum_[i] = (1 - kNoiseWeight) * noise_sum_[i] + kNoiseWeight * r * r;
+    noise_weight_[i] = (1 - kNoiseWeight) * noise_weight_[i] + kNoiseWeight;
+    ++noise_count_[i];
+    pending_[i] = beyond;
+    pending_base_[i] = s;
+  }
+  s = (1 - opt_.alpha) * s + opt_.alpha * m;
+}
+
+void HybridBalancer::take_frame_cost(size_t i, const DeviceFrameStats& d) {
+  if (!opt_.frame_cost || d.items.empty()) return;
+  double items = 0;
+  for (const ItemReport& r : d.items) {
+    if (!valid_time(r.time_ms)) return;  // an unusable item time: no gap to measure
+    items += r.time_ms;
+  }
+  const double gap = std::max(d.time_ms - items, 0.0);
+  if (!std::isfinite(gap)) return;
+  double& f = frame_cost_[i];
+  f = frame_seen_[i] ? (1 - kFrameCostWeight) * f + kFrameCostWeight * gap : gap;
+  frame_seen_[i] = true;
 }
 
 std::vector<double> HybridBalancer::planning_speeds() const {
@@ -54,7 +133,7 @@ std::vector<double> HybridBalancer::planning_speeds() const {
 std::vector<double> HybridBalancer::overhead_shares(const std::vector<double>& speed,
                                                     const std::vector<double>& items,
                                                     double total) const {
-  // n_i = s_i·(T − k_i·o_i), at least s_i·kMinWork·T, and Σn_i = total: the work is
+  // n_i = s_i·(T − f_i − k_i·o_i), at least s_i·kMinWork·T, and Σn_i = total: the work is
   // increasing in T, so T is found by bisection.
   constexpr double kMinWork = 0.05;
   const size_t n = speed.size();
@@ -62,11 +141,11 @@ std::vector<double> HybridBalancer::overhead_shares(const std::vector<double>& s
   for (size_t i = 0; i < n; ++i) {
     if (!alive(int(i)) || !(speed[i] > 0)) continue;
     speed_sum += speed[i];
-    fixed_max = std::max(fixed_max, items[i] * overhead_[i]);
+    fixed_max = std::max(fixed_max, frame_cost_[i] + items[i] * overhead_[i]);
   }
   auto work = [&](double t, size_t i) {
     if (!alive(int(i)) || !(speed[i] > 0)) return 0.0;
-    return speed[i] * std::max(t - items[i] * overhead_[i], kMinWork * t);
+    return speed[i] * std::max(t - frame_cost_[i] - items[i] * overhead_[i], kMinWork * t);
   };
   const std::vector<double> plain = sanitize(speed, even());
   if (!(speed_sum > 0) || !(total > 0) || !std::isfinite(total + fixed_max)) return plain;
@@ -190,6 +269,13 @@ std::vector<std::vector<WorkItem>> HybridBalancer::lay_out(
     if (sh > 0) slowest = std::min(slowest, sh);
   for (double c : row_cost) total += c;
   std::vector<double> floor(n, std::max(opt_.tail * slowest, 1e-9));
+  if (opt_.detect_noise)  // a noisy device's floor grows by its noise
+    for (size_t i = 0; i < n; ++i)
+      if (noise_count_[i] >= kMinHistory && !(overhead_[i] > 0)) {
+        const double f = (opt_.tail + noise(i) / kNoiseChunks) * slowest;
+        if (std::isfinite(f))
+          floor[i] = std::max(floor[i], std::min(f, 0.4 * shares[i] / double(m)));
+      }
   const bool model = opt_.overhead > 0 && total > 0 && std::isfinite(total);
   if (model)
     for (size_t i = 0; i < n; ++i) {
@@ -245,13 +331,18 @@ Plan HybridBalancer::plan(const FrameShape& shape, int /*frame*/) {
   plan.ratios = sanitize(speed, even());
   plan.steal = opt_.steal;
   plan.assigned = lay_out(shape, row_cost, plan.ratios, speed);
-  bool fixed_costs = false;
-  for (int i = 0; i < device_count(); ++i) fixed_costs |= alive(i) && overhead_[size_t(i)] > 0;
-  if (opt_.overhead > 0 && fixed_costs) {
+  bool per_item = false, per_frame = false;
+  for (int i = 0; i < device_count(); ++i) {
+    per_item |= alive(i) && overhead_[size_t(i)] > 0;
+    per_frame |= alive(i) && frame_cost_[size_t(i)] > 0;
+  }
+  per_item &= opt_.overhead > 0;
+  if (per_item || per_frame) {
     // Count each device's items on the layout by speeds, split so that work plus fixed
     // costs take every device the same time, and lay the frame out again.
-    std::vector<double> items(plan.assigned.size());
-    for (size_t i = 0; i < items.size(); ++i) items[i] = double(plan.assigned[i].size());
+    std::vector<double> items(plan.assigned.size(), 0.0);
+    if (per_item)
+      for (size_t i = 0; i < items.size(); ++i) items[i] = double(plan.assigned[i].size());
     plan.ratios = overhead_shares(speed, items, total);
     plan.assigned = lay_out(shape, row_cost, plan.ratios, speed);
   }
@@ -332,13 +423,18 @@ void HybridBalancer::update(const FrameStats& stats) {
     // next to one on many), older fits fading by kOverheadMemory a frame. A speed that changed
     // during the frame makes the last (small) items look dear, as a fixed cost would: the
     // fit is only taken when the speed measured with the current fixed cost is no jump.
+    take_frame_cost(size_t(i), *d);
     const double items = double(d->items.size());
+    const double f = frame_cost_[size_t(i)];
     double& o = overhead_[size_t(i)];
-    double& s = speed_[size_t(i)];
-    const double mean_item = d->time_ms / items;
+    const double s = speed_[size_t(i)];
+    const double mean_item = (d->time_ms - f) / items;
+    // (With `jump` in either mode: this gate is for gross changes inside the frame. The
+    // noise rule would also shut out the frames whose speed moves by a few percent because
+    // o_i is still being learnt, and o_i would never be.)
     const bool steady =
-        !(s > 0) ||
-        std::abs(work / std::max(d->time_ms - items * o, 0.5 * d->time_ms) / s - 1) <= opt_.jump;
+        !(s > 0) || std::abs(work / std::max(d->time_ms - f - items * o, 0.5 * d->time_ms) / s -
+                             1) <= opt_.jump;
     double fit = 0, variance = 0;
     bool timed = false;  // some item has a usable time
     for (const ItemReport& r : d->items) timed |= valid_time(r.time_ms);
@@ -356,12 +452,9 @@ void HybridBalancer::update(const FrameStats& stats) {
       const double clear = sum / weights - 2 / std::sqrt(weights);
       o = std::isfinite(clear) ? std::clamp(clear, 0.0, 0.5 * mean_item) : 0.0;
     }
-    const double net = std::max(d->time_ms - items * o, 0.5 * d->time_ms);
+    const double net = std::max(d->time_ms - f - items * o, 0.5 * d->time_ms);
     const double measured = work / net;
-    if (!(s > 0) || std::abs(measured / s - 1) > opt_.jump)
-      s = measured;
-    else
-      s = (1 - opt_.alpha) * s + opt_.alpha * measured;
+    take_speed(size_t(i), measured);
     // Each item's time net of the fixed cost, as a share of the device's work: its
     // observed cost (so emulated idle, if the engine reports it only per frame, is
     // spread over the items).

