@@ -29,8 +29,8 @@ HybridBalancer::HybridBalancer(int device_count, const Options& options)
       undo_weight_(size_t(device_count), 0.0),
       noise_count_(size_t(device_count), 0),
       pending_(size_t(device_count), 0),
-      pending_base_(size_t(device_count), 0.0),
       changes_(size_t(device_count), 0),
+      pending_base_(size_t(device_count), 0.0),
       frame_cost_(size_t(device_count), 0.0),
       frame_seen_(size_t(device_count), false) {}
 
