@@ -69,10 +69,10 @@ TEST(AutoBalancerCli, OneDeviceRunsUniformAndQuietSaysNothing) {
 // The run layer hands the workload to the rules: foveated sampling has a row of its own.
 TEST(AutoBalancerCli, FoveatedSamplingReachesTheRules) {
   const std::string dir = fresh_dir("auto_foveated");
-  const Result r = run(
-      "render --res 32x16 --sampling foveated --integrator ao --devices "
-      "cpu:threads=1,cpu:threads=1 -q --out " +
-      dir);
+  const Result r =
+      run("render --res 32x16 --sampling foveated --integrator ao --devices "
+          "cpu:threads=1,cpu:threads=1 -q --out " +
+          dir);
   ASSERT_EQ(r.code, 0) << r.out;
   const auto doc = stats_of(dir);
   EXPECT_EQ(doc.at("balancer_auto").at("spec"), "semi-static:split=rows:cdf=frame");
