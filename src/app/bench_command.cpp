@@ -30,11 +30,12 @@ namespace multiray::app {
 
 namespace {
 
-// Every registered balancer, "uniform,static,...".
+// Every registered balancer, "uniform,static,...", but `auto` (it runs one of the others:
+// a second lane of the same balancer).
 std::string every_balancer() {
   std::string list;
   for (const std::string& name : balance::balancer_names())
-    list += (list.empty() ? "" : ",") + name;
+    if (name != "auto") list += (list.empty() ? "" : ",") + name;
   return list;
 }
 
@@ -284,6 +285,7 @@ Runner add_bench_command(CLI::App& app) {
     std::vector<std::string> mapped = specs;  // --mapping applied by start_run
     std::unique_ptr<Session> session = start_run(s, *o, mapped, "--balancers", &worker_exit);
     if (!session) return worker_exit;
+    for (const std::string& spec : mapped) report_auto_choice(s, spec, "--balancers", false);
     const std::vector<std::string> lanes = s.lane_labels(mapped);
     if (!b->report_dir.empty()) {
       std::error_code ec;

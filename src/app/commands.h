@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,12 @@ void add_common_options(CLI::App& cmd, RunConfig& o);
 // given, may refuse the built run before anything is printed. On a worker
 // rank of a distributed run it serves the master instead, sets `*worker_exit` to the exit
 // code and returns null.
+// `--balancer auto` (`spec` as given): what it picked for the built run `s`, printed once
+// to stderr ("multiray: --balancer auto: hybrid (2 devices ...)") unless `quiet`; nullopt
+// for any other spec.
+std::optional<balance::AutoChoice> report_auto_choice(const Run& s, const std::string& spec,
+                                                      const std::string& option, bool quiet);
+
 std::unique_ptr<Session> start_run(Run& s, const RunConfig& o, std::vector<std::string>& specs,
                                    const std::string& option, int* worker_exit,
                                    const std::function<void()>& before_load = {},

@@ -87,7 +87,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
   auto o = std::make_shared<RunConfig>();
   auto out_dir = std::make_shared<std::string>("out");
   auto exr = std::make_shared<bool>(false);
-  auto balancer = std::make_shared<std::string>("hybrid");
+  auto balancer = std::make_shared<std::string>("auto");
   auto trace_path = std::make_shared<std::string>();
   auto quiet = std::make_shared<bool>(false);
   add_common_options(*cmd, *o);
@@ -160,6 +160,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
             throw InputError("--adapt: render takes one mode (bench compares several)");
         });
     if (!session) return worker_exit;
+    const auto auto_choice = report_auto_choice(s, specs[0], "--balancer", *quiet);
     std::unique_ptr<TraceFile> trace;
     if (!trace_path->empty())
       trace = std::make_unique<TraceFile>(*trace_path, session->engine(0).balancer().spec(),
@@ -193,6 +194,8 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                        {"balancer", session->engine(0).balancer().spec()},
                        {"views", s.views->rig().view_count()},
                        {"frames_requested", o->frames}};
+    if (auto_choice)
+      doc["balancer_auto"] = {{"spec", auto_choice->spec}, {"reason", auto_choice->reason}};
     if (interrupted) doc["interrupted_by"] = signal_name;
     output.write_stats(doc);
     // After stats.json, so that a failed trace (a full disk) loses only the trace.

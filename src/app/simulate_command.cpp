@@ -206,6 +206,8 @@ Runner add_simulate_command(CLI::App& app) {
     const std::vector<int> counts = device_counts(o->devices);
     std::vector<std::string> specs =
         o->balancers.empty() ? balance::balancer_names() : split_spec_list(o->balancers);
+    if (o->balancers.empty())  // auto would simulate one of the others a second time
+      std::erase(specs, std::string("auto"));
     if (!(o->noise >= 0 && o->noise < 1)) throw InputError("--noise must be in [0, 1)");
     balance::StudyConfig config;
     config.frame_noise = o->noise;

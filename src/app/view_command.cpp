@@ -22,7 +22,7 @@ Runner add_view_command(CLI::App& app) {
       "mouse, switch the balancer, see which device drew what and how long each took");
   auto o = std::make_shared<RunConfig>();
   add_common_options(*cmd, *o);
-  auto balancer = std::make_shared<std::string>("hybrid");
+  auto balancer = std::make_shared<std::string>("auto");
   auto bind = std::make_shared<std::string>("127.0.0.1");
   auto port = std::make_shared<int>(8080);
   auto max_clients = std::make_shared<int>(16);
@@ -103,6 +103,7 @@ Runner add_view_command(CLI::App& app) {
     int worker_exit = 0;  // view refuses --distributed above: never a worker
     std::vector<std::string> specs{*balancer};
     std::unique_ptr<Session> session = start_run(s, *o, specs, "--balancer", &worker_exit);
+    report_auto_choice(s, specs[0], "--balancer", false);
     vo.volume = s.volume;
     std::vector<std::string> names;
     for (const auto& d : s.devices) names.push_back(d->info().name);

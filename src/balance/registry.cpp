@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "balance/auto_choice.h"
 #include "balance/bruder.h"
 #include "balance/dlb.h"
 #include "balance/hybrid.h"
@@ -170,6 +171,13 @@ std::vector<BalancerEntry> builtin_balancers() {
          "fixed cost per sample, one per device > 0: the paper's 7.5 static baseline "
          "(absent: predicted, else measured)"}},
        make_bruder},
+      // Not a method: picks one of the above (auto_choice.h). Built here with only the
+      // device count known; the run layer resolves it from the devices and the link.
+      {"auto",
+       "chosen from the devices, the link and the workload (the default of render and view)",
+       "ours",
+       {},
+       [](Spec&, int n) { return std::make_unique<AutoBalancer>(n); }},
       // The peers' balancers (peers_*.h), for comparison.
       {"cycles",
        "Blender Cycles' multi-device balancing",

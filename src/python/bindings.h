@@ -32,7 +32,7 @@ Framebuffer from_numpy(const py::array& image);
 // types: TypeError for an unknown name or a value of the wrong type.
 struct RenderArgs {
   RunConfig config;
-  std::string balancer = "hybrid";
+  std::string balancer = "auto";
 };
 RenderArgs parse_render_kwargs(const py::kwargs& kwargs, const char* caller);
 // The names parse_render_kwargs takes, for help texts.

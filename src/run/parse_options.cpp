@@ -137,6 +137,7 @@ std::string apply_mapping(const std::string& text, const std::string& mapping,
     }
   }();
   const std::string& name = spec.name();
+  if (name == "auto") return text;  // Run::resolve_balancer maps what auto picks
   if (name == "uniform" || name == "static" || name == "dlb")
     return spec.has("layout") ? text : text + ":layout=" + mapping;
   if (mapping == "views")

@@ -36,8 +36,9 @@ float parse_exposure(double ev);
 ToneCurve parse_tone(const std::string& text, bool volume);
 // Adds the layout `mapping` asks for to a balancer spec: strips (every device renders its
 // share of every view's shuffled strips) or views (whole views per device). Empty: spec
-// unchanged. Throws InputError when the balancer has no such layout, or a malformed spec
-// as a bad value of `option` (the command-line option that gave the spec).
+// unchanged, and `auto` too (Run::resolve_balancer applies it to what auto picks).
+// Throws InputError when the balancer has no such layout, or a malformed spec as a bad
+// value of `option` (the command-line option that gave the spec).
 std::string apply_mapping(const std::string& balancer_spec, const std::string& mapping,
                           const std::string& option = "--balancer");
 

@@ -55,7 +55,8 @@ std::unique_ptr<Session> Run::make_session(const std::vector<std::string>& specs
   std::vector<std::unique_ptr<balance::Balancer>> lanes;
   for (const std::string& spec : specs) {
     // The master of a distributed run is the top of Harada's hierarchy (balance/hierarchy.h).
-    const std::string lane = cluster ? top_level_spec(spec, option) : spec;
+    const std::string chosen = resolve_balancer(spec, nullptr, option);
+    const std::string lane = cluster ? top_level_spec(chosen, option) : chosen;
     for (size_t m = 0; m < modes; ++m)
       lanes.push_back(make_balancer_or_throw(lane, int(devices.size()), option));
   }
@@ -379,8 +380,10 @@ int serve_as_worker(Run& s) { return s.cluster->serve(s.device_ptrs(), s.setting
 
 Run build_run(const RunConfig& o, int lanes, const std::function<void()>& before_load) {
   Run s;
+  s.mapping = o.mapping;
   if (!o.distributed.enabled) {
     fill_setup(s, o, lanes, before_load);
+    s.auto_inputs = gather_auto_inputs(s, o);
     return s;
   }
   s.cluster = std::make_shared<Cluster>(o.distributed);
@@ -412,6 +415,7 @@ Run build_run(const RunConfig& o, int lanes, const std::function<void()>& before
     const std::string why = unsupported_job(d->info(), s.settings.kernel, o.sampling);
     if (!why.empty()) throw InputError("--distributed: " + why);
   }
+  s.auto_inputs = gather_auto_inputs(s, o);
   return s;
 }
 

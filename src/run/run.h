@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "balance/auto_choice.h"
 #include "core/scene_files.h"
 #include "distributed/cluster.h"
 #include "engine/frame_views.h"
@@ -47,6 +48,10 @@ struct Run {
   Vec3 up{0, 1, 0};                   // the up axis --up resolved to
   float view_spacing = 0;             // between grid views, scene units (0: one view)
   std::shared_ptr<VolumeRun> volume;  // volumes only: styles, adaptation, sequence
+  // What `--balancer auto` decides from (build_run: the devices, the link, the workload),
+  // and --mapping, applied to what it picks.
+  balance::AutoInputs auto_inputs;
+  std::string mapping;
 
   std::vector<Device*> device_ptrs() const;
   // A session over the devices with one lane per balancer spec (each already checked) and,
@@ -55,6 +60,11 @@ struct Run {
   // `option`.
   std::unique_ptr<Session> make_session(const std::vector<std::string>& balancer_specs,
                                         const std::string& option = "--balancer") const;
+  // `spec`, or for "auto" the spec choose_balancer(auto_inputs) picks (with --mapping
+  // applied), and that choice in `*choice` if given. make_session resolves every spec so;
+  // commands call it first to report the choice. Throws InputError against `option`.
+  std::string resolve_balancer(const std::string& spec, balance::AutoChoice* choice = nullptr,
+                               const std::string& option = "--balancer") const;
   // The name of each lane make_session(specs) makes: the spec, plus " adapt=MODE" when a
   // volume run adapts in more than one way.
   std::vector<std::string> lane_labels(const std::vector<std::string>& balancer_specs) const;
@@ -86,6 +96,9 @@ LoadOptions memory_guarded_load(double need, double limit,
 // A worker rank of a distributed run (s.cluster, not the master): serves the master over
 // s.devices until it says quit; returns the exit code.
 int serve_as_worker(Run& s);
+
+// What the rules of `--balancer auto` see of a built run (run/auto_balancer.cpp).
+balance::AutoInputs gather_auto_inputs(const Run& s, const RunConfig& o);
 
 // Validates every option before loading anything expensive (the memory estimate
 // included, for `lanes` balancers), then loads the scene and creates the devices.

@@ -36,6 +36,7 @@ const std::vector<std::string> kSpecs = {
     "bruder:zeta=1:tile=5:steal=1",
     "bruder:tile=1:items=tiles",
     "bruder:items=rect",
+    "auto",  // runs uniform on one device, hybrid on more
     // The peers' balancers (peers_*.h).
     "cycles",
     "cycles:interval_ms=0",

@@ -114,6 +114,22 @@ TEST(Distributed, FourRanksSeoStrategiesAndHaradaHierarchyGiveTheSinglePixels) {
   }
 }
 
+// --balancer auto (the default) is resolved on the master, which sees each worker as a
+// remote device behind the link: recorded with the ranks and the link in its reason.
+TEST(Distributed, AutoIsResolvedOnTheMasterFromTheWorkersAndTheLink) {
+  const std::string dir = out_dir("auto");
+  const CliResult r = distributed(
+      3, "render --res 40x24 --spp 1 --frames 1 --devices cpu:threads=1 --link wifi --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("multiray: --balancer auto: hybrid (2 devices (remote"));
+  const nlohmann::json s = stats(dir);
+  EXPECT_EQ(s.at("settings").at("balancer"), "auto");
+  EXPECT_EQ(s.at("balancer_auto").at("spec"), "hybrid");
+  EXPECT_THAT(s.at("balancer_auto").at("reason").get<std::string>(),
+              ::testing::HasSubstr("3 ranks, link 5 ms, 200 Mbit/s; over a link"));
+  EXPECT_THAT(s.at("balancer").get<std::string>(), ::testing::StartsWith("hybrid:"));
+}
+
 TEST(Distributed, MultiviewAdaptiveAndReprojectedSamplingGiveTheSinglePixels) {
   const std::string extra = "--views 2x1 --sampling adaptive ";
   const std::vector<std::string> want = reference(extra);

@@ -43,6 +43,17 @@ def test_renderer_continues_frames_and_takes_a_camera():
     assert r.render(0) == []
 
 
+def test_balancer_defaults_to_auto_as_in_the_cli():
+    # auto is resolved from the devices: one device has nothing to balance.
+    one = multiray.Renderer(**SMALL, devices="cpu:threads=1")
+    assert one.balancer.startswith("uniform:")
+    two = multiray.Renderer(**SMALL, devices="cpu:threads=1,cpu:threads=1")
+    assert two.balancer.startswith("hybrid:")
+    assert multiray.Renderer(**SMALL, balancer="auto", devices="cpu:threads=1").balancer == (
+        one.balancer
+    )
+
+
 def test_gil_released_while_rendering():
     """A Python thread keeps running while frames render (it could not with the GIL held)."""
     ticks = []
