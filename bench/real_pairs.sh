@@ -10,7 +10,8 @@
 #               the same, device 1 halving its speed at frame 30 (emulated)
 #
 # Usage: bench/real_pairs.sh BUILD_DIR [OUT_DIR] [SET ...]   (default: every set)
-# Environment: BALANCERS (comma-separated specs), REPEATS (3), FRAMES (60).
+# Environment: BALANCERS (comma-separated specs), REPEATS (3), FRAMES (60), TRACE (1: also
+# write each balancer's trace, OUT_DIR/SET-<balancer>.trace, for `simulate --predict`).
 # Run it on a quiet machine (no build, test or other job): each bench prints and records
 # its own contention probe and says when its figures are not trustworthy.
 set -eu
@@ -33,7 +34,10 @@ one() {
   name=$1
   shift
   echo "== $name ($(date -u +%H:%M:%S), load $(cut -d' ' -f1-3 /proc/loadavg))"
-  "$bin" bench "$@" --frames "$frames" --repeats "$repeats" --balancers "$balancers" \
+  trace=""
+  [ "${TRACE:-0}" = 1 ] && trace="--trace $out/$name"
+  # shellcheck disable=SC2086 # $trace is empty or two words
+  "$bin" bench "$@" --frames "$frames" --repeats "$repeats" --balancers "$balancers" $trace \
     --json "$out/$name.json" > "$out/$name.txt"
   grep -A 20 "^balancer " "$out/$name.txt" | tail -n +1 | head -n 16
 }
