@@ -174,8 +174,11 @@ TEST(Outputs, AFailedTraceKeepsStatsJsonAndSaysWhy) {
   SmallDisk disk("trace_disk", "size=8k");
   if (!disk.mounted) GTEST_SKIP() << "cannot mount a small tmpfs here (needs root)";
   const std::string out = fresh_dir("trace_out");
-  const auto r = run_cli(MULTIRAY_BIN, "render -q --res 16x16 --spp 1 --frames 40 --out " + out +
-                                           " --trace " + disk.dir + "/run.trace");
+  // 4-px tiles: 16 items a frame, a trace far larger than the 8 KiB disk whatever the
+  // default balancer (one device's `auto` renders a frame as one item).
+  const auto r = run_cli(
+      MULTIRAY_BIN, "render -q --res 16x16 --spp 1 --frames 40 --balancer queue:tile=4 --out " +
+                        out + " --trace " + disk.dir + "/run.trace");
   expect_refused(r, "No space left on device");
   EXPECT_THAT(r.out, ::testing::HasSubstr("writing trace"));
   std::ifstream in(out + "/stats.json");
