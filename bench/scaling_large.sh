@@ -9,7 +9,8 @@
 # Recording the traces takes a few minutes and needs a quiet machine (the traces' tile
 # costs are measured); the simulations are virtual time and need no quiet.
 # Environment: SIZES ("3840x2160:16 7680x4320:32": size and the queue's tile while
-# recording), FRAMES (traced frames per size, 6), COUNTS, LINKS, ENCODINGS.
+# recording), FRAMES (traced frames per size, 6), COUNTS, LINKS, ENCODINGS, RECORD_ONLY (1:
+# record the traces, simulate nothing: the quiet part alone).
 set -eu
 build=${1:?usage: bench/scaling_large.sh BUILD_DIR [OUT_DIR]}
 out=${2:-/tmp/multiray_scaling_large}
@@ -37,6 +38,7 @@ for size in $sizes; do
       --frames "$frames" --camera-path orbit:40 --devices cpu:threads=1 \
       --balancer "queue:tile=$tile" --trace "$trace" --out "$out/frames-$res" --overwrite -q
   fi
+  [ "${RECORD_ONLY:-0}" = 1 ] && continue
   for link in $links; do
     for enc in $encodings; do
       name="sponza-$res-$link-$enc"
@@ -49,4 +51,5 @@ for size in $sizes; do
 done
 # Per table: the largest device count at which each balancer stays at or above the goal
 # (0.9 on the LAN, 0.8 on Wi-Fi).
+[ "${RECORD_ONLY:-0}" = 1 ] && exit 0
 python3 "$root/bench/scaling_reach.py" "$out"/sponza-*.json
