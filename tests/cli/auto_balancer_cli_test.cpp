@@ -33,12 +33,13 @@ TEST(AutoBalancerCli, RenderWithoutBalancerRecordsWhatAutoPicked) {
   const Result r =
       run("render --res 32x16 --spp 1 --devices cpu:threads=1,cpu:threads=1 --out " + dir);
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_THAT(r.out, ::testing::HasSubstr("multiray: --balancer auto: hybrid (2 devices (cpu"));
+  EXPECT_THAT(r.out,
+              ::testing::HasSubstr("multiray: --balancer auto: hybrid:bands=1 (2 devices (cpu"));
   const auto doc = stats_of(dir);
   EXPECT_EQ(doc.at("settings").at("balancer"), "auto");  // as asked
-  EXPECT_EQ(doc.at("balancer_auto").at("spec"), "hybrid");
+  EXPECT_EQ(doc.at("balancer_auto").at("spec"), "hybrid:bands=1");
   EXPECT_THAT(doc.at("balancer_auto").at("reason").get<std::string>(),
-              ::testing::HasSubstr("learns the devices' speeds"));
+              ::testing::HasSubstr("keeps its rays coherent"));
   EXPECT_THAT(doc.at("balancer").get<std::string>(), ::testing::StartsWith("hybrid:bands="));
 }
 
@@ -100,7 +101,8 @@ TEST(AutoBalancerCli, BenchResolvesAutoLikeRender) {
           "--balancers uniform,auto --json " +
           json);
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_THAT(r.out, ::testing::HasSubstr("multiray: --balancers auto: hybrid (2 devices"));
+  EXPECT_THAT(r.out,
+              ::testing::HasSubstr("multiray: --balancers auto: hybrid:bands=1 (2 devices"));
   const auto doc = nlohmann::json::parse(std::ifstream(json));
   ASSERT_EQ(doc.at("runs").size(), 2u);
   EXPECT_EQ(doc.at("runs")[1].at("lane"), "auto");
