@@ -9,7 +9,7 @@
 # Recording the traces takes a few minutes and needs a quiet machine (the traces' tile
 # costs are measured); the simulations are virtual time and need no quiet.
 # Environment: SIZES ("3840x2160:16 7680x4320:32": size and the queue's tile while
-# recording), FRAMES (traced frames per size, 6), COUNTS, LINKS, ENCODINGS, RECORD_ONLY (1:
+# recording), FRAMES (traced frames per size, 6), COUNTS, LINKS, ENCODINGS, SIM_FRAMES (40), RECORD_ONLY (1:
 # record the traces, simulate nothing: the quiet part alone).
 set -eu
 build=${1:?usage: bench/scaling_large.sh BUILD_DIR [OUT_DIR]}
@@ -22,6 +22,7 @@ frames=${FRAMES:-6}
 counts=${COUNTS:-2,4,8,16,32,64,128,256,512,1024}
 links=${LINKS:-lan wifi}
 encodings=${ENCODINGS:-float float+zstd}
+sim_frames=${SIM_FRAMES:-40}
 if [ ! -f "$sponza" ]; then
   echo "skipping: $sponza not found"
   exit 0
@@ -44,7 +45,7 @@ for size in $sizes; do
       name="sponza-$res-$link-$enc"
       echo "== simulating $name ($(date -u +%H:%M:%S))"
       "$bin" simulate "$trace" --devices "$counts" --speeds random:0.3 --noise 0.05 \
-        --slowdown 20 --link "$link" --result-encoding "$enc" --frames 40 --warmup 5 \
+        --slowdown 20 --link "$link" --result-encoding "$enc" --frames "$sim_frames" --warmup "$((sim_frames / 6))" \
         --json "$out/$name.json" --plot "$out/$name.svg" > "$out/$name.txt"
     done
   done
