@@ -25,7 +25,7 @@ std::vector<double> HybridBalancer::noise() const {
 bool HybridBalancer::jumps(size_t i, double m) const {
   const double s = speed_[i];
   if (!opt_.detect_noise || noise_count_[i] < kMinHistory) return std::abs(m / s - 1) > opt_.jump;
-  return std::abs(m / s - 1) > opt_.jump;
+  return std::abs(std::log(m / s)) > std::max(opt_.z * noise(i), kNoiseFloor);
 }
 
 void HybridBalancer::take_speed(size_t i, double m) {
@@ -39,7 +39,7 @@ void HybridBalancer::take_speed(size_t i, double m) {
   if (opt_.detect_noise && noise_count_[i] >= kMinHistory) {
     const double bound = std::max(kConfirmSigmas * noise(i), kNoiseFloor);
     const double r = std::log(m / s), r0 = std::log(m / pending_base_[i]);
-    if (false && pending_[i] != 0 && std::abs(r0) > bound && (r0 > 0 ? 1 : -1) == pending_[i]) {
+    if (!change && pending_[i] != 0 && std::abs(r0) > bound && (r0 > 0 ? 1 : -1) == pending_[i]) {
       // The second measurement in a row beyond the bound on the same side of the estimate
       // both were made against: a change that began with the first, which therefore
       // leaves the noise history again.
@@ -49,7 +49,6 @@ void HybridBalancer::take_speed(size_t i, double m) {
     if (std::abs(r) > bound) beyond = r > 0 ? 1 : -1;
   }
   if (change) {
-    noise_sum_[i] = (1 - kNoiseWeight) * noise_sum_[i] + kNoiseWeight * std::pow(std::log(m / s), 2);
     s = m;
     pending_[i] = 0;
     ++changes_[i];
@@ -184,7 +183,7 @@ void HybridBalancer::update(const FrameStats& stats) {
       const double clear = sum / weights - 2 / std::sqrt(weights);
       o = std::isfinite(clear) ? std::clamp(clear, 0.0, 0.5 * mean_item) : 0.0;
     }
-    const double net = std::max(d->time_ms - items * o, 0.5 * d->time_ms);
+    const double net = std::max(d->time_ms - f - items * o, 0.5 * d->time_ms);
     const double measured = work / net;
     take_speed(size_t(i), measured);
     // Each item's time net of the fixed cost, as a share of the device's work: its
