@@ -38,8 +38,12 @@ TEST(ViewerBrowser, PageLoadsStreamsAndResponds) {
   std::filesystem::remove(shot);
   // hold=3: the page keeps a request open until three frames were shown, so the picture
   // has a frame under the overlay (the empty page compresses to about 16 KB).
-  multiray::testing::run_cli(browser, flags + "--window-size=1100,650 --screenshot=" + shot +
-                                          " '" + url + "?overlay=1&hold=3'");
+  // Chromium on a loaded machine has exited without a screenshot (once in a fresh-clone
+  // run beside a long simulation; the same clone passed in 18 s when quiet): a second
+  // attempt, not a weaker check, so the picture must still be written.
+  for (int attempt = 0; attempt < 2 && !std::filesystem::exists(shot); ++attempt)
+    multiray::testing::run_cli(browser, flags + "--window-size=1100,650 --screenshot=" + shot +
+                                            " '" + url + "?overlay=1&hold=3'");
   ASSERT_TRUE(std::filesystem::exists(shot));
   EXPECT_GT(std::filesystem::file_size(shot), 30000u);
   EXPECT_EQ(viewer.stop(), 128 + SIGINT);
