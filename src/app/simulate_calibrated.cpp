@@ -15,9 +15,7 @@
 
 namespace multiray::app {
 
-namespace {
-
-balance::Trace load(const std::string& path) {
+balance::Trace load_trace(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError("cannot read trace '" + path + "'");
   try {
@@ -26,6 +24,8 @@ balance::Trace load(const std::string& path) {
     throw InputError("trace '" + path + "': " + e.what());
   }
 }
+
+namespace {
 
 // A real run must be of the same devices and frames as the calibration trace.
 void check_match(const balance::Trace& cal, const balance::Trace& real, const std::string& path) {
@@ -142,7 +142,7 @@ int simulate_calibrated(const balance::Trace& trace, const CalibratedRun& o) {
   // Everything is checked before anything is printed: one line for bad input.
   std::vector<balance::Trace> reals;
   for (const std::string& path : o.predict) {
-    reals.push_back(load(path));
+    reals.push_back(load_trace(path));
     check_match(trace, reals.back(), path);
     make_balancer_or_throw(reals.back().balancer, int(trace.devices.size()), path);
   }

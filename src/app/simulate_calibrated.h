@@ -22,6 +22,9 @@ struct CalibratedRun {
   std::string json_path;
 };
 
+// The trace at `path`; InputError (one line naming the file) if it cannot be read or parsed.
+balance::Trace load_trace(const std::string& path);
+
 // Prints the calibration and the table (and writes --json); InputError (exit 2, one
 // line) for a real trace whose devices or frames do not match the calibration trace's.
 int simulate_calibrated(const balance::Trace& trace, const CalibratedRun& run);

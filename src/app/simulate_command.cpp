@@ -105,16 +105,6 @@ std::vector<int> device_counts(const std::string& text) {
   return out;
 }
 
-balance::Trace load_trace(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot read trace '" + path + "'");
-  try {
-    return balance::read_trace(in);
-  } catch (const std::invalid_argument& e) {
-    throw InputError("trace '" + path + "': " + e.what());
-  }
-}
-
 int calibrated(const SimulateOptions& o, const balance::Trace& trace) {
   CalibratedRun run;
   run.trace_path = o.trace_path;
