@@ -244,12 +244,13 @@ Runner add_simulate_command(CLI::App& app) {
               "frame ms", "ideal ms", "efficiency", "imbalance", "deviation");
     const auto start = std::chrono::steady_clock::now();
     std::vector<balance::StudyResult> results;
+    balance::TraceCosts costs(trace);  // each traced frame's cost table built once
     for (size_t c = 0; c < counts.size(); ++c) {
       const int n = counts[c];
       config.speeds = speeds[c];
       for (const std::string& spec : specs) {
         try {
-          results.push_back(balance::run_study(trace, spec, config));
+          results.push_back(balance::run_study(trace, spec, config, &costs));
         } catch (const std::invalid_argument& e) {
           throw InputError(std::string("--balancers: ") + e.what());
         }

@@ -97,7 +97,8 @@ double study_memory_bytes(const Trace& trace, int devices, int frames) {
   return tables + 4 * largest + kDeviceBytes * devices + 8.0 * frames;
 }
 
-StudyResult run_study(const Trace& trace, const std::string& spec, const StudyConfig& cfg) {
+StudyResult run_study(const Trace& trace, const std::string& spec, const StudyConfig& cfg,
+                      TraceCosts* costs) {
   if (cfg.speeds.empty()) throw std::invalid_argument("no devices to simulate");
   if (trace.frames.empty()) throw std::invalid_argument("the trace has no frames");
   const int n = int(cfg.speeds.size());
@@ -129,7 +130,8 @@ StudyResult run_study(const Trace& trace, const std::string& spec, const StudyCo
         ideal += frame_cost(trace, size_t(f) % trace.frames.size()) / speed_sum;
         r.mean_imbalance += imbalance(sf.stats);
         r.mean_deviation += deviation(sf.stats);
-      });
+      },
+      costs);
   const int counted = frames - cfg.warmup;
   r.mean_frame_ms = actual / counted;
   r.mean_ideal_ms = ideal / counted;

@@ -54,7 +54,9 @@ struct StudyResult {
 // Replays `trace` with the balancer `spec` (made for config.speeds.size() devices), frame
 // by frame (replay_trace_each): it holds one simulated frame at a time, plus 8 bytes per
 // frame for StudyResult::frame_ms. Throws std::invalid_argument for a bad spec or config.
-StudyResult run_study(const Trace& trace, const std::string& spec, const StudyConfig& config);
+// `costs` (optional, made for `trace`) keeps the frames' cost tables for the next study.
+StudyResult run_study(const Trace& trace, const std::string& spec, const StudyConfig& config,
+                      TraceCosts* costs = nullptr);
 
 // Bytes one run_study() of `frames` frames on `devices` devices holds at its peak,
 // estimated before it runs (a model, not a measurement): the cost tables of the trace's

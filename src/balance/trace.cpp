@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <tuple>
@@ -188,6 +189,16 @@ CostFn trace_cost(const Trace& trace, size_t frame_index, const FrameShape& shap
   };
 }
 
+TraceCosts::TraceCosts(const Trace& trace) : trace_(trace), costs_(trace.frames.size()) {}
+
+const CostFn& TraceCosts::at(size_t k) {
+  if (!costs_.at(k)) {
+    costs_[k] = trace_cost(trace_, k, trace_.frames[k].shape);
+    ++built_;
+  }
+  return costs_[k];
+}
+
 std::vector<SimFrame> replay_trace(
     const Trace& trace, Balancer& balancer,
     const std::function<std::vector<SimDevice>(int frame)>& devices_at, const SimLink& link,
@@ -201,20 +212,24 @@ std::vector<SimFrame> replay_trace(
 void replay_trace_each(const Trace& trace, Balancer& balancer,
                        const std::function<std::vector<SimDevice>(int frame)>& devices_at,
                        const SimLink& link, int frames, uint64_t seed,
-                       const std::function<void(int f, SimFrame&& frame)>& each) {
+                       const std::function<void(int f, SimFrame&& frame)>& each,
+                       TraceCosts* shared) {
   if (trace.frames.empty()) throw std::invalid_argument("the trace has no frames");
+  if (shared && &shared->trace() != &trace)
+    throw std::invalid_argument("the replay's cost tables belong to another trace");
+  std::optional<TraceCosts> own;  // this replay's alone when none is shared
+  TraceCosts& costs = shared ? *shared : own.emplace(trace);
   std::vector<SimDevice> recorded;
   for (const TraceDevice& d : trace.devices) recorded.push_back(SimDevice{d.speed});
   if (frames <= 0) frames = int(trace.frames.size());
-  std::vector<CostFn> costs(trace.frames.size());  // built when first needed
   for (int f = 0; f < frames; ++f) {
     const size_t k = size_t(f) % trace.frames.size();
     const FrameShape& shape = trace.frames[k].shape;
-    if (!costs[k]) costs[k] = trace_cost(trace, k, shape);
+    const CostFn& cost = costs.at(k);
     const int frame = frames == int(trace.frames.size()) ? trace.frames[k].frame : f;
     SimFrame sf =
         simulate_linked(balancer.plan(shape, frame), shape,
-                        devices_at ? devices_at(frame) : recorded, costs[k], link, frame, seed);
+                        devices_at ? devices_at(frame) : recorded, cost, link, frame, seed);
     balancer.update(sf.stats);
     each(f, std::move(sf));
   }

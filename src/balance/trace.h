@@ -58,6 +58,24 @@ Trace read_trace(std::istream& in);
 // over its pixels. `shape` supplies pixel weights (may be empty).
 CostFn trace_cost(const Trace& trace, size_t frame_index, const FrameShape& shape);
 
+// trace_cost() of each frame of one trace, built when first asked for and then kept, so
+// that the replays of one study (every balancer at every device count) share them. Each
+// holds a frame-sized summed-area table (8 bytes a pixel, 265 MB at 7680x4320): built once
+// per replay, the tables were most of an 8K study's time (docs/benchmarks.md). `trace`
+// must outlive this object; not thread-safe.
+class TraceCosts {
+ public:
+  explicit TraceCosts(const Trace& trace);
+  const CostFn& at(size_t frame_index);
+  const Trace& trace() const { return trace_; }
+  size_t built() const { return built_; }  // cost tables built so far
+
+ private:
+  const Trace& trace_;
+  std::vector<CostFn> costs_;
+  size_t built_ = 0;
+};
+
 // Replays `trace` through `balancer` on simulated devices, frame by frame, with
 // trace_cost() as each frame's cost: `frames` frames (0: as many as the trace has; more
 // cycle through the trace), on `devices_at(frame)` (default: one device per traced device
@@ -70,9 +88,12 @@ std::vector<SimFrame> replay_trace(
 // The same replay, each frame handed to `each` (with its index f in 0..frames-1) as soon as
 // the balancer has seen it, and then dropped: memory stays that of one frame however many
 // frames are replayed (`multiray simulate` runs up to 10^6 frames on 4096 devices).
+// `costs` (optional) supplies the frames' costs and keeps them for the next replay; it
+// must have been made for this `trace` (else std::invalid_argument).
 void replay_trace_each(const Trace& trace, Balancer& balancer,
                        const std::function<std::vector<SimDevice>(int frame)>& devices_at,
                        const SimLink& link, int frames, uint64_t seed,
-                       const std::function<void(int f, SimFrame&& frame)>& each);
+                       const std::function<void(int f, SimFrame&& frame)>& each,
+                       TraceCosts* costs = nullptr);
 
 }  // namespace multiray::balance

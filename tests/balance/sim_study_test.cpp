@@ -105,5 +105,24 @@ TEST(SimStudy, ASlowLinkCostsEfficiencyAndSlowerDevicesHideIt) {
   EXPECT_THROW(run_study(t, "uniform", c), std::invalid_argument);
 }
 
+// The studies of one simulation share the traced frames' cost tables: each is built
+// once, however many balancers and device counts replay it, and sharing changes no result.
+TEST(SimStudy, StudiesShareEachFramesCostTableAndGiveTheSameResults) {
+  const Trace t = flat_trace(3);
+  StudyConfig c;
+  c.speeds = {1, 0.5, 0.25};
+  c.frames = 10;  // the 3 traced frames, cycled
+  TraceCosts shared(t);
+  for (const char* spec : {"queue", "semi-static", "hybrid"}) {
+    const StudyResult alone = run_study(t, spec, c);
+    const StudyResult with = run_study(t, spec, c, &shared);
+    EXPECT_EQ(alone.frame_ms, with.frame_ms) << spec;
+    EXPECT_EQ(alone.efficiency, with.efficiency) << spec;
+  }
+  EXPECT_EQ(shared.built(), 3u);
+  const Trace other = flat_trace(3);
+  EXPECT_THROW(run_study(other, "queue", c, &shared), std::invalid_argument);
+}
+
 }  // namespace sim_study_test
 }  // namespace multiray::balance
