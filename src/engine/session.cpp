@@ -31,6 +31,12 @@ void Session::set_camera(std::optional<Camera> camera) {
   camera_ = camera;
 }
 
+void Session::set_camera_path(CameraPath path) {
+  std::lock_guard<std::mutex> lock(camera_mutex_);
+  path_ = std::move(path);
+  camera_.reset();
+}
+
 Camera Session::camera_at(int frame) const {
   std::lock_guard<std::mutex> lock(camera_mutex_);
   return camera_ ? *camera_ : path_.at(frame);

@@ -72,6 +72,9 @@ class Session {
   // The camera of the following frames, instead of the path's: for interactive use.
   // Thread-safe; takes effect at the next frame. std::nullopt returns to the path.
   void set_camera(std::optional<Camera> camera);
+  // The path of the following frames (and no camera set by set_camera any more).
+  // Thread-safe; takes effect at the next frame.
+  void set_camera_path(CameraPath path);
   // Asks run() to return after the frame being rendered; asked between runs, the next
   // run() returns before its first frame. Each request stops one run. Thread-safe (signal
   // handlers should set a flag that an observer or another thread turns into this call).

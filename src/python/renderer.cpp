@@ -8,7 +8,10 @@
 #include <stdexcept>
 #include <vector>
 
+#include <fmt/core.h>
+
 #include "app/stats_json.h"
+#include "core/error.h"
 #include "engine/session.h"
 #include "python/bindings.h"
 #include "run/parse_options.h"
@@ -56,6 +59,7 @@ class Renderer {
   py::list render(std::optional<int> count) {
     const int n = count.value_or(config_.frames);
     if (n < 0) throw py::value_error("render: frames must be 0 or more, not " + std::to_string(n));
+    check_memory(n);
     std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
     if (!busy.owns_lock())
       throw std::runtime_error("this Renderer is rendering in another thread");
@@ -85,6 +89,24 @@ class Renderer {
     session_->set_camera(camera ? std::optional<Camera>(parse_camera(*camera)) : std::nullopt);
   }
 
+  // The camera path of the following frames: a --camera-path value ("fixed", "orbit",
+  // "orbit:PERIOD", a JSON file) around the run's base camera, or keyframes as that file
+  // holds them ({"keyframes": [...]} or the list alone). Drops a set_camera() camera.
+  void set_camera_path(const py::object& path) {
+    if (py::isinstance<py::str>(path)) {
+      session_->set_camera_path(camera_path_option(path.cast<std::string>(), run_->camera));
+      return;
+    }
+    if (!py::isinstance<py::dict>(path) && !py::isinstance<py::list>(path))
+      throw py::type_error("set_camera_path() takes a str, a dict or a list of keyframes");
+    const std::string text = py::module_::import("json")
+                                 .attr("dumps")(path, py::arg("allow_nan") = false)
+                                 .cast<std::string>();
+    nlohmann::json doc = nlohmann::json::parse(text);
+    if (doc.is_array()) doc = nlohmann::json{{"keyframes", doc}};
+    session_->set_camera_path(CameraPath::from_json(doc, "set_camera_path"));
+  }
+
   py::object devices() const { return to_python(app::devices_to_json(run_->devices)); }
   py::object balancer() const { return to_python(session_->engine(0).balancer().spec()); }
   std::vector<std::string> notes() const { return run_->notes; }
@@ -92,6 +114,21 @@ class Renderer {
   std::string scene() const { return run_->scene->name; }
 
  private:
+  // The frames a render(n) returns are copies held by Python: n of them, with the run,
+  // must fit max_memory as the CLI's frames do (a refusal beats an out-of-memory kill).
+  void check_memory(int n) const {
+    const int views = run_->views->rig().view_count();
+    const double per_frame = double(views) * run_->res.width * run_->res.height * 3 * 4 + 4096;
+    const MemoryEstimate run =
+        estimate_memory(config_, views, run_->res.width, run_->res.height, 1);
+    const double need = run.total() + n * per_frame,
+                 limit = parse_memory_limit(config_.max_memory);
+    if (need > limit)
+      throw InputError(memory_refusal(
+          need, fmt::format("{} frames returned to Python, {:.1f} GB", n, n * per_frame / 1e9),
+          limit));
+  }
+
   RunConfig config_;
   std::unique_ptr<Run> run_;  // before session_: the session uses its devices
   std::unique_ptr<Session> session_;
@@ -116,6 +153,11 @@ void bind_renderer(py::module_& m) {
       .def("set_camera", &Renderer::set_camera, py::arg("camera"),
            "The camera of the next frames, 'ex,ey,ez,tx,ty,tz,ux,uy,uz,fov', or None for the "
            "camera path.")
+      .def("set_camera_path", &Renderer::set_camera_path, py::arg("path"),
+           "The camera path of the next frames: a --camera-path value ('fixed', 'orbit', "
+           "'orbit:PERIOD', a JSON file) around the scene's camera, or keyframes "
+           "[{'frame': 0, 'eye': [x, y, z], 'target': [...], 'up': [...], 'fov': 45}, ...] "
+           "(or {'keyframes': [...]}); a camera set with set_camera is dropped.")
       .def_property_readonly("devices", &Renderer::devices)
       .def_property_readonly("balancer", &Renderer::balancer)
       .def_property_readonly("notes", &Renderer::notes)

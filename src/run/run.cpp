@@ -330,18 +330,7 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   if (o.stereo <= 0 && o.view_spacing == "auto")
     rig.spacing = kViewSpacingOfDistance * length(base.target - base.eye);
   s.view_spacing = rig.view_count() > 1 ? rig.spacing : 0.0f;
-  const std::string& cp = o.camera_path;
-  if (cp == "fixed") {
-    s.path = CameraPath::fixed(base);
-  } else if (cp == "orbit" || cp.rfind("orbit:", 0) == 0) {
-    const double period =
-        cp == "orbit" ? 100.0 : to_number(cp.substr(6), "--camera-path orbit period");
-    if (!(period >= 1e-3 && period <= 1e9))
-      throw InputError("--camera-path: the orbit period must be in [0.001, 1e9] frames");
-    s.path = CameraPath::orbit(base, float(period));
-  } else {
-    s.path = CameraPath::from_json_file(cp);
-  }
+  s.path = camera_path_option(o.camera_path, base);
   if (volume_input) {
     s.volume = std::make_shared<VolumeRun>(*s.scenes, o.volume, s.scene->environment);
     s.volume->apply(0, s.settings);
@@ -377,6 +366,18 @@ void check_distributed(const RunConfig& o) {
 }  // namespace
 
 int serve_as_worker(Run& s) { return s.cluster->serve(s.device_ptrs(), s.settings); }
+
+CameraPath camera_path_option(const std::string& cp, const Camera& base) {
+  if (cp == "fixed") return CameraPath::fixed(base);
+  if (cp == "orbit" || cp.rfind("orbit:", 0) == 0) {
+    const double period =
+        cp == "orbit" ? 100.0 : to_number(cp.substr(6), "--camera-path orbit period");
+    if (!(period >= 1e-3 && period <= 1e9))
+      throw InputError("--camera-path: the orbit period must be in [0.001, 1e9] frames");
+    return CameraPath::orbit(base, float(period));
+  }
+  return CameraPath::from_json_file(cp);
+}
 
 Run build_run(const RunConfig& o, int lanes, const std::function<void()>& before_load) {
   Run s;

@@ -70,6 +70,10 @@ struct Run {
   std::vector<std::string> lane_labels(const std::vector<std::string>& balancer_specs) const;
 };
 
+// The camera path a --camera-path value names ("fixed", "orbit", "orbit:PERIOD" or a JSON
+// keyframe file) around the run's base camera. Throws InputError.
+CameraPath camera_path_option(const std::string& value, const Camera& base);
+
 // Memory a run is estimated to need before it takes it, in bytes: the scene (from its file
 // size: loaded geometry, BVH and shading records are within ~12x a mesh file) and the
 // frames (every view's float image in the session's buffers, `lanes` of them, plus

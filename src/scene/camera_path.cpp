@@ -89,6 +89,10 @@ CameraPath CameraPath::from_json_file(const std::string& path) {
   } catch (const std::exception& e) {
     throw InputError("camera path '" + path + "' is not valid JSON");
   }
+  return from_json(j, path);
+}
+
+CameraPath CameraPath::from_json(const nlohmann::json& j, const std::string& path) {
   if (!j.is_object() || !j.contains("keyframes") || !j["keyframes"].is_array())
     throw InputError("camera path '" + path + "' needs a \"keyframes\" array");
   std::vector<Keyframe> keys;

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "scene/scene.h"
 
 namespace multiray {
@@ -38,6 +40,9 @@ class CameraPath {
   // the file) for bad JSON, numbers that are not finite as floats, and cameras
   // camera_problem() rejects.
   static CameraPath from_json_file(const std::string& path);
+  // The same document already parsed; messages name `source` where they name the file
+  // ("camera path '<source>' keyframe <i>: <problem>").
+  static CameraPath from_json(const nlohmann::json& doc, const std::string& source);
 
   // The camera of frame `frame`. Always one camera_problem() accepts: between two valid
   // keyframes the spline can still overshoot into an unusable camera (eye and target

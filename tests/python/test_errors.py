@@ -56,3 +56,26 @@ def test_unknown_and_hostile_arguments():
         multiray.image_hash(np.zeros((2, 2, 3), np.float64))
     with pytest.raises(ValueError):
         multiray.image_hash(np.zeros((2, 2), np.float32))
+
+
+def test_a_device_failure_raises_runtime_error_with_the_cli_message(cli, tmp_path):
+    """Every device of the run failed: the CLI exits non-zero with one line, Python raises
+    RuntimeError (multiray's DeviceError) with the same line."""
+    # Frame 0 is one item; the device fails on frame 1's.
+    args = ["--res", "32x18", "--spp", "1", "--frames", "2", "--quiet", "--devices",
+            "cpu:threads=1:fail_after=1"]
+    code, err = run_cli(cli, "render", *args, "-o", str(tmp_path / "out"))
+    prefix = "multiray: device error: "
+    assert code == 3 and err.startswith(prefix) and err.count("\n") == 1, err
+    r = multiray.Renderer(res="32x18", spp=1, frames=2, devices="cpu:threads=1:fail_after=1")
+    with pytest.raises(RuntimeError) as e:
+        r.render()
+    assert str(e.value) == err[len(prefix):].strip()
+
+
+def test_render_refuses_frames_that_would_not_fit_max_memory():
+    """render(n) copies n frames into NumPy: counted against max_memory before rendering."""
+    r = multiray.Renderer(res="640x360", spp=1, max_memory="64M", devices="cpu:threads=1")
+    with pytest.raises(ValueError, match="frames returned to Python.*--max-memory"):
+        r.render(100)  # 100 x 2.8 MB
+    assert r.next_frame == 0  # nothing rendered
