@@ -52,6 +52,12 @@ class Renderer {
     py::gil_scoped_release release;
     run_ = std::make_unique<Run>(build_run(config_, 1));
     session_ = run_->make_session(specs, "--balancer");
+    if (run_->volume)  // as make_session's schedule, with set_transfer_function's choice
+      session_->set_settings_schedule([this](int frame, RenderSettings& s) {
+        run_->volume->apply(frame, s);
+        std::lock_guard<std::mutex> lock(style_mutex_);
+        if (style_) s.volume_style = style_;
+      });
   }
 
   // Renders `count` frames (default: the `frames` argument) after those already rendered,
@@ -107,6 +113,27 @@ class Renderer {
     session_->set_camera_path(CameraPath::from_json(doc, "set_camera_path"));
   }
 
+  // Volumes: the transfer function of the following frames, as --tf takes it (a preset or
+  // a JSON file), as that file holds it (a dict), or None: back to --tf (or the sequence's).
+  void set_transfer_function(const py::object& tf) {
+    if (!run_->volume) throw py::value_error("set_transfer_function: the scene is not a volume");
+    std::shared_ptr<const VolumeStyle> style;
+    if (py::isinstance<py::str>(tf)) {
+      py::gil_scoped_release release;  // a table and histograms are built (ms to s)
+      style = run_->volume->style(tf.cast<std::string>());
+    } else if (py::isinstance<py::dict>(tf)) {
+      const std::string text = py::module_::import("json")
+                                   .attr("dumps")(tf, py::arg("allow_nan") = false)
+                                   .cast<std::string>();
+      py::gil_scoped_release release;
+      style = run_->volume->style_from_json(text);
+    } else if (!tf.is_none()) {
+      throw py::type_error("set_transfer_function() takes a str, a dict or None");
+    }
+    std::lock_guard<std::mutex> lock(style_mutex_);
+    style_ = style;
+  }
+
   py::object devices() const { return to_python(app::devices_to_json(run_->devices)); }
   py::object balancer() const { return to_python(session_->engine(0).balancer().spec()); }
   std::vector<std::string> notes() const { return run_->notes; }
@@ -134,6 +161,8 @@ class Renderer {
   std::unique_ptr<Session> session_;
   int next_frame_ = 0;
   std::mutex busy_;
+  std::mutex style_mutex_;  // the schedule reads style_ on the rendering thread
+  std::shared_ptr<const VolumeStyle> style_;
 };
 
 }  // namespace
@@ -158,6 +187,10 @@ void bind_renderer(py::module_& m) {
            "'orbit:PERIOD', a JSON file) around the scene's camera, or keyframes "
            "[{'frame': 0, 'eye': [x, y, z], 'target': [...], 'up': [...], 'fov': 45}, ...] "
            "(or {'keyframes': [...]}); a camera set with set_camera is dropped.")
+      .def("set_transfer_function", &Renderer::set_transfer_function, py::arg("tf"),
+           "Volumes: the transfer function of the next frames, as --tf takes it (a preset "
+           "such as 'angio' or a JSON file), as that file holds it (a dict: "
+           "docs/volumes.md), or None for --tf again.")
       .def_property_readonly("devices", &Renderer::devices)
       .def_property_readonly("balancer", &Renderer::balancer)
       .def_property_readonly("notes", &Renderer::notes)
