@@ -1,0 +1,169 @@
+"""Balancers written in Python (multiray.Balancer): the Cycles twin of
+examples/python/cycles_balancer.py against the C++ `cycles` on a recorded trace, rendering on
+real devices through the engine, registration, the GIL, and hostile balancers."""
+import os
+import sys
+import threading
+import time
+
+import pytest
+
+import multiray
+from conftest import run_cli
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "examples", "python"))
+from cycles_balancer import Cycles  # noqa: E402
+
+TINY = dict(res="64x36", spp=1, seed=7, devices="cpu:threads=1,cpu:threads=1")
+
+if "pycycles" not in multiray.balancer_names():
+    multiray.register_balancer("pycycles", Cycles, help="Cycles' balancer in Python",
+                               params={"interval_ms": 1000.0})
+
+
+@pytest.fixture(scope="module")
+def trace(cli, tmp_path_factory):
+    """A small recorded trace. The second device is emulated at half speed, so that the
+    replayed devices differ and Cycles' weights move (with equal devices they never do)."""
+    out = tmp_path_factory.mktemp("trace")
+    code, err = run_cli(cli, "render", "--res", "64x36", "--spp", "1", "--frames", "6",
+                        "--devices", "cpu:threads=1,cpu:threads=1:speed=0.5",
+                        "--balancer", "queue", "--trace", str(out / "T"), "--out",
+                        str(out / "D"), "--quiet")
+    assert code == 0, err
+    return multiray.read_trace(str(out / "T"))
+
+
+def test_trace_reads(trace):
+    assert len(trace) == 6 and trace.balancer.startswith("queue")
+    assert [d["speed"] for d in trace.devices] == [1.0, 0.5]
+    assert trace[0].shape.width == 64 and len(trace[-1].devices) == 2
+
+
+@pytest.mark.parametrize("spec,kwargs", [("cycles", {}),
+                                         ("cycles:interval_ms=0", {"interval_ms": 0.0})])
+def test_cycles_twin_plans_equal_the_cpp_ones_exactly(trace, spec, kwargs):
+    cpp = multiray.replay(trace, spec, frames=24)
+    twin = multiray.replay(trace, Cycles(2, **kwargs), frames=24)
+    assert len(cpp) == len(twin) == 24
+    for a, b in zip(cpp, twin):
+        # The same arithmetic in the same order: equal items and bit-equal ratios.
+        assert a["plan"].assigned == b["plan"].assigned, a["frame"]
+        assert a["plan"].ratios == b["plan"].ratios, a["frame"]
+        assert a["plan"] == b["plan"] and a["times_ms"] == b["times_ms"]
+    if kwargs:  # the weights moved: the comparison is not between two even splits
+        assert len({tuple(f["plan"].ratios) for f in cpp}) > 3
+    # A registered Python balancer is a spec like any other.
+    by_name = multiray.replay(trace, spec.replace("cycles", "pycycles"), frames=24)
+    assert [f["plan"] for f in by_name] == [f["plan"] for f in cpp]
+
+
+def test_python_balancer_renders_the_cpp_balancers_image():
+    cpp = multiray.Renderer(**TINY, balancer="cycles:interval_ms=0").render(3)
+    r = multiray.Renderer(**TINY, balancer="pycycles:interval_ms=0")
+    assert r.balancer == "pycycles:interval_ms=0"
+    py = r.render(3)
+    for a, b in zip(cpp, py):
+        assert multiray.image_hash(a["views"]) == multiray.image_hash(b["views"])
+        assert b["stats"]["image_hash"] == a["stats"]["image_hash"]
+
+
+def test_registration_errors():
+    with pytest.raises(ValueError, match="already registered"):
+        multiray.register_balancer("cycles", Cycles)
+    with pytest.raises(ValueError, match="already registered"):
+        multiray.register_balancer("pycycles", Cycles)
+    with pytest.raises(ValueError):
+        multiray.register_balancer("a:b=1", Cycles)
+    with pytest.raises(TypeError):
+        multiray.register_balancer("not_callable", 42)
+    with pytest.raises(ValueError, match="nonsense"):
+        multiray.Renderer(**TINY, balancer="pycycles:nonsense=1")
+    if "pynotabalancer" not in multiray.balancer_names():
+        multiray.register_balancer("pynotabalancer", lambda devices: object())
+    with pytest.raises(TypeError, match="multiray.Balancer"):
+        multiray.Renderer(**TINY, balancer="pynotabalancer")
+
+
+def test_gil_released_while_a_python_balanced_render_runs():
+    ticks, stop = [], threading.Event()
+
+    def tick():
+        while not stop.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+
+    r = multiray.Renderer(res="160x90", spp=4, seed=7, devices=TINY["devices"],
+                          balancer="pycycles")
+    thread = threading.Thread(target=tick)
+    thread.start()
+    try:
+        start = time.perf_counter()
+        r.render(4)
+        end = time.perf_counter()
+    finally:
+        stop.set()
+        thread.join()
+    assert sum(start < t < end for t in ticks) >= 5
+
+
+class Hostile(multiray.Balancer):
+    """Cycles' plan bent by `how`."""
+
+    def __init__(self, devices, how):
+        super().__init__(devices)
+        self.how, self.inner = how, Cycles(devices)
+
+    def plan(self, shape, frame):
+        p = self.inner.plan(shape, frame)
+        if self.how == "int":
+            return 42
+        if self.how == "str_item":
+            p.assigned[0].append("item")
+        elif self.how == "missing_pixels":
+            p.assigned[1].pop()
+        elif self.how == "lists":
+            p.assigned.append([])
+        elif self.how == "ratios":
+            p.ratios = ["half", "half"]
+        return p
+
+    def update(self, stats):
+        if self.how == "update":
+            raise ZeroDivisionError("update failed on purpose")
+
+
+HOSTILE = [("int", TypeError, "returned int, not a multiray.Plan"),
+           ("str_item", TypeError, r"assigned\[0\]\[1\] is str"),
+           ("missing_pixels", ValueError, "plan of frame 0 is wrong: pixel .* is not covered"),
+           ("lists", ValueError, "3 device lists for 2 devices"),
+           ("ratios", TypeError, "ratios holds str"),
+           ("update", ZeroDivisionError, "on purpose")]
+
+
+@pytest.mark.parametrize("how,error,message", HOSTILE)
+def test_hostile_balancer_in_replay(trace, how, error, message):
+    with pytest.raises(error, match=message):
+        multiray.replay(trace, Hostile(2, how))
+
+
+@pytest.mark.parametrize("how,error,message", HOSTILE)
+def test_hostile_balancer_on_devices(how, error, message):
+    """The error crosses the engine (which runs with the GIL released) to the caller."""
+    name = "pyhostile_" + how
+    if name not in multiray.balancer_names():
+        multiray.register_balancer(name, lambda devices, how=how: Hostile(devices, how))
+    r = multiray.Renderer(**TINY, balancer=name)
+    with pytest.raises(error, match=message):
+        r.render(2)
+
+
+def test_base_class_contract(trace):
+    with pytest.raises(NotImplementedError):
+        multiray.replay(trace, multiray.Balancer(2))
+    with pytest.raises(ValueError, match="for 3 devices"):
+        multiray.replay(trace, Cycles(3))
+    with pytest.raises(ValueError):
+        multiray.Balancer(0)
+    with pytest.raises(ValueError, match="cannot open"):
+        multiray.read_trace("/nonexistent/trace")
