@@ -51,6 +51,7 @@ def test_cycles_twin_plans_equal_the_cpp_ones_exactly(trace, spec, kwargs):
         assert a["plan"].assigned == b["plan"].assigned, a["frame"]
         assert a["plan"].ratios == b["plan"].ratios, a["frame"]
         assert a["plan"] == b["plan"] and a["times_ms"] == b["times_ms"]
+        assert a["plan_ms"] >= 0 and b["update_ms"] >= 0
     if kwargs:  # the weights moved: the comparison is not between two even splits
         assert len({tuple(f["plan"].ratios) for f in cpp}) > 3
     # A registered Python balancer is a spec like any other.
