@@ -34,6 +34,7 @@ class PythonBalancer final : public balance::Balancer {
   PythonBalancer(const py::object& instance, int devices, std::string name, std::string spec)
       : instance_(instance.inc_ref().ptr()),
         devices_(devices),
+        dropped_(size_t(devices), false),
         name_(std::move(name)),
         spec_(std::move(spec)) {}
 
@@ -56,7 +57,8 @@ class PythonBalancer final : public balance::Balancer {
       plan = plan_from_python(result, class_name(self()) + ".plan()");
     }
     // O(pixels), without the GIL: Python threads run meanwhile.
-    const std::string wrong = balance::check_plan(plan, shape, devices_);
+    std::string wrong = balance::check_plan(plan, shape, devices_);
+    if (wrong.empty()) wrong = dropped_given_work(plan);
     if (!wrong.empty())
       throw py::value_error("balancer " + name_ + ": the plan of frame " + std::to_string(frame) +
                             " is wrong: " + wrong);
@@ -64,11 +66,15 @@ class PythonBalancer final : public balance::Balancer {
   }
 
   void update(const balance::FrameStats& stats) override {
+    for (size_t i = 0; i < stats.devices.size() && i < dropped_.size(); ++i)
+      if (!stats.devices[i].alive) dropped_[i] = true;
     py::gil_scoped_acquire gil;
     self().attr("update")(stats);
   }
 
   void drop_device(int index) override {
+    if (index < 0 || index >= devices_) return;  // as the contract says: ignored
+    dropped_[size_t(index)] = true;
     py::gil_scoped_acquire gil;
     self().attr("drop_device")(index);
   }
@@ -76,8 +82,18 @@ class PythonBalancer final : public balance::Balancer {
  private:
   py::handle self() const { return instance_; }
 
+  // The engine renders nothing for a dropped device: work planned for one would be lost
+  // (the pixels left black), so such a plan is refused as a wrong one.
+  std::string dropped_given_work(const balance::Plan& plan) const {
+    for (size_t i = 0; i < dropped_.size(); ++i)
+      if (dropped_[i] && (!plan.assigned[i].empty() || plan.ratios[i] != 0))
+        return "device " + std::to_string(i) + " was dropped but is given work";
+    return "";
+  }
+
   PyObject* instance_;  // a reference of our own
   int devices_;
+  std::vector<bool> dropped_;  // told by drop_device() or reported dead
   std::string name_, spec_;
 };
 

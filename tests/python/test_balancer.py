@@ -168,3 +168,56 @@ def test_base_class_contract(trace):
         multiray.Balancer(0)
     with pytest.raises(ValueError, match="cannot open"):
         multiray.read_trace("/nonexistent/trace")
+
+
+class AliveRows(multiray.Balancer):
+    """Even row bands over the devices still alive; remembers what it was told."""
+
+    def __init__(self, devices):
+        super().__init__(devices)
+        self.alive, self.dropped = [True] * devices, []
+
+    def plan(self, shape, frame):
+        alive = [i for i in range(self.devices) if self.alive[i]]
+        cuts = [shape.height * k // len(alive) for k in range(len(alive) + 1)]
+        assigned, ratios = [[] for _ in range(self.devices)], [0.0] * self.devices
+        for k, i in enumerate(alive):
+            assigned[i] = [multiray.WorkItem(v, 0, cuts[k], shape.width, cuts[k + 1])
+                           for v in range(shape.views)]
+            ratios[i] = 1.0 / len(alive)
+        return multiray.Plan(assigned, ratios)
+
+    def drop_device(self, index):
+        self.alive[index] = False
+        self.dropped.append(index)
+
+
+def test_a_failed_device_is_dropped_and_must_be_given_nothing():
+    made = []
+    if "pyaliverows" not in multiray.balancer_names():
+        multiray.register_balancer("pyaliverows", lambda d: made.append(AliveRows(d)) or made[-1])
+    failing = dict(TINY, devices="cpu:threads=1,cpu:threads=1:fail_after=1")
+    frames = multiray.Renderer(**failing, balancer="pyaliverows").render(3)
+    assert made and made[-1].dropped == [1]
+    healthy = multiray.Renderer(**TINY, balancer="uniform").render(3)
+    assert [multiray.image_hash(f["views"]) for f in frames] == [
+        multiray.image_hash(f["views"]) for f in healthy]
+    # The twin follows no drops: its next plan still gives the failed device rows.
+    with pytest.raises(ValueError, match="device 1 was dropped but is given work"):
+        multiray.Renderer(**failing, balancer="pycycles").render(3)
+
+
+def test_interpreter_exits_cleanly_with_balancers_alive():
+    """Registered factories and a Renderer still holding a Python balancer at exit."""
+    code = ("import multiray\n"
+            "class B(multiray.Balancer):\n"
+            "    def plan(self, s, f):\n"
+            "        return multiray.Plan([[multiray.WorkItem(0, 0, 0, s.width, s.height)]],"
+            " [1.0])\n"
+            "multiray.register_balancer('b', B)\n"
+            "r = multiray.Renderer(res='16x16', spp=1, devices='cpu:threads=1', balancer='b')\n"
+            "r.render(1)\n"
+            "print('ok')\n")
+    import subprocess
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and p.stdout.strip() == "ok", p.stderr
