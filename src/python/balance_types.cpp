@@ -35,6 +35,13 @@ bool is_list(const py::handle& v) {
   return py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v);
 }
 
+// Any iterable (a tuple, a NumPy array of ratios) as a list of its elements; a list as is.
+py::list as_list(const py::object& v, const char* what) {
+  if (py::isinstance<py::str>(v) || !py::isinstance<py::iterable>(v))
+    throw py::type_error(std::string("Plan.") + what + " must be a list, not " + type_name(v));
+  return py::list(v);
+}
+
 std::vector<WorkItem> items_from(const py::handle& list, const std::string& what) {
   if (!is_list(list))
     throw py::type_error(what + " must be a list of multiray.WorkItem, not " + type_name(list));
@@ -167,17 +174,30 @@ void bind_plan(py::module_& m) {
                      "in order; `ratios`, per device the intended share (sum 1); `shared`, "
                      "items pulled `batch` at a time once a device's list is done; `steal`; "
                      "`image_scale` and `step_scale` (quality; 1 is full).")
-      .def(py::init([](py::list assigned, py::list ratios, py::list shared, int batch, bool steal,
-                       double image_scale, double step_scale, bool pull_on_ready) {
-             return PyPlan{std::move(assigned), std::move(shared), std::move(ratios), batch, steal,
-                           image_scale,         step_scale,        pull_on_ready};
+      .def(py::init([](const py::object& assigned, const py::object& ratios,
+                       const py::object& shared, int batch, bool steal, double image_scale,
+                       double step_scale, bool pull_on_ready) {
+             return PyPlan{as_list(assigned, "assigned"),
+                           as_list(shared, "shared"),
+                           as_list(ratios, "ratios"),
+                           batch,
+                           steal,
+                           image_scale,
+                           step_scale,
+                           pull_on_ready};
            }),
            py::arg("assigned"), py::arg("ratios"), py::arg("shared") = py::list(),
            py::arg("batch") = 1, py::arg("steal") = false, py::arg("image_scale") = 1.0,
            py::arg("step_scale") = 1.0, py::arg("pull_on_ready") = false)
-      .def_readwrite("assigned", &PyPlan::assigned)
-      .def_readwrite("shared", &PyPlan::shared)
-      .def_readwrite("ratios", &PyPlan::ratios)
+      .def_property(
+          "assigned", [](const PyPlan& p) { return p.assigned; },
+          [](PyPlan& p, const py::object& v) { p.assigned = as_list(v, "assigned"); })
+      .def_property(
+          "shared", [](const PyPlan& p) { return p.shared; },
+          [](PyPlan& p, const py::object& v) { p.shared = as_list(v, "shared"); })
+      .def_property(
+          "ratios", [](const PyPlan& p) { return p.ratios; },
+          [](PyPlan& p, const py::object& v) { p.ratios = as_list(v, "ratios"); })
       .def_readwrite("batch", &PyPlan::batch)
       .def_readwrite("steal", &PyPlan::steal)
       .def_readwrite("image_scale", &PyPlan::image_scale)

@@ -87,25 +87,37 @@ def test_registration_errors():
 
 
 def test_gil_released_while_a_python_balanced_render_runs():
-    ticks, stop = [], threading.Event()
+    """A Python thread keeps running while frames balanced in Python render: the engine
+    takes the GIL only for plan() and update()."""
+    ticks, stop, planned = [], threading.Event(), []
+
+    class Counted(Cycles):
+        def plan(self, shape, frame):
+            planned.append(frame)
+            return super().plan(shape, frame)
 
     def tick():
         while not stop.is_set():
-            ticks.append(time.perf_counter())
+            ticks.append(time.monotonic())
             time.sleep(0.001)
 
-    r = multiray.Renderer(res="160x90", spp=4, seed=7, devices=TINY["devices"],
-                          balancer="pycycles")
+    if "pycounted" not in multiray.balancer_names():
+        multiray.register_balancer("pycounted", lambda d: Counted(d))
+    r = multiray.Renderer(res="160x90", spp=8, seed=7, devices=TINY["devices"],
+                          balancer="pycounted")
     thread = threading.Thread(target=tick)
     thread.start()
     try:
-        start = time.perf_counter()
-        r.render(4)
-        end = time.perf_counter()
+        start = time.monotonic()
+        r.render(3)
+        end = time.monotonic()
     finally:
         stop.set()
         thread.join()
-    assert sum(start < t < end for t in ticks) >= 5
+    assert planned == [0, 1, 2]
+    assert end - start > 0.05, "the render was too short to tell"
+    inside = [t for t in ticks if start + 0.02 < t < end - 0.02]
+    assert len(inside) >= 3, f"{len(inside)} ticks in a {end - start:.3f} s render"
 
 
 class Hostile(multiray.Balancer):
@@ -221,3 +233,18 @@ def test_interpreter_exits_cleanly_with_balancers_alive():
     import subprocess
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert p.returncode == 0 and p.stdout.strip() == "ok", p.stderr
+
+
+def test_plan_values():
+    import numpy as np
+    item = multiray.WorkItem(0, 0, 0, 4, 2)
+    p = multiray.Plan(([item], ()), np.array([1.0, 0.0]))
+    assert p.ratios == [1.0, 0.0] and p.assigned == [[item], ()] and item.area == 8
+    assert p == multiray.Plan([[multiray.WorkItem(0, 0, 0, 4, 2)], []], [1, 0])
+    assert p != multiray.Plan([[item], []], [0.5, 0.5])
+    with pytest.raises(TypeError, match="Plan.assigned must be a list"):
+        multiray.Plan(5, [1.0])
+    shape = multiray.FrameShape(4, 2, pixel_weight=np.ones((1, 2, 4)))
+    assert shape.pixel_weight.dtype == np.float32 and shape.pixel_weight.shape == (1, 2, 4)
+    with pytest.raises(ValueError):
+        multiray.FrameShape(4, 2, pixel_weight=np.ones(3))
