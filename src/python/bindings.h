@@ -39,5 +39,9 @@ RenderArgs parse_render_kwargs(const py::kwargs& kwargs, const char* caller);
 std::string render_kwarg_names();
 
 void bind_renderer(py::module_& m);
+// Balancers in Python and traces (balance_types.cpp, balancer.cpp, trace_py.cpp).
+void bind_balance_types(py::module_& m);
+void bind_balancer(py::module_& m);
+void bind_trace(py::module_& m);
 
 }  // namespace multiray::python

@@ -25,6 +25,9 @@ PYBIND11_MODULE(multiray, m) {
     }
   });
   bind_renderer(m);
+  bind_balance_types(m);
+  bind_balancer(m);
+  bind_trace(m);
   m.def(
       "image_hash",
       [](const py::object& images) {
