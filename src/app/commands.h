@@ -23,7 +23,8 @@ void add_common_options(CLI::App& cmd, RunConfig& o);
 // builds the run of `o` into `s` (with `before_load`, and memory estimated for
 // `specs.size()` lanes) and, on the master or a single process, prints its notes and
 // returns a session with one lane per spec; `check`, if
-// given, may refuse the built run before anything is printed. On a worker
+// given, may refuse the built run before anything is printed; `quiet`: the notes are not
+// printed (s.notes has them). On a worker
 // rank of a distributed run it serves the master instead, sets `*worker_exit` to the exit
 // code and returns null.
 // `--balancer auto` (`spec` as given): what it picked for the built run `s`, printed once
@@ -35,7 +36,8 @@ std::optional<balance::AutoChoice> report_auto_choice(const Run& s, const std::s
 std::unique_ptr<Session> start_run(Run& s, const RunConfig& o, std::vector<std::string>& specs,
                                    const std::string& option, int* worker_exit,
                                    const std::function<void()>& before_load = {},
-                                   const std::function<void(const Run&)>& check = {});
+                                   const std::function<void(const Run&)>& check = {},
+                                   bool quiet = false);
 
 // `command_line` (argv) is recorded in the run's stats.json.
 Runner add_render_command(CLI::App& app, const std::vector<std::string>& command_line);

@@ -266,7 +266,7 @@ std::optional<balance::AutoChoice> report_auto_choice(const Run& s, const std::s
 std::unique_ptr<Session> start_run(Run& s, const RunConfig& o, std::vector<std::string>& specs,
                                    const std::string& option, int* worker_exit,
                                    const std::function<void()>& before_load,
-                                   const std::function<void(const Run&)>& check) {
+                                   const std::function<void(const Run&)>& check, bool quiet) {
   for (std::string& spec : specs) spec = apply_mapping(spec, o.mapping, option);
   s = build_run(o, int(specs.size()), before_load);
   if (s.cluster && !s.cluster->master()) {
@@ -275,7 +275,8 @@ std::unique_ptr<Session> start_run(Run& s, const RunConfig& o, std::vector<std::
   }
   if (check) check(s);
   std::unique_ptr<Session> session = s.make_session(specs, option);  // checks every spec
-  for (const std::string& n : s.notes) print_err("multiray: note: {}\n", n);
+  for (const std::string& n : s.notes)
+    if (!quiet) print_err("multiray: note: {}\n", n);
   return session;
 }
 

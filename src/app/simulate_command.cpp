@@ -12,6 +12,7 @@
 #include "app/console.h"
 #include "app/report_plots.h"
 #include "app/simulate_calibrated.h"
+#include "app/simulate_study.h"
 #include "app/stats_json.h"
 #include "balance/balancer.h"
 #include "balance/sim_study.h"
@@ -25,48 +26,6 @@
 namespace multiray::app {
 
 namespace {
-
-struct SimulateOptions {
-  std::string trace_path;
-  std::string devices = "2,4,8,16";
-  std::string speeds = "equal";
-  double noise = 0;
-  double slowdown = 1;
-  std::string link = "none";
-  std::string results = "rgba8";  // result bytes per pixel (balance::simulated_bytes_per_pixel)
-  double zstd_ratio = -1;         // negative: the measured one
-  std::string balancers;          // empty: all
-  int frames = 0;
-  int warmup = -1;  // -1: a tenth of the frames
-  uint64_t seed = 0;
-  std::string json_path, plot_path;
-  bool validate = false;
-  bool calibrate = false;
-  std::string predict;              // real traces, comma-separated (implies --calibrate)
-  double contention = -1;           // < 0: learnt by --calibrate
-  std::string max_memory = "auto";  // as render's --max-memory
-};
-
-// Refuses a simulation estimated to need more memory than --max-memory allows, before
-// it runs: every study's frame times are kept for the summary (and the JSON), and the
-// largest study holds its cost tables and one frame of `most` devices at a time.
-void check_memory(const SimulateOptions& o, const balance::Trace& trace, int most, double runs,
-                  int frames) {
-  const double limit = parse_memory_limit(o.max_memory);
-  const double times = runs * frames * 8.0;
-  const double study = balance::study_memory_bytes(trace, most, frames);
-  // nlohmann::json holds each time as a 16-byte value, then the text is built: measured,
-  // 2 x 10^6 frame times took 111 MB with --json, 48 bytes each beyond the 8 kept.
-  const double json = o.json_path.empty() ? 0 : runs * frames * 48.0;
-  const double need = times + study + json;
-  if (need > limit)
-    throw InputError(memory_refusal(
-        need,
-        fmt::format("{:.1f} GB of frame times of {:g} simulations x {} frames, {:.1f} GB for the "
-                    "largest simulation, {:.1f} GB of JSON",
-                    times / 1e9, runs, frames, study / 1e9, json / 1e9),
-        limit));
-}
 
 // --validate: the trace replayed with the balancer and devices that recorded it; the
 // simulated frame times against the recorded ones (the slowest device's time per frame).
@@ -91,18 +50,6 @@ int validate(const balance::Trace& trace) {
       "simulated: virtual time)\n",
       100 * sum_err / double(run.size()), 100 * max_err);
   return 0;
-}
-
-std::vector<int> device_counts(const std::string& text) {
-  std::vector<int> out;
-  for (const std::string& item : split_spec_list(text)) {
-    const double n = parse_number(item).value_or(0);
-    if (n != std::floor(n) || n < 1 || n > 4096)
-      throw InputError("--devices: '" + item + "' is not a device count in 1..4096");
-    out.push_back(int(n));
-  }
-  if (out.empty()) throw InputError("--devices is empty");
-  return out;
 }
 
 int calibrated(const SimulateOptions& o, const balance::Trace& trace) {
@@ -193,44 +140,11 @@ Runner add_simulate_command(CLI::App& app) {
     const balance::Trace trace = load_trace(o->trace_path);
     if (o->validate) return validate(trace);
     if (o->calibrate || !o->predict.empty()) return calibrated(*o, trace);
-    const std::vector<int> counts = device_counts(o->devices);
-    std::vector<std::string> specs =
-        o->balancers.empty() ? balance::balancer_names() : split_spec_list(o->balancers);
-    if (o->balancers.empty())  // auto would simulate one of the others a second time
-      std::erase(specs, std::string("auto"));
-    if (!(o->noise >= 0 && o->noise < 1)) throw InputError("--noise must be in [0, 1)");
-    balance::StudyConfig config;
-    config.frame_noise = o->noise;
-    if (!(o->slowdown >= 1e-3 && o->slowdown <= 1e6))
-      throw InputError("--slowdown must be in [0.001, 1e6]");
-    config.slowdown = o->slowdown;
-    config.seed = o->seed;
-    config.frames = o->frames;
-    if (o->frames < 0 || o->frames > 1000000) throw InputError("--frames must be in 0..1000000");
-    const int frames = o->frames > 0 ? o->frames : int(trace.frames.size());
-    config.warmup = o->warmup >= 0 ? o->warmup : frames / 10;
-    try {
-      config.link = balance::simulated_link(o->link);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(std::string("--link: ") + e.what());
-    }
-    try {
-      config.link.bytes_per_pixel = balance::simulated_bytes_per_pixel(o->results, o->zstd_ratio);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(std::string("--result-encoding: ") + e.what());
-    }
-    // Everything is checked before anything is printed: one line for bad input.
-    std::vector<std::vector<double>> speeds;
-    for (int n : counts) {
-      try {
-        speeds.push_back(balance::device_speeds(o->speeds, n, o->seed));
-      } catch (const std::invalid_argument& e) {
-        throw InputError(std::string("--speeds: ") + e.what());
-      }
-      for (const std::string& spec : specs) make_balancer_or_throw(spec, n, "--balancers");
-    }
-    check_memory(*o, trace, *std::max_element(counts.begin(), counts.end()),
-                 double(counts.size() * specs.size()), frames);
+    SimulationPlan plan = plan_simulation(*o, trace, !o->json_path.empty());
+    const std::vector<int>& counts = plan.counts;
+    const std::vector<std::string>& specs = plan.specs;
+    const int frames = plan.frames;
+    const balance::StudyConfig& config = plan.config;
     print_out("trace {} ({} frames of {}x{} x {} views, recorded with {} on {} devices)\n",
               o->trace_path, trace.frames.size(), trace.frames[0].shape.width,
               trace.frames[0].shape.height, trace.frames[0].shape.views, trace.balancer,
@@ -243,52 +157,18 @@ Runner add_simulate_command(CLI::App& app) {
     print_out("{:>7}  {:<16} {:>12} {:>12} {:>10} {:>10} {:>10}\n", "devices", "balancer",
               "frame ms", "ideal ms", "efficiency", "imbalance", "deviation");
     const auto start = std::chrono::steady_clock::now();
-    std::vector<balance::StudyResult> results;
-    balance::TraceCosts costs(trace);  // each traced frame's cost table built once
-    for (size_t c = 0; c < counts.size(); ++c) {
-      const int n = counts[c];
-      config.speeds = speeds[c];
-      for (const std::string& spec : specs) {
-        try {
-          results.push_back(balance::run_study(trace, spec, config, &costs));
-        } catch (const std::invalid_argument& e) {
-          throw InputError(std::string("--balancers: ") + e.what());
-        }
-        const auto& r = results.back();
-        print_out("{:>7}  {:<16} {:>12.3f} {:>12.3f} {:>10.3f} {:>9.1f}% {:>9.1f}%\n", n,
-                  spec.substr(0, 16), r.mean_frame_ms, r.mean_ideal_ms, r.efficiency,
-                  100 * r.mean_imbalance, 100 * r.mean_deviation);
-      }
-    }
+    const std::vector<balance::StudyResult> results =
+        run_simulation(trace, plan, [](const std::string& spec, const balance::StudyResult& r) {
+          print_out("{:>7}  {:<16} {:>12.3f} {:>12.3f} {:>10.3f} {:>9.1f}% {:>9.1f}%\n", r.devices,
+                    spec.substr(0, 16), r.mean_frame_ms, r.mean_ideal_ms, r.efficiency,
+                    100 * r.mean_imbalance, 100 * r.mean_deviation);
+        });
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     print_out("({} simulations in {:.2f} s of real time)\n", results.size(), seconds);
-    if (!o->json_path.empty()) {
-      nlohmann::json runs = nlohmann::json::array();
-      for (const auto& r : results)
-        runs.push_back({{"balancer", r.balancer},
-                        {"devices", r.devices},
-                        {"mean_frame_ms", r.mean_frame_ms},
-                        {"mean_ideal_ms", r.mean_ideal_ms},
-                        {"efficiency", r.efficiency},
-                        {"mean_imbalance", r.mean_imbalance},
-                        {"mean_deviation", r.mean_deviation},
-                        {"frame_ms", r.frame_ms}});
-      nlohmann::json doc{{"trace", o->trace_path},
-                         {"speeds", o->speeds},
-                         {"noise", o->noise},
-                         {"slowdown", o->slowdown},
-                         {"link", o->link},
-                         {"result_encoding", o->results},
-                         {"result_bytes_per_pixel", config.link.bytes_per_pixel},
-                         {"frames", frames},
-                         {"warmup", config.warmup},
-                         {"timing",
-                          "virtual time (simulated); ideal = frame cost / sum of "
-                          "device speeds, without link or noise"},
-                         {"runs", runs}};
-      write_file_atomically(o->json_path, dump_json(doc) + "\n");
-    }
+    if (!o->json_path.empty())
+      write_file_atomically(o->json_path,
+                            dump_json(simulation_to_json(*o, plan, results)) + "\n");
     if (!o->plot_path.empty()) {
       std::vector<ScalingSeries> series(specs.size());
       for (size_t k = 0; k < specs.size(); ++k) {

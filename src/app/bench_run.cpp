@@ -1,0 +1,413 @@
+// `multiray bench`'s run (app/bench_run.h): every balancer on the same frames, in one
+// process and interleaved frame by frame, with the ideal frame time measured by each
+// device rendering sampled frames alone.
+#include "app/bench_run.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "app/adapt_summary.h"
+#include "app/bench_repeats.h"
+#include "app/bench_summary.h"
+#include "app/commands.h"
+#include "app/console.h"
+#include "app/interrupt.h"
+#include "app/report_plots.h"
+#include "app/stats_json.h"
+#include "app/trace_file.h"
+#include "balance/balancer.h"
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/machine_load.h"
+#include "engine/bench_harness.h"
+#include "util/spec.h"
+
+namespace multiray::app {
+
+std::string every_balancer() {
+  std::string list;
+  for (const std::string& name : balance::balancer_names())
+    if (name != "auto") list += (list.empty() ? "" : ",") + name;
+  return list;
+}
+
+RunConfig bench_defaults() {
+  RunConfig o;
+  o.frames = 100;
+  o.camera_path = "orbit";
+  o.mesh_spp = 4;
+  return o;
+}
+
+namespace {
+
+// The line saying what is benchmarked, and one line per device.
+void print_run_header(const Run& s, const RunConfig& o, const std::vector<std::string>& labels) {
+  const SamplingSetup& sampling = s.views->sampling();
+  print_out(
+      "scene {}, {}x{} x {} views, {} kernel, {} sampling ({}), {} frames, camera path "
+      "{}\n",
+      s.scene->name, s.res.width, s.res.height, s.views->rig().view_count(), s.settings.kernel,
+      o.sampling,
+      sampling.mode == Sampling::Adaptive ? fmt::format("{} spp on edges, 1 elsewhere", o.edge_spp)
+      : sampling.mode == Sampling::Foveated
+          ? fmt::format("{:g} spp at the gaze, {:g} in the periphery, "
+                        "{} pattern samples, gaze path {}",
+                        o.foveation.fovea_spp, o.foveation.periphery_spp,
+                        sampling.pattern->offsets.size(), o.gaze_path)
+      : sampling.mode == Sampling::Reprojected
+          ? fmt::format("{} spp on the references and on holes", s.settings.spp)
+          : std::to_string(s.settings.spp) + " spp",
+      o.frames, o.camera_path);
+  for (const auto& l : labels) print_out("  device {}\n", l);
+}
+
+// One lane's JSON entry (its frames and summary), and its trace and plots when asked for.
+// The per-frame JSON (several KB a frame) is made only `with_frames` (--json, Python).
+nlohmann::json lane_outputs(size_t k, const Run& s, const BenchResult& result,
+                            const std::vector<std::string>& lanes,
+                            const std::vector<std::string>& labels, const RunSummary& summary,
+                            const std::vector<uint32_t>& reference_views, bool mixed_types,
+                            const TimelineScale& timeline, int warmup, int partition_frame,
+                            const BenchOptions& b, bool with_frames, std::string name) {
+  const BenchLane& lane = result.lanes[k];
+  const std::vector<int>& mismatched = result.mismatched_frames[k];
+  nlohmann::json frames = nlohmann::json::array();
+  for (size_t f = 0; with_frames && f < lane.records.size(); ++f) {
+    frames.push_back(frame_to_json(lane.records[f]));
+    frames.back()["sampling_ms"] = result.sampling_ms[f];
+    if (f < result.hole_fraction.size())
+      frames.back()["reprojection"] =
+          reprojection_to_json(reference_views, result.hole_fraction[f]);
+    frames.back()["image_hash"] = fmt::format("{:016x}", lane.image_hashes[f]);
+  }
+  if (s.volume && s.volume->modes().size() > 1)
+    name +=
+        std::string("-") + balance::adapt_name(s.volume->modes()[k % s.volume->modes().size()]);
+  nlohmann::json run{
+      {"balancer", lane.spec},
+      {"lane", lanes[k]},
+      {"devices", devices_to_json(s.devices)},
+      {"image_matches_first_run", mixed_types ? nlohmann::json("not compared: mixed device types")
+                                              : nlohmann::json(mismatched.empty())},
+      {"mismatched_frames", mismatched},
+      {"frames", frames},
+      {"summary", summary_to_json(summary, warmup, result.sampled)}};
+  if (s.volume && s.volume->options().target_ms > 0)
+    run["targeting"] = targeting_to_json(targeting_summary(
+        lane.records, warmup, s.volume->options().target_ms, lane.error_vs_reference));
+  if (!b.trace_prefix.empty()) {
+    TraceFile trace(fmt::format("{}-{}.trace", b.trace_prefix, name), lane.spec, s.devices);
+    for (const balance::FrameStats& f : lane.stats) trace.frame(f);
+    trace.close();
+  }
+  if (!b.report_dir.empty()) {
+    const std::string png = fmt::format("{}_partition.png", name);
+    write_partition_png(b.report_dir + "/" + png, s.res.width, s.res.height, lane.partition,
+                        &lane.partition_image);
+    write_partition_svg(
+        fmt::format("{}/{}_partition.svg", b.report_dir, name), png,
+        fmt::format("frame {}, view 0, who rendered what — {}", partition_frame, lane.spec),
+        s.res.width, s.res.height, labels);
+    write_timeline_svg(fmt::format("{}/{}_timeline.svg", b.report_dir, name),
+                       fmt::format("{} — {} ({}x{}, {} spp)", lane.spec, s.scene->name,
+                                   s.res.width, s.res.height, s.settings.spp),
+                       lane.records, labels, timeline);
+  }
+  return run;
+}
+
+// Volumes: the set-up times, and with --target-ms the targeting table and plots.
+void report_volume(const Run& s, const BenchResult& result, const std::vector<std::string>& lanes,
+                   const std::vector<std::string>& labels, int warmup,
+                   const std::string& report_dir, bool quiet) {
+  if (!quiet) {
+    std::string styles;
+    for (double ms : s.volume->style_ms)
+      styles += fmt::format("{}{:.1f}", styles.empty() ? "" : ", ", ms);
+    print_out(
+        "volume set-up (host, wall time): block histograms {:.1f} ms once; table and "
+        "opacity histograms per transfer function {} ms\n",
+        s.volume->blocks_ms, styles);
+  }
+  if (s.volume && s.volume->options().target_ms > 0) {
+    std::vector<TargetingSummary> t;
+    for (const BenchLane& lane : result.lanes)
+      t.push_back(targeting_summary(lane.records, warmup, s.volume->options().target_ms,
+                                    lane.error_vs_reference));
+    if (!quiet) print_targeting(lanes, t, s.volume->options().target_ms);
+    if (!report_dir.empty()) {
+      std::vector<std::vector<FrameRecord>> records;
+      for (const BenchLane& lane : result.lanes) records.push_back(lane.records);
+      std::vector<int> switches;
+      if (const InteractionSequence* seq = s.volume->sequence())
+        for (const auto& [frame, tf] : seq->transfer_functions)
+          if (frame > 0) switches.push_back(frame);
+      write_targeting_svg(report_dir + "/targeting.svg",
+                          fmt::format("frame time vs target — {} ({}x{})", s.scene->name,
+                                      s.res.width, s.res.height),
+                          lanes, records, s.volume->options().target_ms, switches);
+      // The sigma panel follows the predicting lane (the last one if none predicts).
+      size_t cost_lane = lanes.size() - 1;
+      for (size_t l = 0; l < lanes.size(); ++l)
+        if (lanes[l].find("adapt=predict") != std::string::npos) cost_lane = l;
+      write_prediction_svg(
+          report_dir + "/prediction.svg",
+          fmt::format("prediction error — {} ({}x{})", s.scene->name, s.res.width, s.res.height),
+          lanes, records, cost_lane, labels, switches);
+    }
+  }
+}
+
+// What the bench ran, for its JSON: scene, image, sampling, frames, camera path, and how
+// time was measured (the measurements are added beside it).
+nlohmann::json run_description(const Run& s, const RunConfig& o) {
+  return {{"scene", s.scene->name},
+          {"resolution", {s.res.width, s.res.height}},
+          {"views", s.views->rig().view_count()},
+          {"spp", s.settings.spp},
+          {"integrator", s.settings.kernel},
+          {"sampling", o.sampling},
+          {"frames", o.frames},
+          {"camera_path", o.camera_path},
+          {"timing",
+           "device_ms measured inside each device (steady_clock); frame_ms by the engine "
+           "around all devices"},
+          {"volume_setup_ms", s.volume ? nlohmann::json{{"block_histograms", s.volume->blocks_ms},
+                                                        {"styles", s.volume->style_ms}}
+                                       : nlohmann::json()}};
+}
+
+// Block `block` of `repeats`: every lane over the run's frames into `out`, with a progress
+// line on a terminal. Returns 0, or 128 + the signal that interrupted it (130 when
+// hooks.after_frame stopped it; then nothing is written: a summary of a cut-short run
+// would mislead).
+int run_block(Session& session, const Run& s, const std::vector<double>& initial,
+              const BenchConfig& config, int block, int repeats, const BenchHooks& hooks,
+              BenchResult& out) {
+  const bool progress = !hooks.quiet && stderr_is_tty();
+  std::optional<InterruptWatch> watch;
+  if (!hooks.after_frame) watch.emplace(session);
+  bool stopped = false;
+  out = run_bench(
+      session, s.device_ptrs(), initial, s.perturbations, session.settings(), config, [&](int f) {
+        if (progress)
+          print_err("\rblock {}/{}  frame {}/{} ", block + 1, repeats, f + 1, config.frames);
+        if (hooks.after_frame && !stopped && !hooks.after_frame()) {
+          stopped = true;
+          session.request_stop();
+        }
+      });
+  if (progress) print_err("\r\033[K");
+  if (stopped) return 130;
+  if (!watch || !watch->signal()) return 0;
+  if (!hooks.quiet)
+    print_err(
+        "multiray: bench interrupted by {} in block {} of {}, after {} of {} frames; "
+        "no output\n",
+        watch->signal_name(), block + 1, repeats,
+        out.lanes.empty() ? 0 : out.lanes[0].records.size(), config.frames);
+  return 128 + watch->signal();
+}
+
+BenchOutcome outcome(int code) {
+  BenchOutcome out;
+  out.exit_code = code;
+  return out;
+}
+
+}  // namespace
+
+BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& hooks) {
+  if (b.repeats < 1 || b.repeats > 100) throw InputError("--repeats must be in 1..100");
+  if (b.probe_ms < 0 || b.probe_ms > 10000) throw InputError("--probe-ms must be in 0..10000");
+  // A distributed run's workers serve one session; repeating it is not built yet.
+  if (o.distributed.enabled && b.repeats > 1) {
+    if (b.repeats_given)
+      throw InputError("--repeats above 1 does not work with --distributed yet");
+    b.repeats = 1;
+  }
+  const auto specs = split_spec_list(b.balancers);
+  if (specs.empty()) throw InputError("--balancers is empty");
+  const int warmup = b.warmup_given ? b.warmup : default_warmup(o.frames);
+  if (warmup < 0 || warmup >= o.frames)
+    throw InputError("--warmup must be in 0.." + std::to_string(o.frames - 1));
+  if (b.ideal_frames < 1 || b.ideal_frames > 1000)
+    throw InputError("--ideal-frames must be in 1..1000");
+  if (!b.json_path.empty()) check_output_file(b.json_path, "--json");
+  // Every lane's records stay in memory for the summaries (measured: ~1.2 KB a frame and
+  // lane with two devices); --json adds their JSON (~12 KB more).
+  const bool with_frames = !b.json_path.empty() || hooks.document;
+  o.kept_bytes_per_frame = double(specs.size()) * (2048 + (with_frames ? 12288 : 0));
+  Run s;
+  int worker_exit = 0;
+  std::vector<std::string> mapped = specs;  // --mapping applied by start_run
+  std::unique_ptr<Session> session = start_run(s, o, mapped, "--balancers", &worker_exit, {}, {}, hooks.quiet);
+  if (!session) return outcome(worker_exit);
+  for (const std::string& spec : mapped)
+    report_auto_choice(s, spec, "--balancers", hooks.quiet);
+  const std::vector<std::string> lanes = s.lane_labels(mapped);
+  if (!b.report_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(b.report_dir, ec);
+    if (ec)
+      throw InputError("cannot create report folder '" + b.report_dir + "': " + ec.message());
+  }
+  std::vector<double> initial;
+  std::vector<std::string> labels;
+  for (size_t i = 0; i < s.devices.size(); ++i) {
+    const DeviceInfo& info = s.devices[i]->info();
+    initial.push_back(info.emulated_speed);
+    labels.push_back(fmt::format("{}: {}", i, info.name));
+  }
+  if (!hooks.quiet) print_run_header(s, o, labels);
+
+  BenchConfig config;
+  config.frames = o.frames;
+  config.warmup = warmup;
+  config.ideal_frames = b.ideal_frames;
+  config.partition_frame = b.report_dir.empty() ? -1 : o.frames / 2;
+  config.keep_stats = !b.trace_prefix.empty();
+  config.reference_step = s.volume ? o.volume.reference_step : 0;
+  // Block 0 gives the per-frame outputs (table, JSON frames, plots, traces); every block
+  // adds its per-frame figures to the repeat statistics.
+  BenchResult result;
+  std::vector<RepeatLane> repeat_lanes;
+  const int perturb_frame = s.perturbations.empty() ? -1 : s.perturbations.front().frame;
+  balance::NoiseReadings noise;
+  noise.probe_before = b.probe_ms > 0 ? contention_probe(b.probe_ms) : NAN;
+  const CpuTimes cpu_before = read_cpu_times();
+  for (int block = 0; block < b.repeats; ++block) {
+    if (block > 0) session = s.make_session(mapped, "--balancers");
+    BenchResult r;
+    if (const int code =
+            run_block(*session, s, initial, config, block, b.repeats, hooks, r)) {
+      BenchOutcome stopped = outcome(code);
+      stopped.interrupted = true;
+      return stopped;
+    }
+    add_block(repeat_lanes, lanes, r, warmup, perturb_frame);
+    if (block == 0) result = std::move(r);
+  }
+  noise.steal = steal_fraction(cpu_before, read_cpu_times());
+  noise.probe_after = b.probe_ms > 0 ? contention_probe(b.probe_ms) : NAN;
+  for (const BenchLane& lane : result.lanes)
+    for (const FrameRecord& rec : lane.records)
+      for (const auto& m : rec.messages)
+        if (!hooks.quiet) print_err("multiray: warning: {}\n", m);
+  nlohmann::json ideal_detail = nlohmann::json::array();
+  for (const IdealSample& i : result.ideal) {
+    ideal_detail.push_back(
+        {{"frame", i.frame}, {"device_alone_ms", i.device_alone_ms}, {"ideal_ms", i.ideal_ms}});
+  }
+  // The ideal efficiency compares against: each frame's, interpolated between the timed
+  // ones, averaged over the summarised frames.
+  const double ideal_mean = mean_ideal_ms(result.ideal, warmup, o.frames);
+  if (!hooks.quiet)
+    print_out(
+        "ideal frame time {:.1f} ms (mean over frames {}-{}, interpolated between {} frames "
+      "on which each device was timed alone)\n",
+      ideal_mean, warmup, o.frames - 1, result.ideal.size());
+
+  std::vector<RunSummary> summaries;
+  for (const BenchLane& lane : result.lanes)
+    summaries.push_back(summarize(lane.records, warmup, result.ideal, perturb_frame));
+  add_speedups(lanes, summaries);
+  if (!hooks.quiet && b.repeats > 1)
+    print_out(
+        "block 1 of {} (its frames give the table below, the plots and the JSON "
+        "frames; the repeat statistics follow):\n",
+        b.repeats);
+  if (!hooks.quiet) {
+    print_table(lanes, summaries, perturb_frame >= 0);
+    print_breakdown(lanes, summaries);
+  }
+  // Bit-identical images are promised per device type; with several types the split
+  // decides which pixels carry which type's last-bit rounding, so hashes are not compared.
+  bool mixed_types = false;
+  for (const auto& d : s.devices) mixed_types |= d->info().type != s.devices[0]->info().type;
+  if (!hooks.quiet && mixed_types)
+    print_out(
+        "(mixed device types: images agree statistically, not bit for bit, so they are "
+        "not compared)\n");
+  // Every view of every frame, between the lanes that rendered it at the same quality.
+  const std::string mismatch =
+      mixed_types ? "" : mismatch_summary(lanes, result.mismatched_frames);
+  if (!hooks.quiet && !mixed_types && mismatch.empty())
+    print_out(
+        "(images: every view of every frame bit-identical across the balancers that "
+        "rendered it at the same quality)\n");
+  const TimelineScale timeline =
+      timeline_scale(result, warmup, result.lanes.empty() ? 0 : result.lanes[0].records.size());
+  nlohmann::json runs_json = nlohmann::json::array();
+  std::vector<uint32_t> reference_views;  // reprojected sampling's, the same every frame
+  for (int v : s.views->rig().reference_views(s.views->sampling().reference_spacing))
+    reference_views.push_back(uint32_t(v));
+  std::vector<std::string> names;
+  for (size_t k = 0; k < result.lanes.size(); ++k)
+    names.push_back(session->engine(k).balancer().name());
+  const std::vector<std::string> stems = lane_file_stems(names);
+  for (size_t k = 0; k < result.lanes.size(); ++k)
+    runs_json.push_back(lane_outputs(k, s, result, lanes, labels, summaries[k], reference_views,
+                                     mixed_types, timeline, warmup, config.partition_frame, b,
+                                     with_frames, stems[k]));
+  if (s.volume) report_volume(s, result, lanes, labels, warmup, b.report_dir, hooks.quiet);
+  const RepeatSummary repeats = summarize_repeats(repeat_lanes, perturb_frame >= 0);
+  if (!b.report_dir.empty())
+    write_comparison_svg(
+        b.report_dir + "/comparison.svg",
+        fmt::format("balancers compared — {} ({}x{}, frames {}-{}, {})", s.scene->name,
+                    s.res.width, s.res.height, warmup, o.frames - 1,
+                    b.repeats > 1
+                        ? fmt::format("medians of {} blocks, 95% intervals", b.repeats)
+                        : std::string("means of one block")),
+        comparison_bars(repeats, summaries));
+  bool emulated = false;
+  for (double v : initial) emulated |= v < 1;
+  if (!hooks.quiet && (emulated || !s.perturbations.empty()))
+    print_out(
+        "(device speeds below 1 are emulated: the device idles after each piece of work)\n");
+  if (!hooks.quiet && b.repeats > 1) print_repeats(repeats);
+  const balance::NoiseVerdict verdict = judge_noise(noise, repeat_lanes);
+  if (!hooks.quiet) print_noise(noise, verdict);
+  BenchOutcome out;
+  if (with_frames) {
+    nlohmann::json& doc = out.doc;
+    doc = run_description(s, o);
+    doc["repeats"] = repeats_to_json(repeats);
+    doc["trustworthy"] = verdict.trustworthy;
+    doc["noise"] = noise_to_json(noise, verdict);
+    doc["ideal_ms"] = ideal_mean;
+    doc["ideal"] = ideal_detail;
+    doc["images_identical"] = mixed_types ? nlohmann::json("not compared: mixed device types")
+                                          : nlohmann::json(mismatch.empty());
+    doc["runs"] = std::move(runs_json);
+    doc["image_reference"] =
+        o.volume.reference_step > 0
+            ? fmt::format("every frame at step {} voxel lengths", o.volume.reference_step)
+            : std::string("the first lane's full-quality frames");
+    if (!b.json_path.empty()) write_file_atomically(b.json_path, dump_json(doc) + "\n");
+  }
+  out.mismatch = mismatch;
+  if (!mismatch.empty()) {
+    // A broken promise of the renderer: reported after the table and JSON, exit code 1.
+    out.exit_code = 1;
+    if (!hooks.quiet)
+      print_err(
+        "multiray: error: images differ between balancers rendering at the same "
+        "quality (every view of every frame compared; mismatched_frames in the JSON): "
+        "{}\n",
+        mismatch);
+  }
+  return out;
+}
+
+}  // namespace multiray::app

@@ -1,0 +1,62 @@
+// The work of `multiray bench`: the run built, every balancer over the same frames in
+// repeat blocks, the summaries, plots and traces, and the --json document. The CLI
+// (bench_command.cpp) declares the options and prints as it goes; the Python module's
+// bench() (src/python/studies.cpp) runs it quietly and returns the document.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "run/run_config.h"
+
+namespace multiray::app {
+
+// Every registered balancer, "uniform,static,...", but `auto` (it runs one of the others:
+// a second lane of the same balancer).
+std::string every_balancer();
+
+// The options bench adds to render's (RunConfig), named as the CLI's.
+struct BenchOptions {
+  std::string balancers = every_balancer();
+  std::string json_path;
+  std::string report_dir;
+  std::string trace_prefix;
+  int warmup = 0;  // used when warmup_given; default_warmup(frames) otherwise
+  bool warmup_given = false;
+  int ideal_frames = 20;
+  int repeats = 3;
+  bool repeats_given = false;  // --repeats given (refused above 1 with --distributed)
+  int probe_ms = 200;
+};
+
+// A RunConfig with bench's defaults: 100 frames, the orbit camera path, 4 spp for meshes.
+RunConfig bench_defaults();
+
+struct BenchHooks {
+  // No lines on stdout or stderr (header, progress, tables, notes, warnings): the caller
+  // has the document.
+  bool quiet = false;
+  // Build the whole document (every frame's record) even without --json.
+  bool document = false;
+  // Called after every frame; false stops the run after that frame (the outcome is then
+  // interrupted, with no output). Empty: SIGINT/SIGTERM stop it (app/interrupt.h).
+  std::function<bool()> after_frame;
+};
+
+struct BenchOutcome {
+  // 0; 1 when images differ between balancers at the same quality (`mismatch` says
+  // where; the document is complete); 128 + the signal that stopped the run, or 130 when
+  // after_frame did; a distributed worker's exit code.
+  int exit_code = 0;
+  bool interrupted = false;
+  nlohmann::json doc;    // the --json document (null when interrupted or on a worker)
+  std::string mismatch;  // mismatch_summary(); empty when every image agreed
+};
+
+// Runs bench with `o` and `b` (InputError with the CLI's one-line message for bad input,
+// before anything renders); writes --json, --report and --trace files when asked for.
+BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& hooks);
+
+}  // namespace multiray::app
