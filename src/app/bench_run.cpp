@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <thread>
 
 #include <fmt/core.h>
@@ -188,20 +188,20 @@ nlohmann::json run_description(const Run& s, const RunConfig& o) {
 
 // Block `block` of `repeats`: every lane over the run's frames into `out`, with a progress
 // line on a terminal. Returns 0, or 128 + the signal that interrupted it (130 when
-// hooks.after_frame stopped it; then nothing is written: a summary of a cut-short run
+// hooks.before_frame stopped it; then nothing is written: a summary of a cut-short run
 // would mislead).
 int run_block(Session& session, const Run& s, const std::vector<double>& initial,
               const BenchConfig& config, int block, int repeats, const BenchHooks& hooks,
               BenchResult& out) {
   const bool progress = !hooks.quiet && stderr_is_tty();
   std::optional<InterruptWatch> watch;
-  if (!hooks.after_frame) watch.emplace(session);
+  if (!hooks.before_frame) watch.emplace(session);
   bool stopped = false;
   out = run_bench(
       session, s.device_ptrs(), initial, s.perturbations, session.settings(), config, [&](int f) {
         if (progress)
           print_err("\rblock {}/{}  frame {}/{} ", block + 1, repeats, f + 1, config.frames);
-        if (hooks.after_frame && !stopped && !hooks.after_frame()) {
+        if (hooks.before_frame && !stopped && !hooks.before_frame()) {
           stopped = true;
           session.request_stop();
         }
@@ -250,10 +250,10 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
   Run s;
   int worker_exit = 0;
   std::vector<std::string> mapped = specs;  // --mapping applied by start_run
-  std::unique_ptr<Session> session = start_run(s, o, mapped, "--balancers", &worker_exit, {}, {}, hooks.quiet);
+  std::unique_ptr<Session> session =
+      start_run(s, o, mapped, "--balancers", &worker_exit, {}, {}, hooks.quiet);
   if (!session) return outcome(worker_exit);
-  for (const std::string& spec : mapped)
-    report_auto_choice(s, spec, "--balancers", hooks.quiet);
+  for (const std::string& spec : mapped) report_auto_choice(s, spec, "--balancers", hooks.quiet);
   const std::vector<std::string> lanes = s.lane_labels(mapped);
   if (!b.report_dir.empty()) {
     std::error_code ec;
@@ -288,8 +288,7 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
   for (int block = 0; block < b.repeats; ++block) {
     if (block > 0) session = s.make_session(mapped, "--balancers");
     BenchResult r;
-    if (const int code =
-            run_block(*session, s, initial, config, block, b.repeats, hooks, r)) {
+    if (const int code = run_block(*session, s, initial, config, block, b.repeats, hooks, r)) {
       BenchOutcome stopped = outcome(code);
       stopped.interrupted = true;
       return stopped;
@@ -314,8 +313,8 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
   if (!hooks.quiet)
     print_out(
         "ideal frame time {:.1f} ms (mean over frames {}-{}, interpolated between {} frames "
-      "on which each device was timed alone)\n",
-      ideal_mean, warmup, o.frames - 1, result.ideal.size());
+        "on which each device was timed alone)\n",
+        ideal_mean, warmup, o.frames - 1, result.ideal.size());
 
   std::vector<RunSummary> summaries;
   for (const BenchLane& lane : result.lanes)
@@ -366,15 +365,13 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
         b.report_dir + "/comparison.svg",
         fmt::format("balancers compared — {} ({}x{}, frames {}-{}, {})", s.scene->name,
                     s.res.width, s.res.height, warmup, o.frames - 1,
-                    b.repeats > 1
-                        ? fmt::format("medians of {} blocks, 95% intervals", b.repeats)
-                        : std::string("means of one block")),
+                    b.repeats > 1 ? fmt::format("medians of {} blocks, 95% intervals", b.repeats)
+                                  : std::string("means of one block")),
         comparison_bars(repeats, summaries));
   bool emulated = false;
   for (double v : initial) emulated |= v < 1;
   if (!hooks.quiet && (emulated || !s.perturbations.empty()))
-    print_out(
-        "(device speeds below 1 are emulated: the device idles after each piece of work)\n");
+    print_out("(device speeds below 1 are emulated: the device idles after each piece of work)\n");
   if (!hooks.quiet && b.repeats > 1) print_repeats(repeats);
   const balance::NoiseVerdict verdict = judge_noise(noise, repeat_lanes);
   if (!hooks.quiet) print_noise(noise, verdict);
@@ -402,10 +399,10 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
     out.exit_code = 1;
     if (!hooks.quiet)
       print_err(
-        "multiray: error: images differ between balancers rendering at the same "
-        "quality (every view of every frame compared; mismatched_frames in the JSON): "
-        "{}\n",
-        mismatch);
+          "multiray: error: images differ between balancers rendering at the same "
+          "quality (every view of every frame compared; mismatched_frames in the JSON): "
+          "{}\n",
+          mismatch);
   }
   return out;
 }

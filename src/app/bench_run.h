@@ -40,15 +40,16 @@ struct BenchHooks {
   bool quiet = false;
   // Build the whole document (every frame's record) even without --json.
   bool document = false;
-  // Called after every frame; false stops the run after that frame (the outcome is then
-  // interrupted, with no output). Empty: SIGINT/SIGTERM stop it (app/interrupt.h).
-  std::function<bool()> after_frame;
+  // Called before every frame renders (on the thread that called run_bench_study); false
+  // stops the run there (the outcome is then interrupted, with no output). Empty:
+  // SIGINT/SIGTERM stop it (app/interrupt.h).
+  std::function<bool()> before_frame;
 };
 
 struct BenchOutcome {
   // 0; 1 when images differ between balancers at the same quality (`mismatch` says
   // where; the document is complete); 128 + the signal that stopped the run, or 130 when
-  // after_frame did; a distributed worker's exit code.
+  // before_frame did; a distributed worker's exit code.
   int exit_code = 0;
   bool interrupted = false;
   nlohmann::json doc;    // the --json document (null when interrupted or on a worker)

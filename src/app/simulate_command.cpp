@@ -167,8 +167,7 @@ Runner add_simulate_command(CLI::App& app) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     print_out("({} simulations in {:.2f} s of real time)\n", results.size(), seconds);
     if (!o->json_path.empty())
-      write_file_atomically(o->json_path,
-                            dump_json(simulation_to_json(*o, plan, results)) + "\n");
+      write_file_atomically(o->json_path, dump_json(simulation_to_json(*o, plan, results)) + "\n");
     if (!o->plot_path.empty()) {
       std::vector<ScalingSeries> series(specs.size());
       for (size_t k = 0; k < specs.size(); ++k) {

@@ -55,11 +55,12 @@ SimulationPlan plan_simulation(const SimulateOptions& o, const balance::Trace& t
                                bool keeps_json);
 
 // Runs the plan's studies, device count by device count and spec by spec; `on_result`
-// (if given) sees each spec and its result as it is made (the CLI prints its row; Python checks for
-// Ctrl-C and may throw to stop).
+// (if given) sees each spec and its result as it is made (the CLI prints its row; Python checks
+// for Ctrl-C and may throw to stop).
 std::vector<balance::StudyResult> run_simulation(
     const balance::Trace& trace, SimulationPlan& plan,
-    const std::function<void(const std::string& spec, const balance::StudyResult&)>& on_result = {});
+    const std::function<void(const std::string& spec, const balance::StudyResult&)>& on_result =
+        {});
 
 // The --json document: the settings and one entry per study under "runs".
 nlohmann::json simulation_to_json(const SimulateOptions& o, const SimulationPlan& plan,

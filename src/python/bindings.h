@@ -2,7 +2,11 @@
 // multiray's values and Python's, the keyword arguments of a render, and the Renderer.
 #pragma once
 
+#include <cstdint>
+#include <map>
 #include <string>
+#include <variant>
+#include <vector>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -37,6 +41,21 @@ struct RenderArgs {
 RenderArgs parse_render_kwargs(const py::kwargs& kwargs, const char* caller);
 // The names parse_render_kwargs takes, for help texts.
 std::string render_kwarg_names();
+
+// Where a keyword argument goes: text (str, a number, os.PathLike), int, uint64_t (an int
+// in [0, 2^64)), float, double, bool, or a list of str.
+using Field =
+    std::variant<std::string*, int*, float*, double*, bool*, std::vector<std::string>*, uint64_t*>;
+// Stores each keyword argument into its field of `table`, checking only its Python type
+// (TypeError naming `caller` for an unknown name or a wrong type; ValueError for an int
+// out of range); the values are checked later, as the CLI checks them.
+void assign_kwargs(const py::kwargs& kwargs, const std::map<std::string, Field>& table,
+                   const char* caller);
+// The keyword arguments of a render (parse_render_kwargs's table), into `args`.
+std::map<std::string, Field> render_fields(RenderArgs& args);
+
+// multiray.simulate() and multiray.bench() (studies.cpp).
+void bind_studies(py::module_& m);
 
 void bind_renderer(py::module_& m);
 // Balancers in Python and traces (balance_types.cpp, balancer.cpp, trace_py.cpp).

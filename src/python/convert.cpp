@@ -54,8 +54,6 @@ bool is_number(const py::handle& v) { return is_int(v) || py::isinstance<py::flo
                        std::string(py::str(py::type::of(v).attr("__name__"))));
 }
 
-using Field = std::variant<std::string*, int*, float*, double*, bool*, std::vector<std::string>*>;
-
 // Keyword -> the RunConfig member the CLI option of that name fills (app/common_options).
 std::map<std::string, Field> fields(RenderArgs& a) {
   RunConfig& o = a.config;
@@ -118,11 +116,33 @@ std::string text_value(const char* caller, const std::string& name, const py::ha
   wrong_type(caller, name, name == "res" ? "a str or a (width, height) pair" : "a str", v);
 }
 
+// A Python int in T's range (int, or uint64_t for seeds); ValueError otherwise (beyond
+// 64 bits too).
+template <class T>
+T int_value(const char* caller, const std::string& name, const py::handle& v) {
+  bool ok = false;
+  T out{};
+  if constexpr (std::is_same_v<T, int>) {
+    int overflow = 0;
+    const long long n = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+    ok = overflow == 0 && n >= INT_MIN && n <= INT_MAX;
+    out = T(n);
+  } else {  // OverflowError below 0 or beyond 64 bits: cleared, reported as ours
+    const unsigned long long n = PyLong_AsUnsignedLongLong(v.ptr());
+    ok = !(n == static_cast<unsigned long long>(-1) && PyErr_Occurred());
+    if (!ok) PyErr_Clear();
+    out = T(n);
+  }
+  if (!ok)
+    throw py::value_error(std::string(caller) + "(): " + name + " " +
+                          py::str(v).cast<std::string>() + " is out of range");
+  return out;
+}
+
 }  // namespace
 
-RenderArgs parse_render_kwargs(const py::kwargs& kwargs, const char* caller) {
-  RenderArgs args;
-  const auto table = fields(args);
+void assign_kwargs(const py::kwargs& kwargs, const std::map<std::string, Field>& table,
+                   const char* caller) {
   for (const auto& [key, value] : kwargs) {
     const std::string name = py::str(key).cast<std::string>();
     const auto it = table.find(name);
@@ -134,14 +154,9 @@ RenderArgs parse_render_kwargs(const py::kwargs& kwargs, const char* caller) {
           using T = std::remove_pointer_t<decltype(field)>;
           if constexpr (std::is_same_v<T, std::string>) {
             *field = text_value(caller, name, value);
-          } else if constexpr (std::is_same_v<T, int>) {
+          } else if constexpr (std::is_same_v<T, int> || std::is_same_v<T, uint64_t>) {
             if (!is_int(value)) wrong_type(caller, name, "an int", value);
-            int overflow = 0;  // beyond 64 bits: out of range too
-            const long long n = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
-            if (overflow != 0 || n < INT_MIN || n > INT_MAX)
-              throw py::value_error(std::string(caller) + "(): " + name + " " +
-                                    py::str(value).cast<std::string>() + " is out of range");
-            *field = int(n);
+            *field = int_value<T>(caller, name, value);
           } else if constexpr (std::is_same_v<T, bool>) {
             if (!py::isinstance<py::bool_>(value)) wrong_type(caller, name, "a bool", value);
             *field = value.cast<bool>();
@@ -165,6 +180,13 @@ RenderArgs parse_render_kwargs(const py::kwargs& kwargs, const char* caller) {
         },
         it->second);
   }
+}
+
+std::map<std::string, Field> render_fields(RenderArgs& args) { return fields(args); }
+
+RenderArgs parse_render_kwargs(const py::kwargs& kwargs, const char* caller) {
+  RenderArgs args;
+  assign_kwargs(kwargs, fields(args), caller);
   return args;
 }
 

@@ -28,6 +28,7 @@ PYBIND11_MODULE(multiray, m) {
   bind_balance_types(m);
   bind_balancer(m);
   bind_trace(m);
+  bind_studies(m);
   m.def(
       "image_hash",
       [](const py::object& images) {
