@@ -157,3 +157,11 @@ def test_ctrl_c_stops_a_bench_between_frames():
         child.kill()
     assert out.startswith("interrupted"), out
     assert child.returncode == 0
+
+
+def test_simulate_and_bench_are_quiet(trace, capfd):
+    multiray.simulate(trace, devices="2", balancers="uniform")
+    # auto: the CLI prints its choice on stderr
+    multiray.bench(**{**BENCH, "balancers": "auto,uniform"})
+    out, err = capfd.readouterr()
+    assert out == "" and err == ""
