@@ -35,3 +35,14 @@ def cli_render(cli, tmp_path_factory):
     with open(out / "stats.json") as f:
         stats = json.load(f)
     return stats, out / "frame_0000.exr"
+
+
+@pytest.fixture(scope="session")
+def trace(cli, tmp_path_factory):
+    """A small trace recorded by the CLI: 4 frames of 64x36 on two one-thread CPUs."""
+    d = tmp_path_factory.mktemp("trace")
+    code, err = run_cli(cli, "render", "--res", "64x36", "--spp", "1", "--frames", "4",
+                        "--devices", "cpu:threads=1,cpu:threads=1", "--balancer", "queue",
+                        "--trace", str(d / "T"), "--out", str(d / "D"), "--quiet")
+    assert code == 0, err
+    return str(d / "T")

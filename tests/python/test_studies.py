@@ -25,17 +25,6 @@ def cli_args(kwargs):
     return args
 
 
-@pytest.fixture(scope="module")
-def trace(cli, tmp_path_factory):
-    """A small trace recorded by the CLI: 4 frames of 64x36 on two one-thread CPUs."""
-    d = tmp_path_factory.mktemp("trace")
-    code, err = run_cli(cli, "render", "--res", "64x36", "--spp", "1", "--frames", "4",
-                        "--devices", "cpu:threads=1,cpu:threads=1", "--balancer", "queue",
-                        "--trace", str(d / "T"), "--out", str(d / "D"), "--quiet")
-    assert code == 0, err
-    return str(d / "T")
-
-
 SIMULATE = [
     dict(devices="2,4", balancers="uniform,queue,hybrid"),
     dict(devices="1,3", speeds="linear:0.5", noise=0.1, seed=9, link="lan",
