@@ -13,6 +13,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -129,6 +130,34 @@ TEST(Hostile, SigintKeepsTheFramesDoneAndTheirStats) {
     (e.path().extension() == ".png" ? pngs : others) += 1;
   EXPECT_EQ(pngs, frames);  // every frame in stats.json has its image, and no other
   EXPECT_EQ(others, 1u);    // stats.json; no temporary file left
+}
+
+// bench stops at SIGINT too (app/bench_run.cpp's run_block), with one line and no output:
+// a summary of a cut-short run would mislead.
+TEST(Hostile, SigintStopsABenchWithoutOutput) {
+  const std::string dir = fresh_dir("sigint-bench");
+  fs::create_directories(dir);
+  const std::string json = dir + "/bench.json", err = dir + "/stderr.txt";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {  // far more frames than it will get to
+    freopen("/dev/null", "w", stdout);
+    freopen(err.c_str(), "w", stderr);
+    execl(MULTIRAY_BIN, MULTIRAY_BIN, "bench", "--res", "32x18", "--spp", "1", "--frames",
+          "100000", "--devices", "cpu:threads=1", "--balancers", "uniform", "--repeats", "1",
+          "--probe-ms", "0", "--json", json.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGINT) << status;
+  std::ifstream in(err);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("multiray: bench interrupted by SIGINT in block 1 of 1"), std::string::npos)
+      << text;
+  EXPECT_FALSE(fs::exists(json));
 }
 
 // Round two (issue 31), data and memory: decoded images and simulations are estimated
