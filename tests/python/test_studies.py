@@ -158,3 +158,30 @@ def test_simulate_and_bench_are_quiet(trace, capfd):
     multiray.bench(**{**BENCH, "balancers": "auto,uniform"})
     out, err = capfd.readouterr()
     assert out == "" and err == ""
+
+
+SIM_CHILD = """
+import signal, sys, multiray
+signal.signal(signal.SIGINT, signal.default_int_handler)  # inherited ignored in background jobs
+print("start", flush=True)
+try:  # 60 studies of about a second each
+    multiray.simulate(sys.argv[1], devices=[256] * 60, balancers="hybrid", frames=2000)
+except KeyboardInterrupt:
+    print("interrupted", flush=True)
+"""
+
+
+def test_ctrl_c_stops_a_simulation_between_studies(trace):
+    child = subprocess.Popen([sys.executable, "-c", SIM_CHILD, trace], stdout=subprocess.PIPE,
+                             text=True)
+    try:
+        assert child.stdout.readline().strip() == "start"
+        time.sleep(0.5)
+        child.send_signal(signal.SIGINT)
+        sent = time.monotonic()
+        out, _ = child.communicate(timeout=30)
+        stopped = time.monotonic() - sent
+    finally:
+        child.kill()
+    assert out.startswith("interrupted"), out
+    assert stopped < 10, f"{stopped:.1f} s from Ctrl-C to the end"
