@@ -114,11 +114,14 @@ py::object bench(const py::object& scene, const py::kwargs& kwargs) {
     out = app::run_bench_study(args.config, b, hooks);
   }
   if (out.interrupted) throw py::error_already_set();
-  if (!out.mismatch.empty())  // the CLI's exit code 1; the document says where
-    PyErr_WarnEx(
-        PyExc_RuntimeWarning,
-        ("images differ between balancers rendering at the same quality: " + out.mismatch).c_str(),
-        1);
+  // The CLI's exit code 1; the document says where. A warnings filter may make it an error.
+  if (!out.mismatch.empty() &&
+      PyErr_WarnEx(
+          PyExc_RuntimeWarning,
+          ("images differ between balancers rendering at the same quality: " + out.mismatch)
+              .c_str(),
+          1) < 0)
+    throw py::error_already_set();
   return to_python(out.doc);
 }
 
