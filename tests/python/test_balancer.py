@@ -248,3 +248,26 @@ def test_plan_values():
     assert shape.pixel_weight.dtype == np.float32 and shape.pixel_weight.shape == (1, 2, 4)
     with pytest.raises(ValueError):
         multiray.FrameShape(4, 2, pixel_weight=np.ones(3))
+
+
+def test_python_balancer_in_simulate_and_bench(cli, tmp_path):
+    """A registered Python balancer is a spec to multiray.simulate() and bench() too (they
+    build balancers by name); the twin's simulated frame times equal the C++ ones."""
+    code, err = run_cli(cli, "render", "--res", "64x36", "--spp", "1", "--frames", "4",
+                        "--devices", "cpu:threads=1,cpu:threads=1:speed=0.5",
+                        "--balancer", "queue", "--trace", str(tmp_path / "T"), "--out",
+                        str(tmp_path / "D"), "--quiet")
+    assert code == 0, err
+    doc = multiray.simulate(str(tmp_path / "T"), devices=[2, 3], frames=12,
+                            speeds="linear:0.4",
+                            balancers=["pycycles:interval_ms=0", "cycles:interval_ms=0"])
+    runs = doc["runs"]
+    assert [r["balancer"].split(":")[0] for r in runs] == ["pycycles", "cycles"] * 2
+    for py_run, cpp_run in zip(runs[::2], runs[1::2]):
+        assert py_run["frame_ms"] == cpp_run["frame_ms"], py_run["devices"]
+    # And to bench(): the same images as the C++ one renders, frame by frame.
+    doc = multiray.bench(res="32x18", spp=1, frames=3, devices=TINY["devices"], repeats=1,
+                         balancers="pycycles,cycles", probe_ms=0, ideal_frames=1)
+    assert [r["balancer"].split(":")[0] for r in doc["runs"]] == ["pycycles", "cycles"]
+    hashes = [[f["image_hash"] for f in r["frames"]] for r in doc["runs"]]
+    assert doc["images_identical"] is True and hashes[0] == hashes[1]
