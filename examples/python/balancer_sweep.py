@@ -26,9 +26,12 @@ def record_trace(folder, res, frames):
     return prefix + "-queue.trace"
 
 
-def sweep(trace, devices, balancers, link):
-    """{balancer: [(devices, efficiency), ...]} from one simulate() over every pair."""
-    doc = multiray.simulate(trace, devices=devices, balancers=balancers, link=link)
+def sweep(trace, devices, balancers, link, slowdown, frames):
+    """{balancer: [(devices, efficiency), ...]} from one simulate() over every pair: devices
+    `slowdown` times slower than the recording one, speeds random in [0.3, 1] and 5% noise
+    per frame (as bench/scaling.sh), the trace's frames cycled to `frames`."""
+    doc = multiray.simulate(trace, devices=devices, balancers=balancers, link=link,
+                            slowdown=slowdown, speeds="random:0.3", noise=0.05, frames=frames)
     series = {}
     # runs come device count by device count, balancer by balancer, in the order given
     for k, run in enumerate(doc["runs"]):
@@ -72,8 +75,13 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("png", help="where the plot goes (PNG)")
     p.add_argument("--trace", help="replay this trace instead of recording one")
-    p.add_argument("--res", default="160x90", help="resolution of the recorded trace")
+    p.add_argument("--res", default="640x360", help="resolution of the recorded trace")
     p.add_argument("--frames", type=int, default=8, help="frames of the recorded trace")
+    p.add_argument("--sim-frames", type=int, default=40,
+                   help="frames simulated (the trace's, cycled); a tenth are warm-up")
+    p.add_argument("--slowdown", type=float, default=20,
+                   help="virtual devices this many times slower than the recording one "
+                        "(a 640x360 frame on a few slow devices, not on 32 fast cores)")
     p.add_argument("--devices", default="1,2,4,8,16,32", help="device counts to simulate")
     p.add_argument("--balancers", default="uniform,static,queue,dlb,hybrid")
     p.add_argument("--link", default="lan", help="emulated link (as simulate --link)")
@@ -82,7 +90,7 @@ def main(argv=None):
     balancers = a.balancers.split(",")
     with tempfile.TemporaryDirectory() as folder:
         trace = a.trace or record_trace(folder, a.res, a.frames)
-        doc, series = sweep(trace, devices, balancers, a.link)
+        doc, series = sweep(trace, devices, balancers, a.link, a.slowdown, a.sim_frames)
     print(f"{doc['frames']} frames, warm-up {doc['warmup']}, link {doc['link']}, "
           f"{doc['result_bytes_per_pixel']:g} result bytes a pixel")
     print_table(series, devices)

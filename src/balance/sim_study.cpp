@@ -106,11 +106,9 @@ StudyResult run_study(const Trace& trace, const std::string& spec, const StudyCo
   std::vector<SimDevice> devices(cfg.speeds.size());
   if (!(cfg.slowdown >= 1e-6 && cfg.slowdown <= 1e6))
     throw std::invalid_argument("slowdown must be in [1e-6, 1e6]");
-  double speed_sum = 0;
   for (size_t i = 0; i < devices.size(); ++i) {
     devices[i].speed = cfg.speeds[i] / cfg.slowdown;
     devices[i].frame_noise = cfg.frame_noise;
-    speed_sum += devices[i].speed;
   }
   const int frames = cfg.frames > 0 ? cfg.frames : int(trace.frames.size());
   if (cfg.warmup < 0 || cfg.warmup >= frames)
@@ -127,7 +125,9 @@ StudyResult run_study(const Trace& trace, const std::string& spec, const StudyCo
         r.frame_ms.push_back(sf.frame_ms);
         if (f < cfg.warmup) return;
         actual += sf.frame_ms;
-        ideal += frame_cost(trace, size_t(f) % trace.frames.size()) / speed_sum;
+        // Against the frame's own (noisy) speeds: the speeds without their noise made a
+        // lucky frame look better than ideal (efficiencies above 1).
+        ideal += frame_cost(trace, size_t(f) % trace.frames.size()) / sf.speed_sum;
         r.mean_imbalance += imbalance(sf.stats);
         r.mean_deviation += deviation(sf.stats);
       },

@@ -43,8 +43,10 @@ struct StudyConfig {
 struct StudyResult {
   std::string balancer;  // full spec
   int devices = 0;
-  double mean_frame_ms = 0;      // frames after the warm-up, until the master has every result
-  double mean_ideal_ms = 0;      // same frames: frame cost / sum of speeds (no link, no noise)
+  double mean_frame_ms = 0;  // frames after the warm-up, until the master has every result
+  // Same frames: frame cost / the frame's sum of speeds with its noise (SimFrame::
+  // speed_sum), no link: what no split can beat, so efficiency <= 1 (to float rounding).
+  double mean_ideal_ms = 0;
   double efficiency = 0;         // sum ideal / sum actual over those frames
   double mean_imbalance = 0;     // device times, as balance::imbalance()
   double mean_deviation = 0;     // device times, as balance::deviation() (Harada)

@@ -115,6 +115,7 @@ SimFrame simulate_linked(const Plan& plan, const FrameShape& shape,
       throw std::invalid_argument("device " + std::to_string(i) +
                                   " has a negative frame overhead or contention");
     stats.devices[i].alive = d.alive;
+    if (d.alive) out.speed_sum += d.speed * frame_factor[i];
     if (d.alive) ready.push({link.latency_ms + d.frame_overhead_ms, i});  // frame start
   }
   // When each device ran out of work (contention counts the devices still at work).

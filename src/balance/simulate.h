@@ -80,6 +80,10 @@ struct SimFrame {
   Plan plan;
   FrameStats stats;
   double frame_ms = 0;
+  // The frame's own speed: the sum over live devices of speed x this frame's noise factor
+  // (before any mid-frame change or contention). The frame's cost over it is the frame
+  // time no split can beat, so an efficiency against it never passes 1.
+  double speed_sum = 0;
 };
 
 // simulate() behind `link`: device times include the waits for work; frame_ms when the

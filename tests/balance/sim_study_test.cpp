@@ -105,6 +105,23 @@ TEST(SimStudy, ASlowLinkCostsEfficiencyAndSlowerDevicesHideIt) {
   EXPECT_THROW(run_study(t, "uniform", c), std::invalid_argument);
 }
 
+// The ideal is taken against each frame's own noisy speeds: one device is always ideal,
+// and no study passes 1, however lucky its frames' noise.
+TEST(SimStudy, NoisyFramesNeverMakeAnEfficiencyAboveOne) {
+  const Trace t = flat_trace(3);
+  StudyConfig c;
+  c.frames = 12;
+  c.frame_noise = 0.3;
+  for (uint64_t seed = 0; seed < 20; ++seed) {
+    c.seed = seed;
+    c.speeds = {1};
+    EXPECT_NEAR(run_study(t, "uniform", c).efficiency, 1.0, 1e-6) << seed;
+    c.speeds = {1, 0.5, 0.7};
+    for (const char* spec : {"uniform", "static", "queue", "hybrid"})
+      EXPECT_LE(run_study(t, spec, c).efficiency, 1.0 + 1e-6) << spec << " seed " << seed;
+  }
+}
+
 // The studies of one simulation share the traced frames' cost tables: each is built
 // once, however many balancers and device counts replay it, and sharing changes no result.
 TEST(SimStudy, StudiesShareEachFramesCostTableAndGiveTheSameResults) {
