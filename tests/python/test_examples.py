@@ -43,7 +43,8 @@ def test_balancer_sweep_tabulates_simulate(trace, tmp_path):
     out = run_example("balancer_sweep.py", str(tmp_path / "s.png"), "--trace", trace,
                       "--devices", "1,2,4", "--balancers", "queue,uniform,hybrid")
     doc = multiray.simulate(trace, devices="1,2,4", balancers="queue,uniform,hybrid",
-                            link="lan")
+                            link="lan", slowdown=20, speeds="random:0.3", noise=0.05,
+                            frames=40)  # the example's defaults
     table = {}
     for line in out.splitlines():
         cells = line.split()
