@@ -19,8 +19,9 @@ namespace {
 constexpr float kAmbient = 0.3f, kDiffuse = 0.7f;
 
 // Trilinear interpolation at voxel coordinates p (voxel centres at i + 0.5), clamped to
-// the grid.
-float trilinear(const Volume& v, Vec3 p) {
+// the grid, of the voxels `at(x, y, z)` returns (as floats: the same for every store).
+template <class At>
+float trilinear(const Volume& v, const At& at, Vec3 p) {
   const float x = std::clamp(p.x - 0.5f, 0.0f, float(v.nx - 1));
   const float y = std::clamp(p.y - 0.5f, 0.0f, float(v.ny - 1));
   const float z = std::clamp(p.z - 0.5f, 0.0f, float(v.nz - 1));
@@ -31,7 +32,7 @@ float trilinear(const Volume& v, Vec3 p) {
             z1 = std::min(z0 + 1, v.nz - 1);
   const float fx = x - float(x0), fy = y - float(y0), fz = z - float(z0);
   auto row = [&](int yy, int zz) {
-    return v.at(x0, yy, zz) + (v.at(x1, yy, zz) - v.at(x0, yy, zz)) * fx;
+    return at(x0, yy, zz) + (at(x1, yy, zz) - at(x0, yy, zz)) * fx;
   };
   const float a = row(y0, z0) + (row(y1, z0) - row(y0, z0)) * fy;
   const float b = row(y0, z1) + (row(y1, z1) - row(y0, z1)) * fy;
@@ -39,12 +40,23 @@ float trilinear(const Volume& v, Vec3 p) {
 }
 
 // World-space gradient by central differences, one voxel to each side (6 fetches).
-Vec3 gradient(const Volume& v, Vec3 p) {
+template <class At>
+Vec3 gradient(const Volume& v, const At& at, Vec3 p) {
   const Vec3 dx(1, 0, 0), dy(0, 1, 0), dz(0, 0, 1);
-  return Vec3((trilinear(v, p + dx) - trilinear(v, p - dx)) / (2 * v.spacing.x),
-              (trilinear(v, p + dy) - trilinear(v, p - dy)) / (2 * v.spacing.y),
-              (trilinear(v, p + dz) - trilinear(v, p - dz)) / (2 * v.spacing.z));
+  return Vec3((trilinear(v, at, p + dx) - trilinear(v, at, p - dx)) / (2 * v.spacing.x),
+              (trilinear(v, at, p + dy) - trilinear(v, at, p - dy)) / (2 * v.spacing.y),
+              (trilinear(v, at, p + dz) - trilinear(v, at, p - dz)) / (2 * v.spacing.z));
 }
+
+// The voxel at (x, y, z) of `data` (x fastest) as a float.
+template <class T>
+struct VoxelAt {
+  const T* data;
+  size_t nx, nxy;
+  float operator()(int x, int y, int z) const {
+    return float(data[size_t(z) * nxy + size_t(y) * nx + size_t(x)]);
+  }
+};
 
 // Per block, the largest opacity the kernel can see there: the maximum over the table
 // entries that interpolation between the block's smallest and largest value reads (one
@@ -127,6 +139,27 @@ RaySpan non_empty_span(const VolumeScene& vs, const BlockOpacity& opacity, const
 Vec3 VolumeRaycaster::cast(const Ray& ray, const VolumeStyle& style, float step_scale,
                            uint64_t& steps) const {
   const Volume& v = vs_.volume;
+  const size_t nx = size_t(v.nx), nxy = size_t(v.nx) * size_t(v.ny);
+  const VoxelGrid& g = vs_.voxels;
+  switch (g.store) {
+    case VoxelGrid::Store::u8:
+      return march(ray, style, step_scale, steps, VoxelAt<uint8_t>{g.as<uint8_t>(), nx, nxy});
+    case VoxelGrid::Store::i8:
+      return march(ray, style, step_scale, steps, VoxelAt<int8_t>{g.as<int8_t>(), nx, nxy});
+    case VoxelGrid::Store::u16:
+      return march(ray, style, step_scale, steps, VoxelAt<uint16_t>{g.as<uint16_t>(), nx, nxy});
+    case VoxelGrid::Store::i16:
+      return march(ray, style, step_scale, steps, VoxelAt<int16_t>{g.as<int16_t>(), nx, nxy});
+    case VoxelGrid::Store::f32:
+      break;
+  }
+  return march(ray, style, step_scale, steps, VoxelAt<float>{v.values.data(), nx, nxy});
+}
+
+template <class At>
+Vec3 VolumeRaycaster::march(const Ray& ray, const VolumeStyle& style, float step_scale,
+                            uint64_t& steps, const At& at) const {
+  const Volume& v = vs_.volume;
   const VoxelRay r = to_voxels(v, ray);
   float t0, t1;
   clip_to_grid(v, r, t0, t1);
@@ -145,13 +178,13 @@ Vec3 VolumeRaycaster::cast(const Ray& ray, const VolumeStyle& style, float step_
       for (int64_t k = first_index(ta), end = first_index(tb); k < end; ++k) {
         const Vec3 p = r.org + r.dir * (t0 + float(k) * dt);
         ++steps;
-        const float value = trilinear(v, p);
+        const float value = trilinear(v, at, p);
         const TfSample tf = tf_lookup(style.colour_log_transparency.data(), last,
                                       tf_position(value, table.lo, to_index, last));
         if (tf.log_t == 0) continue;  // fully transparent: no gradient, no change
         const float a = tf_opacity(tf.log_t, ratio);
         Vec3 c = tf.colour;
-        const Vec3 g = gradient(v, p);
+        const Vec3 g = gradient(v, at, p);
         const float glen = length(g);
         if (glen > 0) c = c * (kAmbient + kDiffuse * std::abs(dot(g, ray.dir)) / glen);
         colour += c * ((1 - alpha) * a);

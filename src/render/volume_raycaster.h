@@ -16,6 +16,7 @@
 
 #include "render/kernel.h"
 #include "render/shared/language.h"
+#include "render/voxel_grid.h"
 #include "volume/blocks.h"
 #include "volume/transfer_function.h"
 #include "volume/volume.h"
@@ -25,9 +26,11 @@ namespace multiray {
 // The volume as the raycaster needs it (representation "volume" in the SceneCache): the
 // grid and its block histograms, built once when the volume loads.
 struct VolumeScene {
-  explicit VolumeScene(const Volume& v) : volume(v), blocks(build_blocks(v)) {}
+  explicit VolumeScene(const Volume& v)
+      : volume(v), blocks(build_blocks(v)), voxels(make_voxel_grid(v)) {}
   const Volume& volume;
   VolumeBlocks blocks;
+  VoxelGrid voxels;  // the CPU raycaster's copy in the file's type (render/voxel_grid.h)
 };
 
 // How a frame shows the volume: the transfer function baked for the kernel, the block
@@ -76,6 +79,11 @@ class VolumeRaycaster : public Kernel {
   Vec3 cast(const Ray& ray, const VolumeStyle& style, float step_scale, uint64_t& steps) const;
 
  private:
+  // cast() on the voxels `at(x, y, z)` reads (VoxelGrid's store, one instance per type).
+  template <class At>
+  Vec3 march(const Ray& ray, const VolumeStyle& style, float step_scale, uint64_t& steps,
+             const At& at) const;
+
   const VolumeScene& vs_;
 };
 

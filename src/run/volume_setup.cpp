@@ -60,6 +60,7 @@ Scene load_volume_scene(const std::string& path, const VolumeOptions& o, bool al
   VolumeLoadOptions load;
   load.allow_outside = allow_outside;
   load.max_bytes = max_bytes;
+  load.kept_bytes_per_voxel = kVoxelGridBytesPerVoxel;  // the CPU raycaster's narrow copy
   std::shared_ptr<Volume> volume;
   if (o.raw.empty()) {
     volume = std::make_shared<Volume>(load_volume(path, load));

@@ -211,7 +211,8 @@ Volume load_volume(const std::string& path, const VolumeLoadOptions& options) {
   const uint64_t need = uint64_t(v.voxel_count()) * uint64_t(voxel_bytes(v.type));
   const std::string grid = grid_text(v.nx, v.ny, v.nz, v.type);
   const uint64_t file_bytes = text.size() + (attached ? 0 : need);  // data file: estimated
-  check_memory(path, options, load_peak_bytes(v.voxel_count(), file_bytes, need), grid);
+  check_memory(path, options, v.voxel_count(), load_peak_bytes(v.voxel_count(), file_bytes, need),
+               grid);
 
   std::string detached;
   if (!attached) read_data_file(path, parts, options, need, &detached);

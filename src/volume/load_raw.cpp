@@ -147,7 +147,7 @@ Volume load_raw_volume(const std::string& path, const RawVolumeSpec& spec,
   const uint64_t need = uint64_t(v.voxel_count()) * uint64_t(voxel_bytes(v.type));
   const std::string grid = grid_text(v.nx, v.ny, v.nz, v.type);
   // The file's bytes are the decoded samples: they are held while the floats are filled.
-  check_memory(path, options, load_peak_bytes(v.voxel_count(), need, need), grid);
+  check_memory(path, options, v.voxel_count(), load_peak_bytes(v.voxel_count(), need, need), grid);
 
   LoadOptions read_options;
   read_options.max_total_bytes = need + data_file_slack(need);

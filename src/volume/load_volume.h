@@ -24,6 +24,10 @@ struct VolumeLoadOptions {
   // Peak memory one load may take, in bytes (file bytes, decoded samples and the float
   // values together); 0 = no limit.
   uint64_t max_bytes = 0;
+  // Bytes per voxel the renderer keeps beside the float values once the load is done (the
+  // CPU raycaster's copy in the file's type: render/voxel_grid.h), counted with the load
+  // so that a volume that could be read but not rendered is refused before it is read.
+  uint64_t kept_bytes_per_voxel = 0;
 };
 
 // A headerless raw file: nx*ny*nz voxels of `type`, x fastest, then y, then z.

@@ -57,8 +57,9 @@ uint64_t load_peak_bytes(uint64_t voxels, uint64_t file_bytes, uint64_t decoded_
   return decoded_bytes + std::max(file_bytes, voxels * sizeof(float));
 }
 
-void check_memory(const std::string& path, const VolumeLoadOptions& options, uint64_t peak_bytes,
-                  const std::string& grid) {
+void check_memory(const std::string& path, const VolumeLoadOptions& options, uint64_t voxels,
+                  uint64_t peak_bytes, const std::string& grid) {
+  peak_bytes = std::max(peak_bytes, voxels * (sizeof(float) + options.kept_bytes_per_voxel));
   if (options.max_bytes != 0 && peak_bytes > options.max_bytes)
     fail(path, "loading " + grid + " needs about " + std::to_string(peak_bytes) +
                    " bytes, more than the limit of " + std::to_string(options.max_bytes));

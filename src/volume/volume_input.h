@@ -24,9 +24,11 @@ Vec3 checked_spacing(const std::string& path, const double s[3], const char* wha
 // then the decoded samples while the float values are filled in.
 uint64_t load_peak_bytes(uint64_t voxels, uint64_t file_bytes, uint64_t decoded_bytes);
 
-// Refuses the load when `peak_bytes` exceeds options.max_bytes (0 = no limit).
-void check_memory(const std::string& path, const VolumeLoadOptions& options, uint64_t peak_bytes,
-                  const std::string& grid);
+// Refuses the load when `peak_bytes`, or the float values of `voxels` voxels with what
+// the renderer keeps per voxel (options.kept_bytes_per_voxel), exceed options.max_bytes
+// (0 = no limit).
+void check_memory(const std::string& path, const VolumeLoadOptions& options, uint64_t voxels,
+                  uint64_t peak_bytes, const std::string& grid);
 
 // `x` with up to 9 significant digits ("1e-300", "0.95703125"), for messages.
 std::string number_text(double x);

@@ -155,6 +155,59 @@ TEST(VolumeRaycaster, EmptySpaceSkippingNeverChangesTheImage) {
   EXPECT_LT(with, without / 2);  // and most of the marching was skipped
 }
 
+// The CPU raycaster reads 8- and 16-bit volumes in their own type (render/voxel_grid.h):
+// only when every value fits exactly, and with the same image as from the floats.
+TEST(VoxelGrid, KeepsTheFileTypeOnlyWhenEveryValueFitsIt) {
+  auto v = make_volume(4, 3, 2, [](int x, int y, int z) { return float(x + 4 * y + 12 * z); });
+  v->type = VoxelType::u8;
+  EXPECT_EQ(make_voxel_grid(*v).store, VoxelGrid::Store::u8);
+  EXPECT_EQ(make_voxel_grid(*v).bytes.size(), v->voxel_count());
+  v->values[5] = 0.5f;  // not an integer
+  EXPECT_EQ(make_voxel_grid(*v).store, VoxelGrid::Store::f32);
+  v->values[5] = 256;  // past uint8
+  EXPECT_EQ(make_voxel_grid(*v).store, VoxelGrid::Store::f32);
+  v->type = VoxelType::u16;
+  EXPECT_EQ(make_voxel_grid(*v).store, VoxelGrid::Store::u16);
+  v->values[5] = -1024;
+  EXPECT_EQ(make_voxel_grid(*v).store, VoxelGrid::Store::f32);
+  v->type = VoxelType::i16;
+  const VoxelGrid g = make_voxel_grid(*v);
+  ASSERT_EQ(g.store, VoxelGrid::Store::i16);
+  EXPECT_EQ(g.as<int16_t>()[5], -1024);
+  v->values[0] = 1e9f;
+  EXPECT_EQ(make_voxel_grid(*v).store, VoxelGrid::Store::f32);
+}
+
+TEST(VolumeRaycaster, ANarrowStoreGivesTheImageOfTheFloats) {
+  for (VoxelType type : {VoxelType::u8, VoxelType::i16}) {
+    BallScene b;
+    if (type == VoxelType::i16)  // negative values too, in a 16-bit signed volume
+      for (float& x : b.volume->values) x = x > 0 ? 3000.0f : -1000.0f;
+    b.volume->type = type;
+    const VolumeScene narrow(*b.volume);
+    VolumeScene wide(*b.volume);
+    wide.voxels = VoxelGrid{};  // read Volume::values
+    ASSERT_NE(narrow.voxels.store, VoxelGrid::Store::f32);
+    TransferFunction tf;
+    tf.name = "ball";
+    tf.points = {{-1000, Vec3(0.0f), 0}, {100, Vec3(0.0f), 0}, {3000, Vec3(1, 0.8f, 0.6f), 0.3f}};
+    auto style = make_volume_style(narrow, tf, 0.5f);
+    const VolumeRaycaster a(narrow), c(wide);
+    const PinholeCamera cam(b.scene.cameras[0], 41, 29);
+    uint64_t steps = 0;
+    int lit = 0;
+    for (int y = 0; y < 29; ++y)
+      for (int x = 0; x < 41; ++x) {
+        Ray r = cam.ray(x + 0.5f, y + 0.5f);
+        r.dir = normalize(r.dir);
+        const Vec3 p = a.cast(r, *style, 1, steps), q = c.cast(r, *style, 1, steps);
+        ASSERT_EQ(std::memcmp(&p, &q, sizeof p), 0) << x << "," << y;
+        lit += p.x > 0;
+      }
+    EXPECT_GT(lit, 20);
+  }
+}
+
 TEST(VolumeRaycaster, EarlyTerminationStaysWithinItsThreshold) {
   BallScene b;
   b.style->background = Vec3(0.5f);
