@@ -12,12 +12,17 @@
 #   0.5 voxel lengths, opacity per 1 voxel length corrected for the step, trilinear
 #   samples, the `angio` transfer function (its fractions of [min, max] as data values for
 #   VTK), headlight shading 0.3 ambient + 0.7 two-sided diffuse, no specular, black
-#   background, 1 and 2 threads.
+#   background, 1 and 2 threads. (VTK scales the ambient term by the light's ambient
+#   colour, black by default: bench/vtk_volume.py adds a headlight with a white one.)
 # Every difference in the work that remains:
 # - Gradients: multiray takes central differences of trilinear samples at every shaded
 #   sample (6 extra fetches); VTK precomputes one gradient per voxel once (the first render,
 #   a warm-up frame here), quantizes its direction to a 2-byte table entry and shades the 8
 #   corners, interpolating the result. VTK's per-frame work is cheaper; its shading coarser.
+#   Where the gradient is zero VTK shades with the ambient term alone; multiray leaves the
+#   transfer function's colour unshaded.
+# - Light direction: VTK shades every sample with the camera's central view direction (one
+#   table per frame); multiray with each ray's own direction (|cos(gradient, ray)|).
 # - Arithmetic: VTK composites in 15-bit fixed point with 8-bit colour; multiray in float.
 # - Transfer-function tables: multiray bakes a table over [min, max] and interpolates it;
 #   VTK builds its own fixed-point tables (one entry per value of the 8-bit data).
@@ -29,9 +34,12 @@
 #   transparency falls below 0xff/0x7fff (opacity above ~0.992).
 # - Empty space: multiray skips blocks whose opacity is zero (exact: it never changes the
 #   image); VTK skips with its own min-max volume of 4^3-voxel blocks (space leaping).
-# - Output: multiray's PNG is its float radiance encoded sRGB; VTK draws 8-bit colours into
-#   an OpenGL framebuffer, which bench/vtk_volume.py reads back and encodes the same way for
-#   the image comparison (dark values then carry VTK's 8-bit quantization, coarse in sRGB).
+# - Output: multiray's PNG is its float radiance encoded sRGB. VTK's result is its mapper's
+#   15-bit image, which it then draws into the window as a texture; that drawing blurs it by
+#   about a pixel (a 1-pixel halo round every vessel), so the image comparison reads the
+#   mapper's own image (bench/vtk_volume.py's `image`; the window is kept as `_display`),
+#   rounded to 8 bits and encoded sRGB as multiray encodes (dark values then carry VTK's
+#   8-bit quantization, coarse in sRGB).
 # - Timing: multiray's frame_ms (stats.json: planning, rendering, gathering one frame);
 #   VTK's wall time of one Render() call, which also uploads the image as a texture and
 #   draws it with Mesa (llvmpipe under Xvfb; LP_NUM_THREADS is set to the thread count).
@@ -62,7 +70,7 @@ fi
 mkdir -p "$out"
 for r in $(seq 1 "$repeats"); do
   for t in $threads_list; do
-    nice -n 0 "$mr" render "$vol" --res 256x192 --tf angio --step 0.5 \
+    "$mr" render "$vol" --res 256x192 --tf angio --step 0.5 \
       --devices "cpu:threads=$t" --frames $((frames + warmup)) --camera="$cam" \
       -o "$out/multiray-t$t-r$r" --overwrite -q
     LP_NUM_THREADS=$t xvfb-run -a "$py" "$here/vtk_volume.py" "$vol" --threads "$t" \
@@ -90,7 +98,7 @@ def median_ci(xs):
         cdf += p
         k += 1
     if k == 0:
-        return med, float("nan"), float("nan")  # too few frames for a 95% interval
+        return med, float("nan"), float("nan")  # under 6 frames: no 95% interval
     return med, xs[k - 1], xs[n - k]
 
 print(f"{'threads':>7}  {'multiray ms [95%]':>26}  {'VTK ms [95%]':>26}  {'multiray/VTK':>12}")
@@ -102,10 +110,11 @@ for t in threads:
         vt += json.load(open(f"{out}/vtk-t{t}-r{r}.json"))["frame_ms"]
     m, ml, mh = median_ci(mr)
     v, vl, vh = median_ci(vt)
-    print(f"{t:>7}  {m:8.2f} [{ml:7.2f}, {mh:7.2f}]  {v:8.2f} [{vl:7.2f}, {vh:7.2f}]  {m / v:12.3f}")
+    iv = lambda lo, hi: "[    n/a,     n/a]" if math.isnan(lo) else f"[{lo:7.2f}, {hi:7.2f}]"
+    print(f"{t:>7}  {m:8.2f} {iv(ml, mh)}  {v:8.2f} {iv(vl, vh)}  {m / v:12.3f}")
 print(f"({len(mr)} multiray and {len(vt)} VTK frames per row, pooled over {repeats} repeats)")
 PY
-echo "image (multiray | VTK, last repeat at $last_t threads):"
+echo "image (multiray | VTK's ray-cast image, last repeat at $last_t threads):"
 "$py" "$here/image_diff.py" "$last_mr" "$out/vtk-t$last_t-r$repeats.png" \
   --side-by-side "$out/side_by_side.png"
 echo "side by side: $out/side_by_side.png"

@@ -8,7 +8,7 @@ in the work is named at the top of that script).
 
 Renders --frames timed frames (after --warmup untimed ones) from one fixed camera, times each
 Render() call by the wall clock, writes the last image and prints one JSON line:
-{threads, frames, median_ms, frame_ms: [...], image, image_raw}.
+{threads, frames, median_ms, frame_ms: [...], image, image_display}.
 
 Matched to multiray (src/volume, src/render/volume_raycaster.cpp):
 - the grid is centred on the origin as multiray's (voxel i's centre at (i + 0.5 - n/2) *
@@ -16,15 +16,20 @@ Matched to multiray (src/volume, src/render/volume_raycaster.cpp):
 - the `angio` preset's points (fractions of the volume's [min, max]) become data values;
 - opacity is per --reference-step voxel lengths (ScalarOpacityUnitDistance), rays step
   --step voxel lengths (SampleDistance, no automatic adjustment), one ray per pixel;
-- shading: ambient 0.3 + diffuse 0.7 from the renderer's automatic headlight, two-sided
-  (the renderer's default), no specular; linear interpolation; black background.
-- multiray writes its PNG as sRGB-encoded radiance; VTK's 8-bit framebuffer holds the colours
-  themselves, so `image` is the framebuffer sRGB-encoded as multiray encodes (for the image
-  comparison) and `image_raw` the framebuffer as VTK shows it.
+- shading: ambient 0.3 + diffuse 0.7 from one white headlight (with a white ambient colour,
+  see below), two-sided (the renderer's default), no specular; linear interpolation; black
+  background.
+- multiray writes its PNG as sRGB-encoded radiance; VTK's colours are the colours
+  themselves, so both images written here are sRGB-encoded as multiray encodes. `image` is
+  the mapper's own ray-cast image read from its buffer (what the image comparison uses);
+  `image_display` is the window as OpenGL drew that image (a textured quad whose filtering
+  blurs it by about a pixel, so it is not the rays' result).
 """
 import argparse
+import ctypes
 import json
 import os
+import re
 import statistics
 import sys
 import time
@@ -130,6 +135,28 @@ def write_png(path, rgb):
     writer.Write()
 
 
+def raycast_image(mapper, w, h):
+    """The mapper's own ray-cast image, before OpenGL draws it: 15-bit fixed-point RGBA with
+    premultiplied colours, as 8-bit colours over black, rows top-down; None where the
+    wrapper's pointer cannot be read."""
+    image = mapper.GetRayCastImage()
+    pointer = image.GetImage()  # the wrapper gives a void pointer as "_<hex>_p_void"
+    match = re.fullmatch(r"_([0-9a-fA-F]+)_p_void", pointer if isinstance(pointer, str) else "")
+    if not match or image.GetImageSampleDistance() != 1.0:
+        return None
+    mw, mh = image.GetImageMemorySize()
+    uw, uh = image.GetImageInUseSize()
+    ox, oy = image.GetImageOrigin()
+    if not (0 <= ox and ox + uw <= w and 0 <= oy and oy + uh <= h and uw <= mw and uh <= mh):
+        return None
+    buf = (ctypes.c_ushort * (mw * mh * 4)).from_address(int(match.group(1), 16))
+    rgba = np.ctypeslib.as_array(buf).reshape(mh, mw, 4)
+    out = np.zeros((h, w, 3), np.uint8)  # bottom-up, as the viewport
+    rgb = rgba[:uh, :uw, :3].astype(np.float64) / 32767.0
+    out[oy:oy + uh, ox:ox + uw] = np.clip(np.rint(rgb * 255.0), 0, 255)
+    return out[::-1].copy()
+
+
 def framebuffer(window):
     grab = vtk.vtkWindowToImageFilter()
     grab.SetInput(window)
@@ -192,6 +219,16 @@ def main():
     ren.SetBackground(0, 0, 0)
     ren.AddVolume(volume)
     ren.TwoSidedLightingOn()  # |cos|, as multiray's shading
+    # The shading tables scale the ambient term by the light's ambient colour, which is
+    # black for a default vtkLight (the renderer's automatic one too): a headlight of our
+    # own with a white ambient colour gives multiray's 0.3 ambient.
+    light = vtk.vtkLight()
+    light.SetLightTypeToHeadlight()
+    light.SetAmbientColor(1, 1, 1)
+    light.SetDiffuseColor(1, 1, 1)
+    light.SetSpecularColor(1, 1, 1)
+    light.SetIntensity(1.0)
+    ren.AddLight(light)
     window = vtk.vtkRenderWindow()
     window.SetOffScreenRendering(1)
     window.SetSize(w, h)
@@ -211,20 +248,22 @@ def main():
         ms = (time.perf_counter() - t) * 1e3
         if i >= a.warmup:
             times.append(ms)
-    lights = ren.GetLights()
-    lights.InitTraversal()
-    light = lights.GetNextItem()
-    if light is None or not light.LightTypeIsHeadlight():
-        fail("expected the renderer's automatic headlight")
+    if ren.GetLights().GetNumberOfItems() != 1:
+        fail("expected our headlight as the renderer's only light")
 
-    raw = framebuffer(window)
+    shown = framebuffer(window)
+    cast = raycast_image(mapper, w, h)
+    if cast is None:
+        print("vtk_volume.py: cannot read the mapper's own image; `image` is the displayed "
+              "one", file=sys.stderr)
+        cast = shown
     base, ext = os.path.splitext(a.out)
-    raw_path = base + "_raw" + (ext or ".png")
-    write_png(a.out, srgb8(raw))
-    write_png(raw_path, raw)
+    shown_path = base + "_display" + (ext or ".png")
+    write_png(a.out, srgb8(cast))
+    write_png(shown_path, srgb8(shown))
     print(json.dumps({"threads": a.threads, "frames": a.frames,
                       "median_ms": statistics.median(times), "frame_ms": times,
-                      "image": a.out, "image_raw": raw_path}))
+                      "image": a.out, "image_display": shown_path}))
 
 
 if __name__ == "__main__":
