@@ -23,29 +23,34 @@
 #   transfer function's colour unshaded.
 # - Light direction: VTK shades every sample with the camera's central view direction (one
 #   table per frame); multiray with each ray's own direction (|cos(gradient, ray)|).
-# - Arithmetic: VTK composites in 15-bit fixed point with 8-bit colour; multiray in float.
+# - Arithmetic: VTK looks up and composites colours and opacities in 15-bit fixed point;
+#   multiray in float.
 # - Transfer-function tables: multiray bakes a table over [min, max] and interpolates it;
-#   VTK builds its own fixed-point tables (one entry per value of the 8-bit data).
+#   VTK builds its own fixed-point tables over the data's range.
 # - Step placement: multiray's samples lie on a lattice from the grid's entry point;
-#   VTK's from its own ray set-up (near clipping plane / volume bounds). Same spacing.
+#   VTK's from its own ray set-up. Same spacing. (Pixel positions agree: the two
+#   footprints match best unshifted.)
 # - Grid box: multiray's box reaches half a voxel past the outer voxel centres (samples
 #   clamp there); VTK's bounds end at the outer centres.
 # - Early ray termination: multiray at accumulated opacity 0.99; VTK when the remaining
 #   transparency falls below 0xff/0x7fff (opacity above ~0.992).
 # - Empty space: multiray skips blocks whose opacity is zero (exact: it never changes the
-#   image); VTK skips with its own min-max volume of 4^3-voxel blocks (space leaping).
+#   image); VTK leaps over space with its own min-max volume of small blocks.
 # - Output: multiray's PNG is its float radiance encoded sRGB. VTK's result is its mapper's
 #   15-bit image, which it then draws into the window as a texture; that drawing blurs it by
 #   about a pixel (a 1-pixel halo round every vessel), so the image comparison reads the
 #   mapper's own image (bench/vtk_volume.py's `image`; the window is kept as `_display`),
 #   rounded to 8 bits and encoded sRGB as multiray encodes (dark values then carry VTK's
 #   8-bit quantization, coarse in sRGB).
+# - Prediction: multiray runs with --prepass-stride 0, without its cost model's pre-pass
+#   rays and learning (work for balancing several devices that VTK has no counterpart of;
+#   one device is not balanced, and the image is the same bit for bit).
 # - Timing: multiray's frame_ms (stats.json: planning, rendering, gathering one frame);
 #   VTK's wall time of one Render() call, which also uploads the image as a texture and
 #   draws it with Mesa (llvmpipe under Xvfb; LP_NUM_THREADS is set to the thread count).
 #   Neither includes writing PNGs.
-# - Threads: multiray splits the frame into tiles pulled by its threads; VTK splits image
-#   rows between its threads (vtkMultiThreader).
+# - Threads: multiray splits the frame into tiles pulled by its threads; VTK deals image
+#   rows out to its threads (vtkMultiThreader).
 set -eu
 build=${1:?usage: bench/volume_vs_vtk.sh BUILD_DIR [OUT_DIR]}
 out=${2:-bench-out/volume-vs-vtk}
@@ -71,7 +76,7 @@ mkdir -p "$out"
 for r in $(seq 1 "$repeats"); do
   for t in $threads_list; do
     "$mr" render "$vol" --res 256x192 --tf angio --step 0.5 \
-      --devices "cpu:threads=$t" --frames $((frames + warmup)) --camera="$cam" \
+      --devices "cpu:threads=$t" --prepass-stride 0 --frames $((frames + warmup)) --camera="$cam" \
       -o "$out/multiray-t$t-r$r" --overwrite -q
     LP_NUM_THREADS=$t xvfb-run -a "$py" "$here/vtk_volume.py" "$vol" --threads "$t" \
       --frames "$frames" --warmup "$warmup" --res 256x192 --step 0.5 --camera="$cam" \
