@@ -84,7 +84,7 @@ for r in $(seq 1 "$repeats"); do
   done
 done
 last_t=${threads_list##* }
-last_mr=$(ls "$out/multiray-t$last_t-r$repeats"/frame_*.png | tail -n 1)
+last_mr=$(printf '%s/multiray-t%s-r%s/frame_%04d.png' "$out" "$last_t" "$repeats" $((frames + warmup - 1)))
 "$py" - "$out" "$warmup" "$repeats" "$threads_list" <<'PY'
 import json, math, sys
 out, warmup, repeats, threads = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4].split()
