@@ -43,40 +43,48 @@ inline void clip_to_grid(const Volume& v, const VoxelRay& r, float& t0, float& t
   }
 }
 
-// Walks the blocks a voxel ray crosses between t0 and t1 in order (Amanatides & Woo 1987),
-// calling visit(block index, t_enter, t_exit); consecutive intervals share their ends
-// exactly, so a function of t alone partitions the ray's samples between blocks. Stops
-// when visit returns false.
-template <class Visit>
-void walk_blocks(const VolumeBlocks& b, const VoxelRay& r, float t0, float t1, Visit visit) {
-  const int n[3] = {b.bx, b.by, b.bz};
+// Walks the cells of `kCell`^3 voxels (n[0] x n[1] x n[2] of them) a voxel ray crosses
+// between t0 and t1 in order (Amanatides & Woo 1987), calling visit(cell index, t_enter,
+// t_exit); consecutive intervals share their ends exactly, so a function of t alone
+// partitions the ray's samples between cells. Stops when visit returns false, or when the
+// walk leaves the grid; returns the t it reached (t1 unless it stopped early).
+template <int kCell, class Visit>
+float walk_grid(const int n[3], const VoxelRay& r, float t0, float t1, Visit visit) {
   int cell[3], step[3];
   float next[3], delta[3];
   const Vec3 p = r.org + r.dir * t0;
   for (int a = 0; a < 3; ++a) {
-    cell[a] = std::clamp(int(std::floor(p[a] / kBlockSize)), 0, n[a] - 1);
+    cell[a] = std::clamp(int(std::floor(p[a] / kCell)), 0, n[a] - 1);
     const float d = r.dir[a];
     step[a] = d > 0 ? 1 : -1;
     if (d == 0) {
       next[a] = delta[a] = INFINITY;
       continue;
     }
-    const float edge = float((cell[a] + (d > 0 ? 1 : 0)) * kBlockSize);
+    const float edge = float((cell[a] + (d > 0 ? 1 : 0)) * kCell);
     next[a] = (edge - r.org[a]) / d;
-    delta[a] = float(kBlockSize) / std::abs(d);
+    delta[a] = float(kCell) / std::abs(d);
   }
   float t = t0;
   while (t < t1) {
     const int a = next[0] <= next[1] && next[0] <= next[2] ? 0 : next[1] <= next[2] ? 1 : 2;
     const float exit = std::min(std::max(next[a], t), t1);
     const size_t index =
-        (size_t(cell[2]) * size_t(b.by) + size_t(cell[1])) * size_t(b.bx) + size_t(cell[0]);
-    if (!visit(index, t, exit)) return;
+        (size_t(cell[2]) * size_t(n[1]) + size_t(cell[1])) * size_t(n[0]) + size_t(cell[0]);
+    if (!visit(index, t, exit)) return exit;
     t = exit;
     cell[a] += step[a];
-    if (cell[a] < 0 || cell[a] >= n[a]) return;
+    if (cell[a] < 0 || cell[a] >= n[a]) return t;
     next[a] += delta[a];
   }
+  return t;
+}
+
+// walk_grid over the 16^3 blocks of Bruder et al. (volume/blocks.h).
+template <class Visit>
+void walk_blocks(const VolumeBlocks& b, const VoxelRay& r, float t0, float t1, Visit visit) {
+  const int n[3] = {b.bx, b.by, b.bz};
+  walk_grid<kBlockSize>(n, r, t0, t1, visit);
 }
 
 }  // namespace multiray

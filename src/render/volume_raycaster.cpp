@@ -116,6 +116,7 @@ std::shared_ptr<VolumeStyle> make_volume_style(const VolumeScene& vs, const Tran
   style->opacity = block_opacity(vs.blocks, tf, vs.volume);
   style->shaded_fraction = shaded_fraction(vs, tf);
   style->opacity.max_opacity = table_max_opacity(vs.blocks, style->table);
+  style->cell_max_opacity = cell_max_opacity(vs.cells, style->table);
   style->step = step;
   return style;
 }
@@ -173,8 +174,8 @@ Vec3 VolumeRaycaster::march(const Ray& ray, const VolumeStyle& style, float step
     const float to_index = float(table.rgba.size() - 1) / std::max(table.hi - table.lo, 1e-30f);
     // The first lattice index at or after t (a function of t alone; see walk_blocks).
     auto first_index = [&](float t) { return int64_t(std::ceil(std::max(t - t0, 0.0f) / dt)); };
-    walk_blocks(vs_.blocks, r, t0, t1, [&](size_t block, float ta, float tb) {
-      if (style.skip_empty && style.opacity.max_opacity[block] == 0) return true;
+    // The samples of [ta, tb): false once the ray is opaque (early termination).
+    auto samples = [&](float ta, float tb) {
       for (int64_t k = first_index(ta), end = first_index(tb); k < end; ++k) {
         const Vec3 p = r.org + r.dir * (t0 + float(k) * dt);
         ++steps;
@@ -192,6 +193,21 @@ Vec3 VolumeRaycaster::march(const Ray& ray, const VolumeStyle& style, float step
         if (alpha >= style.ert_threshold) return false;
       }
       return true;
+    };
+    const bool fine = style.skip_empty && !style.cell_max_opacity.empty();
+    const int cells[3] = {vs_.cells.cx, vs_.cells.cy, vs_.cells.cz};
+    walk_blocks(vs_.blocks, r, t0, t1, [&](size_t block, float ta, float tb) {
+      if (style.skip_empty && style.opacity.max_opacity[block] == 0) return true;
+      if (!fine) return samples(ta, tb);
+      // Inside a block that is not empty, its 4^3 cells: the empty ones are skipped.
+      bool going = true;
+      const float reached =
+          walk_grid<kSkipCell>(cells, r, ta, tb, [&](size_t c, float ca, float cb) {
+            if (style.cell_max_opacity[c] == 0) return true;
+            return going = samples(ca, cb);
+          });
+      // A walk cut short by rounding at the grid's faces leaves the rest unskipped.
+      return going && (reached >= tb || samples(reached, tb));
     });
   }
   return colour + style.background * (1 - alpha);

@@ -16,6 +16,7 @@
 
 #include "render/kernel.h"
 #include "render/shared/language.h"
+#include "render/skip_cells.h"
 #include "render/voxel_grid.h"
 #include "volume/blocks.h"
 #include "volume/transfer_function.h"
@@ -27,10 +28,14 @@ namespace multiray {
 // grid and its block histograms, built once when the volume loads.
 struct VolumeScene {
   explicit VolumeScene(const Volume& v)
-      : volume(v), blocks(build_blocks(v)), voxels(make_voxel_grid(v)) {}
+      : volume(v),
+        blocks(build_blocks(v)),
+        voxels(make_voxel_grid(v)),
+        cells(build_skip_cells(v)) {}
   const Volume& volume;
   VolumeBlocks blocks;
   VoxelGrid voxels;  // the CPU raycaster's copy in the file's type (render/voxel_grid.h)
+  SkipCells cells;   // the CPU raycaster's finer empty-space skipping (render/skip_cells.h)
 };
 
 // How a frame shows the volume: the transfer function baked for the kernel, the block
@@ -53,7 +58,10 @@ struct VolumeStyle {
   float step = 0.5f;            // ray step in voxel lengths, before RenderSettings::step_scale
   float ert_threshold = 0.99f;  // early ray termination; > 1 turns it off
   bool skip_empty = true;       // empty-space skipping (never changes the image)
-  Vec3 background{0, 0, 0};     // radiance behind the volume
+  // Per cell of VolumeScene::cells: the largest opacity the table gives there (0: empty).
+  // The CPU raycaster skips such cells inside non-empty blocks; empty: blocks only.
+  std::vector<float> cell_max_opacity;
+  Vec3 background{0, 0, 0};  // radiance behind the volume
 };
 
 // The style for `tf` (resolved to data units) on `vs`; `step` in voxel lengths.

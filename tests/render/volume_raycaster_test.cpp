@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <random>
 
 #include "render/path_tracer.h"
 #include "render/volume_raycaster.h"
@@ -206,6 +207,61 @@ TEST(VolumeRaycaster, ANarrowStoreGivesTheImageOfTheFloats) {
       }
     EXPECT_GT(lit, 20);
   }
+}
+
+// The 4^3 skip cells: each cell's opacity is the largest table entry its value range
+// (apron included) can read, as a scan of the voxels and entries finds it.
+TEST(SkipCells, EachCellsOpacityIsTheLargestItsVoxelsCanRead) {
+  std::mt19937 rng(3);
+  auto v = make_volume(19, 13, 9, [&](int, int, int) { return float(rng() % 200); });
+  const SkipCells cells = build_skip_cells(*v);
+  ASSERT_EQ(cells.cx, 5);
+  ASSERT_EQ(cells.cz, 3);
+  TransferTable table;
+  table.lo = 0, table.hi = 199;
+  for (int i = 0; i < 97; ++i) table.rgba.push_back({0, 0, 0, rng() % 5 == 0 ? float(i) : 0.0f});
+  const std::vector<float> got = cell_max_opacity(cells, table);
+  const float to_index = 96.0f / 199.0f;
+  for (int kz = 0; kz < cells.cz; ++kz)
+    for (int ky = 0; ky < cells.cy; ++ky)
+      for (int kx = 0; kx < cells.cx; ++kx) {
+        float lo = INFINITY, hi = -INFINITY;  // the voxels of the cell and its apron
+        for (int z = std::max(4 * kz - 1, 0); z < std::min(4 * kz + 5, v->nz); ++z)
+          for (int y = std::max(4 * ky - 1, 0); y < std::min(4 * ky + 5, v->ny); ++y)
+            for (int x = std::max(4 * kx - 1, 0); x < std::min(4 * kx + 5, v->nx); ++x) {
+              const float value = v->values[(size_t(z) * 13 + size_t(y)) * 19 + size_t(x)];
+              lo = std::min(lo, value), hi = std::max(hi, value);
+            }
+        const int a = std::max(int(std::floor(lo * to_index)) - 1, 0);
+        const int b = std::min(int(std::ceil(hi * to_index)) + 1, 96);
+        float want = 0;
+        for (int k = a; k <= b; ++k) want = std::max(want, table.rgba[size_t(k)][3]);
+        EXPECT_EQ(
+            got[(size_t(kz) * size_t(cells.cy) + size_t(ky)) * size_t(cells.cx) + size_t(kx)],
+            want)
+            << kx << "," << ky << "," << kz;
+      }
+}
+
+TEST(VolumeRaycaster, SkipCellsSkipMoreAndChangeNothing) {
+  BallScene b;
+  const VolumeRaycaster k(*b.vs);
+  auto blocks_only = std::make_shared<VolumeStyle>(*b.style);
+  blocks_only->cell_max_opacity.clear();
+  ASSERT_FALSE(b.style->cell_max_opacity.empty());
+  const PinholeCamera cam(b.scene.cameras[0], 41, 29);
+  uint64_t fine = 0, coarse = 0;
+  int lit = 0;
+  for (int y = 0; y < 29; ++y)
+    for (int x = 0; x < 41; ++x) {
+      Ray r = cam.ray(x + 0.5f, y + 0.5f);
+      r.dir = normalize(r.dir);
+      const Vec3 a = k.cast(r, *b.style, 1, fine), c = k.cast(r, *blocks_only, 1, coarse);
+      ASSERT_EQ(std::memcmp(&a, &c, sizeof a), 0) << x << "," << y;
+      lit += a.x > 0;
+    }
+  EXPECT_GT(lit, 20);
+  EXPECT_LT(fine, coarse * 3 / 4);  // the ball fills few of its blocks' cells
 }
 
 TEST(VolumeRaycaster, EarlyTerminationStaysWithinItsThreshold) {
