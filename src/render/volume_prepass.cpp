@@ -27,6 +27,20 @@ float draw_opacity(const std::array<float, 16>& histogram, float u) {
   return 15.5f / 16;
 }
 
+// The length of [ta, tb) that lies in skip cells the style does not skip (as the CPU
+// raycaster walks them: render/skip_cells.h); tb - ta when the style has no cells.
+float marched_in_block(const VolumeScene& vs, const VolumeStyle& style, const VoxelRay& r,
+                       float ta, float tb) {
+  if (style.cell_max_opacity.empty()) return tb - ta;
+  const int cells[3] = {vs.cells.cx, vs.cells.cy, vs.cells.cz};
+  float inside = 0;
+  const float reached = walk_grid<kSkipCell>(cells, r, ta, tb, [&](size_t c, float ca, float cb) {
+    if (style.cell_max_opacity[c] > 0) inside += cb - ca;
+    return true;
+  });
+  return inside + (tb - reached);  // a walk cut short at the faces: the rest is marched
+}
+
 struct CoarseRay {
   float marched = 0, weighted = 0, front = 1, back = 0;
   int blocks = 0;  // blocks the kernel's walk visits (up to the estimated termination)
@@ -48,8 +62,12 @@ CoarseRay estimate(const VolumeScene& vs, const VolumeStyle& style, const Ray& r
     if (ert < INFINITY) return true;  // the span continues; termination already found
     const float shaded = style.shaded_fraction.empty() ? 1.0f : style.shaded_fraction[block];
     const float cost = (1 + 6 * shaded) / 7;  // per unit length, relative to shaded samples
-    marched += tb - ta;
-    weighted += (tb - ta) * cost;
+    // The length the raycaster marches here: the block's non-empty skip cells (all of it
+    // without them), so that the prediction follows the samples it really takes.
+    const float inside = marched_in_block(vs, style, r, ta, tb);
+    const float share = tb > ta ? inside / (tb - ta) : 0.0f;
+    marched += inside;
+    weighted += inside * cost;
     const float o = draw_opacity(style.opacity.histogram[block], rng.next());
     // Opacity accumulated over the block's segment, then where within it the threshold
     // is crossed (opacity grows exponentially along a homogeneous segment).
@@ -60,8 +78,8 @@ CoarseRay estimate(const VolumeScene& vs, const VolumeStyle& style, const Ray& r
       const float need = std::log((1 - style.ert_threshold) / (1 - alpha));
       const float per_unit = std::log(1 - std::min(o, 0.999999f));
       ert = ta + (tb - ta) * std::clamp(need / (per_unit * length), 0.0f, 1.0f);
-      marched -= tb - ert;
-      weighted -= (tb - ert) * cost;
+      marched -= (tb - ert) * share;
+      weighted -= (tb - ert) * share * cost;
     }
     alpha = after;
     return true;
