@@ -70,7 +70,6 @@ Runner add_view_command(CLI::App& app) {
 #else
     if (*max_frames < 0 || *max_frames > 100000000)
       throw InputError("--max-frames must be in 0..100000000 (0: until Ctrl-C)");
-    if (o->distributed.enabled) throw InputError("view: --distributed is not supported yet");
     if (*port < 0 || *port > 65535) throw InputError("--port must be in 0..65535");
     if (*max_clients < 1 || *max_clients > viewer::WebServer::kMaxClientsLimit)
       throw InputError("--max-clients must be in 1.." +
@@ -99,10 +98,12 @@ Runner add_view_command(CLI::App& app) {
     // A reduced scale needs the uniform sampling of meshes (the engine's image scale does
     // not apply to sample maps); volumes have frame-time targeting instead.
     if (!volume_input && o->sampling == "uniform") vo.move_scale = *move_scale;
+    vo.distributed = o->distributed.enabled;
     Run s;
-    int worker_exit = 0;  // view refuses --distributed above: never a worker
+    int worker_exit = 0;
     std::vector<std::string> specs{*balancer};
     std::unique_ptr<Session> session = start_run(s, *o, specs, "--balancer", &worker_exit);
+    if (!session) return worker_exit;  // a worker rank: it served the master until the end
     report_auto_choice(s, specs[0], "--balancer", false);
     vo.volume = s.volume;
     std::vector<std::string> names;

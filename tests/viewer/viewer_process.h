@@ -15,14 +15,16 @@ namespace multiray::testing {
 
 class ViewerProcess {
  public:
-  explicit ViewerProcess(const std::string& args) {
+  // `launcher` goes before the program (e.g. "mpiexec -np 3 " for a --distributed view).
+  explicit ViewerProcess(const std::string& args, const std::string& launcher = "") {
     int out[2];
     if (pipe(out) != 0) return;
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_adddup2(&actions, out[1], 1);
     posix_spawn_file_actions_addclose(&actions, out[0]);
-    const std::string cmd = std::string("exec ") + MULTIRAY_BIN + " view --port 0 " + args;
+    const std::string cmd =
+        std::string("exec ") + launcher + MULTIRAY_BIN + " view --port 0 " + args;
     std::vector<char*> argv = {const_cast<char*>("sh"), const_cast<char*>("-c"),
                                const_cast<char*>(cmd.c_str()), nullptr};
     if (posix_spawn(&pid_, "/bin/sh", &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;

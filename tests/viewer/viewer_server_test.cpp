@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <cstdlib>
 #include <deque>
 #include <fstream>
 #include <mutex>
@@ -57,6 +58,46 @@ TEST(ViewerServer, StreamsFramesAndFollowsCommands) {
   EXPECT_FALSE(switched.is_null()) << "the balancer did not switch";
   EXPECT_EQ(viewer.stop(), 128 + SIGINT);
 }
+
+#ifdef MULTIRAY_MPIEXEC
+// `multiray render`'s hash of frame `frame` with the viewer's settings (one process).
+std::string rendered_hash(const std::string& settings, int frame) {
+  const std::string dir = ::testing::TempDir() + "/viewer_distributed_render";
+  const std::string cmd = std::string(MULTIRAY_BIN) + " render " + settings + " --frames " +
+                          std::to_string(frame + 1) + " -o " + dir + " --overwrite -q";
+  if (std::system(cmd.c_str()) != 0) return "render failed";
+  std::ifstream in(dir + "/stats.json");
+  return nlohmann::json::parse(in).at("frames").at(size_t(frame)).at("image_hash");
+}
+
+// A --distributed run watched and steered (issue 33): the master serves the page, the
+// workers render; its frames are one process's to the bit (the split never changes the
+// pixels), the camera follows the page, and a Ctrl-C stops every rank.
+TEST(ViewerServer, WatchesAndSteersADistributedRun) {
+  mg_init_library(MG_FEATURES_WEBSOCKET);
+  const std::string settings = "--res 64x36 --spp 1 --bounces 2";
+  multiray::testing::ViewerProcess viewer(
+      settings + " --frame-spp 1 --distributed",
+      std::string(MULTIRAY_MPIEXEC) + " --oversubscribe --allow-run-as-root -np 3 ");
+  ASSERT_GT(viewer.port(), 0);
+  Client a(viewer.port());
+  ASSERT_TRUE(a.connected());
+  const nlohmann::json hello = a.wait_type("hello");
+  ASSERT_FALSE(hello.is_null());
+  EXPECT_EQ(hello["devices"].size(), 2u);  // the two workers
+  const nlohmann::json first = a.wait_type("frame");
+  ASSERT_FALSE(first.is_null());
+  const std::string before = first["image_hash"];
+  a.send(R"({"type":"orbit","dx":40,"dy":10})");
+  const nlohmann::json moved = a.wait([&](const nlohmann::json& j) {
+    return j.value("type", "") == "frame" && j.value("image_hash", "") != before;
+  });
+  EXPECT_FALSE(moved.is_null()) << "the workers did not follow the camera";
+  EXPECT_NE(viewer.stop(), -1) << "a rank ignored Ctrl-C";
+  EXPECT_EQ(before, rendered_hash(settings, first["frame"].get<int>()))
+      << "the workers' frame differs from one process's";
+}
+#endif
 
 // Progressive refinement (issue 33): each frame has --frame-spp samples; while the camera
 // stands, the page gets the mean of the frames since it stopped, up to --spp, and a move

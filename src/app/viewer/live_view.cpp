@@ -121,6 +121,9 @@ std::string LiveView::volume_command(const Command& c) {
     target_request_ = c.x;
     return "";
   }
+  if (options_.distributed)
+    return "the transfer function cannot change in a --distributed view: every rank builds "
+           "its own from --tf";
   try {
     std::shared_ptr<const VolumeStyle> style;
     std::lock_guard<std::mutex> lock(volume_mutex_);

@@ -51,6 +51,9 @@ struct LiveViewOptions {
   int refine_spp = 0;
   // Image scale of frames begun while the camera moves (motion.h); 1: full size always.
   double move_scale = 1.0;
+  // A --distributed run: each worker builds its own transfer function from --tf, so the
+  // page may not switch it (the master's alone would change).
+  bool distributed = false;
 };
 
 class LiveView : public FrameObserver {
