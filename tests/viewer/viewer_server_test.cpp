@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <deque>
 #include <fstream>
+#include <iterator>
 #include <mutex>
 #include <random>
 #include <string>
@@ -77,7 +78,8 @@ TEST(ViewerServer, WatchesAndSteersADistributedRun) {
   mg_init_library(MG_FEATURES_WEBSOCKET);
   const std::string settings = "--res 64x36 --spp 1 --bounces 2";
   multiray::testing::ViewerProcess viewer(
-      settings + " --frame-spp 1 --distributed",
+      settings + " --frame-spp 1 --distributed 2> " + ::testing::TempDir() +
+          "/viewer_distributed.err",
       std::string(MULTIRAY_MPIEXEC) + " --oversubscribe --allow-run-as-root -np 3 ");
   ASSERT_GT(viewer.port(), 0);
   Client a(viewer.port());
@@ -93,7 +95,18 @@ TEST(ViewerServer, WatchesAndSteersADistributedRun) {
     return j.value("type", "") == "frame" && j.value("image_hash", "") != before;
   });
   EXPECT_FALSE(moved.is_null()) << "the workers did not follow the camera";
-  EXPECT_NE(viewer.stop(), -1) << "a rank ignored Ctrl-C";
+  const int code = viewer.stop();
+  EXPECT_NE(code, -1) << "a rank ignored Ctrl-C";
+  std::ifstream err_file(::testing::TempDir() + "/viewer_distributed.err");
+  const std::string err((std::istreambuf_iterator<char>(err_file)), {});
+  EXPECT_EQ(err.find("signal"), std::string::npos) << "a rank crashed on the way out";
+  // A run that ends by itself (--max-frames): the master releases the workers, and every
+  // rank exits 0.
+  const std::string ended = std::string(MULTIRAY_MPIEXEC) +
+                            " --oversubscribe --allow-run-as-root -np 3 " + MULTIRAY_BIN +
+                            " view --port 0 --max-frames 3 " + settings +
+                            " --distributed > /dev/null 2>&1";
+  EXPECT_EQ(std::system(ended.c_str()), 0) << ended;
   EXPECT_EQ(before, rendered_hash(settings, first["frame"].get<int>()))
       << "the workers' frame differs from one process's";
 }
