@@ -135,10 +135,31 @@ nlohmann::json to_json(const balance::TraceCalibration& cal) {
           {"frames", cal.frames}};
 }
 
+void print_rows(const std::vector<Row>& rows, int warmup, int frames) {
+  print_out(
+      "frames {}-{} (largest device time per frame; real: measured, simulated: virtual "
+      "time on the calibrated devices; plain: uncalibrated replay)\n",
+      warmup, frames - 1);
+  print_out("{:<24} {:>10} {:>10} {:>8} {:>8} {:>10} {:>9}\n", "balancer", "real ms", "sim ms",
+            "|err|", "bias", "plain ms", "plain err");
+  for (const Row& r : rows) {
+    auto pct = [&](double v) { return r.has_real ? fmt::format("{:.2f}%", 100 * v) : "-"; };
+    print_out("{:<24} {:>10} {:>10.3f} {:>8} {:>8} {:>10.3f} {:>9}\n", r.balancer.substr(0, 24),
+              r.has_real ? fmt::format("{:.3f}", r.real) : "-", r.simulated, pct(r.error),
+              pct(r.bias), r.plain, pct(r.plain_error));
+  }
+}
+
 }  // namespace
 
 int simulate_calibrated(const balance::Trace& trace, const CalibratedRun& o) {
   if (!o.json_path.empty()) check_output_file(o.json_path, "--json");
+  const nlohmann::json doc = calibrated_study(trace, o, true);
+  if (!o.json_path.empty()) write_file_atomically(o.json_path, dump_json(doc) + "\n");
+  return 0;
+}
+
+nlohmann::json calibrated_study(const balance::Trace& trace, const CalibratedRun& o, bool print) {
   // Everything is checked before anything is printed: one line for bad input.
   std::vector<balance::Trace> reals;
   for (const std::string& path : o.predict) {
@@ -154,7 +175,7 @@ int simulate_calibrated(const balance::Trace& trace, const CalibratedRun& o) {
   const balance::TraceCalibration cal = balance::calibrate(trace, warmup, o.contention);
   const balance::Trace net = balance::net_trace(trace, cal);
   const std::vector<balance::SimDevice> devices = balance::calibrated_devices(cal, o.noise);
-  print_calibration(trace, cal, o);
+  if (print) print_calibration(trace, cal, o);
 
   std::vector<Row> rows;
   for (size_t k = 0; k < reals.size(); ++k)
@@ -163,37 +184,21 @@ int simulate_calibrated(const balance::Trace& trace, const CalibratedRun& o) {
   for (const std::string& spec : o.balancers.empty() && reals.empty() ? own : o.balancers)
     rows.push_back(
         row(trace, net, devices, spec, spec == trace.balancer ? &trace : nullptr, o, warmup));
-  print_out(
-      "frames {}-{} (largest device time per frame; real: measured, simulated: virtual "
-      "time on the calibrated devices; plain: uncalibrated replay)\n",
-      warmup, frames - 1);
-  print_out("{:<24} {:>10} {:>10} {:>8} {:>8} {:>10} {:>9}\n", "balancer", "real ms", "sim ms",
-            "|err|", "bias", "plain ms", "plain err");
+  if (print) print_rows(rows, warmup, frames);
+  nlohmann::json list = nlohmann::json::array();
   for (const Row& r : rows) {
-    auto pct = [&](double v) { return r.has_real ? fmt::format("{:.2f}%", 100 * v) : "-"; };
-    print_out("{:<24} {:>10} {:>10.3f} {:>8} {:>8} {:>10.3f} {:>9}\n", r.balancer.substr(0, 24),
-              r.has_real ? fmt::format("{:.3f}", r.real) : "-", r.simulated, pct(r.error),
-              pct(r.bias), r.plain, pct(r.plain_error));
-  }
-  if (!o.json_path.empty()) {
-    nlohmann::json list = nlohmann::json::array();
-    for (const Row& r : rows) {
-      nlohmann::json j{{"balancer", r.balancer},
-                       {"simulated_mean_ms", r.simulated},
-                       {"plain_mean_ms", r.plain}};
-      if (r.has_real) {
-        j["real_mean_ms"] = r.real;
-        j["mean_abs_error"] = r.error;
-        j["bias"] = r.bias;
-        j["plain_mean_abs_error"] = r.plain_error;
-      }
-      list.push_back(j);
+    nlohmann::json j{
+        {"balancer", r.balancer}, {"simulated_mean_ms", r.simulated}, {"plain_mean_ms", r.plain}};
+    if (r.has_real) {
+      j["real_mean_ms"] = r.real;
+      j["mean_abs_error"] = r.error;
+      j["bias"] = r.bias;
+      j["plain_mean_abs_error"] = r.plain_error;
     }
-    nlohmann::json doc{{"trace", o.trace_path}, {"predict", o.predict},        {"warmup", warmup},
-                       {"frames", frames},      {"calibration", to_json(cal)}, {"rows", list}};
-    write_file_atomically(o.json_path, dump_json(doc) + "\n");
+    list.push_back(j);
   }
-  return 0;
+  return nlohmann::json{{"trace", o.trace_path}, {"predict", o.predict},        {"warmup", warmup},
+                        {"frames", frames},      {"calibration", to_json(cal)}, {"rows", list}};
 }
 
 }  // namespace multiray::app

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "balance/trace.h"
 
 namespace multiray::app {
@@ -28,5 +30,9 @@ balance::Trace load_trace(const std::string& path);
 // Prints the calibration and the table (and writes --json); InputError (exit 2, one
 // line) for a real trace whose devices or frames do not match the calibration trace's.
 int simulate_calibrated(const balance::Trace& trace, const CalibratedRun& run);
+
+// The same work, its --json document returned (and printed as the CLI prints it when
+// `print`): what multiray.simulate(..., calibrate=True) returns. run.json_path is ignored.
+nlohmann::json calibrated_study(const balance::Trace& trace, const CalibratedRun& run, bool print);
 
 }  // namespace multiray::app

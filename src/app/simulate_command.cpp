@@ -53,19 +53,7 @@ int validate(const balance::Trace& trace) {
 }
 
 int calibrated(const SimulateOptions& o, const balance::Trace& trace) {
-  CalibratedRun run;
-  run.trace_path = o.trace_path;
-  run.predict = split_spec_list(o.predict);
-  run.balancers = split_spec_list(o.balancers);
-  run.warmup = o.warmup;
-  if (o.contention != -1 && !(o.contention >= 0 && o.contention <= 10))
-    throw InputError("--contention must be in [0, 10]");
-  run.contention = o.contention;
-  if (!(o.noise >= 0 && o.noise < 1)) throw InputError("--noise must be in [0, 1)");
-  run.noise = o.noise;
-  run.seed = o.seed;
-  run.json_path = o.json_path;
-  return simulate_calibrated(trace, run);
+  return simulate_calibrated(trace, calibrated_run(o));
 }
 
 }  // namespace

@@ -142,4 +142,20 @@ nlohmann::json simulation_to_json(const SimulateOptions& o, const SimulationPlan
           {"runs", runs}};
 }
 
+CalibratedRun calibrated_run(const SimulateOptions& o) {
+  CalibratedRun run;
+  run.trace_path = o.trace_path;
+  run.predict = split_spec_list(o.predict);
+  run.balancers = split_spec_list(o.balancers);
+  run.warmup = o.warmup;
+  if (o.contention != -1 && !(o.contention >= 0 && o.contention <= 10))
+    throw InputError("--contention must be in [0, 10]");
+  run.contention = o.contention;
+  if (!(o.noise >= 0 && o.noise < 1)) throw InputError("--noise must be in [0, 1)");
+  run.noise = o.noise;
+  run.seed = o.seed;
+  run.json_path = o.json_path;
+  return run;
+}
+
 }  // namespace multiray::app

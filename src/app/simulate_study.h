@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/simulate_calibrated.h"
 #include "balance/sim_study.h"
 #include "balance/trace.h"
 
@@ -65,5 +66,9 @@ std::vector<balance::StudyResult> run_simulation(
 // The --json document: the settings and one entry per study under "runs".
 nlohmann::json simulation_to_json(const SimulateOptions& o, const SimulationPlan& plan,
                                   const std::vector<balance::StudyResult>& results);
+
+// --calibrate / --predict: the calibrated run the options ask for. InputError for a
+// contention or noise out of range.
+CalibratedRun calibrated_run(const SimulateOptions& o);
 
 }  // namespace multiray::app

@@ -31,7 +31,7 @@ py::kwargs join_lists(const py::kwargs& kwargs, const char* caller) {
   for (const auto& [key, value] : kwargs) {
     const std::string name = py::str(key).cast<std::string>();
     const bool list = py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value);
-    if (!list || (name != "devices" && name != "balancers")) {
+    if (!list || (name != "devices" && name != "balancers" && name != "predict")) {
       out[key] = value;
       continue;
     }
@@ -70,17 +70,24 @@ py::object simulate(const py::object& trace_path, const py::kwargs& kwargs) {
                  {"frames", &o.frames},
                  {"warmup", &o.warmup},
                  {"seed", &o.seed},
-                 {"max_memory", &o.max_memory}},
+                 {"max_memory", &o.max_memory},
+                 {"calibrate", &o.calibrate},
+                 {"predict", &o.predict},
+                 {"contention", &o.contention}},
                 "simulate");
   nlohmann::json doc;
   try {
     py::gil_scoped_release release;
     const balance::Trace trace = app::load_trace(o.trace_path);
-    app::SimulationPlan plan = app::plan_simulation(o, trace, true);
-    const auto results = app::run_simulation(trace, plan, [](const std::string&, const auto&) {
-      if (signalled()) throw Interrupted{};
-    });
-    doc = app::simulation_to_json(o, plan, results);
+    if (o.calibrate || !o.predict.empty()) {  // as --calibrate [--predict]: its document
+      doc = app::calibrated_study(trace, app::calibrated_run(o), false);
+    } else {
+      app::SimulationPlan plan = app::plan_simulation(o, trace, true);
+      const auto results = app::run_simulation(trace, plan, [](const std::string&, const auto&) {
+        if (signalled()) throw Interrupted{};
+      });
+      doc = app::simulation_to_json(o, plan, results);
+    }
   } catch (const Interrupted&) {
     throw py::error_already_set();
   }
@@ -134,8 +141,11 @@ void bind_studies(py::module_& m) {
         "document: a dict with the settings and 'runs' (one dict per device count and "
         "balancer). Keyword arguments are the CLI's options with '_' for '-': devices (str "
         "or list of int), speeds, noise, slowdown, link, result_encoding, zstd_ratio, "
-        "balancers (str or list of str), frames, warmup, seed, max_memory. Bad values raise "
-        "ValueError with the CLI's message.");
+        "balancers (str or list of str), frames, warmup, seed, max_memory. With "
+        "calibrate=True (or predict=[real traces]) the simulator is first calibrated on the "
+        "trace and the document is that of `simulate TRACE --calibrate [--predict ...] "
+        "--json F` ('calibration', 'rows'; contention, noise, warmup and seed apply). Bad "
+        "values raise ValueError with the CLI's message.");
   m.def(
       "bench", &bench, py::arg("scene") = py::none(),
       ("Run several balancers on the same frames as `multiray bench ... --json F` does and "

@@ -45,6 +45,29 @@ def test_simulate_equals_the_cli_document(cli, trace, tmp_path, kwargs):
     assert got["runs"] and all(r["frame_ms"] for r in got["runs"])
 
 
+def test_calibrated_simulation_equals_the_cli_document(cli, trace, tmp_path):
+    """calibrate=True and predict=[...] give `simulate --calibrate/--predict --json`."""
+    for kwargs in (dict(calibrate=True, balancers="uniform,hybrid", warmup=1),
+                   dict(predict=[trace, trace], contention=0.2, noise=0.05, seed=4)):
+        out = tmp_path / "cal.json"
+        args = ["--calibrate"] if kwargs.get("calibrate") else []
+        for k, v in kwargs.items():
+            if k == "calibrate":
+                continue
+            args += ["--" + k, ",".join(v) if isinstance(v, list) else str(v)]
+        code, err = run_cli(cli, "simulate", trace, *args, "--json", str(out))
+        assert code == 0, err
+        with open(out) as f:
+            expected = json.load(f)
+        got = multiray.simulate(trace, **kwargs)
+        assert got == expected
+        assert got["calibration"] and got["rows"]
+    with pytest.raises(ValueError, match="contention"):
+        multiray.simulate(trace, calibrate=True, contention=11)
+    with pytest.raises(TypeError):
+        multiray.simulate(trace, calibrate="yes")
+
+
 def test_simulate_takes_lists_and_paths(trace):
     import pathlib
     by_text = multiray.simulate(trace, devices="2,4", balancers="uniform,queue")
