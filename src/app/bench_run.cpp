@@ -96,6 +96,7 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
   }
   const auto specs = split_spec_list(b.balancers);
   if (specs.empty()) throw InputError("--balancers is empty");
+  check_frame_count(o.frames);  // before --warmup, whose range it sets
   const int warmup = b.warmup_given ? b.warmup : default_warmup(o.frames);
   if (warmup < 0 || warmup >= o.frames)
     throw InputError("--warmup must be in 0.." + std::to_string(o.frames - 1));

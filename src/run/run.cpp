@@ -189,7 +189,7 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   s.res = parse_resolution(o.resolution);
   if (o.spp < 0 || o.spp > 1 << 20) throw InputError("--spp must be in 0..1048576 (0: auto)");
   if (o.bounces < 0 || o.bounces > 1024) throw InputError("--bounces must be in 0..1024");
-  if (o.frames < 1 || o.frames > 1000000) throw InputError("--frames must be in 1..1000000");
+  check_frame_count(o.frames);
   if (!(o.clamp >= 0) || !std::isfinite(o.clamp))
     throw InputError("--clamp must be a finite number >= 0 (0: off)");
   int columns = 1, rows = 1;
@@ -366,6 +366,10 @@ void check_distributed(const RunConfig& o) {
 }  // namespace
 
 int serve_as_worker(Run& s) { return s.cluster->serve(s.device_ptrs(), s.settings); }
+
+void check_frame_count(int frames) {
+  if (frames < 1 || frames > 1000000) throw InputError("--frames must be in 1..1000000");
+}
 
 CameraPath camera_path_option(const std::string& cp, const Camera& base) {
   if (cp == "fixed") return CameraPath::fixed(base);

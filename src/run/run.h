@@ -70,6 +70,10 @@ struct Run {
   std::vector<std::string> lane_labels(const std::vector<std::string>& balancer_specs) const;
 };
 
+// --frames: InputError unless in 1..1000000 (build_run checks it; a command whose own
+// options depend on it, such as bench's --warmup, checks it first).
+void check_frame_count(int frames);
+
 // The camera path a --camera-path value names ("fixed", "orbit", "orbit:PERIOD" or a JSON
 // keyframe file) around the run's base camera. Throws InputError.
 CameraPath camera_path_option(const std::string& value, const Camera& base);

@@ -182,6 +182,14 @@ TEST(BenchCli, RecoveryIsShownWhenPerturbed) {
   EXPECT_TRUE(doc.at("noise").at("contention_probe_before").is_null());  // --probe-ms 0
 }
 
+// A frame count out of range is named as such, not as the --warmup range it implies.
+TEST(BenchCli, BadFrameCountIsNamedAsSuch) {
+  for (const char* frames : {"0", "-1", "1000001"}) {
+    const std::string args = std::string(kSmall) + "--frames " + frames;
+    multiray::testing::expect_input_error(run(args), args, "--frames must be in 1..1000000");
+  }
+}
+
 TEST(BenchCli, BadBalancersEntryIsNamedAsSuch) {
   for (const std::string mapping : {"", "--mapping strips "}) {
     const std::string args = std::string(kSmall) + "--frames 2 --warmup 0 " + mapping +
