@@ -150,6 +150,15 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
                  "JSON file {\"keyframes\":[{\"frame\":0,\"eye\":[..],\"target\":[..],\"up\":[..],"
                  "\"fov\":45},...]}")
       ->capture_default_str();
+  cmd.add_option("--ground", o.ground,
+                 "Augmented reality: a shadow catcher standing for the real ground, the plane "
+                 "AXIS=HEIGHT (y=0: where y is 0), diffuse, [,albedo=A] (0.5). The virtual "
+                 "objects' shadows darken it; images become an RGBA layer (docs/ar.md). "
+                 "CPU devices, the path integrator");
+  cmd.add_option("--poses", o.poses,
+                 "Augmented reality: the capture's camera poses and intrinsics, one per frame "
+                 "(JSON close to ARKit / ARCore exports; docs/ar.md); replaces --camera-path "
+                 "and sets --frames to their count unless given");
   cmd.add_option("--devices", o.devices,
                  "Comma-separated devices, each TYPE[:KEY=VALUE...], e.g. "
                  "cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.33. " +

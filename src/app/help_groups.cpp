@@ -27,6 +27,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& groups() {
       {"Output",
        {"--out", "--overwrite", "--exr", "--exposure", "--tone", "--trace", "--quiet", "--json",
         "--report"}},
+      {"Augmented reality", {"--ground", "--poses", "--background", "--ar"}},
       {"Benchmark", {"--warmup", "--ideal-frames", "--repeats", "--probe-ms"}},
       {"Viewer",
        {"--port", "--bind", "--max-clients", "--max-frames", "--frame-spp", "--move-scale"}},

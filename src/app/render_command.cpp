@@ -24,6 +24,8 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/output_folder.h"
+#include "run/ar_setup.h"
+#include "run/parse_options.h"
 #include "run/sequence.h"
 
 namespace multiray::app {
@@ -125,6 +127,13 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
   cmd->add_option("--trace", *trace_path,
                   "Write every work item's device, view, rect, samples, busy and wall time to "
                   "this file (format: docs/traces.md), for `multiray simulate` and analysis");
+  auto background = std::make_shared<std::string>();
+  cmd->add_option("--background", *background,
+                  "Augmented reality: the real images the --ground layer is composited over, "
+                  "an image or a numbered sequence whose run of # is the frame number "
+                  "(frames/bg_####.png); PNG, JPEG or EXR, resized to --res when the aspect "
+                  "ratio agrees. The PNGs then default to --exposure 0 --tone clamp, so the "
+                  "real image comes out as it went in (docs/ar.md)");
   cmd->add_flag("-q,--quiet", *quiet,
                 "No per-frame lines, and no progress lines when stderr is not a terminal");
   const CLI::Option* frames_option = cmd->get_option("--frames");
@@ -132,26 +141,37 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     // A sequence file that says how many frames it lasts sets --frames unless it is given.
     if (!frames_option->count() && !o->volume.sequence.empty())
       if (const int n = load_sequence(o->volume.sequence).frames; n > 0) o->frames = n;
+    // So do poses: one frame each.
+    if (!frames_option->count() && !o->poses.empty()) o->frames = pose_count(o->poses);
+    if (!background->empty() && o->ground.empty())
+      throw InputError("--background needs --ground (the plane standing for the real ground)");
     Display display;
     const bool volume_input = is_volume_input(o->scene_path, o->volume);
-    const bool fixed_exposure = *exposure != "auto" || volume_input;
+    const bool ar = !background->empty();
+    const bool fixed_exposure = *exposure != "auto" || volume_input || ar;
     if (*exposure != "auto") {
       const std::optional<double> ev = parse_number(*exposure);
       if (!ev)
         throw InputError("--exposure '" + *exposure + "' must be auto or stops in [-20, 20]");
       display.exposure_ev = parse_exposure(*ev);
     }
-    display.tone = parse_tone(*tone, volume_input);
+    display.tone = parse_tone(*tone == "auto" && ar ? "clamp" : *tone, volume_input);
     const OutputTarget target = parse_output_target(
         out_option->count() ? *out_dir : first_free_folder(*out_dir), o->frames, *exr);
     Run s;
     int worker_exit = 0;
     std::vector<std::string> specs{*balancer};  // --mapping applied by start_run
     std::unique_ptr<OutputFolder> folder;       // held (locked) until the run has ended
+    std::shared_ptr<const BackgroundImages> backgrounds;  // --background
     std::unique_ptr<Session> session = start_run(
         s, *o, specs, "--balancer", &worker_exit,
         [&] {
           if (!trace_path->empty()) check_output_file(*trace_path, "--trace");
+          if (ar) {  // every frame's file, before the scene loads
+            const Resolution res = parse_resolution(o->resolution);
+            backgrounds = std::make_shared<const BackgroundImages>(*background, res.width,
+                                                                   res.height, o->frames);
+          }
           folder = std::make_unique<OutputFolder>(
               target.dir, *overwrite, "-o", [&](const std::string& n) { return target.owns(n); });
         },
@@ -171,6 +191,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     RenderOutput output(target, fixed_exposure, *quiet, s.views->rig().columns, display,
                         trace.get());
     output.set_target_ms(o->volume.target_ms);
+    output.set_background(backgrounds);
     int done = 0;
     int interrupted = 0;
     std::string signal_name;
@@ -188,6 +209,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     settings["output"] = target.pattern ? *out_dir : target.dir;
     settings["tone"] = display.tone == ToneCurve::Filmic ? "filmic" : "clamp";
     settings["exr"] = target.exr;
+    settings["background"] = ar ? nlohmann::json(*background) : nlohmann::json(nullptr);
     nlohmann::json doc{{"scene", s.scene->name},
                        {"settings", settings},
                        {"devices", devices_to_json(s.devices)},

@@ -26,10 +26,21 @@ void RenderOutput::write_images(const FrameResult& r) {
   const auto& images = r.images;
   const bool views = images.size() > 1;
   for (size_t v = 0; v < images.size(); ++v) {
-    const std::string name =
-        target_.image_base(r.frame, views ? fmt::format("_view{:02d}", v) : "");
-    if (target_.png) write_png(name + ".png", images[v], display_);
-    if (target_.exr) write_exr(name + ".exr", images[v]);
+    const std::string tag = views ? fmt::format("_view{:02d}", v) : "";
+    const std::string name = target_.image_base(r.frame, tag);
+    const Framebuffer* image = &images[v];
+    Framebuffer composite;
+    if (!image->alpha.empty()) {  // an RGBA layer: it, and the composite as the image
+      const std::string layer = target_.image_base(r.frame, tag + "_rgba");
+      if (target_.png) write_png_rgba(layer + ".png", *image, display_);
+      if (target_.exr) write_exr_rgba(layer + ".exr", *image);
+      if (background_) {
+        composite = composite_over(*image, background_->frame(r.frame));
+        image = &composite;
+      }
+    }
+    if (target_.png) write_png(name + ".png", *image, display_);
+    if (target_.exr) write_exr(name + ".exr", *image);
   }
   if (views) {
     const Framebuffer quilt = make_quilt(images, columns_);

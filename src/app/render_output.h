@@ -14,6 +14,7 @@
 #include "app/frame_spool.h"
 #include "app/output_target.h"
 #include "app/trace_file.h"
+#include "core/composite.h"
 #include "core/image.h"
 #include "engine/session.h"
 
@@ -38,6 +39,10 @@ class RenderOutput : public FrameObserver {
   // With frame-time targeting: warn once when a frame's quality drops past what shows
   // (app/adapt_summary.h degraded_quality_warning).
   void set_target_ms(double target_ms) { target_ms_ = target_ms; }
+  // Augmented reality: images with an alpha channel are written as an RGBA layer
+  // (<name>_rgba.png, and .exr with --exr) and, as the main image, composited over these
+  // real images (core/composite.h); without them, over black.
+  void set_background(std::shared_ptr<const BackgroundImages> b) { background_ = std::move(b); }
 
   const RenderCounters& counters() const { return counters_; }
   // The exposure the PNG files were written with (metered or given), in stops; the metered
@@ -59,6 +64,7 @@ class RenderOutput : public FrameObserver {
   int columns_;
   Display display_;
   TraceFile* trace_;
+  std::shared_ptr<const BackgroundImages> background_;
 };
 
 }  // namespace multiray::app

@@ -31,6 +31,7 @@ Runner add_view_command(CLI::App& app) {
   auto frame_spp = std::make_shared<int>(1);
   auto move_scale = std::make_shared<double>(0.5);
   auto tone = std::make_shared<std::string>("auto");
+  auto ar = std::make_shared<bool>(false);
   cmd->add_option("--balancer", *balancer, "The balancer to start with (switchable in the page)")
       ->capture_default_str();
   cmd->add_option("--port", *port, "TCP port of the page (0: any free port, printed)")
@@ -62,6 +63,11 @@ Runner add_view_command(CLI::App& app) {
                   "this scale of the image's width and height, in [0.1, 1], and upsampled "
                   "(1: full size always)")
       ->capture_default_str();
+  cmd->add_flag("--ar", *ar,
+                "Augmented reality (docs/ar.md): the page films with the device's camera and "
+                "shows the --ground layer over it, turned with the device's orientation. A "
+                "phone on the network is the master of the cluster (--bind; its browser allows "
+                "the camera only over https or on localhost)");
   return [=]() -> int {
 #ifndef MULTIRAY_HAS_VIEWER
     throw InputError(
@@ -88,6 +94,12 @@ Runner add_view_command(CLI::App& app) {
     }
     vo.display.tone = parse_tone(*tone, volume_input);
     if (*frame_spp < 1 || *frame_spp > 1024) throw InputError("--frame-spp must be in 1..1024");
+    if (*ar && o->ground.empty())
+      throw InputError("--ar needs --ground (the plane standing for the real ground)");
+    vo.ar = *ar;
+    // The camera's picture is shown as it is: the layer over it neither metered nor toned.
+    if (*ar && *exposure == "auto") vo.meter_exposure = false;
+    if (*ar && *tone == "auto") vo.display.tone = ToneCurve::Clamp;
     if (!volume_input) {  // progressive refinement (viewer/refinement.h)
       vo.refine_spp = o->spp > 0 ? o->spp : o->mesh_spp;
       vo.frame_spp = std::min(*frame_spp, vo.refine_spp);

@@ -31,6 +31,11 @@ uint64_t image_hash(const Framebuffer& fb, uint64_t seed) {
     h ^= bytes[i];
     h *= 0x100000001b3ull;
   }
+  const auto* alpha = reinterpret_cast<const unsigned char*>(fb.alpha.data());
+  for (size_t i = 0; i < fb.alpha.size() * sizeof(float); ++i) {
+    h ^= alpha[i];
+    h *= 0x100000001b3ull;
+  }
   return h;
 }
 

@@ -13,6 +13,9 @@ namespace multiray {
 struct Framebuffer {
   int width = 0, height = 0;
   std::vector<Vec3> pixels;  // row-major, y = 0 at the top
+  // Coverage in [0, 1] per pixel, row-major, or empty: an RGBA layer whose `pixels` are
+  // premultiplied by it (the shadow catcher's output, render/shadow_catcher.h).
+  std::vector<float> alpha;
 
   Framebuffer() = default;
   Framebuffer(int w, int h) : width(w), height(h), pixels(size_t(w) * size_t(h)) {}
@@ -22,6 +25,7 @@ struct Framebuffer {
 
 // FNV-1a (64 bit) over the pixels' float bits, continuing from `seed`: a fingerprint for
 // checking that two renders are bit-identical (chain views by passing the previous hash).
+// The alpha channel, when there is one, is hashed after the pixels.
 uint64_t image_hash(const Framebuffer& fb, uint64_t seed = 0xcbf29ce484222325ull);
 
 // How linear radiance becomes an 8-bit display value (PNG; EXR files stay linear).

@@ -30,9 +30,12 @@ std::vector<Tap> taps(int to, int from) {
 void upscale_bilinear(const Framebuffer& from, Framebuffer& to) {
   if (from.width == to.width && from.height == to.height) {
     to.pixels = from.pixels;
+    to.alpha = from.alpha;
     return;
   }
   const std::vector<Tap> tx = taps(to.width, from.width), ty = taps(to.height, from.height);
+  to.alpha.resize(from.alpha.empty() ? 0 : to.pixels.size());
+  const auto alpha = [&](int x, int y) { return from.alpha[size_t(y) * size_t(from.width) + x]; };
   for (int y = 0; y < to.height; ++y) {
     const Tap& v = ty[size_t(y)];
     for (int x = 0; x < to.width; ++x) {
@@ -40,6 +43,10 @@ void upscale_bilinear(const Framebuffer& from, Framebuffer& to) {
       const Vec3 top = from.at(u.i0, v.i0) * (1.0f - u.w1) + from.at(u.i1, v.i0) * u.w1;
       const Vec3 bottom = from.at(u.i0, v.i1) * (1.0f - u.w1) + from.at(u.i1, v.i1) * u.w1;
       to.at(x, y) = top * (1.0f - v.w1) + bottom * v.w1;
+      if (to.alpha.empty()) continue;
+      const float a_top = alpha(u.i0, v.i0) * (1.0f - u.w1) + alpha(u.i1, v.i0) * u.w1;
+      const float a_bottom = alpha(u.i0, v.i1) * (1.0f - u.w1) + alpha(u.i1, v.i1) * u.w1;
+      to.alpha[size_t(y) * size_t(to.width) + x] = a_top * (1.0f - v.w1) + a_bottom * v.w1;
     }
   }
 }

@@ -86,7 +86,9 @@ RenderSettings get_settings(ByteReader& r) {
   RenderSettings s;
   for_each_sent_setting(s, SettingReader{r});
   if (s.spp < 0 || s.max_bounces < 0 || s.ao_rays < 0 || !std::isfinite(s.step_scale) ||
-      !(s.step_scale > 0) || !std::isfinite(s.sample_clamp) || !(s.sample_clamp >= 0))
+      !(s.step_scale > 0) || !std::isfinite(s.sample_clamp) || !(s.sample_clamp >= 0) ||
+      s.catcher_axis < -1 || s.catcher_axis > 2 || !std::isfinite(s.catcher_height) ||
+      !(s.catcher_albedo >= 0 && s.catcher_albedo <= 1))
     throw WireError("render settings out of range");
   return s;
 }

@@ -37,11 +37,15 @@ std::vector<float> pixel_weights(const std::vector<ViewSetup>& views,
   return w;
 }
 
-// One framebuffer per view of width x height (reused when the size is right).
-void size_images(std::vector<Framebuffer>& images, size_t views, int width, int height) {
+// One framebuffer per view of width x height (reused when the size is right), with an
+// alpha channel when the settings have a shadow catcher (render/shadow_catcher.h).
+void size_images(std::vector<Framebuffer>& images, size_t views, int width, int height,
+                 const RenderSettings& settings) {
   images.resize(views);
-  for (auto& img : images)
+  for (auto& img : images) {
     if (img.width != width || img.height != height) img = Framebuffer(width, height);
+    img.alpha.resize(settings.catcher_axis >= 0 ? img.pixels.size() : 0);
+  }
 }
 
 }  // namespace
@@ -115,7 +119,7 @@ void Engine::render_pass(int frame, const std::vector<ViewSetup>& views,
                          const RenderSettings& settings, const FrameAdvice& advice,
                          std::vector<Framebuffer>& images, FrameRecord& rec) {
   const balance::FrameShape shape = plan_pass(frame, views, settings, advice, rec);
-  size_images(images, views.size(), shape.width, shape.height);
+  size_images(images, views.size(), shape.width, shape.height, settings);
 
   // The plan's quality: smaller views (rendered into scaled_images_, upsampled after) and
   // a longer ray step.
@@ -128,7 +132,7 @@ void Engine::render_pass(int frame, const std::vector<ViewSetup>& views,
   FrameJob job{views, settings, scaled ? &scaled_images_ : &images};
   job.settings.step_scale = float(settings.step_scale * last_plan_.quality.step_scale);
   for (ViewSetup& v : job.views) v.width = rendered.width, v.height = rendered.height;
-  if (scaled) size_images(scaled_images_, views.size(), rendered.width, rendered.height);
+  if (scaled) size_images(scaled_images_, views.size(), rendered.width, rendered.height, settings);
 
   handed_out_ = 0;
   frame_pixels_ = rendered.pixels();

@@ -47,8 +47,14 @@ void OrbitCamera::zoom(float factor) {
   distance_ = std::clamp(distance_ * factor, start_distance_ * 1e-4f, start_distance_ * 1e4f);
 }
 
+void OrbitCamera::look(float yaw_deg, float pitch_deg) {
+  look_yaw_ = yaw_deg * kPi / 180;
+  look_pitch_ = std::clamp(pitch_deg, -89.0f, 89.0f) * kPi / 180;
+}
+
 void OrbitCamera::reset() {
   target_ = start_target_, distance_ = start_distance_, yaw_ = start_yaw_, pitch_ = start_pitch_;
+  look_yaw_ = look_pitch_ = 0;
 }
 
 Camera OrbitCamera::camera() const {
@@ -60,6 +66,14 @@ Camera OrbitCamera::camera() const {
   c.target = target_;
   c.eye = target_ + dir * distance_;
   c.up = up_;
+  if (look_yaw_ == 0 && look_pitch_ == 0) return c;
+  // Turn the view about the eye: the looking direction's own yaw and pitch, plus look()'s.
+  const Vec3 view = -dir;
+  const float pitch = std::clamp(std::asin(std::clamp(dot(view, up_), -1.0f, 1.0f)) + look_pitch_,
+                                 -89.0f * kPi / 180, 89.0f * kPi / 180);
+  const float yaw = std::atan2(dot(view, b), dot(view, a)) + look_yaw_;
+  const Vec3 turned = (a * std::cos(yaw) + b * std::sin(yaw)) * std::cos(pitch) + up_ * std::sin(pitch);
+  c.target = c.eye + turned * distance_;
   return c;
 }
 

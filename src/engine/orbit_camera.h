@@ -18,6 +18,10 @@ class OrbitCamera {
   // Multiplies the distance to the target by `factor` (kept within 1e-4 .. 1e4 of the
   // starting distance).
   void zoom(float factor);
+  // Augmented reality: the device's orientation relative to where it started, degrees.
+  // The view turns about the eye (the target moves, the eye stays), yaw about the up axis
+  // and pitch towards it, as a phone held up turns its camera; absolute, not summed.
+  void look(float yaw_deg, float pitch_deg);
   void reset();
   Camera camera() const;
 
@@ -27,6 +31,7 @@ class OrbitCamera {
   float distance_ = 1, start_distance_ = 1, yaw_ = 0, pitch_ = 0;  // yaw, pitch in radians
   Vec3 start_target_;
   float start_yaw_ = 0, start_pitch_ = 0;
+  float look_yaw_ = 0, look_pitch_ = 0;  // radians, look()
 };
 
 }  // namespace multiray

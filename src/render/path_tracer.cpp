@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "render/bsdf.h"
+#include "render/path_state.h"
 #include "render/rng.h"
 #include "render/shared/sampling.h"
 #include "render/surface.h"
@@ -55,36 +56,21 @@ Shading shade_point(const TriangleShading& d, const Ray& ray, const Hit& hit) {
 
 }  // namespace
 
-// The state of one camera path between bounces. Paths advance in batches (a wavefront):
-// all rays of a batch are traced, then all hits shaded, then all shadow rays traced. The
-// arithmetic per path is exactly the depth-first loop's, so images are unchanged, but the
-// cache misses of different paths' shading overlap instead of queueing one after another.
-struct PathState {
-  explicit PathState(Rng r) : rng(r) {}
-  Ray ray;
-  Vec3 L{0.0f}, beta{1.0f};
-  Rng rng;
-  float prev_pdf = 0;
-  Vec3 prev_normal{0.0f};     // geometric normal at the last vertex (environment sampling)
-  bool prev_specular = true;  // the camera ray counts as specular: emission seen directly
-  bool alive = true;
-  int depth = 0;
-  bool has_shadow = false;  // a next-event ray is waiting to be traced
-  Ray shadow;
-  Vec3 shadow_contribution;
-};
-
 // Adds light arriving at the path's vertex from outside the scene along the ray that
 // just escaped, weighted against next-event estimation from the previous vertex.
 void PathTracer::escape(PathState& p, float p_env) const {
+  p.L += escape_contribution(p, p_env);
+  p.alive = false;
+}
+
+Vec3 PathTracer::escape_contribution(const PathState& p, float p_env) const {
   const Vec3 Le = rs_.environment.radiance(p.ray.dir);
   float w = 1.0f;
   if (!p.prev_specular && p_env > 0) {
     const float pdf_env = p_env * rs_.environment.pdf(p.ray.dir, p.prev_normal);
     w = power_heuristic(p.prev_pdf, pdf_env);
   }
-  p.L += p.beta * Le * w;
-  p.alive = false;
+  return p.beta * Le * w;
 }
 
 // Next-event estimation from a vertex with BSDF `bsdf` in `frame`: one sample of either
@@ -128,6 +114,8 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
   const Scene& scene = rs_.scene;
   const float p_env = settings.sample_environment ? rs_.environment_choice() : 0.0f;
   if (!hit) return escape(p, p_env);
+  if (hit->prim == kCatcherPrim) return catcher_step(p, *hit, settings, p_env);
+  if (p.depth == 0) p.kind = SampleKind::object;
   Shading sh = shade_point(rs_.shading_of(hit->prim), p.ray, *hit);
   const Material& mat = scene.materials[sh.material];
   const Vec3 wo_world = -p.ray.dir;
@@ -162,8 +150,13 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
     frame = Frame::from_normal(sh.ng);  // shading normal faces away: fall back
     wo = frame.to_local(wo_world);
   }
+  scatter(p, p_env, bsdf, frame, wo, sh.p, sh.ng, settings);
+}
+
+void PathTracer::scatter(PathState& p, float p_env, const Bsdf& bsdf, const Frame& frame, Vec3 wo,
+                         Vec3 pos, Vec3 ng, const RenderSettings& settings) const {
   if (bsdf.has_diffuse_or_glossy() && (p_env > 0 || !rs_.lights.empty()))
-    sample_light(p, p_env, bsdf, frame, wo, sh.p, sh.ng);
+    sample_light(p, p_env, bsdf, frame, wo, pos, ng);
 
   // Continue the path by sampling the BSDF.
   p.alive = false;
@@ -171,13 +164,13 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
   const float u_lobe = p.rng.next(), u1 = p.rng.next(), u2 = p.rng.next();
   if (!bsdf.sample(wo, u_lobe, u1, u2, bs)) return;
   const Vec3 wi_world = frame.to_world(bs.wi);
-  const float side = dot(wi_world, sh.ng);
+  const float side = dot(wi_world, ng);
   if (bsdf.has_diffuse_or_glossy() && side <= 0) return;  // shading normal leak
   p.beta *= bs.weight;
   p.prev_pdf = bs.pdf;
   p.prev_specular = bs.specular;
-  p.prev_normal = sh.ng;
-  p.ray = Ray{sh.p + sh.ng * (side > 0 ? eps_ : -eps_), wi_world};
+  p.prev_normal = ng;
+  p.ray = Ray{pos + ng * (side > 0 ? eps_ : -eps_), wi_world};
   ++p.depth;
   if (p.depth >= settings.rr_start) {
     const float q = std::min(max_component(p.beta), 0.95f);
@@ -190,6 +183,7 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
 void PathTracer::trace_batch(std::vector<PathState>& paths, const RenderSettings& settings,
                              KernelStats& stats, RayLog* log) const {
   const size_t n = paths.size();
+  const CatcherPlane catcher(settings);
   std::vector<Hit> hits(n);
   std::vector<uint8_t> found(n);
   for (bool any = true; any;) {
@@ -198,11 +192,13 @@ void PathTracer::trace_batch(std::vector<PathState>& paths, const RenderSettings
         ++stats.rays;
         if (log) log->closest.push_back(paths[i].ray);
         found[i] = rs_.accel.intersect(paths[i].ray, hits[i]);
-        if (found[i] && !rs_.compact) __builtin_prefetch(&rs_.shading[hits[i].prim]);
+        if (catcher.on()) find_catcher(catcher, paths[i].ray, hits[i], found[i]);
+        if (found[i] && hits[i].prim != kCatcherPrim && !rs_.compact)
+          __builtin_prefetch(&rs_.shading[hits[i].prim]);
       }
     // Start loading the texels every hit will need before shading any of them.
     for (size_t i = 0; i < n; ++i)
-      if (paths[i].alive && found[i]) {
+      if (paths[i].alive && found[i] && hits[i].prim != kCatcherPrim) {
         const TriangleShading d = rs_.shading_of(hits[i].prim);
         const int tex = rs_.scene.materials[d.material].base_color_texture;  // the hot one
         if (tex >= 0) rs_.scene.textures[size_t(tex)].prefetch(interpolate_uv(d, hits[i]));
@@ -214,7 +210,9 @@ void PathTracer::trace_batch(std::vector<PathState>& paths, const RenderSettings
       if (p.has_shadow) {
         ++stats.rays;
         if (log) log->shadow.push_back(p.shadow);
-        if (!rs_.accel.occluded(p.shadow)) p.L += p.shadow_contribution;
+        const bool blocked = rs_.accel.occluded(p.shadow) ||
+                             (catcher.on() && catcher.intersect(p.shadow, p.shadow.tmax) < INFINITY);
+        if (!blocked) p.L += p.shadow_contribution;
         p.has_shadow = false;
       }
       any |= p.alive;
@@ -230,6 +228,7 @@ KernelStats PathTracer::render_rect_logged(const ViewSetup& view, const RenderSe
   // A batch holds whole pixels (all their samples), about kBatch paths.
   constexpr size_t kBatch = 64;
   const int rect_w = rect.x1 - rect.x0;
+  const bool catcher = CatcherPlane(settings).on();
   std::vector<PathState> paths;
   std::vector<int> counts;  // samples of each pixel of the batch
   for (int64_t first = 0; first < rect.area();) {
@@ -252,13 +251,18 @@ KernelStats PathTracer::render_rect_logged(const ViewSetup& view, const RenderSe
     size_t next = 0;
     for (int64_t k = first; k < last; ++k) {
       const int spp = counts[size_t(k - first)];
+      const int x = rect.x0 + int(k % rect_w), y = rect.y0 + int(k / rect_w);
+      if (catcher) {
+        write_catcher_pixel(&paths[next], spp, settings, out, x, y);
+        next += size_t(spp);
+        continue;
+      }
       Vec3 sum(0.0f);
       for (int s = 0; s < spp; ++s, ++next) {
         const Vec3 L = paths[next].L;
         sum += clamp_sample(is_finite(L) ? L : Vec3(0.0f), settings.sample_clamp);
       }
-      out.at(rect.x0 + int(k % rect_w), rect.y0 + int(k / rect_w)) =
-          spp > 0 ? sum * (1.0f / float(spp)) : Vec3(0.0f);
+      out.at(x, y) = spp > 0 ? sum * (1.0f / float(spp)) : Vec3(0.0f);
     }
     stats.samples += paths.size();
     first = last;

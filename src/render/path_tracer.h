@@ -40,6 +40,20 @@ class PathTracer : public Kernel {
   void step(struct PathState& p, const Hit* hit, const RenderSettings& settings) const;
   // `p_env`: the probability that next-event estimation picks the environment (0: never).
   void escape(struct PathState& p, float p_env) const;
+  // What escape() adds to the path's radiance.
+  Vec3 escape_contribution(const struct PathState& p, float p_env) const;
+  // A light sample and the path's continuation from a surface point with BSDF `bsdf`,
+  // local `frame` and outgoing direction `wo`, at `pos` with geometric normal `ng`.
+  void scatter(struct PathState& p, float p_env, const Bsdf& bsdf, const Frame& frame, Vec3 wo,
+               Vec3 pos, Vec3 ng, const RenderSettings& settings) const;
+  // The shadow catcher's part (render/shadow_catcher.cpp): a hit on the plane replaces
+  // `hit` when nearer; a bounce off the plane; one pixel's RGBA from its samples.
+  void find_catcher(const struct CatcherPlane& plane, const Ray& ray, Hit& hit,
+                    uint8_t& found) const;
+  void catcher_step(struct PathState& p, const Hit& hit, const RenderSettings& settings,
+                    float p_env) const;
+  static void write_catcher_pixel(const struct PathState* samples, int spp,
+                                  const RenderSettings& settings, Framebuffer& out, int x, int y);
   void sample_light(struct PathState& p, float p_env, const Bsdf& bsdf, const Frame& frame,
                     Vec3 wo, Vec3 pos, Vec3 ng) const;
   // Runs every path of `paths` to completion, a bounce at a time for all of them.

@@ -36,6 +36,14 @@ struct RenderSettings {
   // averaged into its pixel (render/shared/sampling.h: clamp_sample); 0: no limit. Path
   // kernels only (path, direct; CPU and OpenCL).
   float sample_clamp = 0.0f;
+  // The shadow catcher of augmented reality (render/shadow_catcher.h), --ground: the plane
+  // where coordinate catcher_axis (0, 1, 2 = x, y, z; -1: no catcher) equals
+  // catcher_height, diffuse with albedo catcher_albedo, standing for the real ground under
+  // the virtual objects. With it the path kernel writes the objects' premultiplied radiance
+  // and Framebuffer::alpha instead of the whole scene's radiance. CPU path kernel only.
+  int catcher_axis = -1;
+  float catcher_height = 0.0f;
+  float catcher_albedo = 0.5f;
   // The volume kernel's transfer function, block opacities and step (null for meshes);
   // shared, immutable, replaced when the transfer function changes.
   std::shared_ptr<const VolumeStyle> volume_style = {};
@@ -52,8 +60,10 @@ void for_each_sent_setting(Settings& s, F&& f) {
   f("seed", s.seed), f("kernel", s.kernel), f("ao_rays", s.ao_rays);
   f("ao_distance", s.ao_distance), f("step_scale", s.step_scale);
   f("sample_environment", s.sample_environment), f("sample_clamp", s.sample_clamp);
+  f("catcher_axis", s.catcher_axis), f("catcher_height", s.catcher_height);
+  f("catcher_albedo", s.catcher_albedo);
 }
-inline constexpr size_t kSentSettings = 10;
+inline constexpr size_t kSentSettings = 13;
 // Built by each rank from its own data: the volume style (from the transfer function).
 inline constexpr const char* kRankLocalSettings[] = {"volume_style"};
 

@@ -19,8 +19,10 @@
 #include "core/error.h"
 #include "device/device_factory.h"
 #include "render/default_view.h"
+#include "render/environment.h"
 #include "render/kernel.h"
 #include "render/volume_raycaster.h"
+#include "run/ar_setup.h"
 #include "run/lighting.h"
 #include "scene/builders.h"
 #include "scene/camera_check.h"
@@ -216,6 +218,10 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
     throw InputError("--views x --res is more than 2^30 pixels per frame");
   const bool volume_input = is_volume_input(o.scene_path, o.volume);
   s.settings.kernel = check_kernel(o, volume_input);
+  parse_ground(o.ground, s.settings);
+  if (s.settings.catcher_axis >= 0)
+    if (const std::string why = ground_conflict(o, s.settings.kernel, volume_input); !why.empty())
+      throw InputError(why);
   if (o.ao_rays < 1 || o.ao_rays > 1024) throw InputError("--ao-rays must be in 1..1024");
   if (!(o.ao_distance >= 0) || !std::isfinite(o.ao_distance))
     throw InputError("--ao-distance must be a finite number >= 0 (0: 0.3 of the scene size)");
@@ -273,6 +279,8 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
     info.caps = backend_capabilities(d.type);
     const std::string why = unsupported_job(info, s.settings.kernel, o.sampling);
     if (!why.empty()) throw InputError("--devices: " + why);
+    if (s.settings.catcher_axis >= 0 && d.type != "cpu")
+      throw InputError("--ground: the shadow catcher runs on CPU devices only, not " + d.text);
   }
   if (!s.cluster) s.perturbations = parse_perturbations(o.perturb, int(specs.size()));
 
@@ -305,6 +313,9 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
     if (o.up == "auto") resolve_up_from_file(*s.scene, o.scene_path, volume_input, s.up, s.notes);
     s.scene->up = s.up;
     apply_lighting({o.env, o.env_scale, o.sun}, volume_input, load, *s.scene, s.notes);
+    if (s.settings.catcher_axis >= 0 && !EnvironmentLight(*s.scene).on())
+      throw InputError("--ground needs light from outside the scene (--env or --sun): the "
+                       "catcher's shadows are measured against it");
     if (sent) s.cluster->send_scene(*s.scene);
   }
   if (sampling.mode == Sampling::Foveated)
@@ -330,7 +341,8 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   if (o.stereo <= 0 && o.view_spacing == "auto")
     rig.spacing = kViewSpacingOfDistance * length(base.target - base.eye);
   s.view_spacing = rig.view_count() > 1 ? rig.spacing : 0.0f;
-  s.path = camera_path_option(o.camera_path, base);
+  s.path = o.poses.empty() ? camera_path_option(o.camera_path, base)
+                           : poses_path(o, s.res.width, s.res.height);
   if (volume_input) {
     s.volume = std::make_shared<VolumeRun>(*s.scenes, o.volume, s.scene->environment);
     s.volume->apply(0, s.settings);

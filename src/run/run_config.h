@@ -44,6 +44,10 @@ struct RunConfig {
   std::string camera;                     // "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov" or empty
   std::string up = "auto";                // [+-]x|y|z; auto: y for meshes, z for volumes
   std::string camera_path = "fixed";      // fixed | orbit | orbit:PERIOD | FILE.json
+  // Augmented reality (run/ar_setup.h): the shadow catcher, "AXIS=HEIGHT[,albedo=A]" or
+  // empty (none); the capture's camera poses (scene/ar_poses.h), a file or empty.
+  std::string ground;
+  std::string poses;
   std::string devices = "cpu:threads=0";  // threads=0: all hardware threads
   std::string seed = "0";            // a whole number in [0, 2^64); parsed strictly in build_run
   std::string env = "auto";          // auto | V | R,G,B | FILE.hdr|.exr (run/lighting.h)

@@ -106,13 +106,15 @@ TEST(Protocol, EverySentSettingTravels) {
     m.settings = RenderSettings{};
     size_t i = 0;
     // Field k gets a value unlike its default (and valid on the wire).
-    for_each_sent_setting(m.settings, [&](const char*, auto& v) {
+    for_each_sent_setting(m.settings, [&](const char* name, auto& v) {
       using T = std::decay_t<decltype(v)>;
       if (i++ != k) return;
       if constexpr (std::is_same_v<T, std::string>)
         v = "depth";
       else if constexpr (std::is_same_v<T, bool>)
         v = !v;
+      else if (std::string(name) == "catcher_albedo")  // an albedo stays within [0, 1]
+        v = T(0.25);
       else
         v = v + T(2);
     });

@@ -25,6 +25,7 @@ inline Framebuffer render_regions(const Scene& scene, int w, int h, const Render
   for (const Rect& r : regions) units.push_back(WorkItem{r, 0});
   ListWorkSource source(units);
   std::vector<Framebuffer> out{Framebuffer(w, h)};
+  if (settings.catcher_axis >= 0) out[0].alpha.resize(out[0].pixels.size());  // as the engine does
   ViewSetup view;
   view.camera = scene.cameras.at(0);
   view.width = w, view.height = h, view.frame = uint32_t(frame);

@@ -1,5 +1,7 @@
 #include "app/viewer/live_view.h"
 
+#include "core/composite.h"
+
 #include <algorithm>
 #include <cstdio>
 
@@ -69,6 +71,7 @@ std::string LiveView::hello() const {
                      {"devices", devices},
                      {"views", session_.views().rig().view_count()},
                      {"volume", options_.volume != nullptr},
+                     {"ar", options_.ar},
                      {"presets", transfer_presets()},
                      {"target_ms", options_.volume ? options_.volume->options().target_ms : 0}},
       -1);
@@ -105,6 +108,8 @@ void LiveView::handle(int client, const std::string& text) {
     camera_.pan(c.x, c.y);
   else if (c.kind == Command::Kind::Zoom)
     camera_.zoom(c.x);
+  else if (c.kind == Command::Kind::Look)
+    camera_.look(c.x, c.y);
   else
     camera_.reset();
   session_.set_camera(camera_.camera());
@@ -245,10 +250,12 @@ void LiveView::send_loop() {
       options_.display.exposure_ev = metered_exposure_ev(img);
       options_.meter_exposure = false;
     }
-    std::string jpeg;
+    std::string jpeg;  // or, for an RGBA layer (a shadow catcher), a PNG with its alpha
     try {
-      jpeg = encode_jpeg(img.width, img.height, to_srgb8(img, options_.display),
-                         options_.jpeg_quality);
+      jpeg = img.alpha.empty() ? encode_jpeg(img.width, img.height,
+                                             to_srgb8(img, options_.display), options_.jpeg_quality)
+                               : encode_png_rgba(img.width, img.height,
+                                                 to_srgba8(img, options_.display));
     } catch (const std::exception&) {
       continue;  // an empty image; nothing to show
     }

@@ -3,7 +3,7 @@
 // switches and view choices for the session (issue "Live viewer").
 //
 // Rendering never waits on a browser: on_frame() only keeps the newest frame and wakes the
-// sender thread, which encodes it (JPEG) and queues it with its measurements for every
+// sender thread, which encodes it (JPEG; PNG with alpha for an RGBA layer) and queues it with its measurements for every
 // client (web_server.h: each client's queue keeps the newest frame only); frames that
 // arrive while it is busy replace the one waiting (dropped, counted). Camera moves go
 // through Session::set_camera (thread-safe); a balancer switch is applied by on_frame,
@@ -54,6 +54,9 @@ struct LiveViewOptions {
   // A --distributed run: each worker builds its own transfer function from --tf, so the
   // page may not switch it (the master's alone would change).
   bool distributed = false;
+  // Augmented reality (--ar, docs/ar.md): the page shows the device's camera behind the
+  // frames (RGBA, from --ground's shadow catcher) and turns the view with the device.
+  bool ar = false;
 };
 
 class LiveView : public FrameObserver {

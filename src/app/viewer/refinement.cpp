@@ -19,19 +19,27 @@ Refinement::Refinement(int frame_spp, int target_spp)
 
 const Framebuffer& Refinement::add(const Framebuffer& image, const RefineKey& key) {
   const bool restart =
-      frames_ == 0 || !(key == key_) || image.width != mean_.width || image.height != mean_.height;
+      frames_ == 0 || !(key == key_) || image.width != mean_.width ||
+      image.height != mean_.height || image.alpha.size() != alpha_sum_.size();
   if (!restart && samples() + frame_spp_ > target_spp_) return mean_;  // converged
   if (restart) {
     key_ = key;
     frames_ = 0;
     sum_.assign(image.pixels.size(), Vec3(0.0f));
+    alpha_sum_.assign(image.alpha.size(), 0.0f);
     mean_ = Framebuffer(image.width, image.height);
+    mean_.alpha.resize(image.alpha.size());
   }
   ++frames_;
   const float inv = 1.0f / float(frames_);
   for (size_t i = 0; i < image.pixels.size(); ++i) {
     sum_[i] = sum_[i] + image.pixels[i];
     mean_.pixels[i] = sum_[i] * inv;
+  }
+  // An RGBA layer's coverage is averaged like its (premultiplied) colour.
+  for (size_t i = 0; i < std::min(image.alpha.size(), alpha_sum_.size()); ++i) {
+    alpha_sum_[i] += image.alpha[i];
+    mean_.alpha[i] = alpha_sum_[i] * inv;
   }
   return mean_;
 }

@@ -62,6 +62,9 @@ Command parse_command(const std::string& text, int views) {
       c.json = text->get<std::string>();
     else
       throw InputError("'tf' needs a 'preset' name or 'json' text");
+  } else if (t == "look") {
+    c.kind = Command::Kind::Look;
+    c.x = float(number(j, "yaw", -360, 360)), c.y = float(number(j, "pitch", -180, 180));
   } else if (t == "target") {
     c.kind = Command::Kind::Target;
     c.x = float(number(j, "ms", 1, 100000));

@@ -18,9 +18,11 @@ namespace multiray::app::viewer {
 //   {"type":"tf","json":TEXT}               volumes: a transfer function in the JSON file
 //                                           format (docs/volumes.md), as text
 //   {"type":"target","ms":F}                volumes: frame-time target, F in [1, 100000]
+//   {"type":"look","yaw":DEG,"pitch":DEG}   AR: the device's turn since it started,
+//                                           |yaw| <= 360, |pitch| <= 180 (OrbitCamera::look)
 struct Command {
-  enum class Kind { Orbit, Pan, Zoom, Reset, Balancer, View, Tf, Target } kind = Kind::Reset;
-  float x = 0, y = 0;  // orbit / pan amounts, zoom factor or target ms in x
+  enum class Kind { Orbit, Pan, Zoom, Reset, Balancer, View, Tf, Target, Look } kind = Kind::Reset;
+  float x = 0, y = 0;  // orbit / pan / look amounts, zoom factor or target ms in x
   std::string spec;    // balancer, or transfer-function preset
   std::string json;    // transfer function as JSON text
   int view = 0;
