@@ -36,6 +36,22 @@ TEST(Refinement, AStillCameraShowsTheMeanOfItsFramesUpToTheTarget) {
   EXPECT_EQ(r.samples(), 6);
 }
 
+// An RGBA layer's coverage is averaged with its colour; a layer after a plain image starts
+// again.
+TEST(Refinement, AlphaIsAveragedWithTheColour) {
+  Refinement r(1, 4);
+  const RefineKey key{Camera{}, 0, 0};
+  Framebuffer a = flat(1), b = flat(3);
+  a.alpha.assign(a.pixels.size(), 0.0f);
+  b.alpha.assign(b.pixels.size(), 1.0f);
+  r.add(flat(9), key);
+  EXPECT_EQ(r.add(a, key).alpha.size(), a.pixels.size());
+  EXPECT_EQ(r.samples(), 1);  // the plain image before it does not count
+  const Framebuffer& mean = r.add(b, key);
+  EXPECT_EQ(mean.alpha[3], 0.5f);
+  EXPECT_EQ(mean.pixels[3].x, 2.0f);
+}
+
 TEST(Refinement, AnyChangeStartsAgainFromOneFrame) {
   Refinement r(1, 16);
   RefineKey key{Camera{}, 0, 0};

@@ -22,6 +22,10 @@ TEST(ViewControl, GoodMessagesParse) {
   c = parse_command(R"({"type":"view","index":8})", 9);
   EXPECT_EQ(c.view, 8);
   EXPECT_EQ(parse_command(R"({"type":"reset"})", 1).kind, Command::Kind::Reset);
+  c = parse_command(R"({"type":"look","yaw":-30,"pitch":12.5})", 1);
+  EXPECT_EQ(c.kind, Command::Kind::Look);
+  EXPECT_FLOAT_EQ(c.x, -30);
+  EXPECT_FLOAT_EQ(c.y, 12.5f);
 }
 
 TEST(ViewControl, BadMessagesAreRefusedInOneLine) {
@@ -32,7 +36,8 @@ TEST(ViewControl, BadMessagesAreRefusedInOneLine) {
         R"({"type":"pan","dx":0,"dy":11})", R"({"type":"zoom","factor":0})",
         R"({"type":"zoom","factor":-1})", R"({"type":"balancer"})",
         R"({"type":"balancer","spec":""})", R"({"type":"view","index":9})",
-        R"({"type":"view","index":-1})"}) {
+        R"({"type":"view","index":-1})", R"({"type":"look","yaw":0})",
+        R"({"type":"look","yaw":361,"pitch":0})", R"({"type":"look","yaw":0,"pitch":-181})"}) {
     try {
       parse_command(bad, 9);
       ADD_FAILURE() << "accepted: " << bad;
@@ -63,6 +68,26 @@ TEST(ViewControl, OrbitKeepsTheDistanceAndPanMovesTheTarget) {
   EXPECT_GT(length(cam.camera().eye - cam.camera().target), 0);
   cam.reset();
   EXPECT_NEAR(length(cam.camera().eye - base.eye), 0, 1e-4);
+}
+
+// A device turned in augmented reality turns the view about the eye: the eye stays, the
+// view direction turns by the angles given (absolute, not summed), and reset undoes it.
+TEST(ViewControl, LookTurnsTheViewAboutTheEye) {
+  Camera base;
+  base.eye = {0, 1, 5}, base.target = {0, 1, 0};
+  OrbitCamera cam(base, {0, 1, 0});
+  const auto dir = [&] { return normalize(cam.camera().target - cam.camera().eye); };
+  cam.look(90, 0);
+  EXPECT_NEAR(length(cam.camera().eye - base.eye), 0, 1e-4);
+  EXPECT_NEAR(dot(dir(), Vec3{0, 0, -1}), 0, 1e-4);  // a quarter turn from looking along -z
+  EXPECT_NEAR(dir().y, 0, 1e-4);
+  cam.look(90, 0);  // the same orientation again: no further turn
+  EXPECT_NEAR(dot(dir(), Vec3{0, 0, -1}), 0, 1e-4);
+  cam.look(0, 30);  // tilted up by 30 degrees
+  EXPECT_NEAR(dir().y, std::sin(30 * M_PI / 180), 1e-4);
+  EXPECT_NEAR(length(cam.camera().eye - base.eye), 0, 1e-4);
+  cam.reset();
+  EXPECT_NEAR(dot(dir(), Vec3{0, 0, -1}), 1, 1e-4);
 }
 
 }  // namespace view_control_test

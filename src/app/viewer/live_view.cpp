@@ -178,6 +178,8 @@ void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
     if (pending_) ++dropped_;
     pending_ = result;
     pending_view_ = std::min(view_, int(result->images.size()) - 1);
+    const auto began = frame_cameras_.find(result->frame);  // before shown_image forgets it
+    pending_camera_ = began != frame_cameras_.end() ? began->second : Camera{};
     pending_image_ = shown_image(*result, pending_view_, &pending_samples_);
     pending_balancer_ = engine.balancer().spec();  // the one that planned this frame
     request.swap(balancer_request_);
@@ -192,7 +194,7 @@ void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
 }
 
 std::string LiveView::frame_json(const FrameResult& r, int view, const std::string& balancer,
-                                 int samples) const {
+                                 int samples, const Camera& camera) const {
   const FrameRecord& rec = r.record;
   nlohmann::json devices = nlohmann::json::array(), items = nlohmann::json::array();
   for (size_t d = 0; d < rec.devices.size(); ++d)
@@ -216,6 +218,9 @@ std::string LiveView::frame_json(const FrameResult& r, int view, const std::stri
                                   {"width", img.width},
                                   {"height", img.height},
                                   {"image_hash", hash},
+                                  {"camera",
+                                   {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
+                                    {"target", {camera.target.x, camera.target.y, camera.target.z}}}},
                                   {"frame_ms", rec.frame_ms},
                                   {"imbalance", rec.imbalance},
                                   {"balancer", balancer},
@@ -234,6 +239,7 @@ void LiveView::send_loop() {
     std::shared_ptr<const Framebuffer> shown;
     std::string balancer;
     int view = 0, samples = 0;
+    Camera camera;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [&] { return stop_ || pending_; });
@@ -243,6 +249,7 @@ void LiveView::send_loop() {
       balancer = pending_balancer_;
       view = pending_view_;
       samples = pending_samples_;
+      camera = pending_camera_;
     }
     if (server_->clients() == 0) continue;
     const Framebuffer& img = *shown;
@@ -260,7 +267,7 @@ void LiveView::send_loop() {
       continue;  // an empty image; nothing to show
     }
     server_->broadcast_frame(std::make_shared<const OutFrame>(
-        OutFrame{frame_json(*frame, view, balancer, samples), std::move(jpeg)}));
+        OutFrame{frame_json(*frame, view, balancer, samples, camera), std::move(jpeg)}));
   }
 }
 

@@ -80,8 +80,9 @@ class LiveView : public FrameObserver {
   // Volumes: a transfer function or target from the page; an error message or "".
   std::string volume_command(const Command& c);
   std::string hello() const;
+  // `camera`: the one the frame was begun with (sent as "camera": {"eye", "target"}).
   std::string frame_json(const FrameResult& r, int view, const std::string& balancer,
-                         int samples) const;
+                         int samples, const Camera& camera) const;
   // The image of `r`'s view `view` to show (refined, or as rendered) and its samples per
   // pixel; on the session's thread, under mutex_.
   std::shared_ptr<const Framebuffer> shown_image(const FrameResult& r, int view, int* samples);
@@ -96,6 +97,7 @@ class LiveView : public FrameObserver {
   std::shared_ptr<const FrameResult> pending_;
   std::shared_ptr<const Framebuffer> pending_image_;  // what to show of pending_
   int pending_view_ = 0, pending_samples_ = 0;
+  Camera pending_camera_;
   std::map<int, Camera> frame_cameras_;  // frames begun and not yet finished
   std::unique_ptr<Refinement> refinement_;
   std::shared_ptr<MotionClock> motion_;  // null: frames at full size while moving
@@ -111,7 +113,9 @@ class LiveView : public FrameObserver {
   std::thread sender_;
 };
 
-// The page served at "/" (HTML, CSS and script in one file).
+// The page served at "/" (HTML, CSS and script in one file), and its augmented-reality
+// script (page_ar.cpp).
 const std::string& viewer_page();
+const std::string& ar_page_script();
 
 }  // namespace multiray::app::viewer

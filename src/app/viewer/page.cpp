@@ -2,15 +2,17 @@
 // Protocol (app/viewer/live_view.h): the server sends {"type":"hello"} once, then per
 // frame a {"type":"frame",...} text message followed by the frame as a JPEG binary
 // message; the page sends the commands of app/viewer/view_control.h.
-// ?overlay=1 starts with the partition overlay on; ?hold=N is for screenshots (below). With
+// ?overlay=1 starts with the partition overlay on; ?ar=1 starts the AR camera at once
+// (where the browser allows it without a tap); ?hold=N is for screenshots (below). With
 // ?selftest=1 the page exercises itself (drag, balancer switch, overlay) and writes the outcome
-// into document.title, for the headless-browser test (tests/viewer).
+// into document.title, for the headless-browser test (tests/viewer); ?selftest=ar does the
+// same for augmented reality (page_ar.cpp).
 #include "app/viewer/live_view.h"
 
 namespace multiray::app::viewer {
 
 const std::string& viewer_page() {
-  static const std::string page = R"PAGE(<!doctype html>
+  static const std::string page = std::string(R"PAGE(<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>multiray view</title>
 <style>
 body { font: 13px system-ui, sans-serif; margin: 0; background: #1e1f22; color: #ddd;
@@ -32,13 +34,14 @@ main { flex: 1; display: flex; min-height: 0; }
  <label><input type="checkbox" id="overlayOn"> partition overlay</label>
  <label id="viewBox" hidden>view <select id="view"></select></label>
  <button id="reset">reset camera</button>
+ <button id="arStart" hidden>start AR camera</button>
  <span id="volBox" hidden><label>transfer function <select id="tf"></select></label>
   <button id="tfEdit">edit</button>
   <label>target ms <input id="target" type="number" min="1" max="100000" step="1" style="width:5em"></label></span>
  <span id="stats">waiting for the first frame ...</span>
  <span id="err"></span>
 </header>
-<main><div id="stage"><canvas id="image" width="640" height="360"></canvas><canvas id="overlay" width="640" height="360"></canvas></div>
+<main><div id="stage"><video id="camera" playsinline muted hidden></video><canvas id="image" width="640" height="360"></canvas><canvas id="overlay" width="640" height="360"></canvas></div>
 <div id="side"><div id="devices"></div><canvas id="plot" width="360" height="200"></canvas>
 <div>drag: orbit &middot; shift+drag or right drag: pan &middot; wheel: zoom</div>
 <div id="tfPanel" hidden style="margin-top:10px">transfer function (JSON, docs/volumes.md):<br>
@@ -71,7 +74,7 @@ function connect() {
     const m = meta; meta = null;
     const bitmap = await createImageBitmap(ev.data);
     for (const c of [image, overlay]) if (c.width !== m.width || c.height !== m.height) { c.width = m.width; c.height = m.height; }
-    image.getContext("2d").drawImage(bitmap, 0, 0);
+    showFrame(bitmap);
     last = m; frames++;
     drawOverlay(); drawStats(m);
     if (window.onFrameForTest) window.onFrameForTest(m);
@@ -88,6 +91,8 @@ function hello(m) {
   for (let i = 0; i < m.views; i++) { const o = document.createElement("option"); o.value = i; o.textContent = i; vs.appendChild(o); }
   $("viewBox").hidden = m.views < 2;
   $("volBox").hidden = !m.volume;
+  $("arStart").hidden = !m.ar;
+  if (m.ar && new URLSearchParams(location.search).get("ar")) startAr();  // ?ar=1: at once
   if (m.volume) {
     const tf = $("tf"); tf.innerHTML = "<option value=''>(as started)</option>";
     for (const p of m.presets) { const o = document.createElement("option"); o.value = o.textContent = p; tf.appendChild(o); }
@@ -166,6 +171,7 @@ if (new URLSearchParams(location.search).get("overlay")) $("overlayOn").checked 
 // ?hold=N: keep a request open until N frames were shown (headless screenshots: a pending
 // request holds the browser's virtual clock while frames arrive).
 let selftestDone = !new URLSearchParams(location.search).get("selftest");
+const nextFrame = (pred) => new Promise((ok) => { window.onFrameForTest = (m) => { if (!pred || pred(m)) { window.onFrameForTest = null; ok(m); } }; });
 (async () => {
   const n = Number(new URLSearchParams(location.search).get("hold") || 0);
   while (frames < n || !selftestDone) await fetch("/?hold", { cache: "no-store" }).catch(() => {});
@@ -173,10 +179,9 @@ let selftestDone = !new URLSearchParams(location.search).get("selftest");
 connect();
 
 // ?selftest=1: what a user would do, checked; the result goes into the title.
-if (new URLSearchParams(location.search).get("selftest")) {
+if (new URLSearchParams(location.search).get("selftest") === "1") {
   const result = { frame: 0, drag: 0, balancer: 0, colors: 0, fits: 0 };
   const report = () => { document.title = "selftest " + Object.entries(result).map(([k, v]) => k + "=" + v).join(" "); };
-  const nextFrame = (pred) => new Promise((ok) => { window.onFrameForTest = (m) => { if (!pred || pred(m)) { window.onFrameForTest = null; ok(m); } }; });
   (async () => {
     const first = await nextFrame(); result.frame = 1; report();
     // The frame is scaled to the space the window leaves: inside the window, and filling
@@ -201,7 +206,7 @@ if (new URLSearchParams(location.search).get("selftest")) {
     selftestDone = true;
   })();
 }
-</script></body></html>
+)PAGE") + ar_page_script() + R"PAGE(</script></body></html>
 )PAGE";
   return page;
 }
