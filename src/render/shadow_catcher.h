@@ -1,6 +1,8 @@
-// The shadow catcher of augmented reality: differential rendering (Debevec, "Rendering
-// Synthetic Objects into Real Scenes", SIGGRAPH 1998, §4) inside the path tracer, for
-// Seo et al.'s proof of concept of ray-traced objects over a device's camera image (§5.3).
+// The shadow catcher of augmented reality: the differential rendering of Debevec,
+// "Rendering Synthetic Objects into Real Scenes" (SIGGRAPH 98, pp. 189-198) inside the path
+// tracer, for the proof of concept of ray-traced objects over a device's camera image in
+// Seo, Park & Ihm, "Efficient Ray Tracing of Large 3D Scenes for Mobile Distributed
+// Computing Environments" (Sensors 22(2), 2022), §5.3.
 //
 // The real ground is stood for by a diffuse plane (RenderSettings::catcher_*, --ground).
 // Each camera sample is of one of three kinds, by what its camera ray meets first:

@@ -63,3 +63,29 @@ TEST(Resample, KeepsConstantsAndCopiesEqualSizes) {
 
 }  // namespace
 }  // namespace multiray
+
+namespace multiray {
+namespace {
+
+// An RGBA layer (the shadow catcher's) keeps its alpha through the upscale, interpolated
+// like the colour; an image without alpha gets none.
+TEST(Resample, InterpolatesAlphaWithTheColour) {
+  Framebuffer small(2, 1);
+  small.pixels = {Vec3(0.0f), Vec3(1.0f)};
+  small.alpha = {0.0f, 1.0f};
+  Framebuffer big(4, 1);
+  upscale_bilinear(small, big);
+  ASSERT_EQ(big.alpha.size(), 4u);
+  for (int x = 0; x < 4; ++x) EXPECT_FLOAT_EQ(big.alpha[size_t(x)], big.at(x, 0).x);
+  EXPECT_EQ(big.alpha[0], 0.0f);
+  EXPECT_EQ(big.alpha[3], 1.0f);
+  Framebuffer same(2, 1);
+  upscale_bilinear(small, same);
+  EXPECT_EQ(same.alpha, small.alpha);
+  Framebuffer plain(2, 1), out(4, 1);
+  upscale_bilinear(plain, out);
+  EXPECT_TRUE(out.alpha.empty());
+}
+
+}  // namespace
+}  // namespace multiray
