@@ -123,6 +123,7 @@ TEST(ArCli, BadInputIsRefusedInOneLine) {
       {"--ground y=nan", "--ground"},
       {"--ground y=0 --integrator ao", "--integrator ao"},
       {"--ground y=0 --views 2x1", "--views"},
+      {"--ground y=0 --devices cpu,opencl", "opencl"},  // CPU only (or: built without OpenCL)
       {"--ground y=0 --env 0 --sun off", "--env"},
       {"--ground y=0 --background '" + example_output() + "/bg_#####.png'", "does not exist"},
       {"--ground y=0 --res 100x100 --background '" + bg + "'", "aspect ratio"},
