@@ -160,8 +160,8 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
         out_option->count() ? *out_dir : first_free_folder(*out_dir), o->frames, *exr);
     Run s;
     int worker_exit = 0;
-    std::vector<std::string> specs{*balancer};  // --mapping applied by start_run
-    std::unique_ptr<OutputFolder> folder;       // held (locked) until the run has ended
+    std::vector<std::string> specs{*balancer};            // --mapping applied by start_run
+    std::unique_ptr<OutputFolder> folder;                 // held (locked) until the run has ended
     std::shared_ptr<const BackgroundImages> backgrounds;  // --background
     std::unique_ptr<Session> session = start_run(
         s, *o, specs, "--balancer", &worker_exit,

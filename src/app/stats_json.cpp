@@ -89,11 +89,12 @@ nlohmann::json settings_to_json(const RunConfig& o, const Run& s,
       {"up", vec3_json(s.up)},
       {"camera_path", o.camera_path},
       {"poses", o.poses.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.poses)},
-      {"ground", s.settings.catcher_axis < 0
-                     ? nlohmann::json(nullptr)
-                     : nlohmann::json{{"axis", std::string(1, char('x' + s.settings.catcher_axis))},
-                                      {"height", s.settings.catcher_height},
-                                      {"albedo", s.settings.catcher_albedo}}},
+      {"ground",
+       s.settings.catcher_axis < 0
+           ? nlohmann::json(nullptr)
+           : nlohmann::json{{"axis", std::string(1, char('x' + s.settings.catcher_axis))},
+                            {"height", s.settings.catcher_height},
+                            {"albedo", s.settings.catcher_albedo}}},
       {"environment", vec3_json(s.scene->environment)},
       {"environment_map",
        s.scene->environment_map ? nlohmann::json(s.scene->environment_map->name) : nullptr},

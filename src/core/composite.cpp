@@ -25,7 +25,8 @@ constexpr int64_t kMaxPixels = int64_t(1) << 28;
 
 bool is_exr(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext == ".exr";
 }
 
@@ -113,8 +114,8 @@ void write_exr_rgba(const std::string& path, const Framebuffer& layer) {
       }
       header.channels().insert("A", Imf::Channel(Imf::FLOAT));
       char* alpha = const_cast<char*>(reinterpret_cast<const char*>(layer.alpha.data()));
-      slices.insert("A", Imf::Slice(Imf::FLOAT, alpha, sizeof(float),
-                                    sizeof(float) * size_t(layer.width)));
+      slices.insert(
+          "A", Imf::Slice(Imf::FLOAT, alpha, sizeof(float), sizeof(float) * size_t(layer.width)));
       Imf::OutputFile file(temp.c_str(), header);
       file.setFrameBuffer(slices);
       file.writePixels(layer.height);
@@ -133,12 +134,13 @@ Framebuffer read_image_linear(const std::string& path) {
   if (is_exr(path)) return read_exr(path);
   const auto [w0, h0] = image_size(path);
   if (w0 < 1 || h0 < 1 || w0 * h0 > kMaxPixels)
-    throw InputError("'" + path + "': an image of " + size_text(w0, h0) + " pixels (at most 2^28)");
+    throw InputError("'" + path + "': an image of " + size_text(w0, h0) +
+                     " pixels (at most 2^28)");
   int w = 0, h = 0, n = 0;
   unsigned char* px = stbi_load(path.c_str(), &w, &h, &n, 3);
   if (px == nullptr)
-    throw InputError("cannot decode '" + path + "': " +
-                     (stbi_failure_reason() ? stbi_failure_reason() : "unknown reason"));
+    throw InputError("cannot decode '" + path +
+                     "': " + (stbi_failure_reason() ? stbi_failure_reason() : "unknown reason"));
   Framebuffer fb(w, h);
   float table[256];
   for (int v = 0; v < 256; ++v) table[v] = decode_srgb(uint8_t(v));

@@ -72,7 +72,8 @@ Camera OrbitCamera::camera() const {
   const float pitch = std::clamp(std::asin(std::clamp(dot(view, up_), -1.0f, 1.0f)) + look_pitch_,
                                  -89.0f * kPi / 180, 89.0f * kPi / 180);
   const float yaw = std::atan2(dot(view, b), dot(view, a)) + look_yaw_;
-  const Vec3 turned = (a * std::cos(yaw) + b * std::sin(yaw)) * std::cos(pitch) + up_ * std::sin(pitch);
+  const Vec3 turned =
+      (a * std::cos(yaw) + b * std::sin(yaw)) * std::cos(pitch) + up_ * std::sin(pitch);
   c.target = c.eye + turned * distance_;
   return c;
 }

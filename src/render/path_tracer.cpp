@@ -210,8 +210,9 @@ void PathTracer::trace_batch(std::vector<PathState>& paths, const RenderSettings
       if (p.has_shadow) {
         ++stats.rays;
         if (log) log->shadow.push_back(p.shadow);
-        const bool blocked = rs_.accel.occluded(p.shadow) ||
-                             (catcher.on() && catcher.intersect(p.shadow, p.shadow.tmax) < INFINITY);
+        const bool blocked =
+            rs_.accel.occluded(p.shadow) ||
+            (catcher.on() && catcher.intersect(p.shadow, p.shadow.tmax) < INFINITY);
         if (!blocked) p.L += p.shadow_contribution;
         p.has_shadow = false;
       }

@@ -15,9 +15,9 @@ void parse_ground(const std::string& text, RenderSettings& settings) {
   const size_t eq = text.find('=');
   if (eq != 1 || (text[0] != 'x' && text[0] != 'y' && text[0] != 'z')) throw InputError(usage);
   const size_t comma = text.find(',');
-  const double height = to_number(text.substr(2, comma == std::string::npos ? std::string::npos
-                                                                            : comma - 2),
-                                  "--ground height");
+  const double height =
+      to_number(text.substr(2, comma == std::string::npos ? std::string::npos : comma - 2),
+                "--ground height");
   if (!std::isfinite(height) || std::abs(height) > 1e18)
     throw InputError("--ground: the height must be a finite number");
   float albedo = 0.5f;

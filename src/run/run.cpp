@@ -314,8 +314,9 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
     s.scene->up = s.up;
     apply_lighting({o.env, o.env_scale, o.sun}, volume_input, load, *s.scene, s.notes);
     if (s.settings.catcher_axis >= 0 && !EnvironmentLight(*s.scene).on())
-      throw InputError("--ground needs light from outside the scene (--env or --sun): the "
-                       "catcher's shadows are measured against it");
+      throw InputError(
+          "--ground needs light from outside the scene (--env or --sun): the "
+          "catcher's shadows are measured against it");
     if (sent) s.cluster->send_scene(*s.scene);
   }
   if (sampling.mode == Sampling::Foveated)

@@ -41,9 +41,9 @@ struct RunConfig {
   // 0: no limit. RenderSettings::sample_clamp.
   float clamp = 0.0f;
   int frames = 1;
-  std::string camera;                     // "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov" or empty
-  std::string up = "auto";                // [+-]x|y|z; auto: y for meshes, z for volumes
-  std::string camera_path = "fixed";      // fixed | orbit | orbit:PERIOD | FILE.json
+  std::string camera;                 // "ex,ey,ez,tx,ty,tz,ux,uy,uz,fov" or empty
+  std::string up = "auto";            // [+-]x|y|z; auto: y for meshes, z for volumes
+  std::string camera_path = "fixed";  // fixed | orbit | orbit:PERIOD | FILE.json
   // Augmented reality (run/ar_setup.h): the shadow catcher, "AXIS=HEIGHT[,albedo=A]" or
   // empty (none); the capture's camera poses (scene/ar_poses.h), a file or empty.
   std::string ground;

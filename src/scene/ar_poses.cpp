@@ -12,7 +12,6 @@ namespace multiray {
 
 namespace {
 
-
 std::vector<float> numbers(const nlohmann::json& j, const char* key, size_t n,
                            const std::string& where) {
   if (!j.contains(key) || !j[key].is_array() || j[key].size() != n)
@@ -38,14 +37,16 @@ Camera camera_of(const std::vector<float>& m, float fov_y_deg, const std::string
   if (std::abs(length(x) - 1) > tol || std::abs(length(y) - 1) > tol ||
       std::abs(length(z) - 1) > tol || std::abs(dot(x, y)) > tol || std::abs(dot(y, z)) > tol ||
       std::abs(dot(x, z)) > tol || dot(cross(x, y), z) < 0)
-    throw InputError(where + ": the transform's rotation is not a rotation (columns must be "
-                             "orthonormal and right-handed)");
+    throw InputError(where +
+                     ": the transform's rotation is not a rotation (columns must be "
+                     "orthonormal and right-handed)");
   Camera c;
   c.eye = t;
   c.target = t - z;
   c.up = y;
   c.fov_y_deg = fov_y_deg;
-  if (const std::string why = camera_problem(c); !why.empty()) throw InputError(where + ": " + why);
+  if (const std::string why = camera_problem(c); !why.empty())
+    throw InputError(where + ": " + why);
   return c;
 }
 
@@ -105,10 +106,10 @@ nlohmann::json ar_poses_to_json(const std::vector<Camera>& cameras, int width, i
   for (const Camera& c : cameras) {
     const Vec3 z = normalize(c.eye - c.target), x = normalize(cross(c.up, z)), y = cross(z, x);
     const float f = 0.5f * float(height) / std::tan(0.5f * c.fov_y_deg * kPi / 180);
-    poses.push_back({{"transform",
-                      {x.x, x.y, x.z, 0, y.x, y.y, y.z, 0, z.x, z.y, z.z, 0, c.eye.x, c.eye.y,
-                       c.eye.z, 1}},
-                     {"intrinsics", {f, f, 0.5f * width, 0.5f * height}}});
+    poses.push_back(
+        {{"transform",
+          {x.x, x.y, x.z, 0, y.x, y.y, y.z, 0, z.x, z.y, z.z, 0, c.eye.x, c.eye.y, c.eye.z, 1}},
+         {"intrinsics", {f, f, 0.5f * width, 0.5f * height}}});
   }
   return {{"image", {width, height}},
           {"intrinsics", {fy, fy, 0.5f * width, 0.5f * height}},

@@ -67,7 +67,8 @@ TEST(ArCli, CompositeAgreesWithAFullRenderUpToNoise) {
   const CliResult r =
       run("render '" + kExample + "/ground_and_objects.obj' --poses '" + kExample +
           "/poses.json' --frames 3 --res 160x120 --spp 16 --env 0.3 --sun 40,35 -q --seed 2 "
-          "--exposure 0 --tone clamp -o '" + again + "/ref_####.png'");
+          "--exposure 0 --tone clamp -o '" +
+          again + "/ref_####.png'");
   ASSERT_EQ(r.code, 0) << r.out;
   for (const char* f : {"0000", "0002"}) {
     const Framebuffer ref = frame(std::string("ref_") + f + ".png");
@@ -92,8 +93,8 @@ TEST(ArCli, TheRealImageIsKeptWhereNoObjectReaches) {
   EXPECT_EQ(n, 4);
   size_t same = 0, clear = 0;
   for (int i = 0; i < w * h; ++i) {
-    const bool kept = ar[3 * i] == bg[3 * i] && ar[3 * i + 1] == bg[3 * i + 1] &&
-                      ar[3 * i + 2] == bg[3 * i + 2];
+    const bool kept =
+        ar[3 * i] == bg[3 * i] && ar[3 * i + 1] == bg[3 * i + 1] && ar[3 * i + 2] == bg[3 * i + 2];
     same += kept;
     if (layer[4 * i + 3] == 0) {
       ++clear;
@@ -109,11 +110,13 @@ TEST(ArCli, TheRealImageIsKeptWhereNoObjectReaches) {
 TEST(ArCli, BadInputIsRefusedInOneLine) {
   const std::string obj = kExample + "/objects.obj", poses = kExample + "/poses.json";
   const std::string bg = example_output() + "/bg_####.png";
-  const std::string base = "render '" + obj + "' --spp 1 -q -o " + example_output() +
-                           "/bad --overwrite --env 0.3 ";
-  const std::string wide = temp_file("wide.json", R"({"image":[200,100],"intrinsics":[100,100,100,50],
+  const std::string base =
+      "render '" + obj + "' --spp 1 -q -o " + example_output() + "/bad --overwrite --env 0.3 ";
+  const std::string wide =
+      temp_file("wide.json", R"({"image":[200,100],"intrinsics":[100,100,100,50],
     "poses":[{"transform":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,1,5,1]}]})");
-  const std::string skew = temp_file("skew.json", R"({"image":[160,120],"intrinsics":[100,100,80,60],
+  const std::string skew =
+      temp_file("skew.json", R"({"image":[160,120],"intrinsics":[100,100,80,60],
     "poses":[{"transform":[1,0,0,0, 0,2,0,0, 0,0,1,0, 0,1,5,1]}]})");
   const std::pair<std::string, std::string> cases[] = {
       {"--background " + bg, "--background needs --ground"},

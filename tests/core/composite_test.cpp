@@ -59,7 +59,8 @@ TEST(Composite, RgbaPngsHoldStraightColour) {
 
 TEST(Composite, BackgroundSequencesAreNumberedByTheirRunOfHashes) {
   std::vector<uint8_t> rgb(8 * 6 * 3, 200);
-  for (int f = 0; f < 3; ++f) write_png_rgb8(scratch("bg_00" + std::to_string(f) + ".png"), 8, 6, rgb);
+  for (int f = 0; f < 3; ++f)
+    write_png_rgb8(scratch("bg_00" + std::to_string(f) + ".png"), 8, 6, rgb);
   const BackgroundImages seq(scratch("bg_###.png"), 16, 12, 3);
   EXPECT_EQ(seq.path(2), scratch("bg_002.png"));
   const Framebuffer big = seq.frame(1);  // resized to the output, same aspect

@@ -89,8 +89,8 @@ TEST(ShadowCatcher, LayerIsTheSameHoweverTheFrameIsSplit) {
   const int w = 40, h = 24;
   const RenderSettings s = catcher_settings(4);
   const Framebuffer whole = testing::render_regions(scene, w, h, s, {{0, 0, w, h}});
-  const Framebuffer split = testing::render_regions(
-      scene, w, h, s, {{0, 0, 13, h}, {13, 0, w, 7}, {13, 7, w, h}}, 2, 1);
+  const Framebuffer split =
+      testing::render_regions(scene, w, h, s, {{0, 0, 13, h}, {13, 0, w, 7}, {13, 7, w, h}}, 2, 1);
   EXPECT_EQ(image_hash(whole), image_hash(split));
   float covered = 0;
   for (float a : whole.alpha) covered += a;

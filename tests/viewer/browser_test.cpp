@@ -66,7 +66,8 @@ TEST(ViewerBrowser, ArPageShowsTheCameraUnderTheObjectsAndTurnsWithTheDevice) {
   const std::string flags =
       "--headless=new --no-sandbox --disable-gpu --virtual-time-budget=20000 "
       "--use-fake-device-for-media-stream --use-fake-ui-for-media-stream ";
-  const auto r = multiray::testing::run_cli(browser, flags + "--dump-dom '" + url + "?selftest=ar'");
+  const auto r =
+      multiray::testing::run_cli(browser, flags + "--dump-dom '" + url + "?selftest=ar'");
   EXPECT_THAT(r.out, ::testing::HasSubstr("selftest frame=1 camera=1 over=1 moved=1"))
       << r.out.substr(0, 2000);
   const std::string shot = ::testing::TempDir() + "/viewer_ar.png";

@@ -29,15 +29,28 @@ TEST(ViewControl, GoodMessagesParse) {
 }
 
 TEST(ViewControl, BadMessagesAreRefusedInOneLine) {
-  for (const char* bad :
-       {"", "{", "[1]", "null", "42", R"({"dx":1})", R"({"type":7})", R"({"type":"jump"})",
-        R"({"type":"orbit","dx":1})", R"({"type":"orbit","dx":"1","dy":0})",
-        R"({"type":"orbit","dx":1e309,"dy":0})", R"({"type":"orbit","dx":400,"dy":0})",
-        R"({"type":"pan","dx":0,"dy":11})", R"({"type":"zoom","factor":0})",
-        R"({"type":"zoom","factor":-1})", R"({"type":"balancer"})",
-        R"({"type":"balancer","spec":""})", R"({"type":"view","index":9})",
-        R"({"type":"view","index":-1})", R"({"type":"look","yaw":0})",
-        R"({"type":"look","yaw":361,"pitch":0})", R"({"type":"look","yaw":0,"pitch":-181})"}) {
+  for (const char* bad : {"",
+                          "{",
+                          "[1]",
+                          "null",
+                          "42",
+                          R"({"dx":1})",
+                          R"({"type":7})",
+                          R"({"type":"jump"})",
+                          R"({"type":"orbit","dx":1})",
+                          R"({"type":"orbit","dx":"1","dy":0})",
+                          R"({"type":"orbit","dx":1e309,"dy":0})",
+                          R"({"type":"orbit","dx":400,"dy":0})",
+                          R"({"type":"pan","dx":0,"dy":11})",
+                          R"({"type":"zoom","factor":0})",
+                          R"({"type":"zoom","factor":-1})",
+                          R"({"type":"balancer"})",
+                          R"({"type":"balancer","spec":""})",
+                          R"({"type":"view","index":9})",
+                          R"({"type":"view","index":-1})",
+                          R"({"type":"look","yaw":0})",
+                          R"({"type":"look","yaw":361,"pitch":0})",
+                          R"({"type":"look","yaw":0,"pitch":-181})"}) {
     try {
       parse_command(bad, 9);
       ADD_FAILURE() << "accepted: " << bad;

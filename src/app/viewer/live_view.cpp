@@ -212,25 +212,26 @@ std::string LiveView::frame_json(const FrameResult& r, int view, const std::stri
   const Framebuffer& img = r.images.at(size_t(view));  // as rendered (the hash's image)
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)image_hash(img));
-  return dump_json(nlohmann::json{{"type", "frame"},
-                                  {"frame", r.frame},
-                                  {"view", view},
-                                  {"width", img.width},
-                                  {"height", img.height},
-                                  {"image_hash", hash},
-                                  {"camera",
-                                   {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
-                                    {"target", {camera.target.x, camera.target.y, camera.target.z}}}},
-                                  {"frame_ms", rec.frame_ms},
-                                  {"imbalance", rec.imbalance},
-                                  {"balancer", balancer},
-                                  {"dropped", dropped_.load()},
-                                  {"spp", samples},
-                                  {"image_scale", rec.quality.image_scale},
-                                  {"refine_spp", refinement_ ? refinement_->target_spp() : 0},
-                                  {"devices", devices},
-                                  {"items", items}},
-                   -1);
+  return dump_json(
+      nlohmann::json{{"type", "frame"},
+                     {"frame", r.frame},
+                     {"view", view},
+                     {"width", img.width},
+                     {"height", img.height},
+                     {"image_hash", hash},
+                     {"camera",
+                      {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
+                       {"target", {camera.target.x, camera.target.y, camera.target.z}}}},
+                     {"frame_ms", rec.frame_ms},
+                     {"imbalance", rec.imbalance},
+                     {"balancer", balancer},
+                     {"dropped", dropped_.load()},
+                     {"spp", samples},
+                     {"image_scale", rec.quality.image_scale},
+                     {"refine_spp", refinement_ ? refinement_->target_spp() : 0},
+                     {"devices", devices},
+                     {"items", items}},
+      -1);
 }
 
 void LiveView::send_loop() {
@@ -259,10 +260,10 @@ void LiveView::send_loop() {
     }
     std::string jpeg;  // or, for an RGBA layer (a shadow catcher), a PNG with its alpha
     try {
-      jpeg = img.alpha.empty() ? encode_jpeg(img.width, img.height,
-                                             to_srgb8(img, options_.display), options_.jpeg_quality)
-                               : encode_png_rgba(img.width, img.height,
-                                                 to_srgba8(img, options_.display));
+      jpeg = img.alpha.empty()
+                 ? encode_jpeg(img.width, img.height, to_srgb8(img, options_.display),
+                               options_.jpeg_quality)
+                 : encode_png_rgba(img.width, img.height, to_srgba8(img, options_.display));
     } catch (const std::exception&) {
       continue;  // an empty image; nothing to show
     }

@@ -3,9 +3,9 @@
 // switches and view choices for the session (issue "Live viewer").
 //
 // Rendering never waits on a browser: on_frame() only keeps the newest frame and wakes the
-// sender thread, which encodes it (JPEG; PNG with alpha for an RGBA layer) and queues it with its measurements for every
-// client (web_server.h: each client's queue keeps the newest frame only); frames that
-// arrive while it is busy replace the one waiting (dropped, counted). Camera moves go
+// sender thread, which encodes it (JPEG; PNG with alpha for an RGBA layer) and queues it with its
+// measurements for every client (web_server.h: each client's queue keeps the newest frame only);
+// frames that arrive while it is busy replace the one waiting (dropped, counted). Camera moves go
 // through Session::set_camera (thread-safe); a balancer switch is applied by on_frame,
 // between frames, on the session's thread.
 #pragma once
@@ -81,8 +81,8 @@ class LiveView : public FrameObserver {
   std::string volume_command(const Command& c);
   std::string hello() const;
   // `camera`: the one the frame was begun with (sent as "camera": {"eye", "target"}).
-  std::string frame_json(const FrameResult& r, int view, const std::string& balancer,
-                         int samples, const Camera& camera) const;
+  std::string frame_json(const FrameResult& r, int view, const std::string& balancer, int samples,
+                         const Camera& camera) const;
   // The image of `r`'s view `view` to show (refined, or as rendered) and its samples per
   // pixel; on the session's thread, under mutex_.
   std::shared_ptr<const Framebuffer> shown_image(const FrameResult& r, int view, int* samples);

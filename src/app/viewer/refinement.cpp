@@ -18,9 +18,8 @@ Refinement::Refinement(int frame_spp, int target_spp)
     : frame_spp_(std::max(1, frame_spp)), target_spp_(std::max(1, target_spp)) {}
 
 const Framebuffer& Refinement::add(const Framebuffer& image, const RefineKey& key) {
-  const bool restart =
-      frames_ == 0 || !(key == key_) || image.width != mean_.width ||
-      image.height != mean_.height || image.alpha.size() != alpha_sum_.size();
+  const bool restart = frames_ == 0 || !(key == key_) || image.width != mean_.width ||
+                       image.height != mean_.height || image.alpha.size() != alpha_sum_.size();
   if (!restart && samples() + frame_spp_ > target_spp_) return mean_;  // converged
   if (restart) {
     key_ = key;

@@ -42,7 +42,7 @@ class Refinement {
   int frame_spp_, target_spp_;
   RefineKey key_;
   int frames_ = 0;
-  std::vector<Vec3> sum_;  // the frames' radiance summed, per pixel
+  std::vector<Vec3> sum_;         // the frames' radiance summed, per pixel
   std::vector<float> alpha_sum_;  // and their alpha, when they have it
   Framebuffer mean_;
 };
