@@ -33,7 +33,7 @@ void RenderOutput::write_images(const FrameResult& r) {
     if (!image->alpha.empty()) {  // an RGBA layer: it, and the composite as the image
       const std::string layer = target_.image_base(r.frame, tag + "_rgba");
       if (target_.png) write_png_rgba(layer + ".png", *image, display_);
-      if (target_.exr) write_exr_rgba(layer + ".exr", *image);
+      if (target_.exr) write_exr(layer + ".exr", *image);  // RGBA
       if (background_) {
         composite = composite_over(*image, background_->frame(r.frame));
         image = &composite;

@@ -3,11 +3,8 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
-#include <ImfOutputFile.h>
 
 #include <algorithm>
 #include <cmath>
@@ -95,36 +92,6 @@ std::string encode_png_rgba(int width, int height, const std::vector<uint8_t>& r
 
 void write_png_rgba(const std::string& path, const Framebuffer& layer, const Display& d) {
   write_file_atomically(path, encode_png_rgba(layer.width, layer.height, to_srgba8(layer, d)));
-}
-
-void write_exr_rgba(const std::string& path, const Framebuffer& layer) {
-  if (layer.alpha.size() != layer.pixels.size())
-    throw std::invalid_argument("write_exr_rgba: the layer has no alpha channel");
-  try {
-    replace_file_atomically(path, [&](const std::string& temp) {
-      Imf::Header header(layer.width, layer.height);
-      header.compression() = Imf::ZIP_COMPRESSION;
-      Imf::FrameBuffer slices;
-      char* base = const_cast<char*>(reinterpret_cast<const char*>(layer.pixels.data()));
-      const size_t xs = sizeof(Vec3), ys = sizeof(Vec3) * size_t(layer.width);
-      const char* names[3] = {"R", "G", "B"};
-      for (int c = 0; c < 3; ++c) {
-        header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
-        slices.insert(names[c], Imf::Slice(Imf::FLOAT, base + size_t(c) * sizeof(float), xs, ys));
-      }
-      header.channels().insert("A", Imf::Channel(Imf::FLOAT));
-      char* alpha = const_cast<char*>(reinterpret_cast<const char*>(layer.alpha.data()));
-      slices.insert(
-          "A", Imf::Slice(Imf::FLOAT, alpha, sizeof(float), sizeof(float) * size_t(layer.width)));
-      Imf::OutputFile file(temp.c_str(), header);
-      file.setFrameBuffer(slices);
-      file.writePixels(layer.height);
-    });
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw InputError("cannot write EXR '" + path + "': " + e.what());
-  }
 }
 
 Framebuffer read_image_linear(const std::string& path) {

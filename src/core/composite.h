@@ -22,8 +22,6 @@ std::vector<uint8_t> to_srgba8(const Framebuffer& layer, const Display& d = {});
 std::string encode_png_rgba(int width, int height, const std::vector<uint8_t>& rgba);
 // The layer as an RGBA PNG (to_srgba8), written atomically; InputError naming the path.
 void write_png_rgba(const std::string& path, const Framebuffer& layer, const Display& d = {});
-// The layer as a linear RGBA OpenEXR file (premultiplied, as EXR's convention is).
-void write_exr_rgba(const std::string& path, const Framebuffer& layer);
 
 // An image file as linear RGB: PNG, JPEG, BMP, TGA (sRGB decoded) or OpenEXR (linear).
 // InputError naming the path for a missing, unreadable or undecodable file, or one larger

@@ -121,6 +121,12 @@ void write_exr(const std::string& path, const Framebuffer& fb) {
         header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
         slices.insert(names[c], Imf::Slice(Imf::FLOAT, base + size_t(c) * sizeof(float), xs, ys));
       }
+      if (fb.alpha.size() == fb.pixels.size() && !fb.alpha.empty()) {
+        header.channels().insert("A", Imf::Channel(Imf::FLOAT));
+        char* alpha = const_cast<char*>(reinterpret_cast<const char*>(fb.alpha.data()));
+        slices.insert(
+            "A", Imf::Slice(Imf::FLOAT, alpha, sizeof(float), sizeof(float) * size_t(fb.width)));
+      }
       Imf::OutputFile file(temp.c_str(), header);
       file.setFrameBuffer(slices);
       file.writePixels(fb.height);

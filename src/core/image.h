@@ -61,7 +61,8 @@ void write_png_rgb8(const std::string& path, int width, int height,
                     const std::vector<uint8_t>& rgb);
 // JPEG bytes of 8-bit RGB pixels at `quality` in [1, 100] (for streaming to a viewer).
 std::string encode_jpeg(int width, int height, const std::vector<uint8_t>& rgb, int quality);
-// Linear radiance as 32-bit float R, G, B channels (ZIP-compressed), bit for bit.
+// Linear radiance as 32-bit float R, G, B channels (ZIP-compressed), bit for bit, and A
+// when the image has alpha (premultiplied colour, as EXR's convention is).
 void write_exr(const std::string& path, const Framebuffer& fb);
 // The R, G, B channels of an EXR file as floats (any pixel type, any data window).
 // Throws InputError naming the path when it cannot be read or is larger than 2^28 pixels.

@@ -4,6 +4,10 @@
 
 #include <unistd.h>
 
+#include <ImfChannelList.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+
 #include <filesystem>
 #include <string>
 
@@ -55,6 +59,21 @@ TEST(Composite, RgbaPngsHoldStraightColour) {
   EXPECT_EQ(px[0], 255);
   EXPECT_EQ(px[3], 128);
   EXPECT_EQ(px[7], 0);
+}
+
+// An EXR of a layer carries its alpha as A beside the (premultiplied) colour.
+TEST(Composite, ExrFilesOfALayerHoldItsAlpha) {
+  Framebuffer layer(2, 1);
+  layer.alpha = {0.25f, 1.0f};
+  layer.pixels = {Vec3(0.1f), Vec3(0.7f)};
+  const std::string path = scratch("layer.exr");
+  write_exr(path, layer);
+  Imf::InputFile file(path.c_str());
+  EXPECT_NE(file.header().channels().findChannel("A"), nullptr);
+  EXPECT_EQ(read_exr(path).pixels[1].x, 0.7f);
+  Framebuffer plain(2, 1);
+  write_exr(path, plain);
+  EXPECT_EQ(Imf::InputFile(path.c_str()).header().channels().findChannel("A"), nullptr);
 }
 
 TEST(Composite, BackgroundSequencesAreNumberedByTheirRunOfHashes) {
