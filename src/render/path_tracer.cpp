@@ -4,7 +4,6 @@
 
 #include "render/bsdf.h"
 #include "render/path_state.h"
-#include "render/rng.h"
 #include "render/shared/sampling.h"
 #include "render/surface.h"
 
@@ -78,8 +77,9 @@ Vec3 PathTracer::escape_contribution(const PathState& p, float p_env) const {
 // ray is traced by the caller and adds `shadow_contribution` if unoccluded.
 void PathTracer::sample_light(PathState& p, float p_env, const Bsdf& bsdf, const Frame& frame,
                               Vec3 wo, Vec3 pos, Vec3 ng) const {
-  float ul = p.rng.next();
-  const float u1 = p.rng.next(), u2 = p.rng.next();
+  float ul = sample_1d(&p.u);
+  const Vec2 uv = sample_2d(&p.u);
+  const float u1 = uv.x, u2 = uv.y;
   if (ul < p_env) {
     const EnvSample es = rs_.environment.sample(ng, ul / p_env, u1, u2);
     if (!(es.pdf > 0) || dot(es.dir, ng) <= 0) return;
@@ -155,14 +155,18 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
 
 void PathTracer::scatter(PathState& p, float p_env, const Bsdf& bsdf, const Frame& frame, Vec3 wo,
                          Vec3 pos, Vec3 ng, const RenderSettings& settings) const {
+  sample_stream_at_bounce(&p.u, p.depth);  // dimensions: light (3), BSDF (3), roulette (1)
   if (bsdf.has_diffuse_or_glossy() && (p_env > 0 || !rs_.lights.empty()))
     sample_light(p, p_env, bsdf, frame, wo, pos, ng);
 
   // Continue the path by sampling the BSDF.
+  sample_stream_at_bounce(&p.u, p.depth);
+  p.u.dim += 2;
   p.alive = false;
   BsdfSample bs;
-  const float u_lobe = p.rng.next(), u1 = p.rng.next(), u2 = p.rng.next();
-  if (!bsdf.sample(wo, u_lobe, u1, u2, bs)) return;
+  const float u_lobe = sample_1d(&p.u);
+  const Vec2 u12 = sample_2d(&p.u);
+  if (!bsdf.sample(wo, u_lobe, u12.x, u12.y, bs)) return;
   const Vec3 wi_world = frame.to_world(bs.wi);
   const float side = dot(wi_world, ng);
   if (bsdf.has_diffuse_or_glossy() && side <= 0) return;  // shading normal leak
@@ -173,8 +177,8 @@ void PathTracer::scatter(PathState& p, float p_env, const Bsdf& bsdf, const Fram
   p.ray = Ray{pos + ng * (side > 0 ? eps_ : -eps_), wi_world};
   ++p.depth;
   if (p.depth >= settings.rr_start) {
-    const float q = std::min(max_component(p.beta), 0.95f);
-    if (p.rng.next() >= q) return;
+    const float q = rr_survival(max_component(p.beta));
+    if (sample_1d(&p.u) >= q) return;
     p.beta = p.beta / q;
   }
   p.alive = true;
@@ -243,9 +247,9 @@ KernelStats PathTracer::render_rect_logged(const ViewSetup& view, const RenderSe
       counts.push_back(spp);
       for (int s = 0; s < spp; ++s) {
         PathState& p = paths.emplace_back(
-            Rng::for_path(pixel, uint32_t(s), view.frame, view.view, settings.seed));
-        const float jx = p.rng.next(), jy = p.rng.next();
-        p.ray = camera.ray(float(x) + jx, float(y) + jy);
+            sample_stream_for_path(pixel, uint32_t(s), view.frame, view.view, settings.seed));
+        const Vec2 j = sample_2d(&p.u);
+        p.ray = camera.ray(float(x) + j.x, float(y) + j.y);
       }
     }
     trace_batch(paths, settings, stats, log);
@@ -283,8 +287,8 @@ KernelStats PathTracer::render_samples(const ViewSetup& view, const RenderSettin
     paths.clear();
     for (size_t i = first; i < last; ++i) {
       const ImageSample& s = samples[i];
-      PathState& p =
-          paths.emplace_back(Rng::for_path(s.key, 0, view.frame, view.view, settings.seed));
+      PathState& p = paths.emplace_back(
+          sample_stream_for_path(s.key, 0, view.frame, view.view, settings.seed));
       p.ray = camera.ray(s.x, s.y);
     }
     trace_batch(paths, settings, stats, nullptr);

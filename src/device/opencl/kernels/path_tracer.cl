@@ -1,20 +1,22 @@
 // The path tracer of render/path_tracer.cpp as one OpenCL kernel: one work-item per pixel
 // of a rectangle, all of the pixel's samples, paths traced depth-first. Each bounce makes
-// the same decisions and draws the same random numbers in the same order as
-// PathTracer::step: 2 for the pixel jitter; per bounce 3 for next-event estimation when
-// the surface is not a dielectric and there is a light to sample (the environment, unless
-// RenderSettings::sample_environment is off, or an emissive triangle: one number chooses
-// between them with probability p_env, two place the sample), 3 for the BSDF sample, 1
+// the same decisions and draws the same sample values from the same dimensions of
+// render/shared/sobol.h as PathTracer::step: one 2D value for the pixel jitter; per bounce
+// a block of 5 dimensions: for next-event estimation, when the surface is not a dielectric
+// and there is a light to sample (the environment, unless RenderSettings::sample_environment
+// is off, or an emissive triangle), one value choosing between them with probability p_env
+// and a 2D value placing the sample; a 1D and a 2D value for the BSDF sample; one value
 // for Russian roulette from `rr_start` on. So the image matches the CPU's statistically
 // and is exactly the same on every device of one type, whatever the split.
 
 // Next-event estimation from a vertex (PathTracer::sample_light): one sample of either the
 // environment or an emissive triangle; returns the unoccluded contribution (0 if none).
 float3 sample_direct(const SceneData* sc, const BsdfParams* bsdf, const Frame* frame, float3 wo,
-                     float3 p, float3 ng, float3 beta, RngState* rng, uint* rays) {
+                     float3 p, float3 ng, float3 beta, SampleStream* u, uint* rays) {
   const float p_env = sc->p_env;
-  float ul = rng_next(rng);
-  const float u1 = rng_next(rng), u2 = rng_next(rng);
+  float ul = sample_1d(u);
+  const float2 u12 = sample_2d(u);
+  const float u1 = u12.x, u2 = u12.y;
   Ray shadow;
   shadow.org = p + ng * sc->eps;
   shadow.tmin = 0.0f;
@@ -52,7 +54,7 @@ float3 sample_direct(const SceneData* sc, const BsdfParams* bsdf, const Frame* f
 }
 
 // One camera path; returns its radiance and adds the rays it traced to *rays.
-float3 trace_path(const SceneData* sc, Ray ray, RngState* rng, int max_bounces, int rr_start,
+float3 trace_path(const SceneData* sc, Ray ray, SampleStream* u, int max_bounces, int rr_start,
                   uint* rays) {
   float3 L = (float3)(0.0f), beta = (float3)(1.0f);
   float prev_pdf = 0.0f;
@@ -110,12 +112,16 @@ float3 trace_path(const SceneData* sc, Ray ray, RngState* rng, int max_bounces, 
       frame = frame_from_normal(ng);
       wo = to_local(&frame, wo_world);
     }
-    if (opaque && lights_on) L += sample_direct(sc, &bsdf, &frame, wo, p, ng, beta, rng, rays);
+    sample_stream_at_bounce(u, depth);
+    if (opaque && lights_on) L += sample_direct(sc, &bsdf, &frame, wo, p, ng, beta, u, rays);
 
-    // Continue by sampling the BSDF.
+    // Continue by sampling the BSDF (the bounce's dimensions 2 to 3).
+    sample_stream_at_bounce(u, depth);
+    u->dim += 2u;
     BsdfSample bs;
-    const float u_lobe = rng_next(rng), u1 = rng_next(rng), u2 = rng_next(rng);
-    if (!bsdf_sample(&bsdf, wo, u_lobe, u1, u2, &bs)) return L;
+    const float u_lobe = sample_1d(u);
+    const float2 u12 = sample_2d(u);
+    if (!bsdf_sample(&bsdf, wo, u_lobe, u12.x, u12.y, &bs)) return L;
     const float3 wi_world = to_world(&frame, bs.wi);
     const float side = dot3(wi_world, ng);
     if (opaque && side <= 0.0f) return L;  // shading normal leak
@@ -129,8 +135,8 @@ float3 trace_path(const SceneData* sc, Ray ray, RngState* rng, int max_bounces, 
     ray.tmax = INFINITY;
     ++depth;
     if (depth >= rr_start) {
-      const float q = fmin(max3(beta), 0.95f);
-      if (rng_next(rng) >= q) return L;
+      const float q = rr_survival(max3(beta));
+      if (sample_1d(u) >= q) return L;
       beta = beta * (1.0f / q);
     }
   }
@@ -165,14 +171,15 @@ __kernel REQD_GROUP_SIZE void render_rect(MR_RENDER_RECT_ARGS(MR_ARG_PARAM, MR_A
   uint count = 0;
   const int samples = p.use_spp_map ? (int)spp_map[i] : p.spp;
   for (int s = 0; s < samples; ++s) {
-    RngState rng = rng_for_path(pixel, (uint)s, p.frame, p.view, p.seed);
-    const float jx = rng_next(&rng), jy = rng_next(&rng);
+    SampleStream u = sample_stream_for_path(pixel, (uint)s, p.frame, p.view, p.seed);
+    const float2 j = sample_2d(&u);
+    const float jx = j.x, jy = j.y;
     Ray ray;
     ray.org = p.camera.eye.xyz;
     ray.dir = camera_dir(&p.camera, (float)x + jx, (float)y + jy);
     ray.tmin = 0.0f;
     ray.tmax = INFINITY;
-    const float3 L = trace_path(&sc, ray, &rng, p.max_bounces, p.rr_start, &count);
+    const float3 L = trace_path(&sc, ray, &u, p.max_bounces, p.rr_start, &count);
     sum += clamp_sample(finite3(L) ? L : (float3)(0.0f), p.sample_clamp);
   }
   radiance[i] = samples > 0 ? (float4)(sum * (1.0f / (float)samples), 0.0f) : (float4)(0.0f);
