@@ -48,26 +48,25 @@ MR_CONSTEXPR mr_uint sobol_lk_hash(mr_uint x, mr_uint seed) {
   return x;
 }
 
-MR_CONSTEXPR mr_uint owen_scramble(mr_uint x, mr_uint seed) {
-  return reverse_bits32(sobol_lk_hash(reverse_bits32(x), seed));
-}
-
-// The second Sobol dimension of point `i` as a 32-bit fraction (the first is
-// reverse_bits32(i)): its direction numbers are the rows of Pascal's triangle mod 2.
-MR_CONSTEXPR mr_uint sobol_second(mr_uint i) {
-  mr_uint v = 0x80000000u, r = 0;
-  for (; i != 0u; i >>= 1, v ^= v >> 1)
-    if ((i & 1u) != 0u) r ^= v;
-  return r;
+// The second Sobol dimension of point `i`, bit-reversed (bit k holds the fraction's
+// 2^-(k+1) digit; the first dimension reversed is `i` itself). Its generator matrix is
+// Pascal's triangle mod 2: digit k is the parity of the index bits j with j & k == k
+// (Lucas), a superset sum over the bit positions, done for all 32 in five steps.
+MR_CONSTEXPR mr_uint sobol_second_reversed(mr_uint i) {
+  i ^= (i >> 1) & 0x55555555u;
+  i ^= (i >> 2) & 0x33333333u;
+  i ^= (i >> 4) & 0x0f0f0f0fu;
+  i ^= (i >> 8) & 0x00ff00ffu;
+  return i ^ ((i >> 16) & 0x0000ffffu);
 }
 
 // A 32-bit fraction as a float in [0, 1): its top 24 bits, never rounded up to 1.
 MR_CONSTEXPR float sobol_float(mr_uint x) { return (float)(x >> 8) * 5.9604644775390625e-8f; }
 
 typedef struct {
-  mr_ulong key;   // the pixel's (with frame, view and seed)
-  mr_uint index;  // the sample's number in its pixel
-  mr_uint dim;    // the next dimension to draw
+  mr_ulong key;            // the pixel's (with frame, view and seed)
+  mr_uint index_reversed;  // the sample's number in its pixel, bit-reversed
+  mr_uint dim;             // the next dimension to draw
 } SampleStream;
 
 // Sample `sample` of `pixel` (the linear pixel index in its view, or a sample's key).
@@ -75,30 +74,33 @@ MR_CONSTEXPR SampleStream sample_stream_for_path(mr_uint pixel, mr_uint sample, 
                                                  mr_uint view, mr_ulong seed) {
   const mr_ulong k1 =
       mix64((((mr_ulong)view << 32) | frame) ^ mix64(seed + MR_U64(0x9e3779b97f4a7c15)));
-  SampleStream s = {mix64((((mr_ulong)pixel << 32) | MR_U64(0x5a17)) ^ k1), sample, 0u};
+  SampleStream s = {mix64((((mr_ulong)pixel << 32) | MR_U64(0x5a17)) ^ k1), reverse_bits32(sample),
+                    0u};
   return s;
 }
 
-// The point of dimension s->dim (advanced by one): its two coordinates as fractions.
-MR_CONSTEXPR void sample_fractions(SampleStream* s, mr_uint* x, mr_uint* y) {
-  const mr_ulong h = mix64(s->key + (mr_ulong)(s->dim + 1u) * MR_U64(0xd1342543de82ef95));
-  const mr_ulong h2 = mix64(h);
-  const mr_uint i = owen_scramble(s->index, (mr_uint)h);
-  *x = owen_scramble(reverse_bits32(i), (mr_uint)(h >> 32));
-  *y = owen_scramble(sobol_second(i), (mr_uint)h2);
+// Dimension s->dim's hash, and its shuffled index (the sample's number under a nested
+// uniform scramble); advances s->dim. The scrambles of a reversed fraction are done on
+// the reversed word (where the hash flips each bit by the bits below it) and reversed
+// once at the end, so each value costs one bit reversal.
+MR_CONSTEXPR mr_uint sample_dimension(SampleStream* s, mr_ulong* h) {
+  *h = mix64(s->key + (mr_ulong)(s->dim + 1u) * MR_U64(0xd1342543de82ef95));
   ++s->dim;
+  return reverse_bits32(sobol_lk_hash(s->index_reversed, (mr_uint)*h));
 }
 
 MR_DEVICE float sample_1d(SampleStream* s) {
-  mr_uint x = 0, y = 0;
-  sample_fractions(s, &x, &y);
-  return sobol_float(x);
+  mr_ulong h = 0;
+  const mr_uint i = sample_dimension(s, &h);
+  return sobol_float(reverse_bits32(sobol_lk_hash(i, (mr_uint)(h >> 32))));
 }
 
-// Two values drawn together (stratified as a pair).
+// Two values drawn together (stratified as a pair: a (0,2) sequence).
 MR_DEVICE mr_float2 sample_2d(SampleStream* s) {
-  mr_uint x = 0, y = 0;
-  sample_fractions(s, &x, &y);
+  mr_ulong h = 0;
+  const mr_uint i = sample_dimension(s, &h);
+  const mr_uint x = reverse_bits32(sobol_lk_hash(i, (mr_uint)(h >> 32)));
+  const mr_uint y = reverse_bits32(sobol_lk_hash(sobol_second_reversed(i), (mr_uint)mix64(h)));
   return MR_FLOAT2(sobol_float(x), sobol_float(y));
 }
 
