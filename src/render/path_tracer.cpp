@@ -155,7 +155,9 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
 
 void PathTracer::scatter(PathState& p, float p_env, const Bsdf& bsdf, const Frame& frame, Vec3 wo,
                          Vec3 pos, Vec3 ng, const RenderSettings& settings) const {
-  sample_stream_at_bounce(&p.u, p.depth);  // dimensions: light (3), BSDF (3), roulette (1)
+  // The bounce's dimensions (render/shared/sobol.h): light choice, light 2D, BSDF lobe,
+  // BSDF 2D, roulette; each part starts at its own, whether or not the earlier ones drew.
+  sample_stream_at_bounce(&p.u, p.depth);
   if (bsdf.has_diffuse_or_glossy() && (p_env > 0 || !rs_.lights.empty()))
     sample_light(p, p_env, bsdf, frame, wo, pos, ng);
 
