@@ -280,6 +280,32 @@ nlohmann::json run(const std::string& path, const Options& o) {
     }
   }
   g_sink = checksum;
+  // Issue 35's comparison: the compact traversal against the same tree decoded once into
+  // floats (same code, no decoding) and against Embree, on the same rays, alternately.
+  const CompactFloatTree twin = decode_compact_tree(compact);
+  const auto twin_query = [&](const Ray& r, Hit& h) {
+    return compact_float_intersect(twin, compact, nullptr, r, h, false);
+  };
+  const auto slot_query = [&](const Ray& r, Hit& h) {
+    return compact_float_intersect(twin, compact, nullptr, r, h, true);
+  };
+  const auto embree_query = [&](const Ray& r, Hit& h) { return full.accel.intersect(r, h); };
+  std::vector<double> q_compact, q_twin, q_slot, q_embree;
+  for (int r = 0; r < 5; ++r) {
+    Stopwatch s1;
+    checksum += trace_all(tr.rays, bvh_query, nullptr);
+    q_compact.push_back(s1.elapsed_ms());
+    Stopwatch s2;
+    checksum -= trace_all(tr.rays, twin_query, nullptr);
+    q_twin.push_back(s2.elapsed_ms());
+    Stopwatch s4;
+    checksum += trace_all(tr.rays, slot_query, nullptr);
+    q_slot.push_back(s4.elapsed_ms());
+    Stopwatch s3;
+    checksum += trace_all(tr.rays, embree_query, nullptr);
+    q_embree.push_back(s3.elapsed_ms());
+  }
+  g_sink = checksum;
   bool cutouts = false;
   for (const Material& m : scene.materials) cutouts |= m.may_be_transparent();
   nlohmann::json j = {
@@ -324,6 +350,11 @@ nlohmann::json run(const std::string& path, const Options& o) {
       {"bvh_refs", compact.bvh.prims.size()},
       {"bvh_trace_ms", median(t_bvh)},
       {"bvh_trace_ms_min", *std::min_element(t_bvh.begin(), t_bvh.end())},
+      {"traversal_ms",
+       {{"compact", q_compact},
+        {"float_indexed_mesh", q_twin},
+        {"float_per_slot", q_slot},
+        {"embree", q_embree}}},
       {"trace_rays",
        {{"primary", tr.primary},
         {"primary_hits", tr.primary_hits},
@@ -375,6 +406,14 @@ nlohmann::json run(const std::string& path, const Options& o) {
   fmt::print(stderr, "{:<40} BVH {} nodes {} refs {:.2f} MB | {} rays: bvh {:.0f} ms\n", "",
              compact.bvh.nodes.size(), compact.bvh.prims.size(), compact.bvh.bytes() / 1e6,
              tr.rays.size(), median(t_bvh));
+  fmt::print(stderr,
+             "{:<40} traversal, {} rays, median of 5: compact {:.0f} ms; same tree in floats, "
+             "indexed mesh {:.0f} ms (compact {:+.0f}%), triangles by leaf {:.0f} ms (compact "
+             "{:+.0f}%); Embree {:.0f} ms (compact {:+.0f}%)\n",
+             "", tr.rays.size(), median(q_compact), median(q_twin),
+             100 * (median(q_compact) / median(q_twin) - 1), median(q_slot),
+             100 * (median(q_compact) / median(q_slot) - 1), median(q_embree),
+             100 * (median(q_compact) / median(q_embree) - 1));
   for (const KdRun& k : kds) {
     const CompactKdTree& kd = k.tree;
     fmt::print(stderr,

@@ -2,6 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+#include <cstring>
+#include <utility>
+#include <vector>
 
 #include "render/flat_bvh.h"
 #include "render/shared/triangle.h"
@@ -14,32 +20,86 @@ namespace {
 // 1 + 2·gamma(3), gamma(n) = n·u / (1 - n·u), u = 2^-24 (see box_hit).
 constexpr float kSlabSlack = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
 
-// Slab test; on a hit, *t_near is where the ray enters the box (within the ray's range).
-// The exit distance is scaled by 1 + 2·gamma(3) (Ize, "Robust BVH ray traversal", JCGT
-// 2013; pbrt's Bounds3::IntersectP): the rounding of the three slab distances can
-// otherwise put a ray that grazes the box's corner or edge out by an ulp and lose a hit on
-// a triangle lying in the box's face (the compact kd-tree's test found such misses at the
-// Cornell box's corners).
-bool box_hit(const Bounds3& b, Vec3 org, Vec3 inv, float tmin, float tmax, float* t_near) {
-  const float tx0 = (b.lo.x - org.x) * inv.x, tx1 = (b.hi.x - org.x) * inv.x;
-  const float ty0 = (b.lo.y - org.y) * inv.y, ty1 = (b.hi.y - org.y) * inv.y;
-  const float tz0 = (b.lo.z - org.z) * inv.z, tz1 = (b.hi.z - org.z) * inv.z;
-  const float lo = std::max(std::max(std::min(tx0, tx1), std::min(ty0, ty1)),
-                            std::max(std::min(tz0, tz1), tmin));
-  const float hi = std::min(std::min(std::max(tx0, tx1), std::max(ty0, ty1)) * kSlabSlack,
-                            std::min(std::max(tz0, tz1) * kSlabSlack, tmax));
-  *t_near = lo;
-  return lo <= hi;
+// Both children of a node, plane by plane, one vector an axis: lane 0 holds child 0's
+// lower plane, lane 1 child 1's lower, lane 2 child 0's upper, lane 3 child 1's upper.
+// GCC/Clang vector extensions: SSE on x86-64, NEON on ARM, plain code elsewhere.
+typedef float v4f __attribute__((vector_size(16)));
+typedef int32_t v4i __attribute__((vector_size(16)));
+typedef uint8_t v4u8 __attribute__((vector_size(4)));
+struct ChildPlanes {
+  v4f x, y, z;
+};
+
+v4f splat(float f) { return v4f{f, f, f, f}; }
+// std::min and std::max lane by lane, NaNs included (std::min(a, b) is b < a ? b : a).
+v4f vmin(v4f a, v4f b) { return b < a ? b : a; }
+v4f vmax(v4f a, v4f b) { return a < b ? b : a; }
+v4f swap_halves(v4f v) {
+#if defined(__clang__)
+  return __builtin_shufflevector(v, v, 2, 3, 0, 1);
+#else
+  return __builtin_shuffle(v, v4i{2, 3, 0, 1});
+#endif
 }
 
-Bounds3 child_box(const CompactNode& n, int c, const Bounds3& parent) {
+// The slab test of both children at once: bit c of the result is set when the ray meets
+// child c within its range, and t_near[c] is where it enters. Lane for lane the arithmetic
+// of the scalar test it replaced (so the same boxes are hit): the exit distance is scaled
+// by 1 + 2·gamma(3) (Ize, "Robust BVH ray traversal", JCGT 2013; pbrt's
+// Bounds3::IntersectP), since the rounding of the three slab distances can otherwise put
+// a ray that grazes a box's corner or edge out by an ulp and lose a hit on a triangle
+// lying in the box's face (the compact kd-tree's test found such misses at the Cornell
+// box's corners).
+int two_box_hit(const ChildPlanes& p, Vec3 org, Vec3 inv, float tmin, float tmax,
+                float t_near[2]) {
+  const v4f tx = (p.x - org.x) * inv.x, ty = (p.y - org.y) * inv.y, tz = (p.z - org.z) * inv.z;
+  const v4f sx = swap_halves(tx), sy = swap_halves(ty), sz = swap_halves(tz);
+  const v4f lo = vmax(vmax(vmin(tx, sx), vmin(ty, sy)), vmax(vmin(tz, sz), splat(tmin)));
+  const v4f hi = vmin(vmin(vmax(tx, sx), vmax(ty, sy)) * kSlabSlack,
+                      vmin(vmax(tz, sz) * kSlabSlack, splat(tmax)));
+  t_near[0] = lo[0], t_near[1] = lo[1];
+  return (lo[0] <= hi[0] ? 1 : 0) | (lo[1] <= hi[1] ? 2 : 0);
+}
+
+// One axis of both children decoded from the parent's planes lo..hi: 8-bit codes `q` in
+// the lanes' order, compact_dequantize_plane's arithmetic lane for lane (0 and 255 are the
+// parent's planes exactly).
+v4f dequantize_axis(float lo, float hi, v4i q) {
+  const v4f vlo = splat(lo), vhi = splat(hi);
+  const v4f qf = __builtin_convertvector(q, v4f);
+  v4f d = vlo + (vhi - vlo) * (qf * (1.0f / 255.0f));
+  d = q == 0 ? vlo : d;
+  return q == 255 ? vhi : d;
+}
+
+// The node stores its codes in the lanes' order: with SSE2, one 16-byte load (the codes
+// and the first child reference; a node is 20 bytes) widened by unpacking with zeros.
+ChildPlanes decode_children(const CompactNode& n, const Bounds3& parent) {
+  v4i qx, qy, qz;
+#if defined(__SSE2__)
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&n));
+  const __m128i lo16 = _mm_unpacklo_epi8(bytes, zero), hi16 = _mm_unpackhi_epi8(bytes, zero);
+  qx = (v4i)_mm_unpacklo_epi16(lo16, zero);
+  qy = (v4i)_mm_unpackhi_epi16(lo16, zero);
+  qz = (v4i)_mm_unpacklo_epi16(hi16, zero);
+#else
+  const auto axis = [&](int a) {
+    v4u8 q;
+    std::memcpy(&q, n.q[a], sizeof(q));
+    return __builtin_convertvector(q, v4i);
+  };
+  qx = axis(0), qy = axis(1), qz = axis(2);
+#endif
+  return ChildPlanes{dequantize_axis(parent.lo.x, parent.hi.x, qx),
+                     dequantize_axis(parent.lo.y, parent.hi.y, qy),
+                     dequantize_axis(parent.lo.z, parent.hi.z, qz)};
+}
+
+Bounds3 child_box(const ChildPlanes& p, int c) {
   Bounds3 b;
-  b.lo = Vec3(dequantize_plane(parent.lo.x, parent.hi.x, n.lo[c][0]),
-              dequantize_plane(parent.lo.y, parent.hi.y, n.lo[c][1]),
-              dequantize_plane(parent.lo.z, parent.hi.z, n.lo[c][2]));
-  b.hi = Vec3(dequantize_plane(parent.lo.x, parent.hi.x, n.hi[c][0]),
-              dequantize_plane(parent.lo.y, parent.hi.y, n.hi[c][1]),
-              dequantize_plane(parent.lo.z, parent.hi.z, n.hi[c][2]));
+  b.lo = Vec3(p.x[c], p.y[c], p.z[c]);
+  b.hi = Vec3(p.x[c + 2], p.y[c + 2], p.z[c + 2]);
   return b;
 }
 
@@ -56,12 +116,10 @@ bool cut_out(const CompactMesh& m, const Scene& scene, const Ray& ray, uint32_t 
   return passes_through(scene, mat, uv, cutout_hash(ray, prim));
 }
 
-// The shared ray/triangle test (render/shared/triangle.h) on the decoded triangle, with
-// the edges of the flat BVH's triangles (flat_bvh.h: e1n = v0 - v1, e2 = v2 - v0) so the
-// normal is Embree's.
-bool triangle_hit(const CompactMesh& m, const Scene* cutouts, uint32_t prim, const Ray& ray,
-                  float& tmax, Hit& hit) {
-  const Vec3 v0 = m.corner(prim, 0), e1n = v0 - m.corner(prim, 1), e2 = m.corner(prim, 2) - v0;
+// The shared ray/triangle test (render/shared/triangle.h) on a decoded triangle given as
+// the flat BVH's edges (flat_bvh.h: e1n = v0 - v1, e2 = v2 - v0), so the normal is Embree's.
+bool triangle_hit(const CompactMesh& m, const Scene* cutouts, uint32_t prim, Vec3 v0, Vec3 e1n,
+                  Vec3 e2, const Ray& ray, float& tmax, Hit& hit) {
   float t, u, v;
   if (!intersect_triangle(ray.org, ray.dir, ray.tmin, tmax, v0, e1n, e2, &t, &u, &v)) return false;
   if (cutouts && cut_out(m, *cutouts, ray, prim, u, v)) return false;
@@ -71,45 +129,97 @@ bool triangle_hit(const CompactMesh& m, const Scene* cutouts, uint32_t prim, con
   return true;
 }
 
-struct StackEntry {
-  uint32_t ref;
-  float t;      // where the ray enters the subtree
-  Bounds3 box;  // the subtree root's decoded box (unused for leaves)
+// The compact tree as stored: a node's child boxes are decoded from its own box (which
+// the traversal carries down and keeps on its stack), a triangle from the quantized mesh
+// at each test.
+struct QuantizedTree {
+  const CompactScene& c;
+  using Box = Bounds3;
+  Box root() const { return c.bvh.root; }
+  const uint32_t* refs(uint32_t node) const { return c.bvh.nodes[node].child; }
+  ChildPlanes children(uint32_t node, const Box& box) const {
+    return decode_children(c.bvh.nodes[node], box);
+  }
+  Box child(const ChildPlanes& p, int k) const { return child_box(p, k); }
+  uint32_t prim(uint32_t slot) const { return c.bvh.prims[slot]; }
+  void triangle(uint32_t, uint32_t prim, Vec3& v0, Vec3& e1n, Vec3& e2) const {
+    v0 = c.mesh.corner(prim, 0), e1n = v0 - c.mesh.corner(prim, 1);
+    e2 = c.mesh.corner(prim, 2) - v0;
+  }
 };
 
-bool traverse(const CompactScene& c, const Scene* cutouts, const Ray& ray, bool any_hit,
-              Hit& hit) {
+// The same tree decoded once into floats: nothing to carry down. Triangles from the
+// textbook indexed mesh (`per_slot` false: reference, three 32-bit vertex indices, float
+// positions, as Seo et al.'s uncompressed tree) or stored by leaf slot, edges ready.
+template <bool per_slot>
+struct FloatTree {
+  const CompactFloatTree& t;
+  struct Box {};
+  Box root() const { return {}; }
+  const uint32_t* refs(uint32_t node) const { return t.nodes[node].child; }
+  ChildPlanes children(uint32_t node, Box) const {
+    ChildPlanes p;
+    std::memcpy(&p, t.nodes[node].planes, sizeof(p));
+    return p;
+  }
+  Box child(const ChildPlanes&, int) const { return {}; }
+  uint32_t prim(uint32_t slot) const { return t.prims[slot]; }
+  void triangle(uint32_t slot, uint32_t prim, Vec3& v0, Vec3& e1n, Vec3& e2) const {
+    if (per_slot) {
+      v0 = t.triangles[3 * size_t(slot)], e1n = t.triangles[3 * size_t(slot) + 1];
+      e2 = t.triangles[3 * size_t(slot) + 2];
+      return;
+    }
+    const uint32_t* f = &t.faces[3 * size_t(prim)];
+    v0 = t.positions[f[0]], e1n = v0 - t.positions[f[1]], e2 = t.positions[f[2]] - v0;
+  }
+};
+
+// Closest hit (or, with `any_hit`, any hit) along `ray` in `tree`, nearer child first,
+// a subtree popped only while it may still hold a closer hit.
+template <class Tree>
+bool traverse(const Tree& tree, const CompactScene& c, const Scene* cutouts, const Ray& ray,
+              bool any_hit, Hit& hit) {
   if (c.bvh.nodes.empty()) return false;
+  struct StackEntry {
+    uint32_t ref;
+    float t;                 // where the ray enters the subtree
+    typename Tree::Box box;  // the subtree root's box, when the tree needs it
+  };
   const Vec3 inv = safe_inverse(ray.dir);
   float tmax = ray.tmax;
   StackEntry stack[kMaxBvhDepth];
   int sp = 0;
   uint32_t ref = 0;
-  Bounds3 box = c.bvh.root;
+  typename Tree::Box box = tree.root();
   bool found = false;
   for (;;) {
     bool descend = false;
     if (ref & kLeafBit) {
       const uint32_t first = (ref & ~kLeafBit) >> kLeafCountBits;
       const uint32_t count = (ref & (kMaxLeafTriangles - 1)) + 1;
-      for (uint32_t i = first; i < first + count; ++i)
-        if (triangle_hit(c.mesh, cutouts, c.bvh.prims[i], ray, tmax, hit)) {
+      for (uint32_t i = first; i < first + count; ++i) {
+        const uint32_t prim = tree.prim(i);
+        Vec3 v0, e1n, e2;
+        tree.triangle(i, prim, v0, e1n, e2);
+        if (triangle_hit(c.mesh, cutouts, prim, v0, e1n, e2, ray, tmax, hit)) {
           found = true;
           if (any_hit) return true;
         }
+      }
     } else {
-      const CompactNode& n = c.bvh.nodes[ref];
-      const Bounds3 b0 = child_box(n, 0, box), b1 = child_box(n, 1, box);
-      float t0, t1;
-      const bool h0 = box_hit(b0, ray.org, inv, ray.tmin, tmax, &t0);
-      const bool h1 = box_hit(b1, ray.org, inv, ray.tmin, tmax, &t1);
-      if (h0 && h1) {
-        const int first = t1 < t0 ? 1 : 0;
-        stack[sp++] = StackEntry{n.child[1 - first], first ? t0 : t1, first ? b0 : b1};
-        ref = n.child[first], box = first ? b1 : b0;
+      const ChildPlanes p = tree.children(ref, box);
+      const uint32_t* child = tree.refs(ref);
+      float t[2];
+      const int h = two_box_hit(p, ray.org, inv, ray.tmin, tmax, t);
+      if (h == 3) {
+        const int first = t[1] < t[0] ? 1 : 0;
+        stack[sp++] = StackEntry{child[1 - first], t[1 - first], tree.child(p, 1 - first)};
+        ref = child[first], box = tree.child(p, first);
         descend = true;
-      } else if (h0 || h1) {
-        ref = n.child[h0 ? 0 : 1], box = h0 ? b0 : b1;
+      } else if (h != 0) {
+        const int k = h == 1 ? 0 : 1;
+        ref = child[k], box = tree.child(p, k);
         descend = true;
       }
     }
@@ -126,12 +236,48 @@ bool traverse(const CompactScene& c, const Scene* cutouts, const Ray& ray, bool 
 }  // namespace
 
 bool compact_intersect(const CompactScene& c, const Scene* cutouts, const Ray& ray, Hit& hit) {
-  return traverse(c, cutouts, ray, false, hit);
+  return traverse(QuantizedTree{c}, c, cutouts, ray, false, hit);
 }
 
 bool compact_occluded(const CompactScene& c, const Scene* cutouts, const Ray& ray) {
   Hit unused;
-  return traverse(c, cutouts, ray, true, unused);
+  return traverse(QuantizedTree{c}, c, cutouts, ray, true, unused);
+}
+
+CompactFloatTree decode_compact_tree(const CompactScene& c) {
+  CompactFloatTree t;
+  t.nodes.resize(c.bvh.nodes.size());
+  std::vector<std::pair<uint32_t, Bounds3>> todo;  // inner nodes and their boxes
+  if (!c.bvh.nodes.empty()) todo.push_back({0u, c.bvh.root});
+  while (!todo.empty()) {
+    const auto [ref, box] = todo.back();
+    todo.pop_back();
+    const CompactNode& n = c.bvh.nodes[ref];
+    const ChildPlanes p = decode_children(n, box);
+    std::memcpy(t.nodes[ref].planes, &p, sizeof(p));
+    for (int k = 0; k < 2; ++k) {
+      t.nodes[ref].child[k] = n.child[k];
+      if (!(n.child[k] & kLeafBit)) todo.push_back({n.child[k], child_box(p, k)});
+    }
+  }
+  t.prims = c.bvh.prims.unpacked();
+  t.positions.resize(c.mesh.positions.size());
+  for (uint32_t v = 0; v < t.positions.size(); ++v) t.positions[v] = c.mesh.position(v);
+  t.faces.resize(c.mesh.indices.size());
+  for (size_t i = 0; i < t.faces.size(); ++i) t.faces[i] = c.mesh.indices[i];
+  t.triangles.reserve(3 * t.prims.size());
+  for (uint32_t slot = 0; slot < t.prims.size(); ++slot) {
+    Vec3 v0, e1n, e2;
+    QuantizedTree{c}.triangle(slot, t.prims[slot], v0, e1n, e2);
+    t.triangles.insert(t.triangles.end(), {v0, e1n, e2});
+  }
+  return t;
+}
+
+bool compact_float_intersect(const CompactFloatTree& t, const CompactScene& c,
+                             const Scene* cutouts, const Ray& ray, Hit& hit, bool per_slot) {
+  return per_slot ? traverse(FloatTree<true>{t}, c, cutouts, ray, false, hit)
+                  : traverse(FloatTree<false>{t}, c, cutouts, ray, false, hit);
 }
 
 }  // namespace multiray

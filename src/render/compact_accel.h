@@ -5,6 +5,8 @@
 // fields as Embree's (accel.h), the geometric normal computed as Embree computes it.
 #pragma once
 
+#include <vector>
+
 #include "render/accel.h"
 #include "render/compact_scene.h"
 
@@ -14,5 +16,27 @@ namespace multiray {
 // Embree filter does), or null when no material has an alpha mode.
 bool compact_intersect(const CompactScene& c, const Scene* cutouts, const Ray& ray, Hit& hit);
 bool compact_occluded(const CompactScene& c, const Scene* cutouts, const Ray& ray);
+
+// The compact tree with every child box and triangle decoded once into floats: the same
+// tree, traversed by the same code, at full precision (the comparison Seo et al. make
+// against their uncompressed tree; bench/compact_bench.cpp times it). Its hits are the
+// compact traversal's, bit for bit, since it stores exactly the values that one decodes.
+struct CompactFloatTree {
+  struct Node {
+    float planes[12];  // x, y, z: child 0 lower, child 1 lower, child 0 upper, child 1 upper
+    uint32_t child[2];
+  };
+  std::vector<Node> nodes;      // as CompactBvh::nodes
+  std::vector<uint32_t> prims;  // CompactBvh::prims unpacked
+  // The textbook indexed mesh (what Seo et al.'s uncompressed tree holds): three 32-bit
+  // vertex indices a triangle, float positions (the compact mesh's, decoded).
+  std::vector<uint32_t> faces;
+  std::vector<Vec3> positions;
+  std::vector<Vec3> triangles;  // per slot of `prims`: v0, v0 - v1, v2 - v0 (no indirection)
+};
+CompactFloatTree decode_compact_tree(const CompactScene& c);
+// `per_slot`: triangles from `triangles` instead of the indexed mesh.
+bool compact_float_intersect(const CompactFloatTree& t, const CompactScene& c,
+                             const Scene* cutouts, const Ray& ray, Hit& hit, bool per_slot);
 
 }  // namespace multiray

@@ -129,10 +129,10 @@ void quantize_subtree(const FlatBvh& flat, uint32_t index, const Bounds3& box,
   for (int c = 0; c < 2; ++c) {
     float dlo[3], dhi[3];
     for (int a = 0; a < 3; ++a) {
-      n.lo[c][a] = quantize_plane(lo[a], hi[a], f.lo[c][a], false);
-      n.hi[c][a] = quantize_plane(lo[a], hi[a], f.hi[c][a], true);
-      dlo[a] = dequantize_plane(lo[a], hi[a], n.lo[c][a]);
-      dhi[a] = dequantize_plane(lo[a], hi[a], n.hi[c][a]);
+      n.lo(c, a) = quantize_plane(lo[a], hi[a], f.lo[c][a], false);
+      n.hi(c, a) = quantize_plane(lo[a], hi[a], f.hi[c][a], true);
+      dlo[a] = dequantize_plane(lo[a], hi[a], n.lo(c, a));
+      dhi[a] = dequantize_plane(lo[a], hi[a], n.hi(c, a));
     }
     child_box[c].lo = Vec3(dlo[0], dlo[1], dlo[2]);
     child_box[c].hi = Vec3(dhi[0], dhi[1], dhi[2]);

@@ -69,12 +69,19 @@ struct CompactMesh {
 // node's own box (lower planes rounded down, upper up, so a child box always contains its
 // triangles), and the children's references as in FlatNode (a node index or a leaf:
 // kLeafBit | first << kLeafCountBits | (count - 1), `first` indexing CompactBvh::prims).
+// The codes are stored axis by axis in the order a 4-wide vector register takes them for
+// the slab test of both children at once (compact_accel.cpp): q[axis] = child 0's lower
+// plane, child 1's lower, child 0's upper, child 1's upper.
 struct CompactNode {
-  uint8_t lo[2][3];
-  uint8_t hi[2][3];
+  uint8_t q[3][4];
   uint32_t child[2];
+  uint8_t& lo(int c, int axis) { return q[axis][c]; }
+  uint8_t& hi(int c, int axis) { return q[axis][2 + c]; }
+  uint8_t lo(int c, int axis) const { return q[axis][c]; }
+  uint8_t hi(int c, int axis) const { return q[axis][2 + c]; }
 };
-static_assert(sizeof(CompactNode) == 20, "kernels expect 20-byte nodes");
+static_assert(sizeof(CompactNode) == 20 && offsetof(CompactNode, q) == 0,
+              "kernels expect 20-byte nodes, the codes first");
 
 struct CompactBvh {
   Bounds3 root;                    // the root node's own box, at full precision

@@ -490,6 +490,36 @@ TEST(CompactTraversal, FindsTheHitsOfTheDecodedTriangles) {
   }
 }
 
+// The same tree decoded once into floats (the full-precision side of the paper's
+// comparison, bench/compact_bench.cpp) finds exactly the compact traversal's hits: the
+// same triangle, distance, barycentrics and normal, bit for bit, ray for ray.
+TEST(CompactTraversal, TheFloatTwinFindsTheSameHitsBitForBit) {
+  for (const Scene& scene : {make_cornell_box(), sphere_scene()}) {
+    const CompactScene c = build_compact_scene(scene);
+    const CompactFloatTree twin = decode_compact_tree(c);
+    ASSERT_EQ(twin.nodes.size(), c.bvh.nodes.size());
+    ASSERT_EQ(twin.triangles.size(), 3 * c.bvh.prims.size());
+    ASSERT_EQ(twin.faces.size(), 3 * size_t(scene.triangle_count()));
+    int hits = 0;
+    for (const Ray& ray : random_rays(scene, 20000)) {
+      Hit a, b;
+      const bool ha = compact_intersect(c, nullptr, ray, a);
+      for (bool per_slot : {false, true}) {
+        ASSERT_EQ(compact_float_intersect(twin, c, nullptr, ray, b, per_slot), ha);
+        if (!ha) continue;
+        ASSERT_EQ(std::memcmp(&a.t, &b.t, sizeof(float)), 0);
+        ASSERT_EQ(a.prim, b.prim);
+        ASSERT_EQ(std::memcmp(&a.u, &b.u, sizeof(float)), 0);
+        ASSERT_EQ(std::memcmp(&a.v, &b.v, sizeof(float)), 0);
+        ASSERT_EQ(std::memcmp(&a.ng, &b.ng, sizeof(Vec3)), 0);
+      }
+      if (!ha) continue;
+      ++hits;
+    }
+    EXPECT_GT(hits, 5000) << scene.name;
+  }
+}
+
 Scene one_triangle(Vec3 a, Vec3 b, Vec3 c) {
   Scene s = make_cornell_box();
   s.positions = {a, b, c};

@@ -23,10 +23,11 @@ typedef struct {
 } Tri;
 
 // The compact scene (render/compact_scene.h, built with -DMR_COMPACT=1): a node of the
-// quantized BVH, 20 bytes, its children's boxes in 8 bits per plane of its own box.
+// quantized BVH, 20 bytes, its children's boxes in 8 bits per plane of its own box,
+// axis by axis: q[axis] = child 0's lower plane, child 1's lower, child 0's upper, child 1's
+// upper.
 typedef struct {
-  uchar lo[2][3];
-  uchar hi[2][3];
+  uchar q[3][4];
   uint child[2];  // as Node::child, `first` indexing SceneData::prims
 } CompactNode;
 

@@ -12,9 +12,11 @@
 // dequantize_plane(): render/shared/compact.h's, ends exact.
 float dequantize_plane(float lo, float hi, uint q) { return compact_dequantize_plane(lo, hi, q); }
 
-float3 dequantize_corner(float3 lo, float3 hi, const __global uchar* q) {
-  return (float3)(dequantize_plane(lo.x, hi.x, q[0]), dequantize_plane(lo.y, hi.y, q[1]),
-                  dequantize_plane(lo.z, hi.z, q[2]));
+// A corner of a child's box: codes q[0][k], q[1][k], q[2][k] (k: 0, 1 the children's
+// lower corners, 2, 3 their upper).
+float3 dequantize_corner(float3 lo, float3 hi, const __global CompactNode* n, int k) {
+  return (float3)(dequantize_plane(lo.x, hi.x, n->q[0][k]), dequantize_plane(lo.y, hi.y, n->q[1][k]),
+                  dequantize_plane(lo.z, hi.z, n->q[2][k]));
 }
 
 bool compact_tri_hit(const SceneData* sc, uint prim, const Ray* ray, float* tmax, Hit* hit) {
@@ -47,8 +49,8 @@ bool traverse(const SceneData* sc, const Ray* ray, bool any_hit, Hit* hit) {
         }
     } else {
       const __global CompactNode* n = &sc->cnodes[ref];
-      const float3 lo0 = dequantize_corner(lo, hi, n->lo[0]), hi0 = dequantize_corner(lo, hi, n->hi[0]);
-      const float3 lo1 = dequantize_corner(lo, hi, n->lo[1]), hi1 = dequantize_corner(lo, hi, n->hi[1]);
+      const float3 lo0 = dequantize_corner(lo, hi, n, 0), hi0 = dequantize_corner(lo, hi, n, 2);
+      const float3 lo1 = dequantize_corner(lo, hi, n, 1), hi1 = dequantize_corner(lo, hi, n, 3);
       float t0, t1;
       const bool h0 = box_hit(lo0, hi0, ray->org, inv_dir, ray->tmin, tmax, &t0);
       const bool h1 = box_hit(lo1, hi1, ray->org, inv_dir, ray->tmin, tmax, &t1);
