@@ -180,7 +180,7 @@ void PathTracer::scatter(PathState& p, float p_env, const Bsdf& bsdf, const Fram
   ++p.depth;
   if (p.depth >= settings.rr_start) {
     const float q = rr_survival(max_component(p.beta));
-    if (sample_1d(&p.u) >= q) return;
+    if (q < 1.0f && sample_1d(&p.u) >= q) return;  // (q = 1: nothing to draw)
     p.beta = p.beta / q;
   }
   p.alive = true;

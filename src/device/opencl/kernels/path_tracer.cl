@@ -136,7 +136,7 @@ float3 trace_path(const SceneData* sc, Ray ray, SampleStream* u, int max_bounces
     ++depth;
     if (depth >= rr_start) {
       const float q = rr_survival(max3(beta));
-      if (sample_1d(u) >= q) return L;
+      if (q < 1.0f && sample_1d(u) >= q) return L;
       beta = beta * (1.0f / q);
     }
   }
