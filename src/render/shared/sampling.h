@@ -67,8 +67,9 @@ MR_DEVICE mr_uint pick_cdf(const MR_GLOBAL float* cdf, mr_uint n, float u) {
 // `beta_max` goes on: its square root, at most 1 (as Cycles does). The throughput alone
 // (pbrt's rule) ends dim but useful paths early: after three bounces off surfaces of
 // albedo 0.5 it kills 7 paths in 8, and what the survivors carry, 8 times brighter, is
-// noise; the square root keeps 35% of them at a cost of about 10% more rays (Sponza in
-// daylight: time x variance 8% lower, docs/benchmarks.md "Equal noise against Cycles").
+// noise; the square root keeps 35% of them (Sponza in daylight, roulette from the third
+// bounce: variance 16% lower for 10% more time; docs/benchmarks.md "Equal noise against
+// Cycles"). RenderSettings::rr_start says from which bounce it plays.
 MR_DEVICE float rr_survival(float beta_max) { return beta_max >= 1.0f ? 1.0f : mr_sqrt(beta_max); }
 
 // Veach's power heuristic (beta = 2) for two strategies.
