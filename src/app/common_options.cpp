@@ -121,7 +121,10 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
   cmd.add_option("--res", o.resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
   cmd.add_option(
          "--spp", o.spp,
-         "Samples per pixel; 0: " + std::to_string(o.mesh_spp) + " for meshes, 1 for volumes")
+         "Samples per pixel; 0: " + std::to_string(o.mesh_spp) +
+             " for meshes, 1 for volumes. A pixel's path samples are the first points of a "
+             "scrambled Sobol sequence, so powers of two (16, 64, 256) spread them most "
+             "evenly (docs/noise.md)")
       ->capture_default_str();
   cmd.add_option("--bounces", o.bounces, "Maximum scattering events per path")
       ->capture_default_str();
