@@ -3,9 +3,9 @@
 // 9(4), 2020, §4-5). Sample `sample` of a pixel is point `sample` of that pixel's
 // sequence, so a pixel's first N samples are evenly spread (stratified) in every
 // dimension and in every pair of dimensions a 2D value is drawn from, where independent
-// random numbers clump: the noise of N samples falls faster than 1/N. Like rng.h, every
-// value is a pure function of (pixel, sample, frame, view, seed, dimension), so the image
-// does not depend on who rendered which pixel.
+// random numbers clump: the variance of a pixel's mean of N samples falls faster than
+// 1/N. Like rng.h, every value is a pure function of (pixel, sample, frame, view, seed,
+// dimension), so the image does not depend on who rendered which pixel.
 //
 // Each dimension (1D value or 2D pair) takes the first two Sobol dimensions (a (0,2)
 // sequence) at an index shuffled by a nested uniform scramble of the index, and scrambles
