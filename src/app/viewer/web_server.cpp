@@ -193,6 +193,10 @@ void WebServer::on_ws_close(const mg_connection* conn, void* self) {
     peer = s->clients_[it->second];
     s->clients_.erase(it->second);
     s->ids_.erase(it);
+    // Its place is free from now on, not from on_end_request, which civetweb calls only
+    // after this returns (after the writer's join): a client reconnecting at once would
+    // otherwise be refused with 503 while clients() already says 0.
+    s->admitted_.erase(conn);
   }
   peer->outbox.close();
   peer->writer.join();  // waits out a write in progress (at most kRequestTimeoutMs)
