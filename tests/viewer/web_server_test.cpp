@@ -78,8 +78,8 @@ TEST(WebServer, RefusesClientsBeyondTheLimitWith503) {
 
 // A closed client's place is free as soon as clients() no longer counts it: a viewer that
 // reloads its page reconnects at once and must not be refused. Each round closes the only
-// admitted client and connects another right after the count drops (the CI runs where the
-// slot was freed later, at the end of civetweb's request, refused the newcomer with 503).
+// admitted client and connects another right after the count drops (the place used to be
+// freed later, at the end of civetweb's request, and the newcomer could get a 503).
 TEST(WebServer, AClosedClientsPlaceIsFreeAsSoonAsItIsNoLongerCounted) {
   mg_init_library(MG_FEATURES_WEBSOCKET);
   WebServer server(
@@ -87,16 +87,8 @@ TEST(WebServer, AClosedClientsPlaceIsFreeAsSoonAsItIsNoLongerCounted) {
       [] { return std::string(R"({"type":"hello"})"); }, nullptr);
   auto client = std::make_unique<Client>(server.port());
   ASSERT_FALSE(client->wait_type("hello").is_null());
-  for (int round = 0; round < 5; ++round) {  // about 1.8 s a round (closing handshakes)
+  for (int round = 0; round < 5; ++round) {
     client.reset();
-    ASSERT_TRUE(soon([&] { return server.clients() == 0; })) << "round " << round;
-    {  // admitted (101, not 503), then gone
-      Socket next(server.port());
-      ASSERT_TRUE(next.send(kHandshake));
-      const std::string reply =
-          next.read(10s, [](const std::string& g) { return g.find("\r\n\r\n") != g.npos; });
-      ASSERT_EQ(reply.rfind("HTTP/1.1 101", 0), 0u) << "round " << round << ": " << reply;
-    }
     ASSERT_TRUE(soon([&] { return server.clients() == 0; })) << "round " << round;
     client = std::make_unique<Client>(server.port());
     ASSERT_FALSE(client->wait_type("hello").is_null()) << "round " << round;
