@@ -163,7 +163,7 @@ void PathTracer::scatter(PathState& p, float p_env, const Bsdf& bsdf, const Fram
 
   // Continue the path by sampling the BSDF.
   sample_stream_at_bounce(&p.u, p.depth);
-  p.u.dim += 2;
+  p.u.dim += MR_SOBOL_BSDF_OFFSET;
   p.alive = false;
   BsdfSample bs;
   const float u_lobe = sample_1d(&p.u);

@@ -26,6 +26,7 @@ MR_NAMESPACE_BEGIN
 // values always come from the same dimensions, whatever the earlier bounces took).
 #define MR_SOBOL_CAMERA_DIMS 1u
 #define MR_SOBOL_BOUNCE_DIMS 5u  // light choice, light 2D, lobe, BSDF 2D, Russian roulette
+#define MR_SOBOL_BSDF_OFFSET 2u  // where the BSDF's lobe and 2D value start in that block
 
 MR_CONSTEXPR mr_uint reverse_bits32(mr_uint x) {
   x = (x << 16) | (x >> 16);

@@ -117,7 +117,7 @@ float3 trace_path(const SceneData* sc, Ray ray, SampleStream* u, int max_bounces
 
     // Continue by sampling the BSDF (the bounce's dimensions 2 to 3).
     sample_stream_at_bounce(u, depth);
-    u->dim += 2u;
+    u->dim += MR_SOBOL_BSDF_OFFSET;
     BsdfSample bs;
     const float u_lobe = sample_1d(u);
     const float2 u12 = sample_2d(u);
