@@ -34,12 +34,19 @@ v4f splat(float f) { return v4f{f, f, f, f}; }
 // std::min and std::max lane by lane, NaNs included (std::min(a, b) is b < a ? b : a).
 v4f vmin(v4f a, v4f b) { return b < a ? b : a; }
 v4f vmax(v4f a, v4f b) { return a < b ? b : a; }
-v4f swap_halves(v4f v) {
+// Lanes of x (0-3) and y (4-7), as the indices say: one shufps with SSE.
+template <int a, int b, int c, int d>
+v4f shuffle(v4f x, v4f y) {
 #if defined(__clang__)
-  return __builtin_shufflevector(v, v, 2, 3, 0, 1);
+  return __builtin_shufflevector(x, y, a, b, c, d);
 #else
-  return __builtin_shuffle(v, v4i{2, 3, 0, 1});
+  return __builtin_shuffle(x, y, v4i{a, b, c, d});
 #endif
+}
+v4f swap_halves(v4f v) { return shuffle<2, 3, 0, 1>(v, v); }
+template <int lane>
+v4f broadcast(v4f v) {
+  return shuffle<lane, lane, lane, lane>(v, v);
 }
 
 // The slab test of both children at once: bit c of the result is set when the ray meets
@@ -50,8 +57,8 @@ v4f swap_halves(v4f v) {
 // a ray that grazes a box's corner or edge out by an ulp and lose a hit on a triangle
 // lying in the box's face (the compact kd-tree's test found such misses at the Cornell
 // box's corners).
-int two_box_hit(const ChildPlanes& p, Vec3 org, Vec3 inv, float tmin, float tmax,
-                float t_near[2]) {
+[[gnu::always_inline]] inline int two_box_hit(const ChildPlanes& p, Vec3 org, Vec3 inv, float tmin,
+                                              float tmax, float t_near[2]) {
   const v4f tx = (p.x - org.x) * inv.x, ty = (p.y - org.y) * inv.y, tz = (p.z - org.z) * inv.z;
   const v4f sx = swap_halves(tx), sy = swap_halves(ty), sz = swap_halves(tz);
   const v4f lo = vmax(vmax(vmin(tx, sx), vmin(ty, sy)), vmax(vmin(tz, sz), splat(tmin)));
@@ -61,20 +68,26 @@ int two_box_hit(const ChildPlanes& p, Vec3 org, Vec3 inv, float tmin, float tmax
   return (lo[0] <= hi[0] ? 1 : 0) | (lo[1] <= hi[1] ? 2 : 0);
 }
 
-// One axis of both children decoded from the parent's planes lo..hi: 8-bit codes `q` in
-// the lanes' order, compact_dequantize_plane's arithmetic lane for lane (0 and 255 are the
-// parent's planes exactly).
-v4f dequantize_axis(float lo, float hi, v4i q) {
-  const v4f vlo = splat(lo), vhi = splat(hi);
+// A node's own box as the quantized traversal carries it down and keeps it on its stack:
+// x, y, z in lanes 0-2 of two registers, so that neither taking a child's box out of the
+// decoded planes nor spreading it for the next decode goes through memory.
+struct LaneBox {
+  v4f lo, hi;
+};
+
+// One axis of both children decoded from the parent's planes lo..hi (each in every lane):
+// 8-bit codes `q` in the lanes' order, compact_dequantize_plane's arithmetic lane for lane.
+// Code 0 needs no select: lo + (hi - lo) * 0 is lo (a zero's sign aside, which no
+// comparison of the slab test sees); code 255 does, since lo + (hi - lo) may round.
+v4f dequantize_axis(v4f vlo, v4f vhi, v4i q) {
   const v4f qf = __builtin_convertvector(q, v4f);
-  v4f d = vlo + (vhi - vlo) * (qf * (1.0f / 255.0f));
-  d = q == 0 ? vlo : d;
+  const v4f d = vlo + (vhi - vlo) * (qf * (1.0f / 255.0f));
   return q == 255 ? vhi : d;
 }
 
 // The node stores its codes in the lanes' order: with SSE2, one 16-byte load (the codes
 // and the first child reference; a node is 20 bytes) widened by unpacking with zeros.
-ChildPlanes decode_children(const CompactNode& n, const Bounds3& parent) {
+ChildPlanes decode_children(const CompactNode& n, const LaneBox& parent) {
   v4i qx, qy, qz;
 #if defined(__SSE2__)
   const __m128i zero = _mm_setzero_si128();
@@ -91,16 +104,18 @@ ChildPlanes decode_children(const CompactNode& n, const Bounds3& parent) {
   };
   qx = axis(0), qy = axis(1), qz = axis(2);
 #endif
-  return ChildPlanes{dequantize_axis(parent.lo.x, parent.hi.x, qx),
-                     dequantize_axis(parent.lo.y, parent.hi.y, qy),
-                     dequantize_axis(parent.lo.z, parent.hi.z, qz)};
+  return ChildPlanes{dequantize_axis(broadcast<0>(parent.lo), broadcast<0>(parent.hi), qx),
+                     dequantize_axis(broadcast<1>(parent.lo), broadcast<1>(parent.hi), qy),
+                     dequantize_axis(broadcast<2>(parent.lo), broadcast<2>(parent.hi), qz)};
 }
 
-Bounds3 child_box(const ChildPlanes& p, int c) {
-  Bounds3 b;
-  b.lo = Vec3(p.x[c], p.y[c], p.z[c]);
-  b.hi = Vec3(p.x[c + 2], p.y[c + 2], p.z[c + 2]);
-  return b;
+// Child c's box out of its planes: lane c of each axis is its lower plane, lane c + 2 its
+// upper one.
+LaneBox child_box(const ChildPlanes& p, int c) {
+  const v4f xy_lo = shuffle<0, 4, 1, 5>(p.x, p.y);  // x0 y0 x1 y1
+  const v4f xy_hi = shuffle<2, 6, 3, 7>(p.x, p.y);  // x2 y2 x3 y3
+  if (c == 0) return LaneBox{shuffle<0, 1, 4, 4>(xy_lo, p.z), shuffle<0, 1, 6, 6>(xy_hi, p.z)};
+  return LaneBox{shuffle<2, 3, 5, 5>(xy_lo, p.z), shuffle<2, 3, 7, 7>(xy_hi, p.z)};
 }
 
 bool cut_out(const CompactMesh& m, const Scene& scene, const Ray& ray, uint32_t prim, float u,
@@ -134,8 +149,11 @@ bool triangle_hit(const CompactMesh& m, const Scene* cutouts, uint32_t prim, Vec
 // at each test.
 struct QuantizedTree {
   const CompactScene& c;
-  using Box = Bounds3;
-  Box root() const { return c.bvh.root; }
+  using Box = LaneBox;
+  Box root() const {
+    const Bounds3& r = c.bvh.root;
+    return Box{v4f{r.lo.x, r.lo.y, r.lo.z, 0.0f}, v4f{r.hi.x, r.hi.y, r.hi.z, 0.0f}};
+  }
   const uint32_t* refs(uint32_t node) const { return c.bvh.nodes[node].child; }
   ChildPlanes children(uint32_t node, const Box& box) const {
     return decode_children(c.bvh.nodes[node], box);
@@ -247,8 +265,8 @@ bool compact_occluded(const CompactScene& c, const Scene* cutouts, const Ray& ra
 CompactFloatTree decode_compact_tree(const CompactScene& c) {
   CompactFloatTree t;
   t.nodes.resize(c.bvh.nodes.size());
-  std::vector<std::pair<uint32_t, Bounds3>> todo;  // inner nodes and their boxes
-  if (!c.bvh.nodes.empty()) todo.push_back({0u, c.bvh.root});
+  std::vector<std::pair<uint32_t, LaneBox>> todo;  // inner nodes and their boxes
+  if (!c.bvh.nodes.empty()) todo.push_back({0u, QuantizedTree{c}.root()});
   while (!todo.empty()) {
     const auto [ref, box] = todo.back();
     todo.pop_back();
