@@ -134,6 +134,7 @@ std::vector<uint8_t> encode(const FrameMessage& m) {
     w.put(v.camera.eye), w.put(v.camera.target), w.put(v.camera.up), w.put(v.camera.fov_y_deg);
     w.put(int32_t(v.camera.film_width)), w.put(int32_t(v.camera.film_height));
     w.put(int32_t(v.width)), w.put(int32_t(v.height)), w.put(v.view), w.put(v.frame);
+    w.put(v.first_sample), w.put(v.sample_frame);
     w.put_array(i < m.spp_maps.size() ? m.spp_maps[i] : std::vector<uint8_t>{});
   }
   w.put(uint8_t(m.results));
@@ -152,6 +153,7 @@ FrameMessage decode_frame(const std::vector<uint8_t>& bytes) {
     v.camera.film_width = r.get<int32_t>(), v.camera.film_height = r.get<int32_t>();
     v.width = r.get<int32_t>(), v.height = r.get<int32_t>();
     v.view = r.get<uint32_t>(), v.frame = r.get<uint32_t>();
+    v.first_sample = r.get<uint32_t>(), v.sample_frame = r.get<uint32_t>();
     if (v.width < 1 || v.height < 1 || v.width > kMaxSide || v.height > kMaxSide)
       throw WireError("view size out of range");
     m.spp_maps.push_back(r.get_array<uint8_t>());

@@ -1,5 +1,10 @@
 #include "engine/session.h"
 
+#include <algorithm>
+#include <cstdint>
+
+#include <fmt/format.h>
+
 #include "core/error.h"
 
 namespace multiray {
@@ -42,6 +47,44 @@ Camera Session::camera_at(int frame) const {
   return camera_ ? *camera_ : path_.at(frame);
 }
 
+namespace {
+
+bool same_camera(const Camera& a, const Camera& b) {
+  const auto same = [](Vec3 u, Vec3 v) { return u.x == v.x && u.y == v.y && u.z == v.z; };
+  return same(a.eye, b.eye) && same(a.target, b.target) && same(a.up, b.up) &&
+         a.fov_y_deg == b.fov_y_deg && a.film_width == b.film_width &&
+         a.film_height == b.film_height;
+}
+
+// Every setting another rank is sent, as text (fmt's shortest round-trip form, so equal
+// text is equal value), and the volume style by identity: what decides a frame's image
+// apart from the camera. A setting added to RenderSettings is in it by construction.
+std::vector<std::string> setting_values(const RenderSettings& s) {
+  std::vector<std::string> out;
+  for_each_sent_setting(s,
+                        [&](const char*, const auto& v) { out.push_back(fmt::format("{}", v)); });
+  out.push_back(fmt::format("{}", static_cast<const void*>(s.volume_style.get())));
+  return out;
+}
+
+}  // namespace
+
+void Session::continue_sequence(int frame, const Camera& camera, FrameInput& input) {
+  bool uniform = !input.reprojection;
+  for (const ViewSetup& v : input.views) uniform &= !v.spp_map && !v.foveation;
+  std::vector<std::string> settings = setting_values(settings_);
+  const uint32_t spp = uint32_t(std::max(1, settings_.spp));
+  if (uniform && sequence_.frame >= 0 && same_camera(camera, sequence_.camera) &&
+      settings == sequence_.settings && sequence_.next <= UINT32_MAX - spp) {
+    for (ViewSetup& v : input.views)
+      v.first_sample = sequence_.next, v.sample_frame = uint32_t(sequence_.frame);
+    sequence_.next += spp;
+    return;
+  }
+  // This frame begins a sequence (first_sample 0: seeded by its own index).
+  sequence_ = Sequence{uniform ? frame : -1, camera, std::move(settings), spp};
+}
+
 double Session::progress() const { return engines_[active_lane_.load()]->progress(); }
 
 std::shared_ptr<FrameResult> Session::free_buffer(size_t lane) {
@@ -57,8 +100,10 @@ int Session::run(int first, int count, FrameObserver& observer) {
   // must hold: the flag is cleared when run() returns, never when it starts.
   int done = 0;
   for (int frame = first; frame < first + count && !stop_; ++frame, ++done) {
-    const FrameInput input = views_.make(frame, camera_at(frame));
+    const Camera camera = camera_at(frame);
+    FrameInput input = views_.make(frame, camera);
     if (schedule_) schedule_(frame, settings_);
+    if (progressive_) continue_sequence(frame, camera, input);
     observer.before_frame(frame, input);
     for (size_t lane = 0; lane < engines_.size(); ++lane) {
       active_lane_ = lane;

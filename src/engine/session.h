@@ -15,6 +15,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "balance/balancer.h"
@@ -75,6 +76,15 @@ class Session {
   // The path of the following frames (and no camera set by set_camera any more).
   // Thread-safe; takes effect at the next frame.
   void set_camera_path(CameraPath path);
+  // Progressive sampling, for a viewer that averages successive frames of a still camera
+  // (app/viewer/refinement.h): while the camera and the settings stay those of the frame
+  // before, each frame's samples continue the sample sequence of the frame where they last
+  // changed (ViewSetup::first_sample), so the mean of N frames of S samples is the image
+  // of one render of N x S samples, as evenly spread. Uniform sampling only (adaptive,
+  // foveated and reprojected frames begin their own sequence). Off by default: then every
+  // frame begins its own. Call before run().
+  void set_progressive(bool on) { progressive_ = on; }
+
   // Asks run() to return after the frame being rendered; asked between runs, the next
   // run() returns before its first frame. Each request stops one run. Thread-safe (signal
   // handlers should set a flag that an observer or another thread turns into this call).
@@ -94,6 +104,7 @@ class Session {
  private:
   std::shared_ptr<FrameResult> free_buffer(size_t lane);
   Camera camera_at(int frame) const;
+  void continue_sequence(int frame, const Camera& camera, FrameInput& input);
 
   std::vector<Device*> devices_;
   std::vector<std::unique_ptr<Engine>> engines_;
@@ -106,6 +117,15 @@ class Session {
   std::optional<Camera> camera_;
   std::atomic<bool> stop_{false};
   std::atomic<size_t> active_lane_{0};
+  // The sample sequence progressive frames continue: begun at `frame` (-1: none yet) under
+  // `camera` and the settings whose sent values are `settings`; `next` its next sample.
+  bool progressive_ = false;
+  struct Sequence {
+    int frame = -1;
+    Camera camera;
+    std::vector<std::string> settings;
+    uint32_t next = 0;
+  } sequence_;
 };
 
 }  // namespace multiray

@@ -43,7 +43,8 @@ KernelStats AmbientOcclusion::render_rect(const ViewSetup& view, const RenderSet
       const int spp = view.samples_at(pixel, settings);
       float sum = 0;
       for (int s = 0; s < spp; ++s) {
-        Rng rng = Rng::for_path(pixel, uint32_t(s), view.frame, view.view, settings.seed);
+        Rng rng = Rng::for_path(pixel, view.first_sample + uint32_t(s), view.seed_frame(),
+                                view.view, settings.seed);
         const float jx = rng.next(), jy = rng.next();
         sum += occlusion(camera.ray(float(x) + jx, float(y) + jy), rng, settings, stats);
       }

@@ -248,8 +248,8 @@ KernelStats PathTracer::render_rect_logged(const ViewSetup& view, const RenderSe
       const int spp = view.samples_at(pixel, settings);
       counts.push_back(spp);
       for (int s = 0; s < spp; ++s) {
-        PathState& p = paths.emplace_back(
-            sample_stream_for_path(pixel, uint32_t(s), view.frame, view.view, settings.seed));
+        PathState& p = paths.emplace_back(sample_stream_for_path(
+            pixel, view.first_sample + uint32_t(s), view.seed_frame(), view.view, settings.seed));
         const Vec2 j = sample_2d(&p.u);
         p.ray = camera.ray(float(x) + j.x, float(y) + j.y);
       }

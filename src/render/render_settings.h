@@ -76,6 +76,17 @@ struct ViewSetup {
   int width = 0, height = 0;
   uint32_t view = 0;
   uint32_t frame = 0;
+  // Progressive sampling (engine/session.h, set_progressive: the viewer's refinement): a
+  // frame whose camera and settings are those of the frames before it continues their
+  // sample sequence instead of starting its own, so that the frames' mean converges as one
+  // render of all their samples would (render/shared/sobol.h: the first 2^m samples of a
+  // pixel are spread evenly, the next 2^m too, and together they are again). Sample s of
+  // a pixel in this frame is sample first_sample + s of the sequence frame `sample_frame`
+  // began. first_sample 0: the frame begins its own (sample_frame unused).
+  uint32_t first_sample = 0;
+  uint32_t sample_frame = 0;
+  // The frame whose sequence this frame's samples belong to: what seeds them.
+  uint32_t seed_frame() const { return first_sample > 0 ? sample_frame : frame; }
   // Adaptive edge sampling (Harada, GPU Pro 7 ch. 4, after Mitchell 1987): samples of each
   // pixel of this view, row-major; null means RenderSettings::spp everywhere. Must outlive
   // the frame.

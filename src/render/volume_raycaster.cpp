@@ -229,7 +229,8 @@ KernelStats VolumeRaycaster::render_rect(const ViewSetup& view, const RenderSett
         // One sample: the pixel centre; more: jittered, keyed by (pixel, sample, ...).
         float jx = 0.5f, jy = 0.5f;
         if (spp > 1) {
-          Rng rng = Rng::for_path(pixel, uint32_t(s), view.frame, view.view, settings.seed);
+          Rng rng = Rng::for_path(pixel, view.first_sample + uint32_t(s), view.seed_frame(),
+                                  view.view, settings.seed);
           jx = rng.next(), jy = rng.next();
         }
         Ray ray = camera.ray(float(x) + jx, float(y) + jy);

@@ -218,5 +218,69 @@ TEST(Engine, AppliesThePlansQuality) {
   EXPECT_NE(balance::check_plan(bad, {kW, kH, 1, {}}, 1), "");
 }
 
+// Progressive sampling (Session::set_progressive): what each frame's views say of the
+// sample sequence, as the devices are handed them.
+struct SequenceLog : FrameObserver {
+  std::vector<std::pair<uint32_t, uint32_t>> seen;  // (first_sample, seed_frame) per frame
+  void before_frame(int, const FrameInput& in) override {
+    seen.push_back({in.views.at(0).first_sample, in.views.at(0).seed_frame()});
+  }
+  void on_frame(const std::shared_ptr<const FrameResult>&) override {}
+};
+
+TEST(Session, ProgressiveFramesContinueOneSequenceUntilTheCameraOrTheSettingsChange) {
+  const Scene scene = make_lit_plane(0.5f, 1.0f);
+  SceneCache cache(scene);
+  CpuDevice cpu(cache, {}, "cpu");
+  RenderSettings settings{.spp = 2};
+  settings.kernel = "depth";  // cheap: the bookkeeping is under test
+  Session session({&cpu}, lanes({"uniform"}), FrameViews(CameraRig::single(), 8, 6, {}),
+                  CameraPath::fixed(scene.cameras[0]), settings);
+  SequenceLog log;
+  session.run(0, 2, log);  // off by default: each frame its own sequence
+  session.set_progressive(true);
+  session.run(2, 3, log);  // a still camera: 2 samples a frame, seeded by frame 2
+  Camera moved = scene.cameras[0];
+  moved.eye.x += 0.25f;
+  session.set_camera(moved);
+  session.run(5, 2, log);  // moved: frame 5 begins again
+  session.set_settings_schedule([](int frame, RenderSettings& s) { s.seed = frame >= 8 ? 1 : 0; });
+  session.run(7, 3, log);  // the seed changes at frame 8: it begins again there
+  const std::vector<std::pair<uint32_t, uint32_t>> expected = {
+      {0, 0}, {0, 1}, {0, 2}, {2, 2}, {4, 2}, {0, 5}, {2, 5}, {4, 5}, {0, 8}, {2, 8}};
+  EXPECT_EQ(log.seen, expected);
+}
+
+// The mean of N progressive frames of S samples is, bit for bit, the render of N x S
+// samples (the viewer's refinement sums frames as the kernel sums samples, first to last,
+// and scales once), whatever the devices' split; N frames that each begin their own
+// sequence are a different, noisier image.
+Framebuffer mean_of(const std::vector<std::shared_ptr<const FrameResult>>& frames) {
+  Framebuffer mean(kW, kH);
+  std::vector<Vec3> sum(mean.pixels.size(), Vec3(0.0f));
+  for (const auto& f : frames)
+    for (size_t i = 0; i < sum.size(); ++i) sum[i] = sum[i] + f->images.at(0).pixels[i];
+  for (size_t i = 0; i < sum.size(); ++i) mean.pixels[i] = sum[i] * (1.0f / float(frames.size()));
+  return mean;
+}
+
+TEST(Session, TheMeanOfProgressiveFramesIsOneRenderOfAllTheirSamples) {
+  const Scene scene = make_cornell_box();
+  SceneCache cache(scene);
+  CpuDevice a(cache, {}, "cpu"), b(cache, {}, "cpu");
+  const auto frames = [&](bool progressive, int spp, int count) {
+    Session session({&a, &b}, lanes({"static:ratios=1/2"}),
+                    FrameViews(CameraRig::single(), kW, kH, {}),
+                    CameraPath::fixed(scene.cameras[0]), RenderSettings{.spp = spp});
+    session.set_progressive(progressive);
+    Keeper keep;
+    session.run(0, count, keep);
+    return keep.results;
+  };
+  const uint64_t one_render = image_hash(frames(false, 4, 1).at(0)->images.at(0));
+  EXPECT_EQ(image_hash(mean_of(frames(true, 1, 4))), one_render);
+  EXPECT_NE(image_hash(mean_of(frames(false, 1, 4))), one_render);
+}
+
 }  // namespace session_test
 }  // namespace multiray

@@ -25,6 +25,7 @@ FrameMessage sample_frame() {
   ViewSetup v;
   v.camera.eye = {1, 2, 3}, v.camera.fov_y_deg = 30;
   v.width = 4, v.height = 2, v.view = 1, v.frame = 12;
+  v.first_sample = 48, v.sample_frame = 9;  // a progressive frame (render_settings.h)
   m.views = {v, v};
   m.spp_maps = {{}, {1, 2, 3, 4, 5, 6, 7, 8}};
   return m;
@@ -56,6 +57,8 @@ TEST(Protocol, MessagesSurviveARoundTrip) {
   EXPECT_EQ(f.settings.sample_clamp, 4.0f);
   ASSERT_EQ(f.views.size(), 2u);
   EXPECT_EQ(f.views[1].frame, 12u);
+  EXPECT_EQ(f.views[1].first_sample, 48u);
+  EXPECT_EQ(f.views[1].seed_frame(), 9u);
   EXPECT_FLOAT_EQ(f.views[1].camera.eye.y, 2);
   EXPECT_EQ(f.spp_maps[1].size(), 8u);
 

@@ -53,6 +53,34 @@ TEST(OpenClEngine, MixedCpuAndOpenClMatchesCpuStatistically) {
   std::printf("mixed: %.3f%% of channels beyond |z| = 4, mean z %.4f\n", 100 * beyond4, mean_z);
 }
 
+// Progressive sampling on OpenCL (ViewSetup::first_sample, the launch's first_sample):
+// four 1-spp frames that continue frame 0's sequence average, bit for bit, to its 4-spp
+// render, on two devices splitting differently; four frames of their own do not.
+TEST(OpenClEngine, ProgressiveFramesAverageToOneRenderOfAllTheirSamples) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  const Scene scene = make_cornell_box();
+  SceneCache rs(scene);
+  OpenClDevice a(rs, {}, "opencl:0"), b(rs, {}, "opencl:0");
+  Engine engine({&a, &b}, balance::make_balancer("static:ratios=1/3", 2));
+  const RenderSettings one{.spp = 1, .max_bounces = 4};
+  engine.render_frame(0, {view_of(scene, kW, kH)}, RenderSettings{.spp = 4, .max_bounces = 4});
+  const uint64_t whole = image_hash(engine.images()[0]);
+  const auto mean_of_four = [&](bool progressive) {
+    std::vector<Vec3> sum(size_t(kW) * kH, Vec3(0.0f));
+    for (uint32_t k = 0; k < 4; ++k) {
+      ViewSetup v = view_of(scene, kW, kH, int(k));
+      if (progressive) v.first_sample = k, v.sample_frame = 0;
+      engine.render_frame(int(k), {v}, one);
+      for (size_t i = 0; i < sum.size(); ++i) sum[i] = sum[i] + engine.images()[0].pixels[i];
+    }
+    Framebuffer mean(kW, kH);
+    for (size_t i = 0; i < sum.size(); ++i) mean.pixels[i] = sum[i] * 0.25f;
+    return image_hash(mean);
+  };
+  EXPECT_EQ(mean_of_four(true), whole);
+  EXPECT_NE(mean_of_four(false), whole);
+}
+
 // Reprojected sampling on two OpenCL devices: the centre view and the holes are the pixels
 // of a full OpenCL render of every view, bit for bit, every other pixel is its source's,
 // and only the centre and the holes are path-traced (through the devices' sample maps).

@@ -29,8 +29,10 @@ LiveView::LiveView(Session& session, OrbitCamera camera, std::vector<std::string
       device_names_(std::move(device_names)),
       options_(std::move(options)),
       camera_(std::move(camera)) {
-  if (options_.refine_spp > 0)
+  if (options_.refine_spp > 0) {
     refinement_ = std::make_unique<Refinement>(options_.frame_spp, options_.refine_spp);
+    session_.set_progressive(true);  // the frames averaged continue one sample sequence
+  }
   if (options_.move_scale < 1.0) {
     motion_ = std::make_shared<MotionClock>();
     session_.set_advisors([clock = motion_, scale = options_.move_scale](size_t) {

@@ -1,9 +1,11 @@
 // Progressive refinement for the live viewer (issue 33, "interactive at any frame rate"):
 // the session renders every frame with few samples (`frame_spp`), so moving the camera
 // stays fluid, and while nothing changes the viewer shows the mean of the frames rendered
-// so far, which converges to a `target_spp` image and then stands. Each frame's samples
-// are seeded by the frame index too, so successive frames of one camera are independent
-// samples of the same image and their mean is an image of their summed samples.
+// so far, which converges to a `target_spp` image and then stands. The session renders
+// such frames progressively (Session::set_progressive): each continues the sample
+// sequence of the first frame under the camera, so the mean of N frames of S samples is,
+// bit for bit, the image one render of N x S samples would give, with the even spread of
+// its samples (render/shared/sobol.h), not N independent images averaged.
 // Pure: images in, image out; no server, no session.
 #pragma once
 

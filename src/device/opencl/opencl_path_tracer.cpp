@@ -74,7 +74,8 @@ class ClPathTracer : public ClKernelRunner {
     params_.spp = cl_int(st.spp);
     params_.max_bounces = cl_int(st.max_bounces);
     params_.rr_start = cl_int(st.rr_start);
-    params_.frame = cl_uint(view.frame);
+    params_.frame = cl_uint(view.seed_frame());
+    params_.first_sample = cl_uint(view.first_sample);
     params_.view = cl_uint(view.view);
     params_.seed = cl_ulong(st.seed);
     params_.use_spp_map = view.spp_map ? 1 : 0;

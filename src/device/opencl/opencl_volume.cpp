@@ -95,7 +95,8 @@ class ClVolumeRaycaster : public ClKernelRunner {
     params_.seed = cl_ulong(st.seed);
     params_.width = cl_uint(view.width);
     params_.spp = cl_int(st.spp);
-    params_.frame = cl_uint(view.frame);
+    params_.frame = cl_uint(view.seed_frame());
+    params_.first_sample = cl_uint(view.first_sample);
     params_.view = cl_uint(view.view);
     params_.use_spp_map = view.spp_map ? 1 : 0;
     const TransferTable& table = style.table;

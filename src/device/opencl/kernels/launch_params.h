@@ -56,8 +56,10 @@ typedef struct {
   mr_uint has_tangents;  // 152: 1: `tangents` holds one entry per triangle (normal maps)
   mr_uint cutouts;       // 156: 1: some material has an alpha mode (mask or blend)
   float sample_clamp;    // 160: RenderSettings::sample_clamp (0: off)
-  mr_uint pad[3];        // 164: unused, keeps the size a multiple of 16
-} LaunchParams;          // 176
+  // 164: ViewSetup::first_sample (progressive sampling); `frame` is then the seed frame
+  mr_uint first_sample;
+  mr_uint pad[2];  // 168: unused, keeps the size a multiple of 16
+} LaunchParams;    // 176
 
 #ifdef MR_OPENCL_C
 typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 176 ? 1 : -1];
@@ -125,6 +127,7 @@ static_assert(offsetof(LaunchParams, use_spp_map) == 148);
 static_assert(offsetof(LaunchParams, has_tangents) == 152);
 static_assert(offsetof(LaunchParams, cutouts) == 156);
 static_assert(offsetof(LaunchParams, sample_clamp) == 160);
+static_assert(offsetof(LaunchParams, first_sample) == 164);
 #endif
 
 #ifdef __cplusplus

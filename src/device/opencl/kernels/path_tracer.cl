@@ -171,7 +171,8 @@ __kernel REQD_GROUP_SIZE void render_rect(MR_RENDER_RECT_ARGS(MR_ARG_PARAM, MR_A
   uint count = 0;
   const int samples = p.use_spp_map ? (int)spp_map[i] : p.spp;
   for (int s = 0; s < samples; ++s) {
-    SampleStream u = sample_stream_for_path(pixel, (uint)s, p.frame, p.view, p.seed);
+    SampleStream u =
+        sample_stream_for_path(pixel, p.first_sample + (uint)s, p.frame, p.view, p.seed);
     const float2 j = sample_2d(&u);
     const float jx = j.x, jy = j.y;
     Ray ray;

@@ -116,7 +116,7 @@ __kernel REQD_GROUP_SIZE void render_volume(MR_VOLUME_ARGS(MR_ARG_PARAM, MR_ARG_
   for (int k = 0; k < samples; ++k) {
     float jx = 0.5f, jy = 0.5f;  // one sample: the pixel centre
     if (samples > 1) {
-      RngState rng = rng_for_path(pixel, (uint)k, p.frame, p.view, p.seed);
+      RngState rng = rng_for_path(pixel, p.first_sample + (uint)k, p.frame, p.view, p.seed);
       jx = rng_next(&rng), jy = rng_next(&rng);
     }
     // PinholeCamera::ray normalises, and the CPU raycaster normalises once more.

@@ -42,7 +42,8 @@ typedef struct {
   float table_lo;        // 216: data value of table entry 0
   float table_to_index;  // 220: table entries per data unit
   float ert_threshold;   // 224: early ray termination at this opacity
-  mr_uint pad[3];        // 228
+  mr_uint first_sample;  // 228: ViewSetup::first_sample; `frame` is then the seed frame
+  mr_uint pad[2];        // 232
 } VolumeParams;          // 240
 
 #ifdef MR_OPENCL_C
@@ -90,7 +91,8 @@ static_assert(offsetof(VolumeParams, step_ratio) == 212);
 static_assert(offsetof(VolumeParams, table_lo) == 216);
 static_assert(offsetof(VolumeParams, table_to_index) == 220);
 static_assert(offsetof(VolumeParams, ert_threshold) == 224);
-static_assert(offsetof(VolumeParams, pad) == 228);
+static_assert(offsetof(VolumeParams, first_sample) == 228);
+static_assert(offsetof(VolumeParams, pad) == 232);
 #endif
 
 #ifdef __cplusplus
