@@ -129,6 +129,9 @@ TEST(ViewerServer, RefinesWhileStillAndStartsAgainOnAMove) {
   const nlohmann::json still = c.wait(converged);
   ASSERT_FALSE(still.is_null()) << "never refined to --spp";
   EXPECT_EQ(still["refine_spp"], 16);
+  // Progressive sampling: the frames being averaged continue one sample sequence, so the
+  // sixteenth of them starts at sample 15 (a frame of its own starts at 0).
+  EXPECT_GE(still.value("first_sample", 0), 15) << still.dump();
   // Every frame has its own samples (so its own hash): the sign of a restart is a frame
   // shown with fewer than --spp samples.
   c.send(R"({"type":"orbit","dx":30,"dy":0})");

@@ -152,17 +152,17 @@ std::string LiveView::volume_command(const Command& c) {
 void LiveView::before_frame(int frame, const FrameInput& input) {
   if (input.views.empty()) return;
   std::lock_guard<std::mutex> lock(mutex_);
-  frame_cameras_[frame] = input.views.front().camera;
+  frame_begun_[frame] = Begun{input.views.front().camera, input.views.front().first_sample};
 }
 
 std::shared_ptr<const Framebuffer> LiveView::shown_image(const FrameResult& r, int view,
                                                          int* samples) {
   const Framebuffer& img = r.images.at(size_t(view));
   // The camera the frame was begun with (set_camera may have moved it since).
-  const auto it = frame_cameras_.find(r.frame);
-  const bool known = it != frame_cameras_.end();
-  const RefineKey key{known ? it->second : Camera{}, view, 0};
-  frame_cameras_.erase(frame_cameras_.begin(), frame_cameras_.upper_bound(r.frame));
+  const auto it = frame_begun_.find(r.frame);
+  const bool known = it != frame_begun_.end();
+  const RefineKey key{known ? it->second.camera : Camera{}, view, 0};
+  frame_begun_.erase(frame_begun_.begin(), frame_begun_.upper_bound(r.frame));
   if (!refinement_ || !known) {
     *samples = 0;  // shown as rendered
     return std::make_shared<const Framebuffer>(img);
@@ -180,8 +180,8 @@ void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
     if (pending_) ++dropped_;
     pending_ = result;
     pending_view_ = std::min(view_, int(result->images.size()) - 1);
-    const auto began = frame_cameras_.find(result->frame);  // before shown_image forgets it
-    pending_camera_ = began != frame_cameras_.end() ? began->second : Camera{};
+    const auto began = frame_begun_.find(result->frame);  // before shown_image forgets it
+    pending_begun_ = began != frame_begun_.end() ? began->second : Begun{};
     pending_image_ = shown_image(*result, pending_view_, &pending_samples_);
     pending_balancer_ = engine.balancer().spec();  // the one that planned this frame
     request.swap(balancer_request_);
@@ -196,7 +196,8 @@ void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
 }
 
 std::string LiveView::frame_json(const FrameResult& r, int view, const std::string& balancer,
-                                 int samples, const Camera& camera) const {
+                                 int samples, const Begun& begun) const {
+  const Camera& camera = begun.camera;
   const FrameRecord& rec = r.record;
   nlohmann::json devices = nlohmann::json::array(), items = nlohmann::json::array();
   for (size_t d = 0; d < rec.devices.size(); ++d)
@@ -229,6 +230,7 @@ std::string LiveView::frame_json(const FrameResult& r, int view, const std::stri
                      {"balancer", balancer},
                      {"dropped", dropped_.load()},
                      {"spp", samples},
+                     {"first_sample", begun.first_sample},
                      {"image_scale", rec.quality.image_scale},
                      {"refine_spp", refinement_ ? refinement_->target_spp() : 0},
                      {"devices", devices},
@@ -242,7 +244,7 @@ void LiveView::send_loop() {
     std::shared_ptr<const Framebuffer> shown;
     std::string balancer;
     int view = 0, samples = 0;
-    Camera camera;
+    Begun begun;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [&] { return stop_ || pending_; });
@@ -252,7 +254,7 @@ void LiveView::send_loop() {
       balancer = pending_balancer_;
       view = pending_view_;
       samples = pending_samples_;
-      camera = pending_camera_;
+      begun = pending_begun_;
     }
     if (server_->clients() == 0) continue;
     const Framebuffer& img = *shown;
@@ -270,7 +272,7 @@ void LiveView::send_loop() {
       continue;  // an empty image; nothing to show
     }
     server_->broadcast_frame(std::make_shared<const OutFrame>(
-        OutFrame{frame_json(*frame, view, balancer, samples, camera), std::move(jpeg)}));
+        OutFrame{frame_json(*frame, view, balancer, samples, begun), std::move(jpeg)}));
   }
 }
 

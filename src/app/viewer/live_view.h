@@ -80,9 +80,15 @@ class LiveView : public FrameObserver {
   // Volumes: a transfer function or target from the page; an error message or "".
   std::string volume_command(const Command& c);
   std::string hello() const;
-  // `camera`: the one the frame was begun with (sent as "camera": {"eye", "target"}).
+  // How a frame was begun: its camera (set_camera may have moved it since) and where its
+  // samples start in the sequence they continue (ViewSetup::first_sample; 0: its own).
+  struct Begun {
+    Camera camera;
+    uint32_t first_sample = 0;
+  };
+  // Sent as "camera": {"eye", "target"} and "first_sample".
   std::string frame_json(const FrameResult& r, int view, const std::string& balancer, int samples,
-                         const Camera& camera) const;
+                         const Begun& begun) const;
   // The image of `r`'s view `view` to show (refined, or as rendered) and its samples per
   // pixel; on the session's thread, under mutex_.
   std::shared_ptr<const Framebuffer> shown_image(const FrameResult& r, int view, int* samples);
@@ -97,8 +103,8 @@ class LiveView : public FrameObserver {
   std::shared_ptr<const FrameResult> pending_;
   std::shared_ptr<const Framebuffer> pending_image_;  // what to show of pending_
   int pending_view_ = 0, pending_samples_ = 0;
-  Camera pending_camera_;
-  std::map<int, Camera> frame_cameras_;  // frames begun and not yet finished
+  Begun pending_begun_;
+  std::map<int, Begun> frame_begun_;  // frames begun and not yet finished
   std::unique_ptr<Refinement> refinement_;
   std::shared_ptr<MotionClock> motion_;  // null: frames at full size while moving
   std::string pending_balancer_;         // the spec that planned pending_
