@@ -100,7 +100,7 @@ Runner add_view_command(CLI::App& app) {
     // The camera's picture is shown as it is: the layer over it neither metered nor toned.
     if (*ar && *exposure == "auto") vo.meter_exposure = false;
     if (*ar && *tone == "auto") vo.display.tone = ToneCurve::Clamp;
-    if (!volume_input) {  // progressive refinement (viewer/refinement.h)
+    if (!volume_input) {  // progressive refinement (engine/refinement.h)
       vo.refine_spp = o->spp > 0 ? o->spp : o->mesh_spp;
       vo.frame_spp = std::min(*frame_spp, vo.refine_spp);
       o->spp = vo.frame_spp;

@@ -77,7 +77,7 @@ class Session {
   // Thread-safe; takes effect at the next frame.
   void set_camera_path(CameraPath path);
   // Progressive sampling, for a viewer that averages successive frames of a still camera
-  // (app/viewer/refinement.h): while the camera and the settings stay those of the frame
+  // (engine/refinement.h): while the camera and the settings stay those of the frame
   // before, each frame's samples continue the sample sequence of the frame where they last
   // changed (ViewSetup::first_sample), so the mean of N frames of S samples is the image
   // of one render of N x S samples, as evenly spread. Uniform sampling only (adaptive,

@@ -1,4 +1,4 @@
-// Progressive refinement (app/viewer/refinement.h): while the key stands, the shown image
+// Progressive refinement (engine/refinement.h): while the key stands, the shown image
 // is the mean of the frames so far, up to the target's samples; a change starts again.
 // And smaller frames while the camera moves (app/viewer/motion.h).
 #include <gtest/gtest.h>
@@ -7,15 +7,15 @@
 #include <memory>
 
 #include "app/viewer/motion.h"
-#include "app/viewer/refinement.h"
+#include "engine/refinement.h"
 
 namespace refinement_test {
 
 using multiray::Camera;
 using multiray::Framebuffer;
+using multiray::RefineKey;
+using multiray::Refinement;
 using multiray::Vec3;
-using multiray::app::viewer::RefineKey;
-using multiray::app::viewer::Refinement;
 
 Framebuffer flat(float v) {
   Framebuffer fb(4, 2);

@@ -21,7 +21,7 @@
 
 #include "app/viewer/listen_address.h"
 #include "app/viewer/motion.h"
-#include "app/viewer/refinement.h"
+#include "engine/refinement.h"
 #include "app/viewer/view_control.h"
 #include "app/viewer/web_server.h"
 #include "core/image.h"

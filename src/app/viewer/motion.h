@@ -1,7 +1,7 @@
 // Cheaper frames while the camera moves (issue 33, "interactive at any frame rate"): while
 // the page has moved the camera within the last kMotionHoldSeconds, frames are rendered at
 // a reduced image scale (fewer pixels, upsampled by the engine, as frame-time targeting
-// does in image space), and at full size once it stands, where refinement.h then refines
+// does in image space), and at full size once it stands, where engine/refinement.h then refines
 // them. The advisor is the engine's quality seam (engine/frame_advisor.h), so every
 // balancer sees the smaller frame as it would any other.
 #pragma once

@@ -6,13 +6,15 @@
 // sequence of the first frame under the camera, so the mean of N frames of S samples is,
 // bit for bit, the image one render of N x S samples would give, with the even spread of
 // its samples (render/shared/sobol.h), not N independent images averaged.
-// Pure: images in, image out; no server, no session.
+// Pure: images in, image out; no server, no session (the viewer, app/viewer/live_view.h,
+// feeds it the session's frames; tests/engine checks it against one render of all the
+// samples).
 #pragma once
 
 #include "core/image.h"
 #include "scene/scene.h"
 
-namespace multiray::app::viewer {
+namespace multiray {
 
 // What decides a frame's image apart from its samples. Frames are averaged only while it
 // stays the same. The balancer is not in it: the split never changes the pixels.
@@ -49,4 +51,4 @@ class Refinement {
   Framebuffer mean_;
 };
 
-}  // namespace multiray::app::viewer
+}  // namespace multiray

@@ -1,8 +1,8 @@
-#include "app/viewer/refinement.h"
+#include "engine/refinement.h"
 
 #include <algorithm>
 
-namespace multiray::app::viewer {
+namespace multiray {
 
 namespace {
 bool same(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
@@ -43,4 +43,4 @@ const Framebuffer& Refinement::add(const Framebuffer& image, const RefineKey& ke
   return mean_;
 }
 
-}  // namespace multiray::app::viewer
+}  // namespace multiray
