@@ -35,6 +35,7 @@ struct AutoInputs {
   int views = 1;                     // views per frame (light-field grid, stereo pair)
   std::string sampling = "uniform";  // uniform | adaptive | foveated | reproject
   bool frame_target = false;         // a frame-time target is set (volumes)
+  bool catcher = false;              // a shadow catcher (--ground): augmented reality
 };
 
 struct AutoChoice {

@@ -37,6 +37,7 @@ balance::AutoInputs gather_auto_inputs(const Run& s, const RunConfig& o) {
   in.views = s.views ? s.views->rig().view_count() : 1;
   in.sampling = o.sampling;
   in.frame_target = o.volume.target_ms > 0;
+  in.catcher = !o.ground.empty();
   return in;
 }
 

@@ -85,6 +85,22 @@ TEST(AutoChoice, TwoToFourLocalDevicesRunHybridInOnePiece) {
   EXPECT_EQ(choose_balancer(emulated).spec, "hybrid");
 }
 
+// A shadow catcher concentrates a frame's cost around the virtual objects: hybrid's
+// interleaved bands, not one piece per device (docs/benchmarks.md, "Augmented reality").
+TEST(AutoChoice, AShadowCatcherKeepsHybridsInterleavedBands) {
+  AutoInputs in = devices({"cpu", "cpu"});
+  in.catcher = true;
+  const AutoChoice c = choose_balancer(in);
+  EXPECT_EQ(c.spec, "hybrid");
+  EXPECT_TRUE(says(c, "2 devices (cpu, one type), shadow catcher")) << c.reason;
+  EXPECT_TRUE(says(c, "gathers around the virtual objects")) << c.reason;
+  in.devices.resize(1);
+  EXPECT_EQ(choose_balancer(in).spec, "uniform");
+  in.catcher = false;
+  in.devices = devices({"cpu", "cpu"}).devices;
+  EXPECT_EQ(choose_balancer(in).spec, "hybrid:bands=1");
+}
+
 TEST(AutoChoice, FoveatedSamplingRunsSemiStaticInRowBands) {
   AutoInputs in = devices({"cpu", "cpu"});
   in.sampling = "foveated";
