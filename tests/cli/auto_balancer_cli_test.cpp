@@ -80,6 +80,21 @@ TEST(AutoBalancerCli, FoveatedSamplingReachesTheRules) {
   EXPECT_THAT(doc.at("balancer").get<std::string>(), ::testing::StartsWith("semi-static:"));
 }
 
+// --ground (a shadow catcher) reaches the rules: hybrid's interleaved bands.
+TEST(AutoBalancerCli, AShadowCatcherReachesTheRules) {
+  const std::string dir = fresh_dir("auto_catcher");
+  const Result r =
+      run("render --res 32x16 --spp 1 --ground y=0 --sun 40,35 --devices "
+          "cpu:threads=1,cpu:threads=1 -q --out " +
+          dir);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto doc = stats_of(dir);
+  EXPECT_EQ(doc.at("balancer_auto").at("spec"), "hybrid");
+  EXPECT_THAT(doc.at("balancer_auto").at("reason").get<std::string>(),
+              ::testing::HasSubstr("shadow catcher"));
+  EXPECT_THAT(doc.at("balancer").get<std::string>(), ::testing::StartsWith("hybrid:bands=8:"));
+}
+
 TEST(AutoBalancerCli, AutoTakesNoOptionsAndViewsMappingNamesTheChoice) {
   const Result opts =
       run("render --res 32x16 --spp 1 --balancer auto:bands=4 -q --out " + fresh_dir("auto_opts"));
