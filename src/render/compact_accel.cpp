@@ -44,10 +44,6 @@ v4f shuffle(v4f x, v4f y) {
 #endif
 }
 v4f swap_halves(v4f v) { return shuffle<2, 3, 0, 1>(v, v); }
-template <int lane>
-v4f broadcast(v4f v) {
-  return shuffle<lane, lane, lane, lane>(v, v);
-}
 
 // The slab test of both children at once: bit c of the result is set when the ray meets
 // child c within its range, and t_near[c] is where it enters. Lane for lane the arithmetic
@@ -75,14 +71,16 @@ struct LaneBox {
   v4f lo, hi;
 };
 
-// One axis of both children decoded from the parent's planes lo..hi (each in every lane):
-// 8-bit codes `q` in the lanes' order, compact_dequantize_plane's arithmetic lane for lane.
-// Code 0 needs no select: lo + (hi - lo) * 0 is lo (a zero's sign aside, which no
-// comparison of the slab test sees); code 255 does, since lo + (hi - lo) may round.
-v4f dequantize_axis(v4f vlo, v4f vhi, v4i q) {
-  const v4f qf = __builtin_convertvector(q, v4f);
-  const v4f d = vlo + (vhi - vlo) * (qf * (1.0f / 255.0f));
-  return q == 255 ? vhi : d;
+// One axis of both children decoded from the parent's box: 8-bit codes `q` in the lanes'
+// order, render/shared/compact.h's arithmetic lane for lane: the lower planes (lanes 0,
+// 1) lo + (hi - lo) * q / 255, the upper ones (lanes 2, 3) hi + (lo - hi) * (255 - q) /
+// 255. No select: each is exact at its own end.
+template <int a>
+v4f dequantize_axis(const LaneBox& box, v4i q) {
+  const v4f base = shuffle<a, a, 4 + a, 4 + a>(box.lo, box.hi);   // lo lo hi hi
+  const v4f other = shuffle<4 + a, 4 + a, a, a>(box.lo, box.hi);  // hi hi lo lo
+  const v4f w = __builtin_convertvector(q ^ v4i{0, 0, 255, 255}, v4f) * (1.0f / 255.0f);
+  return base + (other - base) * w;
 }
 
 // The node stores its codes in the lanes' order: with SSE2, one 16-byte load (the codes
@@ -104,9 +102,8 @@ ChildPlanes decode_children(const CompactNode& n, const LaneBox& parent) {
   };
   qx = axis(0), qy = axis(1), qz = axis(2);
 #endif
-  return ChildPlanes{dequantize_axis(broadcast<0>(parent.lo), broadcast<0>(parent.hi), qx),
-                     dequantize_axis(broadcast<1>(parent.lo), broadcast<1>(parent.hi), qy),
-                     dequantize_axis(broadcast<2>(parent.lo), broadcast<2>(parent.hi), qz)};
+  return ChildPlanes{dequantize_axis<0>(parent, qx), dequantize_axis<1>(parent, qy),
+                     dequantize_axis<2>(parent, qz)};
 }
 
 // Child c's box out of its planes: lane c of each axis is its lower plane, lane c + 2 its

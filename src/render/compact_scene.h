@@ -96,8 +96,8 @@ struct CompactBvh {
 // A child's box from its parent's decoded box `lo`..`hi` and its 8-bit planes
 // (render/shared/compact.h, as the OpenCL kernel decodes it). Plane 0 is the parent's
 // lower plane and 255 its upper plane exactly, whatever the rounding.
-inline float dequantize_plane(float lo, float hi, uint8_t q) {
-  return compact_dequantize_plane(lo, hi, q);
+inline float dequantize_plane(float lo, float hi, uint8_t q, bool upper) {
+  return upper ? compact_dequantize_upper(lo, hi, q) : compact_dequantize_lower(lo, hi, q);
 }
 
 struct CompactScene {

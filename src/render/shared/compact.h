@@ -78,12 +78,17 @@ MR_DEVICE mr_float3 compact_decode_normal(mr_uint code) {
   return normalize3(n);
 }
 
-// A child's box plane from its parent's decoded planes `lo`..`hi` and its 8-bit code:
-// 0 is the parent's lower plane and 255 its upper plane exactly, whatever the rounding.
-MR_DEVICE float compact_dequantize_plane(float lo, float hi, mr_uint q) {
-  if (q == 0u) return lo;
-  if (q == 255u) return hi;
+// A child's box plane from its parent's decoded planes `lo`..`hi` and its 8-bit code, q /
+// 255 of the way across. A lower plane is measured from `lo` and an upper one from `hi`,
+// so the plane a child most often shares with its parent comes out exact without a
+// select: code 0 of a lower plane is `lo` (lo + (hi - lo) * 0) and code 255 of an upper
+// plane is `hi`. The traversal's 4-wide decode (render/compact_accel.cpp) does the same
+// arithmetic lane for lane; the encoder checks every plane against it.
+MR_DEVICE float compact_dequantize_lower(float lo, float hi, mr_uint q) {
   return lo + (hi - lo) * ((float)q * (1.0f / 255.0f));
+}
+MR_DEVICE float compact_dequantize_upper(float lo, float hi, mr_uint q) {
+  return hi + (lo - hi) * ((float)(255u - q) * (1.0f / 255.0f));
 }
 
 MR_NAMESPACE_END

@@ -2,21 +2,25 @@
 // -DMR_COMPACT=1), traversed as render/compact_accel.cpp does: each node decodes its
 // children's boxes from its own decoded box (so the box travels down the stack with the
 // reference), and leaves test triangles decoded from the quantized mesh. The arithmetic
-// of dequantize_plane and decode_position is the CPU's (render/shared/compact.h), with
+// of the planes and of decode_position is the CPU's (render/shared/compact.h), with
 // contraction off (render/shared/language.h),
 // so the boxes are the conservative ones the host checked when it built the tree.
 // Then the ray queries the rest of the kernel uses, over whichever traversal is compiled.
 
 #ifdef MR_COMPACT
 
-// dequantize_plane(): render/shared/compact.h's, ends exact.
-float dequantize_plane(float lo, float hi, uint q) { return compact_dequantize_plane(lo, hi, q); }
+// A plane of a child's box: render/shared/compact.h's, a lower plane (k: 0, 1) from the
+// parent's lower plane, an upper one (k: 2, 3) from its upper plane.
+float dequantize_plane(float lo, float hi, uint q, int k) {
+  return k < 2 ? compact_dequantize_lower(lo, hi, q) : compact_dequantize_upper(lo, hi, q);
+}
 
 // A corner of a child's box: codes q[0][k], q[1][k], q[2][k] (k: 0, 1 the children's
 // lower corners, 2, 3 their upper).
 float3 dequantize_corner(float3 lo, float3 hi, const __global CompactNode* n, int k) {
-  return (float3)(dequantize_plane(lo.x, hi.x, n->q[0][k]), dequantize_plane(lo.y, hi.y, n->q[1][k]),
-                  dequantize_plane(lo.z, hi.z, n->q[2][k]));
+  return (float3)(dequantize_plane(lo.x, hi.x, n->q[0][k], k),
+                  dequantize_plane(lo.y, hi.y, n->q[1][k], k),
+                  dequantize_plane(lo.z, hi.z, n->q[2][k], k));
 }
 
 bool compact_tri_hit(const SceneData* sc, uint prim, const Ray* ray, float* tmax, Hit* hit) {
