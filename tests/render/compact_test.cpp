@@ -18,6 +18,7 @@
 #include "device/scene_memory.h"
 #include "render/compact_accel.h"
 #include "render/compact_scene.h"
+#include "render/flat_bvh.h"
 #include "render_helpers.h"
 #include "scene/builders.h"
 
@@ -517,6 +518,56 @@ TEST(CompactTraversal, TheFloatTwinFindsTheSameHitsBitForBit) {
       ++hits;
     }
     EXPECT_GT(hits, 5000) << scene.name;
+  }
+}
+
+// Every decoded box of the compact tree (render/shared/compact.h's arithmetic, as the
+// traversal decodes it) holds every decoded triangle below it, to the last bit: the boxes
+// are conservative by construction, not by a tolerance. Triangles far from the origin
+// and of awkward sizes, where the planes' rounding matters most.
+void expect_boxes_hold_triangles(const CompactScene& c, const CompactFloatTree& t, uint32_t node,
+                                 std::vector<std::array<float, 6>>& path) {
+  for (int k = 0; k < 2; ++k) {
+    const auto& p = t.nodes[node].planes;  // x, y, z rows: c0 lo, c1 lo, c0 hi, c1 hi
+    path.push_back({p[k], p[4 + k], p[8 + k], p[2 + k], p[6 + k], p[10 + k]});
+    const uint32_t ref = t.nodes[node].child[k];
+    if (!(ref & kLeafBit)) {
+      expect_boxes_hold_triangles(c, t, ref, path);
+    } else {
+      const uint32_t first = (ref & ~kLeafBit) >> kLeafCountBits;
+      for (uint32_t i = first; i <= first + (ref & (kMaxLeafTriangles - 1)); ++i)
+        for (int v = 0; v < 3; ++v) {
+          const Vec3 q = c.mesh.corner(t.prims[i], v);
+          for (const auto& b : path)
+            for (int a = 0; a < 3; ++a)
+              ASSERT_TRUE(b[a] <= q[a] && q[a] <= b[3 + a])
+                  << "axis " << a << ": " << q[a] << " outside [" << b[a] << ", " << b[3 + a]
+                  << "]";
+        }
+    }
+    path.pop_back();
+  }
+}
+
+TEST(CompactScene, EveryDecodedBoxHoldsEveryTriangleBelowIt) {
+  Scene soup = make_cornell_box();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0, 1);
+  soup.positions.clear(), soup.normals.clear(), soup.uvs.clear(), soup.indices.clear();
+  for (uint32_t i = 0; i < 30000; ++i) {
+    const Vec3 centre(1000.0f + 37.0f * u(rng), -5000.0f + 3.0f * u(rng), 0.1f * u(rng));
+    for (int v = 0; v < 3; ++v) {
+      soup.positions.push_back(centre + Vec3(u(rng), u(rng), u(rng)) * (0.3f * u(rng)));
+      soup.indices.push_back(uint32_t(soup.positions.size() - 1));
+    }
+  }
+  soup.material_ids.assign(soup.indices.size() / 3, 0);
+  for (const Scene& scene : {sphere_scene(), soup}) {
+    const CompactScene c = build_compact_scene(scene);
+    const CompactFloatTree t = decode_compact_tree(c);
+    ASSERT_FALSE(t.nodes.empty());
+    std::vector<std::array<float, 6>> path;
+    expect_boxes_hold_triangles(c, t, 0, path);
   }
 }
 
