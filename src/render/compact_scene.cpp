@@ -101,11 +101,6 @@ CompactMesh build_compact_mesh(const Scene& scene) {
   return m;
 }
 
-namespace {
-
-// The 8-bit plane of `value` inside [lo, hi]: rounded down for a lower plane, up for an
-// upper one, then stepped until dequantize_plane() (the traversal's own arithmetic) lies
-// on the safe side of `value`.
 uint8_t quantize_plane(float lo, float hi, float value, bool upper) {
   if (!(hi > lo)) return upper ? 255 : 0;
   const float f = (value - lo) / (hi - lo) * 255.0f;
@@ -117,6 +112,8 @@ uint8_t quantize_plane(float lo, float hi, float value, bool upper) {
     while (q > 0 && dequantize_plane(lo, hi, uint8_t(q), false) > value) --q;
   return uint8_t(q);
 }
+
+namespace {
 
 // Quantizes the children of flat node `index`, whose decoded box is `box`, and recurses
 // into interior children with their decoded boxes.

@@ -99,6 +99,10 @@ struct CompactBvh {
 inline float dequantize_plane(float lo, float hi, uint8_t q, bool upper) {
   return upper ? compact_dequantize_upper(lo, hi, q) : compact_dequantize_lower(lo, hi, q);
 }
+// The code of plane `value` (in [lo, hi]) of a child's box: the tightest whose decoded
+// plane lies on the safe side of `value` (at or below it for a lower plane, at or above
+// it for an upper one), checked with dequantize_plane, the traversal's own arithmetic.
+uint8_t quantize_plane(float lo, float hi, float value, bool upper);
 
 struct CompactScene {
   CompactMesh mesh;

@@ -549,6 +549,35 @@ void expect_boxes_hold_triangles(const CompactScene& c, const CompactFloatTree& 
   }
 }
 
+// A plane's code is safe and tight, at random and at the values where rounding bites: on
+// a decoded plane and an ulp either side of it.
+TEST(CompactScene, EveryPlaneCodeIsSafeAndTight) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (int i = 0; i < 20000; ++i) {
+    const float lo = (u(rng) - 0.5f) * std::pow(10.0f, float(rng() % 9) - 3.0f);
+    const float hi = lo + u(rng) * std::pow(10.0f, float(rng() % 7) - 3.0f);
+    if (!(hi > lo)) continue;
+    const uint8_t k = uint8_t(rng() % 256);
+    for (bool upper : {false, true}) {
+      const float on = dequantize_plane(lo, hi, k, !upper);  // the other side's plane
+      for (float value : {lo + (hi - lo) * u(rng), on, std::nextafter(on, -INFINITY),
+                          std::nextafter(on, INFINITY)}) {
+        if (!(value >= lo && value <= hi)) continue;
+        const uint8_t q = quantize_plane(lo, hi, value, upper);
+        const float d = dequantize_plane(lo, hi, q, upper);
+        ASSERT_TRUE(upper ? d >= value : d <= value)
+            << (upper ? "upper" : "lower") << " " << lo << ".." << hi << " value " << value;
+        // Tight: within a code's width of `value` (two, for the rounding of q / 255), plus
+        // a few ulps where a code is narrower than the floats around it.
+        const float ulp = std::nextafter(std::fabs(value), INFINITY) - std::fabs(value);
+        ASSERT_LE(std::fabs(d - value), 2.0f * (hi - lo) / 255.0f + 4.0f * ulp)
+            << (upper ? "upper" : "lower") << " code " << int(q) << " too loose";
+      }
+    }
+  }
+}
+
 TEST(CompactScene, EveryDecodedBoxHoldsEveryTriangleBelowIt) {
   Scene soup = make_cornell_box();
   std::mt19937 rng(7);
