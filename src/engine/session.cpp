@@ -74,8 +74,9 @@ void Session::continue_sequence(int frame, const Camera& camera, FrameInput& inp
   for (const ViewSetup& v : input.views) uniform &= !v.spp_map && !v.foveation;
   std::vector<std::string> settings = setting_values(settings_);
   const uint32_t spp = uint32_t(std::max(1, settings_.spp));
-  if (uniform && sequence_.frame >= 0 && same_camera(camera, sequence_.camera) &&
-      settings == sequence_.settings && sequence_.next <= UINT32_MAX - spp) {
+  if (uniform && last_full_quality_ && sequence_.frame >= 0 &&
+      same_camera(camera, sequence_.camera) && settings == sequence_.settings &&
+      sequence_.next <= UINT32_MAX - spp) {
     for (ViewSetup& v : input.views)
       v.first_sample = sequence_.next, v.sample_frame = uint32_t(sequence_.frame);
     sequence_.next += spp;
@@ -114,6 +115,9 @@ int Session::run(int first, int count, FrameObserver& observer) {
       out->sampling_ms = input.sampling_ms;
       out->reprojection = input.reprojection;
       out->record = engine.render_frame(frame, input.views, settings_, out->images);
+      if (lane == 0)
+        last_full_quality_ =
+            out->record.quality.image_scale == 1.0 && out->record.quality.step_scale == 1.0;
       input.finish(out->images);
       out->plan = engine.last_plan();
       out->rendered = engine.last_rendered();

@@ -80,9 +80,12 @@ class Session {
   // (engine/refinement.h): while the camera and the settings stay those of the frame
   // before, each frame's samples continue the sample sequence of the frame where they last
   // changed (ViewSetup::first_sample), so the mean of N frames of S samples is the image
-  // of one render of N x S samples, as evenly spread. Uniform sampling only (adaptive,
-  // foveated and reprojected frames begin their own sequence). Off by default: then every
-  // frame begins its own. Call before run().
+  // of one render of N x S samples, as evenly spread. A frame after one rendered at less
+  // than full quality (the viewer's smaller frames while the camera moves) begins a
+  // sequence too, so the full-size frames a viewer averages start at sample 0, where the
+  // sequence's blocks of 2^m are spread evenly. Uniform sampling only (adaptive, foveated
+  // and reprojected frames begin their own sequence). Off by default: then every frame
+  // begins its own. Call before run().
   void set_progressive(bool on) { progressive_ = on; }
 
   // Asks run() to return after the frame being rendered; asked between runs, the next
@@ -126,6 +129,7 @@ class Session {
     std::vector<std::string> settings;
     uint32_t next = 0;
   } sequence_;
+  bool last_full_quality_ = true;  // the frame before was rendered at full quality
 };
 
 }  // namespace multiray

@@ -252,6 +252,36 @@ TEST(Session, ProgressiveFramesContinueOneSequenceUntilTheCameraOrTheSettingsCha
   EXPECT_EQ(log.seen, expected);
 }
 
+// Frames rendered smaller (the viewer's while the camera moves) do not lead into the
+// sequence of the full-size frames after them: the first full-size frame begins one, at
+// sample 0.
+struct SmallFirst : FrameAdvisor {
+  FrameAdvice advise(int frame, const std::vector<ViewSetup>&, const RenderSettings&) override {
+    FrameAdvice a;
+    a.quality.image_scale = frame < 2 ? 0.5 : 1.0;
+    return a;
+  }
+  void measured(const FrameAdvice&, const FrameRecord&, const balance::FrameStats&) override {}
+};
+
+TEST(Session, AFrameAfterASmallerOneBeginsTheSequenceAgain) {
+  const Scene scene = make_lit_plane(0.5f, 1.0f);
+  SceneCache cache(scene);
+  CpuDevice cpu(cache, {}, "cpu");
+  RenderSettings settings{.spp = 1};
+  settings.kernel = "depth";
+  Session session({&cpu}, lanes({"uniform"}), FrameViews(CameraRig::single(), 8, 6, {}),
+                  CameraPath::fixed(scene.cameras[0]), settings);
+  session.set_progressive(true);
+  session.set_advisors([](size_t) { return std::make_unique<SmallFirst>(); });
+  SequenceLog log;
+  session.run(0, 5, log);
+  // Frames 0 and 1 are small: each frame after a small one begins again.
+  const std::vector<std::pair<uint32_t, uint32_t>> expected = {
+      {0, 0}, {0, 1}, {0, 2}, {1, 2}, {2, 2}};
+  EXPECT_EQ(log.seen, expected);
+}
+
 // The mean of N progressive frames of S samples, as the viewer's refinement
 // (engine/refinement.h) takes it, is bit for bit the render of N x S samples (it sums
 // frames as the kernel sums samples, first to last, and scales once), whatever the
