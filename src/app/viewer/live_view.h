@@ -21,11 +21,11 @@
 
 #include "app/viewer/listen_address.h"
 #include "app/viewer/motion.h"
-#include "engine/refinement.h"
 #include "app/viewer/view_control.h"
 #include "app/viewer/web_server.h"
 #include "core/image.h"
 #include "engine/orbit_camera.h"
+#include "engine/refinement.h"
 #include "engine/session.h"
 
 namespace multiray {
