@@ -90,6 +90,15 @@ int main(int argc, char** argv) {
         if (n < 1 || n > 4096)
           return std::fprintf(stderr, "progressive_noise: --frames wants counts 1..4096\n"), 2;
       ++i;
+    } else if (a == "--help" || a == "-h") {
+      std::printf(
+          "usage: progressive_noise [SCENE] [--res WxH] [--frame-spp S] [--frames N,N,...]\n"
+          "The variance of the mean of N frames of a still camera (the viewer's refined\n"
+          "image), with frames that each begin their own sample sequence and with frames\n"
+          "that continue one (progressive), from two runs that differ only in their seed.\n"
+          "Default: Sponza from ../shared/data (else the Cornell box), 320x180, 1 spp a\n"
+          "frame, 4,16,64 frames. JSON lines on stdout, a table on stderr.\n");
+      return 0;
     } else if (!a.empty() && a[0] == '-') {
       return std::fprintf(stderr, "progressive_noise: unknown option %s\n", a.c_str()), 2;
     } else {
@@ -99,7 +108,11 @@ int main(int argc, char** argv) {
   Scene scene;
   Camera camera;
   if (std::filesystem::exists(path)) {
-    scene = load_scene(path);
+    try {
+      scene = load_scene(path);
+    } catch (const std::exception& e) {
+      return std::fprintf(stderr, "progressive_noise: %s: %s\n", path.c_str(), e.what()), 1;
+    }
     camera = !scene.cameras.empty() ? scene.cameras[0] : scene.default_camera(float(w) / h);
     if (scene.name == "sponza.obj")  // inside the atrium, looking along the nave
       camera = Camera{{-10.0f, 3.0f, 0.0f}, {10.0f, 5.0f, 0.0f}, {0, 1, 0}, 60.0f};
