@@ -67,28 +67,28 @@ TEST(AutoBalancerCli, OneDeviceRunsUniformAndQuietSaysNothing) {
   EXPECT_FALSE(stats_of(named).contains("balancer_auto"));
 }
 
+// stats.json of a quiet render on two one-thread CPU devices with `options`, into a
+// fresh folder `name` (the test fails if the render does).
+nlohmann::json two_device_render(const std::string& name, const std::string& options) {
+  const std::string dir = fresh_dir(name);
+  const Result r = run("render --res 32x16 " + options +
+                       " --devices cpu:threads=1,cpu:threads=1 -q --out " + dir);
+  EXPECT_EQ(r.code, 0) << r.out;
+  return r.code == 0 ? stats_of(dir) : nlohmann::json::object();
+}
+
 // The run layer hands the workload to the rules: foveated sampling has a row of its own.
 TEST(AutoBalancerCli, FoveatedSamplingReachesTheRules) {
-  const std::string dir = fresh_dir("auto_foveated");
-  const Result r =
-      run("render --res 32x16 --sampling foveated --integrator ao --devices "
-          "cpu:threads=1,cpu:threads=1 -q --out " +
-          dir);
-  ASSERT_EQ(r.code, 0) << r.out;
-  const auto doc = stats_of(dir);
+  const auto doc = two_device_render("auto_foveated", "--sampling foveated --integrator ao");
+  ASSERT_TRUE(doc.contains("balancer_auto"));
   EXPECT_EQ(doc.at("balancer_auto").at("spec"), "semi-static:split=rows:cdf=frame");
   EXPECT_THAT(doc.at("balancer").get<std::string>(), ::testing::StartsWith("semi-static:"));
 }
 
 // --ground (a shadow catcher) reaches the rules: hybrid's interleaved bands.
 TEST(AutoBalancerCli, AShadowCatcherReachesTheRules) {
-  const std::string dir = fresh_dir("auto_catcher");
-  const Result r =
-      run("render --res 32x16 --spp 1 --ground y=0 --sun 40,35 --devices "
-          "cpu:threads=1,cpu:threads=1 -q --out " +
-          dir);
-  ASSERT_EQ(r.code, 0) << r.out;
-  const auto doc = stats_of(dir);
+  const auto doc = two_device_render("auto_catcher", "--spp 1 --ground y=0 --sun 40,35");
+  ASSERT_TRUE(doc.contains("balancer_auto"));
   EXPECT_EQ(doc.at("balancer_auto").at("spec"), "hybrid");
   EXPECT_THAT(doc.at("balancer_auto").at("reason").get<std::string>(),
               ::testing::HasSubstr("shadow catcher"));
