@@ -55,8 +55,9 @@ Runner add_view_command(CLI::App& app) {
   cmd->add_option("--frame-spp", *frame_spp,
                   "Meshes: samples per pixel of each frame, 1..1024. While the camera stands "
                   "still the page shows the mean of the frames since it stopped, refining to "
-                  "--spp; a move starts again from one frame (volumes: every frame as "
-                  "rendered)")
+                  "--spp: each frame continues the samples of those before it, so the mean is "
+                  "one render of all their samples (powers of two spread them best); a move "
+                  "starts again from one frame (volumes: every frame as rendered)")
       ->capture_default_str();
   cmd->add_option("--move-scale", *move_scale,
                   "Meshes with uniform sampling: while the camera moves, frames are rendered at "
