@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <memory>
 #include <string>
 #include <thread>
 
@@ -56,13 +57,19 @@ TEST(WebServer, AClientThatNeverReadsDelaysNoOtherClient) {
   EXPECT_GT(server.frames_skipped(), 0u);
 }
 
+// A server on a free loopback port that admits one WebSocket client and greets it.
+std::unique_ptr<WebServer> one_client_server() {
+  mg_init_library(MG_FEATURES_WEBSOCKET);
+  return std::make_unique<WebServer>(
+      parse_listen_address("127.0.0.1", false), 0, 1, "<p>viewer</p>",
+      [] { return std::string(R"({"type":"hello"})"); }, nullptr);
+}
+
 // More WebSockets than max_clients: the next one is answered 503 with a one-line reason, and
 // gets in once a place is free.
 TEST(WebServer, RefusesClientsBeyondTheLimitWith503) {
-  mg_init_library(MG_FEATURES_WEBSOCKET);
-  WebServer server(
-      parse_listen_address("127.0.0.1", false), 0, 1, "<p>viewer</p>",
-      [] { return std::string(R"({"type":"hello"})"); }, nullptr);
+  const std::unique_ptr<WebServer> owned = one_client_server();
+  WebServer& server = *owned;
   auto first = std::make_unique<Client>(server.port());
   ASSERT_FALSE(first->wait_type("hello").is_null());
   Socket second(server.port());
@@ -81,10 +88,8 @@ TEST(WebServer, RefusesClientsBeyondTheLimitWith503) {
 // admitted client and connects another right after the count drops (the place used to be
 // freed later, at the end of civetweb's request, and the newcomer could get a 503).
 TEST(WebServer, AClosedClientsPlaceIsFreeAsSoonAsItIsNoLongerCounted) {
-  mg_init_library(MG_FEATURES_WEBSOCKET);
-  WebServer server(
-      parse_listen_address("127.0.0.1", false), 0, 1, "<p>viewer</p>",
-      [] { return std::string(R"({"type":"hello"})"); }, nullptr);
+  const std::unique_ptr<WebServer> owned = one_client_server();
+  WebServer& server = *owned;
   auto client = std::make_unique<Client>(server.port());
   ASSERT_FALSE(client->wait_type("hello").is_null());
   for (int round = 0; round < 5; ++round) {
