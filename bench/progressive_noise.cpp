@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
       counts.clear();
       std::stringstream list(v);
       for (std::string n; std::getline(list, n, ',');) counts.push_back(std::atoi(n.c_str()));
+      if (counts.empty()) counts.push_back(0);  // refused below, with the others
       for (int n : counts)
         if (n < 1 || n > 4096)
           return std::fprintf(stderr, "progressive_noise: --frames wants counts 1..4096\n"), 2;
