@@ -164,4 +164,28 @@ bool Accel::occluded(const Ray& ray) const {
   return r.tfar < 0.0f;
 }
 
+void Accel::occluded_batch(const Ray* rays, size_t n, uint8_t* blocked) const {
+  if (compact_) {
+    for (size_t i = 0; i < n; ++i) blocked[i] = compact_occluded(*compact_, cutouts_, rays[i]);
+    return;
+  }
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  for (size_t first = 0; first < n; first += 8) {
+    const size_t count = std::min<size_t>(8, n - first);
+    alignas(32) int valid[8];
+    alignas(32) RTCRay8 r;
+    for (size_t k = 0; k < 8; ++k) {
+      const Ray& ray = rays[first + (k < count ? k : 0)];  // idle lanes repeat a live ray
+      valid[k] = k < count ? -1 : 0;
+      r.org_x[k] = ray.org.x, r.org_y[k] = ray.org.y, r.org_z[k] = ray.org.z;
+      r.dir_x[k] = ray.dir.x, r.dir_y[k] = ray.dir.y, r.dir_z[k] = ray.dir.z;
+      r.tnear[k] = ray.tmin, r.tfar[k] = ray.tmax, r.time[k] = 0;
+      r.mask[k] = ~0u, r.id[k] = 0, r.flags[k] = 0;
+    }
+    rtcOccluded8(valid, scene_, &ctx, &r);
+    for (size_t k = 0; k < count; ++k) blocked[first + k] = r.tfar[k] < 0.0f;
+  }
+}
+
 }  // namespace multiray

@@ -26,6 +26,8 @@ class Bsdf {
 
   // True if eval()/pdf() are meaningful, i.e. next-event estimation may be used.
   bool has_diffuse_or_glossy() const { return !p_.dielectric; }
+  // Whether sample() reads its `u_lobe` (bsdf_chooses_lobe).
+  bool chooses_lobe() const { return bsdf_chooses_lobe(&p_); }
   // f(wo, wi) * |cos theta_i|.
   Vec3 eval(Vec3 wo, Vec3 wi) const { return bsdf_eval(&p_, wo, wi); }
   float pdf(Vec3 wo, Vec3 wi) const { return bsdf_pdf(&p_, wo, wi); }

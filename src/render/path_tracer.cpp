@@ -110,7 +110,8 @@ void PathTracer::sample_light(PathState& p, float p_env, const Bsdf& bsdf, const
   p.has_shadow = true;
 }
 
-void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settings) const {
+void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settings,
+                      const Texture::Footprint* base_footprint) const {
   const Scene& scene = rs_.scene;
   const float p_env = settings.sample_environment ? rs_.environment_choice() : 0.0f;
   if (!hit) return escape(p, p_env);
@@ -137,8 +138,9 @@ void PathTracer::step(PathState& p, const Hit* hit, const RenderSettings& settin
     return;
   }
 
-  const SurfacePoint sp = surface_at(scene, mat, sh.uv, sh.ns, sh.ng,
-                                     rs_.tangents.empty() ? nullptr : &rs_.tangents[hit->prim]);
+  const SurfacePoint sp =
+      surface_at(scene, mat, sh.uv, sh.ns, sh.ng,
+                 rs_.tangents.empty() ? nullptr : &rs_.tangents[hit->prim], base_footprint);
   sh.ns = sp.ns;
   const Bsdf bsdf(mat, sp.base_color, sp.metallic, sp.roughness);
   // Opaque surfaces are two-sided: face the normals towards the viewer. Dielectrics keep
@@ -166,7 +168,9 @@ void PathTracer::scatter(PathState& p, float p_env, const Bsdf& bsdf, const Fram
   p.u.dim += MR_SOBOL_BSDF_OFFSET;
   p.alive = false;
   BsdfSample bs;
-  const float u_lobe = sample_1d(&p.u);
+  // The lobe's value is drawn only when there is a choice (a tenth of a bounce's draws);
+  // its dimension is passed over either way, so the values after it do not move.
+  const float u_lobe = bsdf.chooses_lobe() ? sample_1d(&p.u) : (++p.u.dim, 0.0f);
   const Vec2 u12 = sample_2d(&p.u);
   if (!bsdf.sample(wo, u_lobe, u12.x, u12.y, bs)) return;
   const Vec3 wi_world = frame.to_world(bs.wi);
@@ -186,44 +190,87 @@ void PathTracer::scatter(PathState& p, float p_env, const Bsdf& bsdf, const Fram
   p.alive = true;
 }
 
+namespace {
+
+// A batch's per-path scratch, one per thread, reused from batch to batch (no allocation
+// once the first batch is done).
+struct BatchScratch {
+  std::vector<Hit> hits;
+  std::vector<uint8_t> found, has_footprint, blocked;
+  std::vector<Texture::Footprint> footprints;  // of each hit's base colour texture
+  std::vector<Ray> shadows;
+  std::vector<uint32_t> casters;  // the path of each shadow ray
+};
+
+// Starts loading the base colour texels (the hot ones) of every hit before any hit is
+// shaded, and keeps their footprints for the shading.
+void prefetch_base_colours(const RenderScene& rs, const std::vector<PathState>& paths,
+                           BatchScratch& b) {
+  for (size_t i = 0; i < paths.size(); ++i) {
+    b.has_footprint[i] = false;
+    if (!paths[i].alive || !b.found[i] || b.hits[i].prim == kCatcherPrim) continue;
+    const TriangleShading d = rs.shading_of(b.hits[i].prim);
+    const int tex = rs.scene.materials[d.material].base_color_texture;
+    if (tex < 0 || rs.scene.textures[size_t(tex)].empty()) continue;
+    const Texture& t = rs.scene.textures[size_t(tex)];
+    b.footprints[i] = t.footprint(interpolate_uv(d, b.hits[i]));
+    t.prefetch(b.footprints[i]);
+    b.has_footprint[i] = true;
+  }
+}
+
+// Traces the shadow rays the batch's paths are waiting on, eight at a time, and adds the
+// light of those that arrive.
+void trace_shadows(const Accel& accel, const CatcherPlane& catcher, std::vector<PathState>& paths,
+                   BatchScratch& b, KernelStats& stats, RayLog* log) {
+  b.shadows.clear();
+  b.casters.clear();
+  for (size_t i = 0; i < paths.size(); ++i)
+    if (paths[i].has_shadow) {
+      b.shadows.push_back(paths[i].shadow);
+      b.casters.push_back(uint32_t(i));
+      paths[i].has_shadow = false;
+    }
+  stats.rays += b.shadows.size();
+  if (log) log->shadow.insert(log->shadow.end(), b.shadows.begin(), b.shadows.end());
+  b.blocked.resize(b.shadows.size());
+  accel.occluded_batch(b.shadows.data(), b.shadows.size(), b.blocked.data());
+  for (size_t k = 0; k < b.shadows.size(); ++k) {
+    PathState& p = paths[b.casters[k]];
+    if (!b.blocked[k] && !(catcher.on() && catcher.intersect(p.shadow, p.shadow.tmax) < INFINITY))
+      p.L += p.shadow_contribution;
+  }
+}
+
+}  // namespace
+
 void PathTracer::trace_batch(std::vector<PathState>& paths, const RenderSettings& settings,
                              KernelStats& stats, RayLog* log) const {
   const size_t n = paths.size();
   const CatcherPlane catcher(settings);
-  std::vector<Hit> hits(n);
-  std::vector<uint8_t> found(n);
+  thread_local BatchScratch b;
+  b.hits.resize(n);
+  b.found.resize(n);
+  b.footprints.resize(n);
+  b.has_footprint.resize(n);
   for (bool any = true; any;) {
     for (size_t i = 0; i < n; ++i)
       if (paths[i].alive) {
         ++stats.rays;
         if (log) log->closest.push_back(paths[i].ray);
-        found[i] = rs_.accel.intersect(paths[i].ray, hits[i]);
-        if (catcher.on()) find_catcher(catcher, paths[i].ray, hits[i], found[i]);
-        if (found[i] && hits[i].prim != kCatcherPrim && !rs_.compact)
-          __builtin_prefetch(&rs_.shading[hits[i].prim]);
+        b.found[i] = rs_.accel.intersect(paths[i].ray, b.hits[i]);
+        if (catcher.on()) find_catcher(catcher, paths[i].ray, b.hits[i], b.found[i]);
+        if (b.found[i] && b.hits[i].prim != kCatcherPrim && !rs_.compact)
+          __builtin_prefetch(&rs_.shading[b.hits[i].prim]);
       }
-    // Start loading the texels every hit will need before shading any of them.
+    prefetch_base_colours(rs_, paths, b);
     for (size_t i = 0; i < n; ++i)
-      if (paths[i].alive && found[i] && hits[i].prim != kCatcherPrim) {
-        const TriangleShading d = rs_.shading_of(hits[i].prim);
-        const int tex = rs_.scene.materials[d.material].base_color_texture;  // the hot one
-        if (tex >= 0) rs_.scene.textures[size_t(tex)].prefetch(interpolate_uv(d, hits[i]));
-      }
-    for (size_t i = 0; i < n; ++i)
-      if (paths[i].alive) step(paths[i], found[i] ? &hits[i] : nullptr, settings);
+      if (paths[i].alive)
+        step(paths[i], b.found[i] ? &b.hits[i] : nullptr, settings,
+             b.has_footprint[i] ? &b.footprints[i] : nullptr);
+    trace_shadows(rs_.accel, catcher, paths, b, stats, log);
     any = false;
-    for (PathState& p : paths) {
-      if (p.has_shadow) {
-        ++stats.rays;
-        if (log) log->shadow.push_back(p.shadow);
-        const bool blocked =
-            rs_.accel.occluded(p.shadow) ||
-            (catcher.on() && catcher.intersect(p.shadow, p.shadow.tmax) < INFINITY);
-        if (!blocked) p.L += p.shadow_contribution;
-        p.has_shadow = false;
-      }
-      any |= p.alive;
-    }
+    for (const PathState& p : paths) any |= p.alive;
   }
 }
 

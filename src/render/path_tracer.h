@@ -36,8 +36,10 @@ class PathTracer : public Kernel {
                              const ImageSample* samples, size_t n, Vec3* radiance) const override;
 
  private:
-  // Advances path `p` by one bounce given its closest hit (nullptr: it left the scene).
-  void step(struct PathState& p, const Hit* hit, const RenderSettings& settings) const;
+  // Advances path `p` by one bounce given its closest hit (nullptr: it left the scene) and,
+  // if known, the footprint of the hit's base colour texture.
+  void step(struct PathState& p, const Hit* hit, const RenderSettings& settings,
+            const Texture::Footprint* base_footprint) const;
   // `p_env`: the probability that next-event estimation picks the environment (0: never).
   void escape(struct PathState& p, float p_env) const;
   // What escape() adds to the path's radiance.

@@ -27,11 +27,13 @@ Vec3 tilted_normal(const Texture& map, float scale, Vec2 uv, Vec3 ns, Vec3 ng,
 }  // namespace
 
 SurfacePoint surface_at(const Scene& scene, const Material& m, Vec2 uv, Vec3 ns, Vec3 ng,
-                        const TriangleTangent* tangent) {
+                        const TriangleTangent* tangent, const Texture::Footprint* base_footprint) {
   SurfacePoint sp;
   sp.base_color = m.base_color;
-  if (m.base_color_texture >= 0)
-    sp.base_color *= scene.textures[size_t(m.base_color_texture)].sample(uv);
+  if (m.base_color_texture >= 0) {
+    const Texture& t = scene.textures[size_t(m.base_color_texture)];
+    sp.base_color *= base_footprint ? t.sample_at(*base_footprint) : t.sample(uv);
+  }
   sp.metallic = m.metallic;
   sp.roughness = m.roughness;
   if (m.metallic_roughness_texture >= 0) {

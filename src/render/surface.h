@@ -21,9 +21,11 @@ Vec3 emission_at(const Scene& scene, const Material& m, Vec2 uv);
 
 // Scattering parameters of `m` at `uv`. `ns` is the interpolated shading normal (unit, on
 // the side of `ng`); a normal map tilts it in the frame of `tangent` (null: no map
-// applied), and is ignored where the result would face away from `ng`.
+// applied), and is ignored where the result would face away from `ng`. `base_footprint`,
+// if given, is the base colour texture's footprint at `uv` (the same lookup, done once).
 SurfacePoint surface_at(const Scene& scene, const Material& m, Vec2 uv, Vec3 ns, Vec3 ng,
-                        const TriangleTangent* tangent);
+                        const TriangleTangent* tangent,
+                        const Texture::Footprint* base_footprint = nullptr);
 
 // Coverage of `m` at `uv` in [0, 1]: opacity times the base colour texture's alpha.
 float alpha_at(const Scene& scene, const Material& m, Vec2 uv);

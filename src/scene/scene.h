@@ -38,22 +38,23 @@ struct Texture {
   Vec3 texel(int x, int y) const;  // decoded RGB
   Vec3 sample(Vec2 uv) const;      // decoded RGB; 1 for an empty texture
   float sample_alpha(Vec2 uv) const;
-  // Asks the CPU to start loading the texels sample(uv) will read (a hint; no effect on
-  // results).
-  void prefetch(Vec2 uv) const;
-  // Whether some texel's alpha is below 255.
-  bool has_alpha() const;
-
- private:
-  // The top-left texel of the bilinear footprint of `uv`, wrapped into the texture.
-  void footprint(Vec2 uv, int& x0, int& y0, float& tx, float& ty) const;
-  // The four texels of that footprint (row y0: p00, p10; row y0 + 1: p01, p11) and the
-  // weights towards x1 and y1; the one neighbour lookup sample() and sample_alpha() share.
-  struct Corners {
-    uint32_t p00, p10, p01, p11;
+  // Where the bilinear filter at a `uv` reads: the texel offsets of its two rows and two
+  // columns (wrapped into the texture) and its weights towards the second of each. The
+  // path tracer works it out once a hit, to prefetch the texels and then to sample them
+  // (sample_at).
+  struct Footprint {
+    size_t row0, row1;  // y * width of the two rows
+    uint32_t x0, x1;
     float tx, ty;
   };
-  Corners corners(Vec2 uv) const;
+  Footprint footprint(Vec2 uv) const;  // for a texture that is not empty
+  Vec3 sample_at(const Footprint& f) const;
+  // Asks the CPU to start loading the texels sample_at(f) will read (a hint; no effect on
+  // results).
+  void prefetch(const Footprint& f) const;
+  // Whether some texel's alpha is below 255.
+  bool has_alpha() const;
+  bool empty() const { return width <= 0 || height <= 0; }
 };
 
 // The decoding table of `coding`: linear value of each byte (core of Texture::sample;

@@ -71,10 +71,11 @@ MR_DEVICE mr_float3 sample_ggx_vndf(mr_float3 wo, float a, float u1, float u2) {
   const mr_float3 t1 = lensq > 0.0f ? MR_FLOAT3(-vh.y, vh.x, 0.0f) * (1.0f / mr_sqrt(lensq))
                                     : MR_FLOAT3(1.0f, 0.0f, 0.0f);
   const mr_float3 t2 = cross3(vh, t1);
-  const float r = mr_sqrt(u1), phi = 2.0f * MR_PI * u2;
-  const float p1 = r * mr_cos(phi);
+  const float r = mr_sqrt(u1);
+  const mr_float2 cs = cos_sin_turns(u2);
+  const float p1 = r * cs.x;
   const float s = 0.5f * (1.0f + vh.z);
-  const float p2 = (1.0f - s) * mr_sqrt(mr_fmax(0.0f, 1.0f - p1 * p1)) + s * r * mr_sin(phi);
+  const float p2 = (1.0f - s) * mr_sqrt(mr_fmax(0.0f, 1.0f - p1 * p1)) + s * r * cs.y;
   const mr_float3 nh = t1 * p1 + t2 * p2 + vh * mr_sqrt(mr_fmax(0.0f, 1.0f - p1 * p1 - p2 * p2));
   return normalize3(MR_FLOAT3(a * nh.x, a * nh.y, mr_fmax(1e-6f, nh.z)));
 }
@@ -120,6 +121,13 @@ MR_DEVICE float bsdf_pdf(const BsdfParams* b, mr_float3 wo, mr_float3 wi) {
     p += b->metallic * ggx_g1(wo, b->alpha) * ggx_d(m, b->alpha) / (4.0f * wo.z);
   }
   return p;
+}
+
+// Whether bsdf_sample reads `u_lobe`: only between two lobes (a dielectric's reflection
+// and refraction, a partly metallic surface's glossy and diffuse lobes). A metallic of 0
+// or 1 decides alone, since u_lobe lies in [0, 1).
+MR_DEVICE bool bsdf_chooses_lobe(const BsdfParams* b) {
+  return b->dielectric || (b->metallic > 0.0f && b->metallic < 1.0f);
 }
 
 // Samples `out` with the lobe chosen by `u_lobe` and the direction by (u1, u2). Returns

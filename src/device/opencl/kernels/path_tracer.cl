@@ -119,7 +119,11 @@ float3 trace_path(const SceneData* sc, Ray ray, SampleStream* u, int max_bounces
     sample_stream_at_bounce(u, depth);
     u->dim += MR_SOBOL_BSDF_OFFSET;
     BsdfSample bs;
-    const float u_lobe = sample_1d(u);
+    float u_lobe = 0.0f;  // drawn only when there is a lobe to choose (its dimension kept)
+    if (bsdf_chooses_lobe(&bsdf))
+      u_lobe = sample_1d(u);
+    else
+      ++u->dim;
     const float2 u12 = sample_2d(u);
     if (!bsdf_sample(&bsdf, wo, u_lobe, u12.x, u12.y, &bs)) return L;
     const float3 wi_world = to_world(&frame, bs.wi);
