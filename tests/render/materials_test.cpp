@@ -178,5 +178,20 @@ TEST(AlphaModes, MaskDropsAndBlendHalvesTheShadow) {
   EXPECT_NEAR(blend, expected, 0.03 * expected);
 }
 
+// A smooth glass pane between the camera and a glowing floor lets the floor's light
+// through: Fresnel reflects about 4% at each face (ior 1.5, near normal incidence), and the
+// compression of radiance entering the glass is undone leaving it, so the floor's radiance
+// 1 arrives as about 0.92. A pane that only reflected would show the black sky (~0).
+TEST(Glass, ASmoothPaneLetsTheLightBehindItThrough) {
+  Scene s = make_lit_plane(0.5f, 0.0f);
+  s.materials[0].emission = Vec3(1.0f);
+  const uint32_t glass = add_material(
+      s, Material{.name = "glass", .roughness = 0.05f, .transmission = 1.0f, .ior = 1.5f});
+  add_box(s, {0, 0.5f, 0}, {50, 0.05f, 50}, 0.0f, glass);
+  const double mean = mean_red(render(s, 16));
+  EXPECT_GT(mean, 0.88);
+  EXPECT_LT(mean, 0.96);
+}
+
 }  // namespace materials_test
 }  // namespace multiray
