@@ -14,6 +14,7 @@
 // Default scene: the Dabrovic Sponza from ../shared/data, else the built-in Cornell box.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -39,24 +40,55 @@ int main(int argc, char** argv) {
   std::string scene_path =
       std::string(MULTIRAY_SHARED_DATA_DIR) + "/meshes/dabrovic_sponza/sponza.obj";
   int w = 1280, h = 720, spp = 1, bounces = 8, reps = 3;
+  bool scene_given = false;
+  // A whole number in [lo, hi] from `v`, or -1 (refused by the caller in one line).
+  const auto number = [](const std::string& v, int lo, int hi) {
+    char* end = nullptr;
+    const long n = std::strtol(v.c_str(), &end, 10);
+    return v.empty() || *end != '\0' || n < lo || n > hi ? -1 : int(n);
+  };
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&] { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
+    const std::string v = i + 1 < argc ? argv[i + 1] : "";
+    int* target = a == "--spp"       ? &spp
+                  : a == "--bounces" ? &bounces
+                  : a == "--reps"    ? &reps
+                                     : nullptr;
     if (a == "--res") {
-      const std::string r = next();
-      if (std::sscanf(r.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1) return 2;
-    } else if (a == "--spp")
-      spp = std::stoi(next());
-    else if (a == "--bounces")
-      bounces = std::stoi(next());
-    else if (a == "--reps")
-      reps = std::max(1, std::stoi(next()));
-    else
-      scene_path = a;
+      if (std::sscanf(v.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1 || w > 8192 || h > 8192)
+        return std::fprintf(stderr, "bench_throughput: --res wants WxH (1..8192 each)\n"), 2;
+      ++i;
+    } else if (target) {
+      const int hi = a == "--spp" ? 1024 : a == "--bounces" ? 64 : 1000;
+      if ((*target = number(v, 1, hi)) < 0)
+        return std::fprintf(stderr, "bench_throughput: %s wants a whole number 1..%d\n", a.c_str(),
+                            hi),
+               2;
+      ++i;
+    } else if (a == "--help" || a == "-h") {
+      std::printf(
+          "usage: bench_throughput [SCENE] [--res WxH] [--spp N] [--bounces N] [--reps N]\n"
+          "The path tracer against raw Embree on the same rays, one thread (issues 2 and 35):\n"
+          "one frame is rendered with a ray log, then the path tracer and Embree alone on the\n"
+          "logged rays are timed alternately (medians of N reps). Default: Sponza from\n"
+          "../shared/data (else the built-in Cornell box), 1280x720, 1 spp, 8 bounces, 3 reps.\n");
+      return 0;
+    } else if (!a.empty() && a[0] == '-') {
+      return std::fprintf(stderr, "bench_throughput: unknown option %s (see --help)\n", a.c_str()),
+             2;
+    } else {
+      scene_path = a, scene_given = true;
+    }
   }
   Scene scene;
   if (std::filesystem::exists(scene_path)) {
-    scene = load_scene(scene_path);
+    try {
+      scene = load_scene(scene_path);
+    } catch (const std::exception& e) {
+      return std::fprintf(stderr, "bench_throughput: %s: %s\n", scene_path.c_str(), e.what()), 1;
+    }
+  } else if (scene_given) {
+    return std::fprintf(stderr, "bench_throughput: %s: no such file\n", scene_path.c_str()), 1;
   } else {
     fmt::print("note: {} not found; using the built-in Cornell box\n", scene_path);
     scene = make_cornell_box();
