@@ -14,9 +14,10 @@ MR_NAMESPACE_BEGIN
 // (cos, sin) of the angle 2 pi `turns`, for `turns` in [0, 1] (a sample's azimuth): the
 // nearest quarter turn is taken off exactly (4 x turns is exact), and the rest, within
 // +-pi/4, goes through Taylor polynomials whose first omitted terms are at most 2.5e-8
-// (cosine) and 2e-9 (sine), so both stay within a few float ulps of the true values. Plain arithmetic: the CPU and
-// every OpenCL driver evaluate the same expression, without the library call that took
-// 5% of a path-traced frame (libm's sincosf, reducing an argument of any size).
+// (cosine) and 2e-9 (sine), so both stay within a few float ulps of the true values.
+// Plain arithmetic: the CPU and every OpenCL driver evaluate the same expression, without
+// the library call that took 5% of a path-traced frame (libm's sincosf, reducing an
+// argument of any size).
 MR_DEVICE mr_float2 cos_sin_turns(float turns) {
   const float t = 4.0f * turns;
   const mr_int quarter = (mr_int)(t + 0.5f);  // the nearest quarter turn (t >= 0)
