@@ -52,7 +52,7 @@ class Accel {
   // direction, the sun's, so a packet descends the tree together: 13% less time than one
   // ray at a time on Sponza's). A ray's answer is its own whatever its packet holds: an
   // occlusion query has no order among hits to depend on, so images stay independent of
-  // how the frame was split.
+  // how the frame was split (docs/design-notes.md, "Ray packets and the split").
   void occluded_batch(const Ray* rays, size_t n, uint8_t* blocked) const;
   // Bytes Embree holds for the BVH and its copy of the mesh (0 for a compact scene, whose
   // bytes are its own).
