@@ -22,6 +22,7 @@
 
 #include <fmt/core.h>
 
+#include "bench_scene.h"
 #include "core/clock.h"
 #include "render/path_tracer.h"
 #include "scene/builders.h"
@@ -37,8 +38,7 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scene_path =
-      std::string(MULTIRAY_SHARED_DATA_DIR) + "/meshes/dabrovic_sponza/sponza.obj";
+  std::string scene_path = bench::default_bench_scene();
   int w = 1280, h = 720, spp = 1, bounces = 8, reps = 3;
   bool scene_given = false;
   // A whole number in [lo, hi] from `v`, or -1 (refused by the caller in one line).
@@ -80,30 +80,16 @@ int main(int argc, char** argv) {
       scene_path = a, scene_given = true;
     }
   }
-  Scene scene;
-  if (std::filesystem::exists(scene_path)) {
-    try {
-      scene = load_scene(scene_path);
-    } catch (const std::exception& e) {
-      return std::fprintf(stderr, "bench_throughput: %s: %s\n", scene_path.c_str(), e.what()), 1;
-    }
-  } else if (scene_given) {
-    return std::fprintf(stderr, "bench_throughput: %s: no such file\n", scene_path.c_str()), 1;
-  } else {
-    fmt::print("note: {} not found; using the built-in Cornell box\n", scene_path);
-    scene = make_cornell_box();
-  }
-  // A sky for scenes without lights (as the CLI does), so paths bounce as in real use.
-  bool lit = max_component(scene.environment) > 0;
-  for (const Material& m : scene.materials) lit |= max_component(m.emission) > 0;
-  if (!lit) scene.environment = Vec3(1.0f);
+  std::optional<Scene> loaded =
+      bench::load_bench_scene("bench_throughput", scene_path, scene_given);
+  if (!loaded) return 1;
+  Scene& scene = *loaded;
+  bench::light_if_unlit(scene);
   set_fast_float_mode();
   const RenderScene rs(scene);
   const PathTracer pt(rs);
   ViewSetup view;
-  view.camera = !scene.cameras.empty() ? scene.cameras[0] : scene.default_camera(float(w) / h);
-  if (scene.name == "sponza.obj")  // inside the atrium, looking along the nave
-    view.camera = Camera{{-10.0f, 3.0f, 0.0f}, {10.0f, 5.0f, 0.0f}, {0, 1, 0}, 60.0f};
+  view.camera = bench::bench_camera(scene, float(w) / float(h));
   view.width = w, view.height = h;
   RenderSettings settings{.spp = spp, .max_bounces = bounces};
   Framebuffer fb(w, h);

@@ -51,6 +51,7 @@
 
 #include <random>
 
+#include "bench_scene.h"
 #include "core/clock.h"
 #include "core/image_metrics.h"
 #include "render/compact_accel.h"
@@ -213,9 +214,7 @@ double trace_all(const std::vector<Ray>& rays, Query&& query, std::vector<Hit>* 
 nlohmann::json run(const std::string& path, const Options& o) {
   Scene scene = load_scene(path);
   for (int k = 0; k < o.subdivide; ++k) scene = subdivide(scene);
-  bool lit = max_component(scene.environment) > 0;
-  for (const Material& m : scene.materials) lit |= max_component(m.emission) > 0;
-  if (!lit) scene.environment = Vec3(1.0f);
+  bench::light_if_unlit(scene);
   set_fast_float_mode();
   const RenderScene full(scene);
   Stopwatch compact_clock;

@@ -20,6 +20,7 @@
 #include <fmt/core.h>
 
 #include "balance/balancer.h"
+#include "bench_scene.h"
 #include "device/cpu/cpu_device.h"
 #include "engine/session.h"
 #include "scene/builders.h"
@@ -67,7 +68,7 @@ double variance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string path = std::string(MULTIRAY_SHARED_DATA_DIR) + "/meshes/dabrovic_sponza/sponza.obj";
+  std::string path = bench::default_bench_scene();
   int w = 320, h = 180, spp = 1;
   std::vector<int> counts = {4, 16, 64};
   for (int i = 1; i < argc; ++i) {
@@ -106,25 +107,11 @@ int main(int argc, char** argv) {
       path = a;
     }
   }
-  Scene scene;
-  Camera camera;
-  if (std::filesystem::exists(path)) {
-    try {
-      scene = load_scene(path);
-    } catch (const std::exception& e) {
-      return std::fprintf(stderr, "progressive_noise: %s: %s\n", path.c_str(), e.what()), 1;
-    }
-    camera = !scene.cameras.empty() ? scene.cameras[0] : scene.default_camera(float(w) / h);
-    if (scene.name == "sponza.obj")  // inside the atrium, looking along the nave
-      camera = Camera{{-10.0f, 3.0f, 0.0f}, {10.0f, 5.0f, 0.0f}, {0, 1, 0}, 60.0f};
-  } else {
-    std::fprintf(stderr, "note: %s not found; using the built-in Cornell box\n", path.c_str());
-    scene = make_cornell_box();
-    camera = scene.cameras.at(0);
-  }
-  bool lit = max_component(scene.environment) > 0;  // a sky for unlit scenes, as the CLI
-  for (const Material& m : scene.materials) lit |= max_component(m.emission) > 0;
-  if (!lit) scene.environment = Vec3(1.0f);
+  std::optional<Scene> loaded = bench::load_bench_scene("progressive_noise", path, false);
+  if (!loaded) return 1;
+  Scene& scene = *loaded;
+  const Camera camera = bench::bench_camera(scene, float(w) / float(h));
+  bench::light_if_unlit(scene);
   SceneCache cache(scene);
   fmt::print(stderr, "{} {}x{}, {} spp a frame: variance of the mean of N frames\n", scene.name, w,
              h, spp);
