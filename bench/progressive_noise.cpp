@@ -69,6 +69,7 @@ double variance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 
 int main(int argc, char** argv) {
   std::string path = bench::default_bench_scene();
+  bool given = false;  // a SCENE on the command line: refused if missing, no fallback
   int w = 320, h = 180, spp = 1;
   std::vector<int> counts = {4, 16, 64};
   for (int i = 1; i < argc; ++i) {
@@ -104,10 +105,10 @@ int main(int argc, char** argv) {
     } else if (!a.empty() && a[0] == '-') {
       return std::fprintf(stderr, "progressive_noise: unknown option %s\n", a.c_str()), 2;
     } else {
-      path = a;
+      path = a, given = true;
     }
   }
-  std::optional<Scene> loaded = bench::load_bench_scene("progressive_noise", path, false);
+  std::optional<Scene> loaded = bench::load_bench_scene("progressive_noise", path, given);
   if (!loaded) return 1;
   Scene& scene = *loaded;
   const Camera camera = bench::bench_camera(scene, float(w) / float(h));
