@@ -22,32 +22,56 @@ Vec3 equirect_to_direction(const EnvFrame& f, Vec2 uv) {
   return equirect_direction(f.x, f.up, f.z, uv);
 }
 
+namespace {
+void put3(float out[3], Vec3 v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
+}  // namespace
+
 EnvironmentLight::EnvironmentLight(const Scene& scene)
     : constant_(scene.environment),
       map_(scene.environment_map.get()),
       map_scale_(scene.environment_map_scale),
-      frame_(environment_frame(scene.up)),
       sun_(scene.sun) {
   if (map_ != nullptr && (map_->width <= 0 || map_->height <= 0)) map_ = nullptr;
-  sky_ = max_component(constant_) > 0 || map_ != nullptr;
+  SkyRecord& k = record_;
+  put3(k.constant_sky, constant_);
+  const EnvFrame f = environment_frame(scene.up);
+  put3(k.frame_x, f.x), put3(k.frame_up, f.up), put3(k.frame_z, f.z);
+  k.sky_on = max_component(constant_) > 0 || map_ != nullptr ? 1u : 0u;
+  k.sun_cos = 1.0f;
   if (sun_.on()) {
-    sun_cos_ = std::cos(sun_.half_angle_rad);
-    sun_pdf_ = cone_pdf(sun_cos_);
+    k.sun_on = 1u;
+    put3(k.sun_dir, sun_.direction);
+    put3(k.sun_radiance, sun_.radiance);
+    k.sun_cos = std::cos(sun_.half_angle_rad);
+    k.sun_pdf = cone_pdf(k.sun_cos);
   }
-  on_ = sky_ || sun_.on();
-  p_sun_ = sun_.on() ? sun_choice(sun_irradiance(), kPi * sky_mean_luminance()) : 0.0f;
-  if (map_ == nullptr) return;
-  // Weights: luminance (map plus the constant sky) x sin(theta) of each pixel's centre.
+  k.on = k.sky_on || k.sun_on ? 1u : 0u;
+  k.p_sun = sun_.on() ? sun_choice(sun_irradiance(), kPi * sky_mean_luminance()) : 0.0f;
+  k.map_scale = map_scale_;
+  if (map_ != nullptr) build_map_tables();
+}
+
+// The map's sampling tables, weighted by luminance (map plus the constant sky) x
+// sin(theta) of each pixel's centre: per row its marginal CDF and probability, per pixel
+// its CDF and probability within the row.
+void EnvironmentLight::build_map_tables() {
   const int w = map_->width, h = map_->height;
+  SkyRecord& k = record_;
+  k.map_width = w, k.map_height = h;
+  const size_t pixels = size_t(w) * size_t(h);
+  k.row_cdf = 0, k.row_pdf = uint32_t(h), k.col_cdf = uint32_t(2 * h);
+  k.pix_pdf = uint32_t(2 * size_t(h) + pixels);
+  tables_.assign(2 * size_t(h) + 2 * pixels, 0.0f);
+  float* row_cdf = &tables_[k.row_cdf];
+  float* row_pdf = &tables_[k.row_pdf];
+  float* col_cdf = &tables_[k.col_cdf];
+  float* pix_pdf = &tables_[k.pix_pdf];
   const float lum_constant = luminance(constant_);
-  std::vector<double> row_sum(size_t(h), 0.0);
-  col_cdf_.resize(size_t(w) * size_t(h));
-  pix_pdf_.resize(col_cdf_.size());
+  std::vector<double> row_sum(size_t(h), 0.0), weight(static_cast<size_t>(w));
   double total = 0;
   for (int y = 0; y < h; ++y) {
     const double st = std::sin(kPi * (y + 0.5) / h);
     double acc = 0;
-    std::vector<double> weight(static_cast<size_t>(w));
     for (int x = 0; x < w; ++x) {
       const Vec3 c = map_->radiance[size_t(y) * size_t(w) + size_t(x)];
       weight[size_t(x)] = (double(luminance(c)) * map_scale_ + lum_constant) * st + 1e-12;
@@ -56,20 +80,25 @@ EnvironmentLight::EnvironmentLight(const Scene& scene)
     double run = 0;
     for (int x = 0; x < w; ++x) {
       run += weight[size_t(x)];
-      col_cdf_[size_t(y) * size_t(w) + size_t(x)] = float(run / acc);
-      pix_pdf_[size_t(y) * size_t(w) + size_t(x)] = float(weight[size_t(x)] / acc);
+      col_cdf[size_t(y) * size_t(w) + size_t(x)] = float(run / acc);
+      pix_pdf[size_t(y) * size_t(w) + size_t(x)] = float(weight[size_t(x)] / acc);
     }
-    col_cdf_[size_t(y) * size_t(w) + size_t(w - 1)] = 1.0f;
+    col_cdf[size_t(y) * size_t(w) + size_t(w - 1)] = 1.0f;
     row_sum[size_t(y)] = acc;
     total += acc;
   }
   double run = 0;
   for (int y = 0; y < h; ++y) {
     run += row_sum[size_t(y)];
-    row_cdf_.push_back(float(run / total));
-    row_pdf_.push_back(float(row_sum[size_t(y)] / total));
+    row_cdf[y] = float(run / total);
+    row_pdf[y] = float(row_sum[size_t(y)] / total);
   }
-  row_cdf_.back() = 1.0f;
+  row_cdf[h - 1] = 1.0f;
+}
+
+const float* EnvironmentLight::map() const {
+  static_assert(sizeof(Vec3) == 3 * sizeof(float), "the map's pixels are read as floats");
+  return map_ ? &map_->radiance[0].x : nullptr;
 }
 
 float sun_choice(float sun_irradiance, float sky_irradiance) {
@@ -95,61 +124,13 @@ float EnvironmentLight::sky_mean_luminance() const {
 
 float EnvironmentLight::sun_irradiance() const {
   if (!sun_.on()) return 0.0f;
-  return luminance(sun_.radiance) * 2.0f * kPi * (1.0f - sun_cos_);  // radiance x solid angle
+  return luminance(sun_.radiance) * 2.0f * kPi *
+         (1.0f - record_.sun_cos);  // radiance x solid angle
 }
 
 float EnvironmentLight::mean_luminance() const {
   // The sun's cone over the whole sphere: its irradiance / (4 pi).
   return sky_mean_luminance() + sun_irradiance() / (4.0f * kPi);
-}
-
-Vec3 EnvironmentLight::map_radiance(Vec2 uv) const {
-  const int x = equirect_texel(uv.x, map_->width), y = equirect_texel(uv.y, map_->height);
-  return map_->radiance[size_t(y) * size_t(map_->width) + size_t(x)] * map_scale_;
-}
-
-Vec3 EnvironmentLight::radiance(Vec3 dir) const {
-  Vec3 L = constant_;
-  if (map_ != nullptr) L += map_radiance(direction_to_equirect(frame_, dir));
-  if (sun_.on() && dot(dir, sun_.direction) >= sun_cos_) L += sun_.radiance;
-  return L;
-}
-
-float EnvironmentLight::map_pdf(Vec2 uv) const {
-  const int x = equirect_texel(uv.x, map_->width), y = equirect_texel(uv.y, map_->height);
-  return equirect_pdf(row_pdf_[size_t(y)], pix_pdf_[size_t(y) * size_t(map_->width) + size_t(x)],
-                      map_->width, map_->height, uv.y);
-}
-
-float EnvironmentLight::sky_pdf(Vec3 dir, Vec3 n) const {
-  if (!sky_) return 0;
-  if (map_ != nullptr) return map_pdf(direction_to_equirect(frame_, dir));
-  return std::max(dot(dir, n), 0.0f) * kInvPi;
-}
-
-float EnvironmentLight::pdf(Vec3 dir, Vec3 n) const {
-  float p = (1.0f - p_sun_) * sky_pdf(dir, n);
-  if (sun_.on() && dot(dir, sun_.direction) >= sun_cos_) p += p_sun_ * sun_pdf_;
-  return p;
-}
-
-EnvSample EnvironmentLight::sample(Vec3 n, float u_choice, float u1, float u2) const {
-  EnvSample s;
-  if (u_choice < p_sun_) {
-    // Uniform in the cone around the sun's direction.
-    const Frame f = Frame::from_normal(sun_.direction);
-    s.dir = normalize(f.to_world(sample_cone(sun_cos_, u1, u2)));
-  } else if (map_ != nullptr) {
-    s.dir = equirect_to_direction(
-        frame_, sample_equirect(row_cdf_.data(), col_cdf_.data(), uint32_t(map_->width),
-                                uint32_t(map_->height), u1, u2));
-  } else {
-    const Frame f = Frame::from_normal(n);
-    s.dir = f.to_world(sample_cosine_hemisphere(u1, u2));
-  }
-  s.pdf = pdf(s.dir, n);
-  s.radiance = radiance(s.dir);
-  return s;
 }
 
 float RenderScene::choose_environment(const Scene& s, const LightSampler& lights,

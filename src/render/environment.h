@@ -16,15 +16,10 @@
 #include <vector>
 
 #include "core/math.h"
+#include "render/shared/sky.h"
 #include "scene/scene.h"
 
 namespace multiray {
-
-struct EnvSample {
-  Vec3 dir;  // towards the light, unit
-  Vec3 radiance;
-  float pdf = 0;  // solid angle, with the choice between sun and sky
-};
 
 // The map's axes for up axis `up` (right-handed x, up, z): the middle column of the map
 // (u = 1/2) looks along -z, u = 3/4 along +x, the seam u = 0 / 1 along +z. For y up
@@ -52,52 +47,39 @@ class EnvironmentLight {
   explicit EnvironmentLight(const Scene& scene);
 
   // Whether any light arrives from outside (next-event estimation is then used).
-  bool on() const { return on_; }
+  bool on() const { return record_.on != 0; }
   // Radiance arriving along -`dir` from outside (dir points away from the scene).
-  Vec3 radiance(Vec3 dir) const;
+  Vec3 radiance(Vec3 dir) const { return sky_radiance(&record_, map(), dir); }
   // Density with which sample(n, ...) returns `dir`.
-  float pdf(Vec3 dir, Vec3 n) const;
-  EnvSample sample(Vec3 n, float u_choice, float u1, float u2) const;
+  float pdf(Vec3 dir, Vec3 n) const { return sky_pdf(&record_, tables_.data(), dir, n); }
+  EnvSample sample(Vec3 n, float u_choice, float u1, float u2) const {
+    return sky_sample(&record_, tables_.data(), map(), n, u_choice, u1, u2);
+  }
   // Luminance of the radiance averaged over all directions.
   float mean_luminance() const;
 
-  // The map's sampling tables (empty without a map), for backends that sample it
-  // themselves: per row the marginal CDF, per pixel the conditional CDF within its row.
-  const std::vector<float>& row_cdf() const { return row_cdf_; }
-  const std::vector<float>& column_cdf() const { return col_cdf_; }
-  // The probabilities behind those CDFs: of each row, and of each pixel within its row.
-  const std::vector<float>& row_pdf() const { return row_pdf_; }
-  const std::vector<float>& pixel_pdf() const { return pix_pdf_; }
-  // The rest of the sampling state, for the same backends: whether there is a sky
-  // (constant or map), cosine of the sun's half angle, the sun cone's uniform solid-angle
-  // density, and the probability with which sample() picks the sun.
-  bool has_sky() const { return sky_; }
-  float sun_cos() const { return sun_cos_; }
-  float sun_pdf() const { return sun_pdf_; }
-  float sun_probability() const { return p_sun_; }
+  // The light as the integrator reads it (render/shared/sky.h), for every backend: the
+  // record (its `choice` left 0: RenderScene decides it), the map's sampling tables at the
+  // record's offsets (empty without a map: per row the marginal CDF and probability, per
+  // pixel the conditional CDF within its row and probability) and the map's radiance, 3
+  // floats a pixel before map_scale (null without a map).
+  const SkyRecord& record() const { return record_; }
+  const std::vector<float>& tables() const { return tables_; }
+  const float* map() const;
   // Luminance of the sun's irradiance at normal incidence (0 without a sun).
   float sun_irradiance() const;
 
  private:
   // Solid-angle mean of the sky's luminance (constant plus map), without the sun.
   float sky_mean_luminance() const;
-  float sky_pdf(Vec3 dir, Vec3 n) const;
-  // Solid-angle density of the map distribution at `uv` (equirect_pdf).
-  float map_pdf(Vec2 uv) const;
-  Vec3 map_radiance(Vec2 uv) const;
+  void build_map_tables();
 
   Vec3 constant_;
   const EnvironmentMap* map_ = nullptr;
   float map_scale_ = 1;
-  EnvFrame frame_;
   Sun sun_;
-  float sun_cos_ = 1, sun_pdf_ = 0;
-  float p_sun_ = 0;  // probability of sampling the sun
-  bool sky_ = false, on_ = false;
-  std::vector<float> row_cdf_;  // height entries, last = 1
-  std::vector<float> col_cdf_;  // width x height, each row's last = 1
-  std::vector<float> row_pdf_;  // probability of each row
-  std::vector<float> pix_pdf_;  // probability of each pixel within its row
+  SkyRecord record_{};
+  std::vector<float> tables_;
 };
 
 }  // namespace multiray

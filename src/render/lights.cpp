@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "render/shared/sampling.h"
 #include "render/surface.h"
 
 namespace multiray {
@@ -41,20 +40,17 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
     pdf_by_prim_[tris_[i]] = float(power[i] / total) / area[i];
   }
   if (!cdf_.empty()) cdf_.back() = 1.0f;
-}
-
-LightSample LightSampler::sample(float u, float u1, float u2) const {
-  const uint32_t t = tris_[pick_cdf(cdf_.data(), uint32_t(cdf_.size()), u)];
-  const Vec3 a = scene_.positions[scene_.indices[3 * t]],
-             b = scene_.positions[scene_.indices[3 * t + 1]],
-             c = scene_.positions[scene_.indices[3 * t + 2]];
-  const Vec2 bc = sample_triangle(u1, u2);
-  LightSample s;
-  s.point = triangle_point(a, b, c, bc);
-  s.normal = normalize(cross(b - a, c - a));
-  s.radiance = emission_at(scene_, scene_.materials[scene_.material_ids[t]], uv_at(t, bc.x, bc.y));
-  s.pdf_area = pdf_by_prim_[t];
-  return s;
+  for (uint32_t t : tris_) {
+    LightRecord l{};
+    const auto put = [](float out[3], Vec3 v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; };
+    put(l.a, scene.positions[scene.indices[3 * t]]);
+    put(l.b, scene.positions[scene.indices[3 * t + 1]]);
+    put(l.c, scene.positions[scene.indices[3 * t + 2]]);
+    put(l.radiance, scene.materials[scene.material_ids[t]].emission);
+    l.pdf_area = pdf_by_prim_[t];
+    l.prim = t;
+    records_.push_back(l);
+  }
 }
 
 Vec2 LightSampler::uv_at(uint32_t t, float b1, float b2) const {

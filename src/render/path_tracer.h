@@ -1,7 +1,8 @@
-// Unidirectional path tracer with next-event estimation, multiple importance sampling
-// (power heuristic) and Russian roulette. It renders the samples of a rectangle of one
-// view and knows nothing of devices or balancers; every path's random numbers come from
-// (pixel, sample, frame, view), so the result is the same whoever renders which pixel.
+// The CPU's path tracer: the integrator of render/shared/path.h (written once for every
+// backend) driven in wavefronts of paths, with Embree tracing their rays and shadow rays
+// in packets. It renders the samples of a rectangle of one view and knows nothing of
+// devices or balancers; every path's random numbers come from (pixel, sample, frame,
+// view), so the result is the same whoever renders which pixel.
 #pragma once
 
 #include <cstdint>
@@ -10,14 +11,14 @@
 #include "core/image.h"
 #include "render/kernel.h"
 #include "render/render_types.h"
+#include "render/scene_data.h"
 #include "render/shared/camera.h"
+#include "render/shared/texture.h"
 #include "util/rect.h"
 
 namespace multiray {
 
-class Bsdf;
-
-struct PathState;
+struct WavefrontPath;
 
 class PathTracer : public Kernel {
  public:
@@ -36,30 +37,20 @@ class PathTracer : public Kernel {
                              const ImageSample* samples, size_t n, Vec3* radiance) const override;
 
  private:
-  // Advances path `p` by one bounce given its closest hit (nullptr: it left the scene) and,
-  // if known, the footprint of the hit's base colour texture.
-  void step(struct PathState& p, const Hit* hit, const RenderSettings& settings,
-            const Texture::Footprint* base_footprint) const;
-  // `p_env`: the probability that next-event estimation picks the environment (0: never).
-  void escape(struct PathState& p, float p_env) const;
-  // What escape() adds to the path's radiance.
-  Vec3 escape_contribution(const struct PathState& p, float p_env) const;
-  // A light sample and the path's continuation from a surface point with BSDF `bsdf`,
-  // local `frame` and outgoing direction `wo`, at `pos` with geometric normal `ng`.
-  void scatter(struct PathState& p, float p_env, const Bsdf& bsdf, const Frame& frame, Vec3 wo,
-               Vec3 pos, Vec3 ng, const RenderSettings& settings) const;
+  // Advances path `p` by one bounce given its closest hit (nullptr: it left the scene)
+  // and, if known, the footprint of the hit's base colour texture.
+  void step(struct WavefrontPath& p, const Hit* hit, const SceneData& sd,
+            const RenderSettings& settings, const TexFootprint* base_footprint) const;
   // The shadow catcher's part (render/shadow_catcher.cpp): a hit on the plane replaces
   // `hit` when nearer; a bounce off the plane; one pixel's RGBA from its samples.
   void find_catcher(const struct CatcherPlane& plane, const Ray& ray, Hit& hit,
                     uint8_t& found) const;
-  void catcher_step(struct PathState& p, const Hit& hit, const RenderSettings& settings,
-                    float p_env) const;
-  static void write_catcher_pixel(const struct PathState* samples, int spp,
+  void catcher_step(struct WavefrontPath& p, const Hit& hit, const SceneData& sd,
+                    const RenderSettings& settings) const;
+  static void write_catcher_pixel(const struct WavefrontPath* samples, int spp,
                                   const RenderSettings& settings, Framebuffer& out, int x, int y);
-  void sample_light(struct PathState& p, float p_env, const Bsdf& bsdf, const Frame& frame,
-                    Vec3 wo, Vec3 pos, Vec3 ng) const;
   // Runs every path of `paths` to completion, a bounce at a time for all of them.
-  void trace_batch(std::vector<struct PathState>& paths, const RenderSettings& settings,
+  void trace_batch(std::vector<struct WavefrontPath>& paths, const RenderSettings& settings,
                    KernelStats& stats, RayLog* log) const;
 
   const RenderScene& rs_;

@@ -13,6 +13,8 @@
 #include "render/environment.h"
 #include "render/lights.h"
 #include "render/render_settings.h"
+#include "render/scene_data.h"
+#include "render/scene_records.h"
 #include "render/shading_data.h"
 #include "scene/scene.h"
 
@@ -37,7 +39,10 @@ struct RenderScene {
         environment(s),
         shading(compact ? std::vector<TriangleShading>() : build_shading_data(s)),
         tangents(build_tangents(s)),
-        environment_choice_(choose_environment(s, lights, environment)) {}
+        environment_choice_(choose_environment(s, lights, environment)) {
+    for (const Material& m : s.materials) materials.push_back(material_record(m));
+    for (const Texture& t : s.textures) textures.push_back(texture_view(t));
+  }
   const Scene& scene;
   const CompactScene* compact;  // null at full precision
   Accel accel;
@@ -45,6 +50,27 @@ struct RenderScene {
   EnvironmentLight environment;
   std::vector<TriangleShading> shading;   // empty with a compact scene: use shading_of()
   std::vector<TriangleTangent> tangents;  // empty without normal maps
+  std::vector<MaterialRecord> materials;  // the scene's, as the integrator reads them
+  std::vector<TextureView> textures;      // into the scene's textures
+
+  // What the integrator reads (render/shared/path.h), with next-event estimation picking
+  // the environment with probability `p_env` and rays leaving surfaces `eps` off them.
+  SceneData scene_data(float p_env, float eps) const {
+    return SceneData{materials.data(),
+                     lights.records().data(),
+                     lights.cdf().data(),
+                     lights.pdf_by_prim().data(),
+                     uint32_t(lights.records().size()),
+                     textures.data(),
+                     tangents.empty() ? nullptr : tangents.data(),
+                     &environment.record(),
+                     environment.tables().data(),
+                     environment.map(),
+                     compact ? nullptr : shading.data(),
+                     compact,
+                     p_env,
+                     eps};
+  }
 
   // The shading record of triangle `prim`: stored, or decoded from the compact mesh.
   TriangleShading shading_of(uint32_t prim) const {

@@ -40,8 +40,8 @@ void CatcherPixel::resolve(int spp, Vec3& rgb, float& alpha) const {
 // A bounce off the catcher: a Lambertian plane of the catcher's albedo, shaded like any
 // surface. On the camera ray's hit (depth 0) the same vertex is also estimated without the
 // objects, from the light sample and continuation scatter() just drew.
-void PathTracer::catcher_step(PathState& p, const Hit& hit, const RenderSettings& settings,
-                              float p_env) const {
+void PathTracer::catcher_step(WavefrontPath& p, const Hit& hit, const SceneData& sd,
+                              const RenderSettings& settings) const {
   const CatcherPlane plane(settings);
   const bool camera_hit = p.depth == 0;
   if (camera_hit) p.kind = SampleKind::catcher;
@@ -51,15 +51,18 @@ void PathTracer::catcher_step(PathState& p, const Hit& hit, const RenderSettings
   }
   const Vec3 pos = p.ray.org + p.ray.dir * hit.t;
   const Vec3 n = plane.normal_facing(p.ray.org);
-  const Bsdf bsdf(Material{}, Vec3(plane.albedo), 0.0f, 1.0f);
+  const Material plain;  // only its ior and transmission are read
+  const BsdfParams bsdf = bsdf_params(Vec3(plane.albedo), 0.0f, 1.0f, material_ior(plain),
+                                      material_is_dielectric(plain));
   const Frame frame = Frame::from_normal(n);
-  scatter(p, p_env, bsdf, frame, frame.to_local(-p.ray.dir), pos, n, settings);
+  path_scatter(&sd, &p, &bsdf, &frame, frame.to_local(-p.ray.dir), pos, n,
+               PathSettings{settings.max_bounces, settings.rr_start});
   if (!camera_hit) return;
   // Summed in the order the path adds the same terms to L (light sample, then escape), so
   // an unobstructed sample gives L == L_without exactly.
   Vec3 without(0.0f);
   if (p.has_shadow) without += p.shadow_contribution;
-  if (p.alive) without += escape_contribution(p, p_env);
+  if (p.alive) without += path_escape_contribution(&sd, &p);
   p.L_without = without;
 }
 
@@ -72,12 +75,12 @@ void PathTracer::find_catcher(const CatcherPlane& plane, const Ray& ray, Hit& hi
   found = 1;
 }
 
-void PathTracer::write_catcher_pixel(const PathState* samples, int spp,
+void PathTracer::write_catcher_pixel(const WavefrontPath* samples, int spp,
                                      const RenderSettings& settings, Framebuffer& out, int x,
                                      int y) {
   CatcherPixel px;
   for (int s = 0; s < spp; ++s) {
-    const PathState& p = samples[s];
+    const WavefrontPath& p = samples[s];
     const auto clean = [&](Vec3 L) {
       return clamp_sample(is_finite(L) ? L : Vec3(0.0f), settings.sample_clamp);
     };

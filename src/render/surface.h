@@ -1,31 +1,16 @@
-// A Material evaluated at one surface point: each factor times its texture (scene.h).
-// The one place the CPU kernels read material textures; kernels/surface.cl mirrors it
-// for OpenCL, in the same order of operations.
+// A Material of scene/scene.h at one surface point, for the CPU's traversal (the cut-out
+// filters of render/accel.cpp and compact_accel.cpp) and the light sampler's power
+// estimate. The integrator evaluates materials through render/shared/surface.h instead,
+// over MaterialRecords; both read textures with render/shared/texture.h.
 #pragma once
 
 #include "core/math.h"
-#include "render/shading_data.h"
 #include "scene/scene.h"
 
 namespace multiray {
 
-struct SurfacePoint {
-  Vec3 base_color;
-  float metallic = 0;
-  float roughness = 1;
-  Vec3 ns;  // shading normal after the normal map
-};
-
 // Emitted radiance of `m` at texture coordinate `uv` (zero if it does not emit).
 Vec3 emission_at(const Scene& scene, const Material& m, Vec2 uv);
-
-// Scattering parameters of `m` at `uv`. `ns` is the interpolated shading normal (unit, on
-// the side of `ng`); a normal map tilts it in the frame of `tangent` (null: no map
-// applied), and is ignored where the result would face away from `ng`. `base_footprint`,
-// if given, is the base colour texture's footprint at `uv` (the same lookup, done once).
-SurfacePoint surface_at(const Scene& scene, const Material& m, Vec2 uv, Vec3 ns, Vec3 ng,
-                        const TriangleTangent* tangent,
-                        const Texture::Footprint* base_footprint = nullptr);
 
 // Coverage of `m` at `uv` in [0, 1]: opacity times the base colour texture's alpha.
 float alpha_at(const Scene& scene, const Material& m, Vec2 uv);

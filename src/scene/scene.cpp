@@ -43,8 +43,6 @@ Vec3 decode(uint32_t p, const float* lut) {
   return {lut[p & 0xff], lut[(p >> 8) & 0xff], lut[(p >> 16) & 0xff]};
 }
 
-float decode_alpha(uint32_t p) { return texel_decoding_table(TexelCoding::linear)[p >> 24]; }
-
 }  // namespace
 
 const float* texel_decoding_table(TexelCoding coding) {
@@ -86,48 +84,6 @@ bool Texture::has_alpha() const {
   for (uint32_t p : texels)
     if ((p >> 24) != 255u) return true;
   return false;
-}
-
-Texture::Footprint Texture::footprint(Vec2 uv) const {
-  // Texel centres sit at half-integers; fx lies in [-0.5, width - 0.5), so the left
-  // neighbour is in [-1, width - 1] and wrapping needs a compare, not a (slow) modulo.
-  const float fx = (uv.x - std::floor(uv.x)) * float(width) - 0.5f;
-  const float fy = (uv.y - std::floor(uv.y)) * float(height) - 0.5f;
-  const float x0f = std::floor(fx), y0f = std::floor(fy);
-  Footprint f;
-  f.tx = fx - x0f, f.ty = fy - y0f;
-  int x0 = int(x0f), y0 = int(y0f);
-  x0 = x0 < 0 ? width - 1 : std::min(x0, width - 1);
-  y0 = y0 < 0 ? height - 1 : std::min(y0, height - 1);
-  const int x1 = x0 + 1 < width ? x0 + 1 : 0, y1 = y0 + 1 < height ? y0 + 1 : 0;
-  f.x0 = uint32_t(x0), f.x1 = uint32_t(x1);
-  f.row0 = size_t(y0) * size_t(width), f.row1 = size_t(y1) * size_t(width);
-  return f;
-}
-
-void Texture::prefetch(const Footprint& f) const {
-  __builtin_prefetch(&texels[f.row0 + f.x0]);
-  __builtin_prefetch(&texels[f.row1 + f.x0]);
-}
-
-Vec3 Texture::sample_at(const Footprint& f) const {
-  const uint32_t* row0 = &texels[f.row0];
-  const uint32_t* row1 = &texels[f.row1];
-  const float* lut = texel_decoding_table(coding);
-  return lerp(lerp(decode(row0[f.x0], lut), decode(row0[f.x1], lut), f.tx),
-              lerp(decode(row1[f.x0], lut), decode(row1[f.x1], lut), f.tx), f.ty);
-}
-
-Vec3 Texture::sample(Vec2 uv) const { return empty() ? Vec3(1.0f) : sample_at(footprint(uv)); }
-
-float Texture::sample_alpha(Vec2 uv) const {
-  if (empty()) return 1.0f;
-  const Footprint f = footprint(uv);
-  const uint32_t* row0 = &texels[f.row0];
-  const uint32_t* row1 = &texels[f.row1];
-  const float top = decode_alpha(row0[f.x0]) * (1.0f - f.tx) + decode_alpha(row0[f.x1]) * f.tx;
-  const float bottom = decode_alpha(row1[f.x0]) * (1.0f - f.tx) + decode_alpha(row1[f.x1]) * f.tx;
-  return top * (1.0f - f.ty) + bottom * f.ty;
 }
 
 Bounds3 Scene::bounds() const {

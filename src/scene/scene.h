@@ -36,22 +36,8 @@ struct Texture {
   static Texture from_pixels(const unsigned char* pixels, int width, int height, int channels,
                              TexelCoding coding = TexelCoding::srgb);
   Vec3 texel(int x, int y) const;  // decoded RGB
-  Vec3 sample(Vec2 uv) const;      // decoded RGB; 1 for an empty texture
-  float sample_alpha(Vec2 uv) const;
-  // Where the bilinear filter at a `uv` reads: the texel offsets of its two rows and two
-  // columns (wrapped into the texture) and its weights towards the second of each. The
-  // path tracer works it out once a hit, to prefetch the texels and then to sample them
-  // (sample_at).
-  struct Footprint {
-    size_t row0, row1;  // y * width of the two rows
-    uint32_t x0, x1;
-    float tx, ty;
-  };
-  Footprint footprint(Vec2 uv) const;  // for a texture that is not empty
-  Vec3 sample_at(const Footprint& f) const;
-  // Asks the CPU to start loading the texels sample_at(f) will read (a hint; no effect on
-  // results).
-  void prefetch(const Footprint& f) const;
+  // Sampling (wrapped, bilinear) is render/shared/texture.h's, written once for the CPU
+  // and the OpenCL kernels; render/scene_records.h's texture_view() makes its view.
   // Whether some texel's alpha is below 255.
   bool has_alpha() const;
   bool empty() const { return width <= 0 || height <= 0; }

@@ -5,6 +5,9 @@
 #include <cmath>
 
 #include "render/render_helpers.h"
+#include "render/render_types.h"
+#include "render/scene_records.h"
+#include "render/shared/surface.h"
 #include "render/surface.h"
 #include "scene/builders.h"
 
@@ -52,11 +55,13 @@ double mean_red(const Framebuffer& fb) {
 TEST(Texture, RowZeroIsVZeroAndColumnZeroIsUZero) {
   const unsigned char px[2 * 2 * 4] = {255, 255, 255, 255, 0,   0,   0,   255,   // white | black
                                        0,   0,   0,   255, 255, 255, 255, 255};  // black | white
-  const Texture t = Texture::from_pixels(px, 2, 2, 4);
-  EXPECT_NEAR(t.sample({0.25f, 0.25f}).x, 1.0f, 1e-5f);  // texel (0, 0): white
-  EXPECT_NEAR(t.sample({0.75f, 0.25f}).x, 0.0f, 1e-5f);  // texel (1, 0)
-  EXPECT_NEAR(t.sample({0.25f, 0.75f}).x, 0.0f, 1e-5f);  // texel (0, 1)
-  EXPECT_NEAR(t.sample({0.75f, 0.75f}).x, 1.0f, 1e-5f);  // texel (1, 1): white
+  const Texture tex = Texture::from_pixels(px, 2, 2, 4);
+  const TextureView view = texture_view(tex);
+  const auto sample = [&](Vec2 uv) { return texture_sample(&view, uv); };
+  EXPECT_NEAR(sample({0.25f, 0.25f}).x, 1.0f, 1e-5f);  // texel (0, 0): white
+  EXPECT_NEAR(sample({0.75f, 0.25f}).x, 0.0f, 1e-5f);  // texel (1, 0)
+  EXPECT_NEAR(sample({0.25f, 0.75f}).x, 0.0f, 1e-5f);  // texel (0, 1)
+  EXPECT_NEAR(sample({0.75f, 0.75f}).x, 1.0f, 1e-5f);  // texel (1, 1): white
 }
 
 // A flat normal map (128, 128, 255) leaves the image exactly as without one.
@@ -143,9 +148,12 @@ TEST(EmissionTexture, LightsTheSceneAsItsTexels) {
 TEST(MetallicRoughness, TextureScalesTheFactors) {
   Scene s = make_lit_plane(0.5f, 0.0f);
   s.textures.push_back(solid(0, 128, 255, 255, TexelCoding::linear));
-  Material m = s.materials[0];
-  m.metallic = 0.5f, m.roughness = 0.8f, m.metallic_roughness_texture = 0;
-  const SurfacePoint sp = surface_at(s, m, {0.3f, 0.6f}, Vec3(0, 1, 0), Vec3(0, 1, 0), nullptr);
+  s.materials[0].metallic = 0.5f, s.materials[0].roughness = 0.8f;
+  s.materials[0].metallic_roughness_texture = 0;
+  const RenderScene rs(s);
+  const SceneData sd = rs.scene_data(0.0f, 1e-4f);
+  const SurfacePoint sp =
+      surface_at(&sd, &rs.materials[0], {0.3f, 0.6f}, Vec3(0, 1, 0), Vec3(0, 1, 0), 0, nullptr);
   EXPECT_NEAR(sp.roughness, 0.8f * 128.0f / 255.0f, 1e-5f);
   EXPECT_NEAR(sp.metallic, 0.5f, 1e-5f);
 }

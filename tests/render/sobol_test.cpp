@@ -175,9 +175,9 @@ TEST(SunChoice, DefaultDaylightPicksTheSunThreeTimesInFour) {
   scene.sun.radiance = Vec3(3.0f / (2.0f * kPi * (1.0f - cos_half)));
   const EnvironmentLight light(scene);
   EXPECT_NEAR(light.sun_irradiance(), 3.0f, 3e-3f);
-  EXPECT_NEAR(light.sun_probability(), 3.0f / (3.0f + kPi * 0.3f), 1e-3f);
+  EXPECT_NEAR(light.record().p_sun, 3.0f / (3.0f + kPi * 0.3f), 1e-3f);
   scene.environment = Vec3(0.0f);
-  EXPECT_EQ(EnvironmentLight(scene).sun_probability(), 1.0f);
+  EXPECT_EQ(EnvironmentLight(scene).record().p_sun, 1.0f);
 }
 
 }  // namespace sobol_test

@@ -47,7 +47,7 @@ class ClPathTracer : public ClKernelRunner {
     args[MR_ARG_textures] = upload(s.textures);
     args[MR_ARG_texel_luts] = upload(s.texel_luts);
     args[MR_ARG_tangents] = upload(s.tangents);
-    args[MR_ARG_sky] = upload(std::vector<ClSky>{s.sky});
+    args[MR_ARG_sky] = upload(std::vector<SkyRecord>{s.sky});
     args[MR_ARG_sky_data] = upload(s.sky_data);
     params_.light_count = cl_uint(s.lights.size());
     sky_choice_ = s.sky.choice;

@@ -4,77 +4,26 @@
 #include <type_traits>
 
 #include "core/error.h"
-#include "render/bsdf.h"
 
 namespace multiray {
 
 namespace {
 
-ClMaterial to_cl(const Material& m) {
-  ClMaterial c{};
-  c.color[0] = m.base_color.x, c.color[1] = m.base_color.y, c.color[2] = m.base_color.z;
-  c.texture = m.base_color_texture;
-  c.emission[0] = m.emission.x, c.emission[1] = m.emission.y, c.emission[2] = m.emission.z;
-  c.emission_texture = m.emission_texture;
-  c.metallic = m.metallic;
-  c.roughness = m.roughness;
-  // The Bsdf's choices that no texture changes, made once here.
-  c.ior = material_ior(m);
-  c.dielectric = material_is_dielectric(m) ? 1u : 0u;
-  c.emissive = max_component(m.emission) > 0 ? 1u : 0u;
-  c.metallic_roughness_texture = m.metallic_roughness_texture;
-  c.normal_texture = m.normal_texture;
-  c.normal_scale = m.normal_scale;
-  c.opacity = m.opacity;
-  c.alpha_mode = uint32_t(m.alpha_mode);
-  c.alpha_cutoff = m.alpha_cutoff;
-  return c;
-}
-
 void put(float out[3], Vec3 v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
 
-template <class T>
-uint32_t append(std::vector<float>& out, const std::vector<T>& v) {
-  const size_t at = out.size();
-  if (at + v.size() * (sizeof(T) / sizeof(float)) > UINT32_MAX)
-    throw DeviceError("OpenCL: the environment map exceeds 4 G floats");
-  for (const T& x : v) {
-    if constexpr (std::is_same_v<T, float>) {
-      out.push_back(x);
-    } else {
-      out.insert(out.end(), {x.x, x.y, x.z});
-    }
-  }
-  return uint32_t(at);
-}
-
-// The environment light as the kernel samples it: every number from the CPU's own
-// EnvironmentLight, so both sample the same distribution.
+// The environment light as the integrator samples it: the CPU's own record and tables,
+// then the map's radiance (unscaled, as the CPU reads it: the record's map_scale applies).
 void build_sky(const RenderScene& rs, ClScene& c) {
-  const Scene& s = rs.scene;
   const EnvironmentLight& env = rs.environment;
-  ClSky& k = c.sky;
-  put(k.constant_sky, s.environment);
-  k.choice = rs.environment_choice();
-  const EnvFrame f = environment_frame(s.up);
-  put(k.frame_x, f.x), put(k.frame_up, f.up), put(k.frame_z, f.z);
-  k.sun_on = s.sun.on() ? 1u : 0u;
-  put(k.sun_dir, s.sun.direction), put(k.sun_radiance, s.sun.radiance);
-  k.sun_cos = env.sun_cos(), k.sun_pdf = env.sun_pdf(), k.p_sun = env.sun_probability();
-  k.sky_on = env.has_sky() ? 1u : 0u;
-  k.on = env.on() ? 1u : 0u;
-  // The tables are empty exactly when the EnvironmentLight uses no map.
-  if (env.row_cdf().empty()) return;
-  const EnvironmentMap& map = *s.environment_map;
-  k.map_width = map.width, k.map_height = map.height;
-  k.row_cdf = append(c.sky_data, env.row_cdf());
-  k.row_pdf = append(c.sky_data, env.row_pdf());
-  k.col_cdf = append(c.sky_data, env.column_cdf());
-  k.pix_pdf = append(c.sky_data, env.pixel_pdf());
-  // EnvironmentLight::map_radiance's product, done once here (the same float product).
-  std::vector<Vec3> scaled(map.radiance.size());
-  for (size_t i = 0; i < scaled.size(); ++i) scaled[i] = map.radiance[i] * s.environment_map_scale;
-  k.map = append(c.sky_data, scaled);
+  c.sky = env.record();
+  c.sky.choice = rs.environment_choice();
+  c.sky_data = env.tables();
+  const float* map = env.map();
+  if (map == nullptr) return;
+  const size_t floats = 3 * size_t(c.sky.map_width) * size_t(c.sky.map_height);
+  if (c.sky_data.size() + floats > UINT32_MAX)
+    throw DeviceError("OpenCL: the environment map exceeds 4 G floats");
+  c.sky_data.insert(c.sky_data.end(), map, map + floats);
 }
 
 ClCompactScene to_cl(const CompactScene& c) {
@@ -120,7 +69,7 @@ uint64_t cl_scene_bytes(const ClScene& c) {
          bytes_of(k.uvs) + bytes_of(k.uv_shifts) + bytes_of(k.material_ids) +
          bytes_of(c.materials) + bytes_of(c.lights) + bytes_of(c.light_cdf) +
          bytes_of(c.light_pdf_by_prim) + bytes_of(c.texels) + bytes_of(c.textures) +
-         bytes_of(c.texel_luts) + bytes_of(c.tangents) + sizeof(ClSky) + bytes_of(c.sky_data);
+         bytes_of(c.texel_luts) + bytes_of(c.tangents) + sizeof(SkyRecord) + bytes_of(c.sky_data);
 }
 
 // Everything the CPU path tracer renders is rendered by the kernel too (environment map,
@@ -140,19 +89,8 @@ ClScene build_cl_scene(const RenderScene& rs) {
     c.bvh = build_flat_bvh(s);
     c.shading = rs.shading;
   }
-  for (const Material& m : s.materials) c.materials.push_back(to_cl(m));
-
-  const std::vector<uint32_t>& tris = rs.lights.triangles();
-  for (uint32_t t : tris) {
-    ClLight l{};
-    put(l.a, s.positions[s.indices[3 * t]]);
-    put(l.b, s.positions[s.indices[3 * t + 1]]);
-    put(l.c, s.positions[s.indices[3 * t + 2]]);
-    put(l.radiance, s.materials[s.material_ids[t]].emission);
-    l.pdf_area = rs.lights.pdf_area(t);
-    l.prim = t;
-    c.lights.push_back(l);
-  }
+  c.materials = rs.materials;
+  c.lights = rs.lights.records();
   c.light_cdf = rs.lights.cdf();
   c.light_pdf_by_prim = rs.lights.pdf_by_prim();
 
@@ -160,7 +98,7 @@ ClScene build_cl_scene(const RenderScene& rs) {
     if (c.texels.size() + t.texels.size() > UINT32_MAX)
       throw DeviceError("OpenCL: the scene's textures exceed 4 G texels");
     c.textures.push_back(
-        ClTexture{uint32_t(c.texels.size()), t.width, t.height, uint32_t(t.coding)});
+        TextureRecord{uint32_t(c.texels.size()), t.width, t.height, uint32_t(t.coding)});
     c.texels.insert(c.texels.end(), t.texels.begin(), t.texels.end());
   }
   // The CPU's own decoding tables, so both backends turn a byte into exactly the same

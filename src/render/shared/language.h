@@ -15,9 +15,11 @@
 //   built with MR_FLOAT2(x, y) / MR_FLOAT3(x, y, z), combined with + - * and the helpers
 //   below; mr_float4 / mr_int4 only in blocks the host writes (16 bytes each, MR_XYZ
 //   reads a float4's first three). Float literals carry `f`; no double anywhere.
-// - The helpers dot3, cross3, normalize3 are core/math.h's dot, cross, normalize in C++
-//   and written out in the same order of operations for OpenCL C; mr_fmax is std::max in
-//   C++ and fmax in OpenCL C (equal unless an argument is NaN, which no caller passes).
+// - The helpers dot3, cross3, normalize3, max3, lerp3, finite3 and the shading Frame
+//   (frame_from_normal, to_local, to_world) are core/math.h's in C++ and written out in
+//   the same order of operations for OpenCL C; load3 reads three floats of a record; mr_fmax is
+//   std::max in C++ and fmax in OpenCL C (equal unless an argument is NaN, which no caller
+//   passes).
 // - mr_fabs, mr_pow, mr_atan2, mr_acos, mr_expm1 and mr_clamp are std::abs, pow, atan2,
 //   acos, expm1, clamp in C++ and the built-ins of the same names in OpenCL C: each side
 //   keeps the functions it used before the code was shared (the two libraries' results may
@@ -74,6 +76,8 @@ typedef int4 mr_int4;
 #define mr_acos acos
 #define mr_expm1 expm1
 #define mr_clamp clamp
+#define mr_floor floor
+#define mr_min_int min
 
 // As core/math.h's dot, cross and normalize, operation for operation (not the built-ins,
 // whose order of operations is the driver's).
@@ -85,6 +89,29 @@ float3 normalize3(float3 a) {
   const float l = sqrt(dot3(a, a));
   return l > 0.0f ? a * (1.0f / l) : (float3)(0.0f, 0.0f, 1.0f);
 }
+float3 load3(const __global float* p) { return (float3)(p[0], p[1], p[2]); }
+float max3(float3 a) { return fmax(a.x, fmax(a.y, a.z)); }
+float3 lerp3(float3 a, float3 b, float t) { return a * (1.0f - t) + b * t; }
+bool finite3(float3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+
+// Orthonormal basis around unit `n` (Duff et al. 2017), as core/math.h's Frame.
+typedef struct {
+  float3 t, b, n;
+} Frame;
+Frame frame_from_normal(float3 n) {
+  const float sign = copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float bb = n.x * n.y * a;
+  Frame f;
+  f.t = (float3)(1.0f + sign * n.x * n.x * a, sign * bb, -sign * n.x);
+  f.b = (float3)(bb, sign + n.y * n.y * a, -n.y);
+  f.n = n;
+  return f;
+}
+float3 to_local(const Frame* f, float3 v) {
+  return (float3)(dot3(v, f->t), dot3(v, f->b), dot3(v, f->n));
+}
+float3 to_world(const Frame* f, float3 v) { return f->t * v.x + f->b * v.y + f->n * v.z; }
 
 #else  // C++
 
@@ -120,6 +147,13 @@ static_assert(sizeof(mr_float4) == 16 && sizeof(mr_int4) == 16);
 inline float dot3(Vec3 a, Vec3 b) { return dot(a, b); }
 inline Vec3 cross3(Vec3 a, Vec3 b) { return cross(a, b); }
 inline Vec3 normalize3(Vec3 a) { return normalize(a); }
+inline Vec3 load3(const float* p) { return Vec3(p[0], p[1], p[2]); }
+inline float max3(Vec3 a) { return max_component(a); }
+inline Vec3 lerp3(Vec3 a, Vec3 b, float t) { return lerp(a, b, t); }
+inline bool finite3(Vec3 a) { return is_finite(a); }
+inline Frame frame_from_normal(Vec3 n) { return Frame::from_normal(n); }
+inline Vec3 to_local(const Frame* f, Vec3 v) { return f->to_local(v); }
+inline Vec3 to_world(const Frame* f, Vec3 v) { return f->to_world(v); }
 }  // namespace multiray
 
 #define MR_PI ::multiray::kPi
@@ -138,6 +172,8 @@ inline Vec3 normalize3(Vec3 a) { return normalize(a); }
 #define mr_acos std::acos
 #define mr_expm1 std::expm1
 #define mr_clamp std::clamp
+#define mr_floor std::floor
+#define mr_min_int std::min
 
 #endif
 

@@ -1,10 +1,8 @@
-// Shared definitions of the OpenCL path tracer: buffer records (mirroring
-// render/flat_bvh.h and device/opencl/scene_buffers.h byte for byte) and small vector helpers
-// that evaluate in the same order as core/math.h (with dot3, cross3 and normalize3 of
-// render/shared/language.h, which also turns fma contraction off for the whole program).
-
-#define PI 3.14159265358979323846f
-#define INV_PI (1.0f / PI)
+// The OpenCL kernels' own records: the BVHs' nodes and triangles (render/flat_bvh.h,
+// render/compact_scene.h byte for byte), a triangle's shading record, rays and hits, and
+// SceneData, the struct through which the integrator (render/shared/) reads the scene.
+// The integrator's records (materials, lights, textures, sky) are
+// render/shared/scene_records.h's.
 
 typedef struct {
   float lo[2][3];  // boxes of the two children
@@ -58,68 +56,12 @@ typedef struct {
   uint material;
 } Shading;
 
-// Raw factors: the kernel multiplies them by their textures, then clamps them with
-// bsdf_params (render/surface.cpp, render/shared/bsdf.h).
+// A triangle's shading record as the integrator reads it (render/scene_data.h's).
 typedef struct {
-  float color[3];
-  int texture;  // base colour (sRGB, alpha = coverage) or -1
-  float emission[3];
-  int emission_texture;  // or -1
-  float metallic;
-  float roughness;  // perceptual; GGX alpha = roughness^2
-  float ior;        // > 1
-  uint dielectric;
-  uint emissive;              // max component of emission > 0
-  int metallic_roughness_texture;  // G: roughness, B: metallic; or -1
-  int normal_texture;         // or -1
-  float normal_scale;
-  float opacity;
-  uint alpha_mode;  // 0 opaque, 1 mask, 2 blend (AlphaMode)
-  float alpha_cutoff;
-  float pad;
-} Material;
-
-typedef struct {
-  float a[3];
-  float pdf_area;
-  float b[3];
-  uint prim;
-  float c[3];
-  float pad0;
-  float radiance[3];  // the material's emission factor (times its texture per point)
-  float pad1;
-} Light;
-
-typedef struct {
-  uint offset;
-  int width;
-  int height;
-  uint coding;  // TexelCoding: 0 srgb, 1 linear, 2 signed_unit (its 256-entry table)
-} TexInfo;
-
-// The environment light of render/environment.h: constant sky, equirectangular map (its
-// tables in SceneData::sky_data at the offsets below) and sun.
-typedef struct {
-  float constant_sky[3];
-  float choice;  // RenderScene::environment_choice() (the host passes it as p_env)
-  float frame_x[3];
-  float sun_cos;
-  float frame_up[3];
-  float sun_pdf;
-  float frame_z[3];
-  float p_sun;
-  float sun_dir[3];
-  uint sun_on;
-  float sun_radiance[3];
-  uint sky_on;  // constant or map
-  int map_width, map_height;  // 0 x 0 without a map
-  uint on;                    // EnvironmentLight::on()
-  uint row_cdf;               // offsets into sky_data: height floats,
-  uint row_pdf;               // height floats,
-  uint col_cdf;               // width x height floats,
-  uint pix_pdf;               // width x height floats,
-  uint map;                   // width x height RGB radiance (scale applied)
-} Sky;
+  float3 normal[3];
+  float2 uv[3];
+  uint material;
+} ShadingRecord;
 
 typedef struct {
   float3 org, dir;
@@ -133,48 +75,22 @@ typedef struct {
   float3 ng;   // unnormalised, Embree's Ng = cross(v2 - v0, v0 - v1)
 } Hit;
 
-float3 load3(const __global float* p) { return (float3)(p[0], p[1], p[2]); }
-
-// Written out (not the built-ins) so the order of operations is core/math.h's.
-float max3(float3 a) { return fmax(a.x, fmax(a.y, a.z)); }
-float3 lerp3(float3 a, float3 b, float t) { return a * (1.0f - t) + b * t; }
-bool finite3(float3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
-
-// Orthonormal basis around unit `n` (Duff et al. 2017), as core/math.h's Frame.
-typedef struct {
-  float3 t, b, n;
-} Frame;
-
-Frame frame_from_normal(float3 n) {
-  const float sign = copysign(1.0f, n.z);
-  const float a = -1.0f / (sign + n.z);
-  const float bb = n.x * n.y * a;
-  Frame f;
-  f.t = (float3)(1.0f + sign * n.x * n.x * a, sign * bb, -sign * n.x);
-  f.b = (float3)(bb, sign + n.y * n.y * a, -n.y);
-  f.n = n;
-  return f;
-}
-float3 to_local(const Frame* f, float3 v) {
-  return (float3)(dot3(v, f->t), dot3(v, f->b), dot3(v, f->n));
-}
-float3 to_world(const Frame* f, float3 v) { return f->t * v.x + f->b * v.y + f->n * v.z; }
-
 // The render_rect kernel's scene buffers and scalars, passed down as one pointer.
 typedef struct {
   const __global Node* nodes;
   const __global Tri* tris;
   const __global Shading* shading;
-  const __global Material* materials;
-  const __global Light* lights;
+  const __global MaterialRecord* materials;
+  const __global LightRecord* lights;
   const __global float* light_cdf;
   const __global float* light_pdf_by_prim;
   const __global uint* texels;
-  const __global TexInfo* textures;
+  const __global TextureRecord* textures;
   const __global float* texel_luts;  // 3 x 256: a table per TexelCoding, in its order
   const __global float4* tangents;   // per triangle (TriangleTangent u, sign) if has_tangents
-  const __global Sky* sky;
-  const __global float* sky_data;
+  const __global SkyRecord* sky;
+  const __global float* sky_tables;  // the map's sampling tables at sky's offsets
+  const __global float* sky_map;     // the map's radiance, after the tables
   // The compact scene (placeholders without MR_COMPACT): the tree, triangle references in
   // leaf order, 3 ushorts per vertex (QuantizedPosition), the cell-index table (3 ushorts
   // per geometry cell), faces (bit-packed vertex indices), normal codes and uv codes per

@@ -67,33 +67,33 @@ typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 176 ? 1 : -1];
 
 // clang-format off
 #define MR_RENDER_RECT_ARGS(X, SEP)                     \
-  X(nodes, const __global Node*) SEP()                  \
-  X(tris, const __global Tri*) SEP()                    \
-  X(shading, const __global Shading*) SEP()             \
-  X(materials, const __global Material*) SEP()          \
-  X(lights, const __global Light*) SEP()                \
-  X(light_cdf, const __global float*) SEP()             \
-  X(light_pdf_by_prim, const __global float*) SEP()     \
-  X(texels, const __global uint*) SEP()                 \
-  X(textures, const __global TexInfo*) SEP()            \
-  X(texel_luts, const __global float*) SEP()            \
-  X(tangents, const __global float4*) SEP()             \
-  X(sky, const __global Sky*) SEP()                     \
-  X(sky_data, const __global float*) SEP()              \
-  X(cnodes, const __global CompactNode*) SEP()          \
-  X(prims, const __global uint*) SEP()                  \
-  X(qpos, const __global ushort*) SEP()                 \
-  X(cells, const __global ushort*) SEP()                \
-  X(indices, const __global uint*) SEP()                \
-  X(qnormals, const __global ushort*) SEP()             \
-  X(quvs, const __global ushort*) SEP()                 \
-  X(uv_shifts, const __global uint*) SEP()              \
-  X(material_ids, const __global uint*) SEP()           \
-  X(compact, const __global CompactInfo*) SEP()         \
-  X(batch, const __global BatchRects*) SEP()            \
-  X(params, __constant LaunchParams*) SEP()             \
-  X(spp_map, const __global uchar*) SEP()               \
-  X(radiance, __global float4*) SEP()                   \
+  X(nodes, const __global Node*) SEP()                \
+  X(tris, const __global Tri*) SEP()                  \
+  X(shading, const __global Shading*) SEP()           \
+  X(materials, const __global MaterialRecord*) SEP()  \
+  X(lights, const __global LightRecord*) SEP()        \
+  X(light_cdf, const __global float*) SEP()           \
+  X(light_pdf_by_prim, const __global float*) SEP()   \
+  X(texels, const __global uint*) SEP()               \
+  X(textures, const __global TextureRecord*) SEP()    \
+  X(texel_luts, const __global float*) SEP()          \
+  X(tangents, const __global float4*) SEP()           \
+  X(sky, const __global SkyRecord*) SEP()             \
+  X(sky_data, const __global float*) SEP()            \
+  X(cnodes, const __global CompactNode*) SEP()        \
+  X(prims, const __global uint*) SEP()                \
+  X(qpos, const __global ushort*) SEP()               \
+  X(cells, const __global ushort*) SEP()              \
+  X(indices, const __global uint*) SEP()              \
+  X(qnormals, const __global ushort*) SEP()           \
+  X(quvs, const __global ushort*) SEP()               \
+  X(uv_shifts, const __global uint*) SEP()            \
+  X(material_ids, const __global uint*) SEP()         \
+  X(compact, const __global CompactInfo*) SEP()       \
+  X(batch, const __global BatchRects*) SEP()          \
+  X(params, __constant LaunchParams*) SEP()           \
+  X(spp_map, const __global uchar*) SEP()             \
+  X(radiance, __global float4*) SEP()                 \
   X(rays, __global uint*)
 // clang-format on
 

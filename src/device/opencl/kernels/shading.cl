@@ -1,31 +1,23 @@
-// What the shading reads of a scene triangle: its material, and its normals and uvs at a
-// point given by barycentrics. At full precision they come from the triangle's shading
-// record; with -DMR_COMPACT=1 they are decoded from the compact mesh on access, with the
-// decoding of render/shared/compact.h (the CPU's, through compact_quantize.h) and
-// render/shading_data.cpp (decode_shading), so the decoded values are the CPU's.
+// How the integrator (render/shared/) reaches this backend's scene: a triangle's shading
+// record (scene_shading), a texture (scene_texture) and a tangent (scene_tangent), and
+// for the traversal's cut-outs a triangle's material and uv. At full precision they come
+// from the triangle's shading record; with -DMR_COMPACT=1 they are decoded from the
+// compact mesh with render/shared/compact.h (the CPU's decoding, decode_shading).
 
 #ifdef MR_COMPACT
 
-// A vertex: its cell-index table entry and offsets (render/shared/compact.h).
-float3 compact_position(const SceneData* sc, uint vertex) {
-  const __global CompactInfo* g = sc->compact;
-  const __global ushort* q = &sc->qpos[3 * (size_t)vertex];
-  return compact_decode_position((float3)(g->origin[0], g->origin[1], g->origin[2]), g->cell,
-                                 g->step, sc->cells, q[0], (uint)q[1] | (uint)q[2] << 16);
-}
-
-// Vertex k of a triangle: the faces are bit-packed (render/compact_packed.h).
+// Vertex k of a triangle (faces are bit-packed) and its position.
 uint compact_vertex(const SceneData* sc, uint prim, int k) {
   return compact_read_bits(sc->indices, 3 * (ulong)prim + (ulong)k, sc->compact->widths & 0xffu);
 }
-
 float3 compact_corner(const SceneData* sc, uint prim, int k) {
-  return compact_position(sc, compact_vertex(sc, prim, k));
+  const __global CompactInfo* g = sc->compact;
+  const __global ushort* q = &sc->qpos[3 * (size_t)compact_vertex(sc, prim, k)];
+  return compact_decode_position(load3(g->origin), g->cell, g->step, sc->cells, q[0],
+                                 (uint)q[1] | (uint)q[2] << 16);
 }
 
-float3 compact_normal(uint code) { return compact_decode_normal(code); }
-
-// Corner k's uv: the triangle's shifts and the vertex's codes (render/shared/compact.h).
+// Corner k's uv: the triangle's shifts and the vertex's codes.
 float2 compact_uv(const SceneData* sc, uint prim, int k) {
   const __global CompactInfo* g = sc->compact;
   const __global ushort* q = &sc->quvs[2 * (size_t)compact_vertex(sc, prim, k)];
@@ -41,40 +33,50 @@ uint material_of(const SceneData* sc, uint prim) {
   return compact_read_bits(sc->material_ids, prim, (sc->compact->widths >> 8) & 0xffu);
 }
 
-// The uv at barycentrics (b0, b1, b2) of the triangle's vertices 0, 1, 2.
-float2 uv_at(const SceneData* sc, uint prim, float b0, float b1, float b2) {
-  const float2 a = compact_uv(sc, prim, 0), b = compact_uv(sc, prim, 1), c = compact_uv(sc, prim, 2);
-  return (float2)(a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2);
-}
-
-// The interpolated (unnormalised) shading normal; the face normal for a mesh without
-// normals, as decode_shading.
-float3 normal_at(const SceneData* sc, uint prim, float b0, float b1, float b2) {
-  const uint idx[3] = {compact_vertex(sc, prim, 0), compact_vertex(sc, prim, 1),
-                       compact_vertex(sc, prim, 2)};
+// Corner normals; the face normal for a mesh without normals.
+ShadingRecord scene_shading(const SceneData* sc, uint prim) {
+  ShadingRecord d;
+  float3 face = (float3)(0.0f);
   if (!sc->compact->has_normals) {
-    const float3 p0 = compact_position(sc, idx[0]);
-    const float3 face =
-        normalize3(cross3(compact_position(sc, idx[1]) - p0, compact_position(sc, idx[2]) - p0));
-    return face * b0 + face * b1 + face * b2;
+    const float3 p0 = compact_corner(sc, prim, 0);
+    face = normalize3(cross3(compact_corner(sc, prim, 1) - p0, compact_corner(sc, prim, 2) - p0));
   }
-  return compact_normal(sc->qnormals[idx[0]]) * b0 + compact_normal(sc->qnormals[idx[1]]) * b1 +
-         compact_normal(sc->qnormals[idx[2]]) * b2;
+  for (int k = 0; k < 3; ++k) {
+    d.normal[k] = sc->compact->has_normals
+                      ? compact_decode_normal(sc->qnormals[compact_vertex(sc, prim, k)])
+                      : face;
+    d.uv[k] = compact_uv(sc, prim, k);
+  }
+  d.material = material_of(sc, prim);
+  return d;
 }
 
 #else
 
 uint material_of(const SceneData* sc, uint prim) { return sc->shading[prim].material; }
 
-float2 uv_at(const SceneData* sc, uint prim, float b0, float b1, float b2) {
-  const __global Shading* d = &sc->shading[prim];
-  return (float2)(d->uv[0] * b0 + d->uv[2] * b1 + d->uv[4] * b2,
-                  d->uv[1] * b0 + d->uv[3] * b1 + d->uv[5] * b2);
-}
-
-float3 normal_at(const SceneData* sc, uint prim, float b0, float b1, float b2) {
-  const __global Shading* d = &sc->shading[prim];
-  return load3(d->normal) * b0 + load3(d->normal + 3) * b1 + load3(d->normal + 6) * b2;
+ShadingRecord scene_shading(const SceneData* sc, uint prim) {
+  const __global Shading* s = &sc->shading[prim];
+  ShadingRecord d;
+  for (int k = 0; k < 3; ++k) {
+    d.normal[k] = load3(s->normal + 3 * k);
+    d.uv[k] = (float2)(s->uv[2 * k], s->uv[2 * k + 1]);
+  }
+  d.material = s->material;
+  return d;
 }
 
 #endif
+
+TextureView scene_texture(const SceneData* sc, int index) {
+  const __global TextureRecord* t = &sc->textures[index];
+  TextureView v = {sc->texels + t->offset, sc->texel_luts + 256u * t->coding,
+                   sc->texel_luts + 256u, t->width, t->height};
+  return v;
+}
+
+bool scene_tangent(const SceneData* sc, uint prim, float4* tangent) {
+  if (!sc->has_tangents) return false;
+  *tangent = sc->tangents[prim];
+  return true;
+}

@@ -52,9 +52,10 @@ float ray_hash(const Ray* ray, uint prim) {
 // accel.cpp's alpha_filter: whether `ray` passes through scene triangle `prim` at
 // barycentrics (u, v).
 bool cut_out(const SceneData* sc, const Ray* ray, uint prim, float u, float v) {
-  const __global Material* m = &sc->materials[material_of(sc, prim)];
+  const __global MaterialRecord* m = &sc->materials[material_of(sc, prim)];
   if (m->alpha_mode == 0u) return false;
-  return passes_through(sc, m, uv_at(sc, prim, 1.0f - u - v, u, v), ray_hash(ray, prim));
+  const ShadingRecord d = scene_shading(sc, prim);
+  return passes_through(sc, m, shading_uv(&d, 1.0f - u - v, u, v), ray_hash(ray, prim));
 }
 
 // The shared ray/triangle test (render/shared/triangle.h) on scene triangle `prim` with
