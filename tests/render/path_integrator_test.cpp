@@ -3,9 +3,9 @@
 // mistake in it, so the sample dimensions each step draws are checked here directly.
 #include <gtest/gtest.h>
 
-#include "scene/builders.h"
 #include "render/render_types.h"
 #include "render/shared/path.h"
+#include "scene/builders.h"
 
 namespace multiray {
 namespace {

@@ -9,22 +9,23 @@
 // OpenCL C must be standard 1.2, not what one driver tolerates):
 // - Functions are MR_DEVICE (C++: inline in namespace multiray; OpenCL C: ordinary
 //   program-scope functions) or MR_CONSTEXPR for pure integer arithmetic.
-// - Types: float, mr_short, mr_ushort (arrays the host uploads), mr_int, mr_uint, mr_ulong (64-bit
-// literals: MR_U64(0x...)); vectors
+// - Types: float, mr_short, mr_ushort (arrays the host uploads), mr_int, mr_uint, mr_long,
+//   mr_ulong (64-bit literals: MR_U64(0x...)); vectors
 //   mr_float2 / mr_float3 (C++: core/math.h's Vec2 / Vec3; OpenCL C: float2 / float3),
 //   built with MR_FLOAT2(x, y) / MR_FLOAT3(x, y, z), combined with + - * and the helpers
 //   below; mr_float4 / mr_int4 only in blocks the host writes (16 bytes each, MR_XYZ
 //   reads a float4's first three). Float literals carry `f`; no double anywhere.
 // - The helpers dot3, cross3, normalize3, max3, lerp3, finite3 and the shading Frame
 //   (frame_from_normal, to_local, to_world) are core/math.h's in C++ and written out in
-//   the same order of operations for OpenCL C; load3 reads three floats of a record; mr_fmax is
-//   std::max in C++ and fmax in OpenCL C (equal unless an argument is NaN, which no caller
-//   passes).
-// - mr_fabs, mr_pow, mr_atan2, mr_acos, mr_expm1 and mr_clamp are std::abs, pow, atan2,
-//   acos, expm1, clamp in C++ and the built-ins of the same names in OpenCL C: each side
-//   keeps the functions it used before the code was shared (the two libraries' results may
-//   differ in the last ulp; an image is bit-identical to itself on one backend, not across
-//   backends). clamp_std (transfer.h) is std::clamp's definition on both sides.
+//   the same order of operations for OpenCL C; load3 reads three floats of a record;
+//   mr_fmax is std::max in C++ and fmax in OpenCL C (equal unless an argument is NaN,
+//   which no caller passes).
+// - mr_fabs, mr_pow, mr_atan2, mr_acos, mr_expm1, mr_clamp, mr_floor, mr_ceil, mr_min_int
+//   and mr_max_int are std::abs, pow, atan2, acos, expm1, clamp, floor, ceil, min and max
+//   in C++ and the built-ins of the same names in OpenCL C: each side keeps the functions
+//   it used before the code was shared (the two libraries' results may differ in the last
+//   ulp; an image is bit-identical to itself on one backend, not across backends).
+//   clamp_std (transfer.h) is std::clamp's definition on both sides.
 // - Pointers point to private memory (OpenCL C 1.2 has no generic address space), except
 //   MR_GLOBAL ones (`__global` in OpenCL C, nothing in C++): tables the host uploads.
 // - A shared header includes its shared dependencies only for C++ (#ifdef __cplusplus):
@@ -55,6 +56,7 @@ typedef ushort mr_ushort;
 typedef int mr_int;
 typedef uint mr_uint;
 typedef ulong mr_ulong;
+typedef long mr_long;
 typedef float2 mr_float2;
 typedef float3 mr_float3;
 typedef float4 mr_float4;
@@ -77,7 +79,9 @@ typedef int4 mr_int4;
 #define mr_expm1 expm1
 #define mr_clamp clamp
 #define mr_floor floor
+#define mr_ceil ceil
 #define mr_min_int min
+#define mr_max_int max
 
 // As core/math.h's dot, cross and normalize, operation for operation (not the built-ins,
 // whose order of operations is the driver's).
@@ -133,6 +137,7 @@ typedef uint16_t mr_ushort;
 typedef int32_t mr_int;
 typedef uint32_t mr_uint;
 typedef uint64_t mr_ulong;
+typedef int64_t mr_long;
 typedef Vec2 mr_float2;
 typedef Vec3 mr_float3;
 // OpenCL C's float4 and int4 as the host writes them into parameter blocks.
@@ -173,7 +178,9 @@ inline Vec3 to_world(const Frame* f, Vec3 v) { return f->to_world(v); }
 #define mr_expm1 std::expm1
 #define mr_clamp std::clamp
 #define mr_floor std::floor
+#define mr_ceil std::ceil
 #define mr_min_int std::min
+#define mr_max_int std::max
 
 #endif
 
