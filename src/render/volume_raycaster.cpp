@@ -8,6 +8,7 @@
 #include "render/path_tracer.h"
 #include "render/rng.h"
 #include "render/shared/transfer.h"
+#include "render/shared/volume.h"
 #include "render/volume_march.h"
 
 namespace multiray {
@@ -18,45 +19,30 @@ namespace {
 // iso-surface are lit (a common choice in volume raycasters; Bruder et al. do not say).
 constexpr float kAmbient = 0.3f, kDiffuse = 0.7f;
 
-// Trilinear interpolation at voxel coordinates p (voxel centres at i + 0.5), clamped to
-// the grid, of the voxels `at(x, y, z)` returns (as floats: the same for every store).
-template <class At>
-float trilinear(const Volume& v, const At& at, Vec3 p) {
-  const float x = std::clamp(p.x - 0.5f, 0.0f, float(v.nx - 1));
-  const float y = std::clamp(p.y - 0.5f, 0.0f, float(v.ny - 1));
-  const float z = std::clamp(p.z - 0.5f, 0.0f, float(v.nz - 1));
-  const int x0 = std::min(int(x), std::max(v.nx - 2, 0)),
-            y0 = std::min(int(y), std::max(v.ny - 2, 0)),
-            z0 = std::min(int(z), std::max(v.nz - 2, 0));
-  const int x1 = std::min(x0 + 1, v.nx - 1), y1 = std::min(y0 + 1, v.ny - 1),
-            z1 = std::min(z0 + 1, v.nz - 1);
-  const float fx = x - float(x0), fy = y - float(y0), fz = z - float(z0);
-  auto row = [&](int yy, int zz) {
-    return at(x0, yy, zz) + (at(x1, yy, zz) - at(x0, yy, zz)) * fx;
-  };
-  const float a = row(y0, z0) + (row(y1, z0) - row(y0, z0)) * fy;
-  const float b = row(y0, z1) + (row(y1, z1) - row(y0, z1)) * fy;
-  return a + (b - a) * fz;
-}
-
-// World-space gradient by central differences, one voxel to each side (6 fetches).
-template <class At>
-Vec3 gradient(const Volume& v, const At& at, Vec3 p) {
-  const Vec3 dx(1, 0, 0), dy(0, 1, 0), dz(0, 0, 1);
-  return Vec3((trilinear(v, at, p + dx) - trilinear(v, at, p - dx)) / (2 * v.spacing.x),
-              (trilinear(v, at, p + dy) - trilinear(v, at, p - dy)) / (2 * v.spacing.y),
-              (trilinear(v, at, p + dz) - trilinear(v, at, p - dz)) / (2 * v.spacing.z));
-}
-
-// The voxel at (x, y, z) of `data` (x fastest) as a float.
+// The voxels of one store of a VoxelGrid as render/shared/volume.h reads them.
 template <class T>
-struct VoxelAt {
+struct CpuVoxels {
   const T* data;
+  int n[3];
+  Vec3 spacing;
   size_t nx, nxy;
-  float operator()(int x, int y, int z) const {
-    return float(data[size_t(z) * nxy + size_t(y) * nx + size_t(x)]);
-  }
 };
+
+template <class T>
+inline float volume_voxel(const CpuVoxels<T>* g, int x, int y, int z) {
+  return float(g->data[size_t(z) * g->nxy + size_t(y) * g->nx + size_t(x)]);
+}
+
+template <class T>
+Vec3 cast_over(const T* data, const Volume& v, const VolumeShading& s, Vec3 background,
+               const Ray& ray, uint64_t& steps) {
+  const CpuVoxels<T> g{
+      data, {v.nx, v.ny, v.nz}, v.spacing, size_t(v.nx), size_t(v.nx) * size_t(v.ny)};
+  uint32_t n = 0;
+  const Vec3 L = volume_cast(&g, &s, v.lower(), background, ray.org, ray.dir, &n);
+  steps += n;
+  return L;
+}
 
 // Per block, the largest opacity the kernel can see there: the maximum over the table
 // entries that interpolation between the block's smallest and largest value reads (one
@@ -140,77 +126,35 @@ RaySpan non_empty_span(const VolumeScene& vs, const BlockOpacity& opacity, const
 Vec3 VolumeRaycaster::cast(const Ray& ray, const VolumeStyle& style, float step_scale,
                            uint64_t& steps) const {
   const Volume& v = vs_.volume;
-  const size_t nx = size_t(v.nx), nxy = size_t(v.nx) * size_t(v.ny);
+  const TransferTable& table = style.table;
+  VolumeShading s{};
+  s.table = style.colour_log_transparency.data();
+  s.last = uint32_t(table.rgba.size() - 1);
+  s.table_lo = table.lo;
+  s.to_index = float(table.rgba.size() - 1) / std::max(table.hi - table.lo, 1e-30f);
+  s.dt = style.step * step_scale * v.voxel_length();
+  s.ratio = style.step * step_scale / style.reference_step;
+  s.ert = style.ert_threshold;
+  s.ambient = kAmbient, s.diffuse = kDiffuse;
+  s.skip_empty = style.skip_empty;
+  s.block_opacity = style.opacity.max_opacity.data();
+  s.cell_opacity = style.cell_max_opacity.empty() ? nullptr : style.cell_max_opacity.data();
+  s.blocks[0] = vs_.blocks.bx, s.blocks[1] = vs_.blocks.by, s.blocks[2] = vs_.blocks.bz;
+  s.cells[0] = vs_.cells.cx, s.cells[1] = vs_.cells.cy, s.cells[2] = vs_.cells.cz;
   const VoxelGrid& g = vs_.voxels;
   switch (g.store) {
     case VoxelGrid::Store::u8:
-      return march(ray, style, step_scale, steps, VoxelAt<uint8_t>{g.as<uint8_t>(), nx, nxy});
+      return cast_over(g.as<uint8_t>(), v, s, style.background, ray, steps);
     case VoxelGrid::Store::i8:
-      return march(ray, style, step_scale, steps, VoxelAt<int8_t>{g.as<int8_t>(), nx, nxy});
+      return cast_over(g.as<int8_t>(), v, s, style.background, ray, steps);
     case VoxelGrid::Store::u16:
-      return march(ray, style, step_scale, steps, VoxelAt<uint16_t>{g.as<uint16_t>(), nx, nxy});
+      return cast_over(g.as<uint16_t>(), v, s, style.background, ray, steps);
     case VoxelGrid::Store::i16:
-      return march(ray, style, step_scale, steps, VoxelAt<int16_t>{g.as<int16_t>(), nx, nxy});
+      return cast_over(g.as<int16_t>(), v, s, style.background, ray, steps);
     case VoxelGrid::Store::f32:
       break;
   }
-  return march(ray, style, step_scale, steps, VoxelAt<float>{v.values.data(), nx, nxy});
-}
-
-template <class At>
-Vec3 VolumeRaycaster::march(const Ray& ray, const VolumeStyle& style, float step_scale,
-                            uint64_t& steps, const At& at) const {
-  const Volume& v = vs_.volume;
-  const VoxelRay r = to_voxels(v, ray);
-  float t0, t1;
-  clip_to_grid(v, r, t0, t1);
-  Vec3 colour(0.0f);
-  float alpha = 0;
-  if (t0 < t1) {
-    const float dt = style.step * step_scale * v.voxel_length();
-    const float ratio = style.step * step_scale / style.reference_step;
-    const TransferTable& table = style.table;
-    const uint32_t last = uint32_t(table.rgba.size() - 1);
-    const float to_index = float(table.rgba.size() - 1) / std::max(table.hi - table.lo, 1e-30f);
-    // The first lattice index at or after t (a function of t alone; see walk_blocks).
-    auto first_index = [&](float t) { return int64_t(std::ceil(std::max(t - t0, 0.0f) / dt)); };
-    // The samples of [ta, tb): false once the ray is opaque (early termination).
-    auto samples = [&](float ta, float tb) {
-      for (int64_t k = first_index(ta), end = first_index(tb); k < end; ++k) {
-        const Vec3 p = r.org + r.dir * (t0 + float(k) * dt);
-        ++steps;
-        const float value = trilinear(v, at, p);
-        const TfSample tf = tf_lookup(style.colour_log_transparency.data(), last,
-                                      tf_position(value, table.lo, to_index, last));
-        if (tf.log_t == 0) continue;  // fully transparent: no gradient, no change
-        const float a = tf_opacity(tf.log_t, ratio);
-        Vec3 c = tf.colour;
-        const Vec3 g = gradient(v, at, p);
-        const float glen = length(g);
-        if (glen > 0) c = c * (kAmbient + kDiffuse * std::abs(dot(g, ray.dir)) / glen);
-        colour += c * ((1 - alpha) * a);
-        alpha += (1 - alpha) * a;
-        if (alpha >= style.ert_threshold) return false;
-      }
-      return true;
-    };
-    const bool fine = style.skip_empty && !style.cell_max_opacity.empty();
-    const int cells[3] = {vs_.cells.cx, vs_.cells.cy, vs_.cells.cz};
-    walk_blocks(vs_.blocks, r, t0, t1, [&](size_t block, float ta, float tb) {
-      if (style.skip_empty && style.opacity.max_opacity[block] == 0) return true;
-      if (!fine) return samples(ta, tb);
-      // Inside a block that is not empty, its 4^3 cells: the empty ones are skipped.
-      bool going = true;
-      const float reached =
-          walk_grid<kSkipCell>(cells, r, ta, tb, [&](size_t c, float ca, float cb) {
-            if (style.cell_max_opacity[c] == 0) return true;
-            return going = samples(ca, cb);
-          });
-      // A walk cut short by rounding at the grid's faces leaves the rest unskipped.
-      return going && (reached >= tb || samples(reached, tb));
-    });
-  }
-  return colour + style.background * (1 - alpha);
+  return cast_over(v.values.data(), v, s, style.background, ray, steps);
 }
 
 KernelStats VolumeRaycaster::render_rect(const ViewSetup& view, const RenderSettings& settings,

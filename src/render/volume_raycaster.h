@@ -87,11 +87,6 @@ class VolumeRaycaster : public Kernel {
   Vec3 cast(const Ray& ray, const VolumeStyle& style, float step_scale, uint64_t& steps) const;
 
  private:
-  // cast() on the voxels `at(x, y, z)` reads (VoxelGrid's store, one instance per type).
-  template <class At>
-  Vec3 march(const Ray& ray, const VolumeStyle& style, float step_scale, uint64_t& steps,
-             const At& at) const;
-
   const VolumeScene& vs_;
 };
 
