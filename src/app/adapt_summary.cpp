@@ -5,8 +5,8 @@
 
 #include <fmt/core.h>
 
-#include "app/console.h"
 #include "app/svg_chart.h"
+#include "core/console.h"
 
 namespace multiray::app {
 

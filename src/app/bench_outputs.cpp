@@ -3,10 +3,10 @@
 #include <fmt/core.h>
 
 #include "app/adapt_summary.h"
-#include "app/console.h"
 #include "app/stats_json.h"
 #include "app/trace_file.h"
 #include "balance/balancer.h"
+#include "core/console.h"
 
 namespace multiray::app {
 

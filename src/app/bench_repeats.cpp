@@ -1,5 +1,5 @@
 #include "app/bench_repeats.h"
-#include "app/console.h"
+#include "core/console.h"
 
 #include <cmath>
 

@@ -6,8 +6,8 @@
 
 #include <fmt/core.h>
 
-#include "app/console.h"
 #include "balance/stats.h"
+#include "core/console.h"
 
 namespace multiray::app {
 

@@ -11,9 +11,9 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "app/console.h"
 #include "app/help_groups.h"
 #include "app/stats_json.h"
+#include "core/console.h"
 #include "core/error.h"
 
 namespace multiray::app {
@@ -59,7 +59,7 @@ std::string did_you_mean(const CLI::App& app) {
 
 int run_cli(int argc, char** argv, const CliHooks& hooks) {
   // A reader that goes away (`multiray render ... | head -1`) must not end the run by
-  // SIGPIPE before its files are written: writes to it fail instead (app/console.h).
+  // SIGPIPE before its files are written: writes to it fail instead (core/console.h).
   std::signal(SIGPIPE, SIG_IGN);
   CLI::App app{
       "multiray: a ray tracer that splits every frame across CPU cores and other devices and "

@@ -46,7 +46,4 @@ Runner add_devices_command(CLI::App& app);
 Runner add_simulate_command(CLI::App& app);
 Runner add_view_command(CLI::App& app);
 
-// True when stderr is a terminal (progress lines are drawn only then).
-bool stderr_is_tty();
-
 }  // namespace multiray::app

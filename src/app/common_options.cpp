@@ -6,7 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
-#include "app/console.h"
+#include "core/console.h"
 #include "distributed/pixel_codec.h"
 #include "run/catalog.h"
 

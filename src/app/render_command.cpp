@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -13,7 +11,6 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
-#include "app/console.h"
 #include "app/interrupt.h"
 #include "app/output_target.h"
 #include "app/progress.h"
@@ -21,6 +18,7 @@
 #include "app/stats_json.h"
 #include "app/trace_file.h"
 #include "balance/registry.h"
+#include "core/console.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/output_folder.h"
@@ -29,8 +27,6 @@
 #include "run/sequence.h"
 
 namespace multiray::app {
-
-bool stderr_is_tty() { return isatty(STDERR_FILENO) == 1; }
 
 namespace {
 

@@ -6,8 +6,8 @@
 
 #include "app/adapt_summary.h"
 #include "app/commands.h"
-#include "app/console.h"
 #include "app/stats_json.h"
+#include "core/console.h"
 #include "core/exposure.h"
 
 namespace multiray::app {

@@ -6,9 +6,9 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include "app/console.h"
 #include "app/stats_json.h"
 #include "balance/trace_calibration.h"
+#include "core/console.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "run/parse_options.h"

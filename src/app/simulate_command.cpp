@@ -9,13 +9,13 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
-#include "app/console.h"
 #include "app/report_plots.h"
 #include "app/simulate_calibrated.h"
 #include "app/simulate_study.h"
 #include "app/stats_json.h"
 #include "balance/balancer.h"
 #include "balance/sim_study.h"
+#include "core/console.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "run/run.h"

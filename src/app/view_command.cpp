@@ -5,8 +5,8 @@
 #include <fmt/core.h>
 
 #include "app/commands.h"
-#include "app/console.h"
 #include "app/interrupt.h"
+#include "core/console.h"
 #include "core/error.h"
 
 #ifdef MULTIRAY_HAS_VIEWER
