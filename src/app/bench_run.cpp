@@ -15,7 +15,6 @@
 #include "app/bench_repeats.h"
 #include "app/bench_summary.h"
 #include "app/commands.h"
-#include "app/interrupt.h"
 #include "app/report_plots.h"
 #include "app/stats_json.h"
 #include "balance/balancer.h"
@@ -24,6 +23,7 @@
 #include "core/file_io.h"
 #include "core/machine_load.h"
 #include "engine/bench_harness.h"
+#include "run/interrupt.h"
 #include "util/spec.h"
 
 namespace multiray::app {

@@ -42,7 +42,7 @@ struct BenchHooks {
   bool document = false;
   // Called before every frame renders (on the thread that called run_bench_study); false
   // stops the run there (the outcome is then interrupted, with no output). Empty:
-  // SIGINT/SIGTERM stop it (app/interrupt.h).
+  // SIGINT/SIGTERM stop it (run/interrupt.h).
   std::function<bool()> before_frame;
 };
 

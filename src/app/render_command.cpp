@@ -11,7 +11,6 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
-#include "app/interrupt.h"
 #include "app/output_target.h"
 #include "app/progress.h"
 #include "app/render_output.h"
@@ -23,6 +22,7 @@
 #include "core/file_io.h"
 #include "core/output_folder.h"
 #include "run/ar_setup.h"
+#include "run/interrupt.h"
 #include "run/parse_options.h"
 #include "run/sequence.h"
 
