@@ -6,8 +6,6 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
-#include "core/console.h"
-#include "distributed/pixel_codec.h"
 #include "run/catalog.h"
 
 namespace multiray::app {
@@ -93,7 +91,7 @@ void add_distributed_options(CLI::App& cmd, DistributedOptions& o) {
                  "folder or a copy on every machine) or master (the master sends the scene it "
                  "loaded, lighting included; up to 2 GiB)")
       ->capture_default_str();
-  if (!remote::zstd_available()) o.result_encoding = "float";  // built without zstd
+  if (!zstd_results_available()) o.result_encoding = "float";  // built without zstd
   cmd.add_option("--result-encoding", o.result_encoding,
                  "How workers send pixels to the master: float (12 bytes a pixel, exact), "
                  "float+zstd (the same floats compressed with zstd: exact, fewer bytes), half "
