@@ -12,9 +12,9 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "app/help_groups.h"
-#include "app/stats_json.h"
 #include "core/console.h"
 #include "core/error.h"
+#include "study/stats_json.h"
 
 namespace multiray::app {
 
@@ -74,7 +74,7 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
       "  multiray devices\n",
       "multiray"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("multiray ") + kVersion);
+  app.set_version_flag("--version", std::string("multiray ") + study::kVersion);
   Runner render = add_render_command(app, std::vector<std::string>(argv, argv + argc));
   Runner bench = add_bench_command(app);
   Runner devices = add_devices_command(app);
