@@ -1,16 +1,16 @@
-// `multiray bench`: its options (render's and its own); the run is app/bench_run.h's.
+// `multiray bench`: its options (render's and its own); the run is study/bench_run.h's.
 #include <memory>
 
-#include "app/bench_run.h"
 #include "app/commands.h"
+#include "study/bench_run.h"
 
 namespace multiray::app {
 
 Runner add_bench_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "bench", "Run several balancers on the same frames and compare how evenly devices finish");
-  auto o = std::make_shared<RunConfig>(bench_defaults());
-  auto b = std::make_shared<BenchOptions>();
+  auto o = std::make_shared<RunConfig>(study::bench_defaults());
+  auto b = std::make_shared<study::BenchOptions>();
   add_common_options(*cmd, *o);
   cmd->add_option("--balancers", b->balancers,
                   "Comma-separated balancer specs to compare (default: every balancer; "
@@ -56,7 +56,7 @@ Runner add_bench_command(CLI::App& app) {
   return [=]() -> int {
     b->warmup_given = warmup_option->count() > 0;
     b->repeats_given = repeats_option->count() > 0;
-    return run_bench_study(*o, *b, BenchHooks{}).exit_code;
+    return study::run_bench_study(*o, *b, study::BenchHooks{}).exit_code;
   };
 }
 

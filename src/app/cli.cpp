@@ -11,10 +11,10 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "app/console.h"
 #include "app/help_groups.h"
-#include "app/stats_json.h"
+#include "core/console.h"
 #include "core/error.h"
+#include "study/stats_json.h"
 
 namespace multiray::app {
 
@@ -59,7 +59,7 @@ std::string did_you_mean(const CLI::App& app) {
 
 int run_cli(int argc, char** argv, const CliHooks& hooks) {
   // A reader that goes away (`multiray render ... | head -1`) must not end the run by
-  // SIGPIPE before its files are written: writes to it fail instead (app/console.h).
+  // SIGPIPE before its files are written: writes to it fail instead (core/console.h).
   std::signal(SIGPIPE, SIG_IGN);
   CLI::App app{
       "multiray: a ray tracer that splits every frame across CPU cores and other devices and "
@@ -74,7 +74,7 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
       "  multiray devices\n",
       "multiray"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("multiray ") + kVersion);
+  app.set_version_flag("--version", std::string("multiray ") + study::kVersion);
   Runner render = add_render_command(app, std::vector<std::string>(argv, argv + argc));
   Runner bench = add_bench_command(app);
   Runner devices = add_devices_command(app);

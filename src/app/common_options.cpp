@@ -6,8 +6,6 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
-#include "app/console.h"
-#include "distributed/pixel_codec.h"
 #include "run/catalog.h"
 
 namespace multiray::app {
@@ -93,7 +91,7 @@ void add_distributed_options(CLI::App& cmd, DistributedOptions& o) {
                  "folder or a copy on every machine) or master (the master sends the scene it "
                  "loaded, lighting included; up to 2 GiB)")
       ->capture_default_str();
-  if (!remote::zstd_available()) o.result_encoding = "float";  // built without zstd
+  if (!zstd_results_available()) o.result_encoding = "float";  // built without zstd
   cmd.add_option("--result-encoding", o.result_encoding,
                  "How workers send pixels to the master: float (12 bytes a pixel, exact), "
                  "float+zstd (the same floats compressed with zstd: exact, fewer bytes), half "
@@ -265,31 +263,6 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
       ->capture_default_str();
   cmd.add_option("--perturb", o.perturb,
                  "FRAME:DEVICE:SPEED, repeatable: from FRAME on, DEVICE runs at emulated SPEED");
-}
-
-std::optional<balance::AutoChoice> report_auto_choice(const Run& s, const std::string& spec,
-                                                      const std::string& option, bool quiet) {
-  balance::AutoChoice choice;
-  if (s.resolve_balancer(spec, &choice, option) == spec) return std::nullopt;
-  if (!quiet) print_err("multiray: {} auto: {} ({})\n", option, choice.spec, choice.reason);
-  return choice;
-}
-
-std::unique_ptr<Session> start_run(Run& s, const RunConfig& o, std::vector<std::string>& specs,
-                                   const std::string& option, int* worker_exit,
-                                   const std::function<void()>& before_load,
-                                   const std::function<void(const Run&)>& check, bool quiet) {
-  for (std::string& spec : specs) spec = apply_mapping(spec, o.mapping, option);
-  s = build_run(o, int(specs.size()), before_load);
-  if (s.cluster && !s.cluster->master()) {
-    *worker_exit = serve_as_worker(s);
-    return nullptr;
-  }
-  if (check) check(s);
-  std::unique_ptr<Session> session = s.make_session(specs, option);  // checks every spec
-  for (const std::string& n : s.notes)
-    if (!quiet) print_err("multiray: note: {}\n", n);
-  return session;
 }
 
 }  // namespace multiray::app

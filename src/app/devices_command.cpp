@@ -7,7 +7,7 @@
 #include <fmt/core.h>
 
 #include "app/commands.h"
-#include "app/console.h"
+#include "core/console.h"
 #include "run/catalog.h"
 #include "util/parse.h"
 

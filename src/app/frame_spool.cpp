@@ -6,9 +6,9 @@
 #include <cstring>
 #include <vector>
 
-#include "app/stats_json.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "study/stats_json.h"
 
 namespace multiray::app {
 
@@ -46,7 +46,7 @@ FrameSpool::~FrameSpool() {
 void FrameSpool::add(const nlohmann::json& record) {
   // Indented as an element of the top-level "frames" array: two spaces deeper. Raw
   // newlines in dump_json's text are structural (a string's are escaped).
-  std::string text = dump_json(record, 1);
+  std::string text = study::dump_json(record, 1);
   std::string indented = count_ == 0 ? "\n  " : ",\n  ";
   for (const char c : text) indented += c == '\n' ? std::string("\n  ") : std::string(1, c);
   put(file_, indented, "keep frame records in", dir_);
@@ -55,7 +55,7 @@ void FrameSpool::add(const nlohmann::json& record) {
 
 void FrameSpool::write(const std::string& path, nlohmann::json head) {
   head["frames"] = kMarker;
-  const std::string text = dump_json(head, 1) + "\n";
+  const std::string text = study::dump_json(head, 1) + "\n";
   const std::string slot = std::string("\"frames\": \"") + kMarker + "\"";
   const size_t at = text.find(slot);
   if (at == std::string::npos) throw std::logic_error("frame spool: marker not found");

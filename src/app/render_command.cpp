@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -13,24 +11,22 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
-#include "app/console.h"
-#include "app/interrupt.h"
 #include "app/output_target.h"
 #include "app/progress.h"
 #include "app/render_output.h"
-#include "app/stats_json.h"
-#include "app/trace_file.h"
 #include "balance/registry.h"
+#include "core/console.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/output_folder.h"
 #include "run/ar_setup.h"
+#include "run/interrupt.h"
 #include "run/parse_options.h"
 #include "run/sequence.h"
+#include "study/stats_json.h"
+#include "study/trace_file.h"
 
 namespace multiray::app {
-
-bool stderr_is_tty() { return isatty(STDERR_FILENO) == 1; }
 
 namespace {
 
@@ -181,10 +177,10 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
         });
     if (!session) return worker_exit;
     const auto auto_choice = report_auto_choice(s, specs[0], "--balancer", *quiet);
-    std::unique_ptr<TraceFile> trace;
+    std::unique_ptr<study::TraceFile> trace;
     if (!trace_path->empty())
-      trace = std::make_unique<TraceFile>(*trace_path, session->engine(0).balancer().spec(),
-                                          s.devices);
+      trace = std::make_unique<study::TraceFile>(*trace_path, session->engine(0).balancer().spec(),
+                                                 s.devices);
     if (!out_option->count() && target.dir != *out_dir && !*quiet)
       print_err("multiray: note: {}/ holds an earlier run; writing to {}/ (-o chooses)\n",
                 *out_dir, target.dir);
@@ -202,7 +198,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
       interrupted = watch.signal();
       signal_name = watch.signal_name();
     }
-    nlohmann::json settings = settings_to_json(*o, s, command_line);
+    nlohmann::json settings = study::settings_to_json(*o, s, command_line);
     settings["balancer"] = specs[0];  // as asked; "balancer" below has every parameter
     settings["exposure_ev"] = output.exposure_ev();
     settings["exposure"] = output.metered() ? "auto" : "fixed";
@@ -212,7 +208,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     settings["background"] = ar ? nlohmann::json(*background) : nlohmann::json(nullptr);
     nlohmann::json doc{{"scene", s.scene->name},
                        {"settings", settings},
-                       {"devices", devices_to_json(s.devices)},
+                       {"devices", study::devices_to_json(s.devices)},
                        {"balancer", session->engine(0).balancer().spec()},
                        {"views", s.views->rig().view_count()},
                        {"frames_requested", o->frames}};

@@ -4,16 +4,16 @@
 
 #include <fmt/core.h>
 
-#include "app/adapt_summary.h"
 #include "app/commands.h"
-#include "app/console.h"
-#include "app/stats_json.h"
+#include "core/console.h"
 #include "core/exposure.h"
+#include "study/adapt_summary.h"
+#include "study/stats_json.h"
 
 namespace multiray::app {
 
 RenderOutput::RenderOutput(OutputTarget target, bool fixed_exposure, bool quiet, int columns,
-                           const Display& display, TraceFile* trace)
+                           const Display& display, study::TraceFile* trace)
     : target_(std::move(target)),
       records_(target_.dir),
       fixed_exposure_(fixed_exposure),
@@ -69,8 +69,8 @@ void RenderOutput::on_frame(const std::shared_ptr<const FrameResult>& r) {
   const FrameRecord& rec = r->record;
   for (const auto& m : rec.messages) print_err("multiray: warning: {}\n", m);
   if (target_ms_ > 0 && !warned_quality_) {
-    const std::string w = degraded_quality_warning(rec.quality.step_scale, rec.quality.image_scale,
-                                                   rec.frame_ms, target_ms_);
+    const std::string w = study::degraded_quality_warning(
+        rec.quality.step_scale, rec.quality.image_scale, rec.frame_ms, target_ms_);
     if (!w.empty()) print_err("multiray: warning: {}\n", w);
     warned_quality_ = !w.empty();
   }
@@ -94,7 +94,7 @@ void RenderOutput::on_frame(const std::shared_ptr<const FrameResult>& r) {
         "-> {}\n",
         r->frame, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
         100.0 * rec.imbalance, adapted, holes, shown);
-  records_.add(frame_result_to_json(*r));
+  records_.add(study::frame_result_to_json(*r));
   if (trace_) trace_->frame(r->stats);
   counters_.samples += samples;
   counters_.frame_us += uint64_t(std::max(0.0, rec.frame_ms) * 1e3);

@@ -13,10 +13,10 @@
 
 #include "app/frame_spool.h"
 #include "app/output_target.h"
-#include "app/trace_file.h"
 #include "core/composite.h"
 #include "core/image.h"
 #include "engine/session.h"
+#include "study/trace_file.h"
 
 namespace multiray::app {
 
@@ -33,11 +33,11 @@ class RenderOutput : public FrameObserver {
   // metered on the first frame that arrives (core/exposure.h) and held for the rest of the
   // run, as a camera's exposure lock does, so an animation does not flicker.
   RenderOutput(OutputTarget target, bool fixed_exposure, bool quiet, int columns,
-               const Display& display, TraceFile* trace);
+               const Display& display, study::TraceFile* trace);
 
   void on_frame(const std::shared_ptr<const FrameResult>& r) override;
   // With frame-time targeting: warn once when a frame's quality drops past what shows
-  // (app/adapt_summary.h degraded_quality_warning).
+  // (study/adapt_summary.h degraded_quality_warning).
   void set_target_ms(double target_ms) { target_ms_ = target_ms; }
   // Augmented reality: images with an alpha channel are written as an RGBA layer
   // (<name>_rgba.png, and .exr with --exr) and, as the main image, composited over these
@@ -63,7 +63,7 @@ class RenderOutput : public FrameObserver {
   double target_ms_ = 0;
   int columns_;
   Display display_;
-  TraceFile* trace_;
+  study::TraceFile* trace_;
   std::shared_ptr<const BackgroundImages> background_;
 };
 

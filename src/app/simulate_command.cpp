@@ -9,16 +9,16 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
-#include "app/console.h"
-#include "app/report_plots.h"
-#include "app/simulate_calibrated.h"
-#include "app/simulate_study.h"
-#include "app/stats_json.h"
 #include "balance/balancer.h"
 #include "balance/sim_study.h"
+#include "core/console.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "run/run.h"
+#include "study/report_plots.h"
+#include "study/simulate_calibrated.h"
+#include "study/simulate_study.h"
+#include "study/stats_json.h"
 #include "util/parse.h"
 #include "util/result_encoding.h"
 #include "util/spec.h"
@@ -52,8 +52,8 @@ int validate(const balance::Trace& trace) {
   return 0;
 }
 
-int calibrated(const SimulateOptions& o, const balance::Trace& trace) {
-  return simulate_calibrated(trace, calibrated_run(o));
+int calibrated(const study::SimulateOptions& o, const balance::Trace& trace) {
+  return study::simulate_calibrated(trace, study::calibrated_run(o));
 }
 
 }  // namespace
@@ -63,7 +63,7 @@ Runner add_simulate_command(CLI::App& app) {
       "simulate",
       "Replay a recorded trace (render/bench --trace) on many virtual devices, behind an "
       "emulated link, with every balancer, in virtual time");
-  auto o = std::make_shared<SimulateOptions>();
+  auto o = std::make_shared<study::SimulateOptions>();
   cmd->add_option("trace", o->trace_path, "Trace file written by render --trace")->required();
   cmd->add_option("--devices", o->devices,
                   "Device counts to simulate, comma-separated (each 1..4096)")
@@ -125,10 +125,10 @@ Runner add_simulate_command(CLI::App& app) {
   return [o]() -> int {
     if (!o->json_path.empty()) check_output_file(o->json_path, "--json");
     if (!o->plot_path.empty()) check_output_file(o->plot_path, "--plot");
-    const balance::Trace trace = load_trace(o->trace_path);
+    const balance::Trace trace = study::load_trace(o->trace_path);
     if (o->validate) return validate(trace);
     if (o->calibrate || !o->predict.empty()) return calibrated(*o, trace);
-    SimulationPlan plan = plan_simulation(*o, trace, !o->json_path.empty());
+    study::SimulationPlan plan = study::plan_simulation(*o, trace, !o->json_path.empty());
     const std::vector<int>& counts = plan.counts;
     const std::vector<std::string>& specs = plan.specs;
     const int frames = plan.frames;
@@ -145,8 +145,8 @@ Runner add_simulate_command(CLI::App& app) {
     print_out("{:>7}  {:<16} {:>12} {:>12} {:>10} {:>10} {:>10}\n", "devices", "balancer",
               "frame ms", "ideal ms", "efficiency", "imbalance", "deviation");
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<balance::StudyResult> results =
-        run_simulation(trace, plan, [](const std::string& spec, const balance::StudyResult& r) {
+    const std::vector<balance::StudyResult> results = study::run_simulation(
+        trace, plan, [](const std::string& spec, const balance::StudyResult& r) {
           print_out("{:>7}  {:<16} {:>12.3f} {:>12.3f} {:>10.3f} {:>9.1f}% {:>9.1f}%\n", r.devices,
                     spec.substr(0, 16), r.mean_frame_ms, r.mean_ideal_ms, r.efficiency,
                     100 * r.mean_imbalance, 100 * r.mean_deviation);
@@ -155,9 +155,10 @@ Runner add_simulate_command(CLI::App& app) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     print_out("({} simulations in {:.2f} s of real time)\n", results.size(), seconds);
     if (!o->json_path.empty())
-      write_file_atomically(o->json_path, dump_json(simulation_to_json(*o, plan, results)) + "\n");
+      write_file_atomically(o->json_path,
+                            study::dump_json(study::simulation_to_json(*o, plan, results)) + "\n");
     if (!o->plot_path.empty()) {
-      std::vector<ScalingSeries> series(specs.size());
+      std::vector<study::ScalingSeries> series(specs.size());
       for (size_t k = 0; k < specs.size(); ++k) {
         series[k].name = specs[k];
         for (size_t c = 0; c < counts.size(); ++c) {
@@ -165,11 +166,12 @@ Runner add_simulate_command(CLI::App& app) {
           series[k].points.push_back({double(r.devices), r.efficiency});
         }
       }
-      write_scaling_svg(o->plot_path,
-                        fmt::format("efficiency (ideal / simulated frame time) — {}, speeds {}, "
-                                    "link {} (emulated, virtual time)",
-                                    o->trace_path, o->speeds, o->link),
-                        series);
+      study::write_scaling_svg(
+          o->plot_path,
+          fmt::format("efficiency (ideal / simulated frame time) — {}, speeds {}, "
+                      "link {} (emulated, virtual time)",
+                      o->trace_path, o->speeds, o->link),
+          series);
     }
     return 0;
   };

@@ -5,9 +5,9 @@
 #include <fmt/core.h>
 
 #include "app/commands.h"
-#include "app/console.h"
-#include "app/interrupt.h"
+#include "core/console.h"
 #include "core/error.h"
+#include "run/interrupt.h"
 
 #ifdef MULTIRAY_HAS_VIEWER
 #include "app/viewer/live_view.h"

@@ -211,7 +211,7 @@ std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {
 
 int Cluster::serve(const std::vector<Device*>& devices, const RenderSettings& settings) {
   // mpirun forwards Ctrl-C and SIGTERM to every rank. The master finishes its frame and
-  // writes its outputs (app/interrupt.h), which needs the workers' results: they carry on
+  // writes its outputs (run/interrupt.h), which needs the workers' results: they carry on
   // until the master tells them to quit.
   std::signal(SIGINT, SIG_IGN);
   std::signal(SIGTERM, SIG_IGN);

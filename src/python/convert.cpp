@@ -7,13 +7,13 @@
 #include <map>
 #include <variant>
 
-#include "app/stats_json.h"
 #include "python/bindings.h"
+#include "study/stats_json.h"
 
 namespace multiray::python {
 
 py::object to_python(const nlohmann::json& doc) {
-  return py::module_::import("json").attr("loads")(app::dump_json(doc, -1));
+  return py::module_::import("json").attr("loads")(study::dump_json(doc, -1));
 }
 
 py::array_t<float> to_numpy(const Framebuffer& fb) {

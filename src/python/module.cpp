@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <string>
 
-#include "app/stats_json.h"
 #include "core/error.h"
 #include "python/bindings.h"
+#include "study/stats_json.h"
 
 PYBIND11_MODULE(multiray, m) {
   using namespace multiray;
@@ -14,7 +14,7 @@ PYBIND11_MODULE(multiray, m) {
   m.doc() =
       "multiray from Python: render frames as NumPy arrays with the CLI's settings (see "
       "src/python/README.md).";
-  m.attr("__version__") = app::kVersion;
+  m.attr("__version__") = study::kVersion;
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

@@ -10,12 +10,12 @@
 
 #include <fmt/core.h>
 
-#include "app/stats_json.h"
 #include "core/error.h"
 #include "engine/session.h"
 #include "python/bindings.h"
 #include "run/parse_options.h"
 #include "run/run.h"
+#include "study/stats_json.h"
 
 namespace multiray::python {
 
@@ -83,7 +83,7 @@ class Renderer {
       frame["frame"] = r->frame;
       frame["image"] = views[0];
       frame["views"] = views;
-      frame["stats"] = to_python(app::frame_result_to_json(*r));
+      frame["stats"] = to_python(study::frame_result_to_json(*r));
       out.append(frame);
     }
     return out;
@@ -134,7 +134,7 @@ class Renderer {
     style_ = style;
   }
 
-  py::object devices() const { return to_python(app::devices_to_json(run_->devices)); }
+  py::object devices() const { return to_python(study::devices_to_json(run_->devices)); }
   py::object balancer() const { return to_python(session_->engine(0).balancer().spec()); }
   std::vector<std::string> notes() const { return run_->notes; }
   int next_frame() const { return next_frame_; }

@@ -1,15 +1,15 @@
 // multiray.simulate() and multiray.bench(): the CLI's `simulate TRACE --json F` and
 // `bench ... --json F` documents as plain Python data, made by the same library functions
-// (app/simulate_study.h, app/bench_run.h), quietly. The GIL is released while studies run
+// (study/simulate_study.h, study/bench_run.h), quietly. The GIL is released while studies run
 // and frames render; Ctrl-C is checked between studies (simulate) and before each frame
 // (bench), and raises KeyboardInterrupt with nothing returned.
 #include <string>
 #include <vector>
 
-#include "app/bench_run.h"
-#include "app/simulate_calibrated.h"
-#include "app/simulate_study.h"
 #include "python/bindings.h"
+#include "study/bench_run.h"
+#include "study/simulate_calibrated.h"
+#include "study/simulate_study.h"
 
 namespace multiray::python {
 
@@ -53,7 +53,7 @@ py::kwargs join_lists(const py::kwargs& kwargs, const char* caller) {
 }
 
 py::object simulate(const py::object& trace_path, const py::kwargs& kwargs) {
-  app::SimulateOptions o;
+  study::SimulateOptions o;
   if (!py::isinstance<py::str>(trace_path) && !py::hasattr(trace_path, "__fspath__"))
     throw py::type_error("simulate(): trace_path must be a str or os.PathLike, not " +
                          std::string(py::str(py::type::of(trace_path).attr("__name__"))));
@@ -78,15 +78,15 @@ py::object simulate(const py::object& trace_path, const py::kwargs& kwargs) {
   nlohmann::json doc;
   try {
     py::gil_scoped_release release;
-    const balance::Trace trace = app::load_trace(o.trace_path);
+    const balance::Trace trace = study::load_trace(o.trace_path);
     if (o.calibrate || !o.predict.empty()) {  // as --calibrate [--predict]: its document
-      doc = app::calibrated_study(trace, app::calibrated_run(o), false);
+      doc = study::calibrated_study(trace, study::calibrated_run(o), false);
     } else {
-      app::SimulationPlan plan = app::plan_simulation(o, trace, true);
-      const auto results = app::run_simulation(trace, plan, [](const std::string&, const auto&) {
+      study::SimulationPlan plan = study::plan_simulation(o, trace, true);
+      const auto results = study::run_simulation(trace, plan, [](const std::string&, const auto&) {
         if (signalled()) throw Interrupted{};
       });
-      doc = app::simulation_to_json(o, plan, results);
+      doc = study::simulation_to_json(o, plan, results);
     }
   } catch (const Interrupted&) {
     throw py::error_already_set();
@@ -96,8 +96,8 @@ py::object simulate(const py::object& trace_path, const py::kwargs& kwargs) {
 
 py::object bench(const py::object& scene, const py::kwargs& kwargs) {
   RenderArgs args;
-  args.config = app::bench_defaults();
-  app::BenchOptions b;
+  args.config = study::bench_defaults();
+  study::BenchOptions b;
   std::map<std::string, Field> table = render_fields(args);
   table.erase("balancer");  // bench compares `balancers`
   table.insert({{"balancers", &b.balancers},
@@ -111,14 +111,14 @@ py::object bench(const py::object& scene, const py::kwargs& kwargs) {
   assign_kwargs(join_lists(kwargs, "bench"), table, "bench");
   b.warmup_given = kwargs.contains("warmup");
   b.repeats_given = kwargs.contains("repeats");
-  app::BenchHooks hooks;
+  study::BenchHooks hooks;
   hooks.quiet = true;
   hooks.document = true;
   hooks.before_frame = [] { return !signalled(); };
-  app::BenchOutcome out;
+  study::BenchOutcome out;
   {
     py::gil_scoped_release release;
-    out = app::run_bench_study(args.config, b, hooks);
+    out = study::run_bench_study(args.config, b, hooks);
   }
   if (out.interrupted) throw py::error_already_set();
   // The CLI's exit code 1; the document says where. A warnings filter may make it an error.

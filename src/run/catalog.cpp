@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "device/device_factory.h"
+#include "distributed/pixel_codec.h"
 #include "render/compact_scene.h"
 #include "render/kernel.h"
 #include "render/scene_cache.h"
@@ -29,6 +30,8 @@ std::vector<Choice> kernel_choices() {
 }
 
 std::vector<std::string> transfer_presets() { return transfer_preset_names(); }
+
+bool zstd_results_available() { return remote::zstd_available(); }
 
 const std::vector<BackendEntry>& device_backend_choices() { return device_backends(); }
 

@@ -26,6 +26,10 @@ const std::vector<BackendEntry>& device_backend_choices();
 std::string device_keys_help();
 // The transfer-function presets --tf takes.
 std::vector<std::string> transfer_presets();
+// Whether this build compresses workers' results with zstd (distributed/pixel_codec.h,
+// MULTIRAY_WITH_ZSTD): without it --result-encoding's zstd forms are refused, and its
+// default is float.
+bool zstd_results_available();
 
 // One device this machine offers, as `multiray devices` lists it.
 struct OfferedDevice {

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "app/frame_spool.h"
-#include "app/stats_json.h"
+#include "study/stats_json.h"
 
 namespace multiray::app {
 namespace {
@@ -53,7 +53,7 @@ TEST(FrameSpool, WritesWhatDumpJsonWouldForTheSameDocument) {
       EXPECT_EQ(spool.size(), size_t(frames));
       spool.write(dir + "/stats.json", head);
     }
-    EXPECT_EQ(read(dir + "/stats.json"), dump_json(whole, 1) + "\n") << frames << " frames";
+    EXPECT_EQ(read(dir + "/stats.json"), study::dump_json(whole, 1) + "\n") << frames << " frames";
     // Only stats.json: the records' file had no name, and the atomic write left no part.
     size_t files = 0;
     for (const auto& e : fs::directory_iterator(dir)) files += 1, (void)e;

@@ -132,7 +132,7 @@ TEST(Hostile, SigintKeepsTheFramesDoneAndTheirStats) {
   EXPECT_EQ(others, 1u);    // stats.json; no temporary file left
 }
 
-// bench stops at SIGINT too (app/bench_run.cpp's run_block), with one line and no output:
+// bench stops at SIGINT too (study/bench_run.cpp's run_block), with one line and no output:
 // a summary of a cut-short run would mislead.
 TEST(Hostile, SigintStopsABenchWithoutOutput) {
   const std::string dir = fresh_dir("sigint-bench");

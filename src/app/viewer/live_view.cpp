@@ -7,19 +7,19 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/stats_json.h"
 #include "balance/balancer.h"
 #include "core/error.h"
 #include "core/exposure.h"
 #include "engine/volume_advisor.h"
 #include "run/catalog.h"
 #include "run/volume_run.h"
+#include "study/stats_json.h"
 
 namespace multiray::app::viewer {
 
 namespace {
 std::string error_json(const std::string& message) {
-  return dump_json(nlohmann::json{{"type", "error"}, {"message", message}}, -1);
+  return study::dump_json(nlohmann::json{{"type", "error"}, {"message", message}}, -1);
 }
 }  // namespace
 
@@ -66,7 +66,7 @@ std::string LiveView::hello() const {
   nlohmann::json devices = nlohmann::json::array();
   for (const std::string& n : device_names_) devices.push_back(n);
   // dump_json: names (devices, a message quoting a client's text) may be any bytes.
-  return dump_json(
+  return study::dump_json(
       nlohmann::json{{"type", "hello"},
                      {"balancers", balance::balancer_names()},
                      {"balancer", session_.engine(0).balancer().name()},
@@ -215,7 +215,7 @@ std::string LiveView::frame_json(const FrameResult& r, int view, const std::stri
   const Framebuffer& img = r.images.at(size_t(view));  // as rendered (the hash's image)
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)image_hash(img));
-  return dump_json(
+  return study::dump_json(
       nlohmann::json{{"type", "frame"},
                      {"frame", r.frame},
                      {"view", view},

@@ -17,7 +17,7 @@ struct Run;
 struct FrameResult;
 }  // namespace multiray
 
-namespace multiray::app {
+namespace multiray::study {
 
 // The project version (CMake's PROJECT_VERSION), for --version and stats.json.
 inline constexpr const char* kVersion = MULTIRAY_VERSION;
@@ -43,4 +43,4 @@ nlohmann::json reprojection_to_json(const std::vector<uint32_t>& reference_views
 nlohmann::json settings_to_json(const RunConfig& o, const Run& s,
                                 const std::vector<std::string>& command_line);
 nlohmann::json devices_to_json(const std::vector<std::unique_ptr<Device>>& devices);
-}  // namespace multiray::app
+}  // namespace multiray::study

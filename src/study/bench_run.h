@@ -1,6 +1,6 @@
 // The work of `multiray bench`: the run built, every balancer over the same frames in
 // repeat blocks, the summaries, plots and traces, and the --json document. The CLI
-// (bench_command.cpp) declares the options and prints as it goes; the Python module's
+// (app/bench_command.cpp) declares the options and prints as it goes; the Python module's
 // bench() (src/python/studies.cpp) runs it quietly and returns the document.
 #pragma once
 
@@ -11,7 +11,7 @@
 
 #include "run/run_config.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 // Every registered balancer, "uniform,static,...", but `auto` (it runs one of the others:
 // a second lane of the same balancer).
@@ -42,7 +42,7 @@ struct BenchHooks {
   bool document = false;
   // Called before every frame renders (on the thread that called run_bench_study); false
   // stops the run there (the outcome is then interrupted, with no output). Empty:
-  // SIGINT/SIGTERM stop it (app/interrupt.h).
+  // SIGINT/SIGTERM stop it (run/interrupt.h).
   std::function<bool()> before_frame;
 };
 
@@ -60,4 +60,4 @@ struct BenchOutcome {
 // before anything renders); writes --json, --report and --trace files when asked for.
 BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& hooks);
 
-}  // namespace multiray::app
+}  // namespace multiray::study

@@ -9,7 +9,7 @@
 #include "engine/bench_harness.h"
 #include "engine/frame_record.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 // What a run's timelines share: the time axis of every balancer of the run reaches at
 // least `time_max_ms` (so they compare at a glance), the warm-up frames are shaded, and
@@ -69,4 +69,4 @@ void write_scaling_svg(const std::string& path, const std::string& title,
 // The colour of device i in every plot.
 const char* device_colour(size_t i);
 
-}  // namespace multiray::app
+}  // namespace multiray::study

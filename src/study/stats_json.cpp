@@ -1,4 +1,4 @@
-#include "app/stats_json.h"
+#include "study/stats_json.h"
 
 #include <algorithm>
 
@@ -9,7 +9,7 @@
 #include "run/run.h"
 #include "util/utf8.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 namespace {
 // A copy of `doc` whose every string (object keys too) is valid UTF-8.
@@ -200,4 +200,4 @@ nlohmann::json devices_to_json(const std::vector<std::unique_ptr<Device>>& devic
   return out;
 }
 
-}  // namespace multiray::app
+}  // namespace multiray::study

@@ -11,7 +11,7 @@
 #include "core/image_metrics.h"
 #include "engine/frame_record.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 struct TargetingSummary {
   int frames = 0;                // after warm-up
@@ -67,4 +67,4 @@ void write_prediction_svg(const std::string& path, const std::string& title,
                           const std::vector<std::string>& devices,
                           const std::vector<int>& switches);
 
-}  // namespace multiray::app
+}  // namespace multiray::study

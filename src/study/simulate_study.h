@@ -1,6 +1,6 @@
 // The work of `multiray simulate TRACE` without its printing: the options checked as the
 // CLI checks them, the studies run (balance/sim_study.h) and the --json document built.
-// The CLI (simulate_command.cpp) prints its table around these; the Python module's
+// The CLI (app/simulate_command.cpp) prints its table around these; the Python module's
 // simulate() (src/python/studies.cpp) returns the document as Python data.
 #pragma once
 
@@ -11,11 +11,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/simulate_calibrated.h"
 #include "balance/sim_study.h"
 #include "balance/trace.h"
+#include "study/simulate_calibrated.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 // The options of `multiray simulate`, named as the CLI's.
 struct SimulateOptions {
@@ -71,4 +71,4 @@ nlohmann::json simulation_to_json(const SimulateOptions& o, const SimulationPlan
 // contention or noise out of range.
 CalibratedRun calibrated_run(const SimulateOptions& o);
 
-}  // namespace multiray::app
+}  // namespace multiray::study

@@ -1,4 +1,4 @@
-// What `multiray bench` reports beside its tables (app/bench_run.h runs it): the header
+// What `multiray bench` reports beside its tables (study/bench_run.h runs it): the header
 // lines, each lane's JSON entry with its trace and plots, the volume set-up and targeting
 // reports, and the description of the run at the top of the JSON.
 #pragma once
@@ -9,13 +9,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench_run.h"
-#include "app/bench_summary.h"
-#include "app/report_plots.h"
 #include "engine/bench_harness.h"
 #include "run/run.h"
+#include "study/bench_run.h"
+#include "study/bench_summary.h"
+#include "study/report_plots.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 // The line saying what is benchmarked, and one line per device.
 void print_run_header(const Run& s, const RunConfig& o, const std::vector<std::string>& labels);
@@ -39,4 +39,4 @@ void report_volume(const Run& s, const BenchResult& result, const std::vector<st
 // time was measured (the measurements are added beside it).
 nlohmann::json run_description(const Run& s, const RunConfig& o);
 
-}  // namespace multiray::app
+}  // namespace multiray::study

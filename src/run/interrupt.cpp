@@ -1,9 +1,9 @@
-#include "app/interrupt.h"
+#include "run/interrupt.h"
 
 #include <atomic>
 #include <chrono>
 
-namespace multiray::app {
+namespace multiray {
 
 namespace {
 volatile std::sig_atomic_t g_signal = 0;
@@ -51,4 +51,4 @@ const char* InterruptWatch::signal_name() const {
   return g_signal == SIGINT ? "SIGINT" : g_signal == SIGTERM ? "SIGTERM" : "none";
 }
 
-}  // namespace multiray::app
+}  // namespace multiray

@@ -1,14 +1,14 @@
-#include "app/bench_outputs.h"
+#include "study/bench_outputs.h"
 
 #include <fmt/core.h>
 
-#include "app/adapt_summary.h"
-#include "app/console.h"
-#include "app/stats_json.h"
-#include "app/trace_file.h"
 #include "balance/balancer.h"
+#include "core/console.h"
+#include "study/adapt_summary.h"
+#include "study/stats_json.h"
+#include "study/trace_file.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 void print_run_header(const Run& s, const RunConfig& o, const std::vector<std::string>& labels) {
   const SamplingSetup& sampling = s.views->sampling();
@@ -141,4 +141,4 @@ nlohmann::json run_description(const Run& s, const RunConfig& o) {
                                        : nlohmann::json()}};
 }
 
-}  // namespace multiray::app
+}  // namespace multiray::study

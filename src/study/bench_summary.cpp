@@ -1,4 +1,4 @@
-#include "app/bench_summary.h"
+#include "study/bench_summary.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,10 +6,10 @@
 
 #include <fmt/core.h>
 
-#include "app/console.h"
 #include "balance/stats.h"
+#include "core/console.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 double interpolate_ideal(const std::vector<int>& sampled, const std::vector<double>& ms,
                          int frame) {
@@ -262,4 +262,4 @@ std::vector<std::string> lane_file_stems(const std::vector<std::string>& names) 
   return stems;
 }
 
-}  // namespace multiray::app
+}  // namespace multiray::study

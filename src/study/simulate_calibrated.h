@@ -11,7 +11,7 @@
 
 #include "balance/trace.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 struct CalibratedRun {
   std::string trace_path;
@@ -35,4 +35,4 @@ int simulate_calibrated(const balance::Trace& trace, const CalibratedRun& run);
 // `print`): what multiray.simulate(..., calibrate=True) returns. run.json_path is ignored.
 nlohmann::json calibrated_study(const balance::Trace& trace, const CalibratedRun& run, bool print);
 
-}  // namespace multiray::app
+}  // namespace multiray::study

@@ -1,4 +1,4 @@
-#include "app/report_plots.h"
+#include "study/report_plots.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,12 +6,12 @@
 
 #include <fmt/core.h>
 
-#include "app/svg_chart.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/image.h"
+#include "study/svg_chart.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 const char* device_colour(size_t i) {
   static const char* kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
@@ -268,4 +268,4 @@ void write_scaling_svg(const std::string& path, const std::string& title,
   write_file_atomically(path, svg);
 }
 
-}  // namespace multiray::app
+}  // namespace multiray::study

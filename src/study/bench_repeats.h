@@ -9,12 +9,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/bench_summary.h"
-#include "app/report_plots.h"
 #include "balance/bench_stats.h"
 #include "engine/bench_harness.h"
+#include "study/bench_summary.h"
+#include "study/report_plots.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 struct RepeatLane {
   std::string label;
@@ -62,4 +62,4 @@ void print_noise(const balance::NoiseReadings& readings, const balance::NoiseVer
 nlohmann::json noise_to_json(const balance::NoiseReadings& readings,
                              const balance::NoiseVerdict& verdict);
 
-}  // namespace multiray::app
+}  // namespace multiray::study

@@ -1,14 +1,14 @@
-#include "app/bench_repeats.h"
-#include "app/console.h"
+#include "study/bench_repeats.h"
+#include "core/console.h"
 
 #include <cmath>
 
 #include <fmt/core.h>
 
-#include "app/bench_summary.h"
 #include "balance/stats.h"
+#include "study/bench_summary.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 void add_block(std::vector<RepeatLane>& lanes, const std::vector<std::string>& labels,
                const BenchResult& r, int warmup, int perturb_frame) {
@@ -208,4 +208,4 @@ nlohmann::json noise_to_json(const balance::NoiseReadings& readings,
           {"reason", verdict.reason}};
 }
 
-}  // namespace multiray::app
+}  // namespace multiray::study

@@ -9,7 +9,7 @@
 
 #include "engine/session.h"
 
-namespace multiray::app {
+namespace multiray {
 
 class InterruptWatch {
  public:
@@ -28,4 +28,4 @@ class InterruptWatch {
   }, old_term_{};
 };
 
-}  // namespace multiray::app
+}  // namespace multiray

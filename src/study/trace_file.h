@@ -17,7 +17,7 @@
 #include "core/file_io.h"
 #include "device/device.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 class TraceFile {
  public:
@@ -62,4 +62,4 @@ class TraceFile {
   bool closed_ = false;
 };
 
-}  // namespace multiray::app
+}  // namespace multiray::study

@@ -1,15 +1,15 @@
-// The report charts' writer (app/svg_chart.h): nice axis maxima, escaped text, lines broken
+// The report charts' writer (study/svg_chart.h): nice axis maxima, escaped text, lines broken
 // at unknown values and clamped to their panel, round frame ticks, the shaded warm-up,
-// stacked layers; and the bench timelines' shared scale and ideal split (app/report_plots.h).
+// stacked layers; and the bench timelines' shared scale and ideal split (study/report_plots.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
-#include "app/report_plots.h"
-#include "app/svg_chart.h"
+#include "study/report_plots.h"
+#include "study/svg_chart.h"
 
-namespace multiray::app {
+namespace multiray::study {
 namespace svg_chart_test {
 
 size_t count(const std::string& text, const std::string& what) {
@@ -53,9 +53,9 @@ TEST(SvgChart, ValuesOutsideThePanelAreDrawnAtItsEdge) {
 }
 
 }  // namespace svg_chart_test
-}  // namespace multiray::app
+}  // namespace multiray::study
 
-namespace multiray::app {
+namespace multiray::study {
 namespace svg_chart_test {
 
 // Frame numbers under the chart fall on round steps; the warm-up is shaded and labelled;
@@ -97,4 +97,4 @@ TEST(Report, TimelineScaleInterpolatesIdealSharesAndSkipsTheWarmup) {
 }
 
 }  // namespace svg_chart_test
-}  // namespace multiray::app
+}  // namespace multiray::study

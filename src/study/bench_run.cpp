@@ -1,7 +1,7 @@
-// `multiray bench`'s run (app/bench_run.h): every balancer on the same frames, in one
+// `multiray bench`'s run (study/bench_run.h): every balancer on the same frames, in one
 // process and interleaved frame by frame, with the ideal frame time measured by each
 // device rendering sampled frames alone.
-#include "app/bench_run.h"
+#include "study/bench_run.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,22 +11,22 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include "app/bench_outputs.h"
-#include "app/bench_repeats.h"
-#include "app/bench_summary.h"
-#include "app/commands.h"
-#include "app/console.h"
-#include "app/interrupt.h"
-#include "app/report_plots.h"
-#include "app/stats_json.h"
 #include "balance/balancer.h"
+#include "core/console.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/machine_load.h"
 #include "engine/bench_harness.h"
+#include "run/interrupt.h"
+#include "run/start_run.h"
+#include "study/bench_outputs.h"
+#include "study/bench_repeats.h"
+#include "study/bench_summary.h"
+#include "study/report_plots.h"
+#include "study/stats_json.h"
 #include "util/spec.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 std::string every_balancer() {
   std::string list;
@@ -267,4 +267,4 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
   return out;
 }
 
-}  // namespace multiray::app
+}  // namespace multiray::study

@@ -1,14 +1,14 @@
-#include "app/adapt_summary.h"
+#include "study/adapt_summary.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/core.h>
 
-#include "app/console.h"
-#include "app/svg_chart.h"
+#include "core/console.h"
+#include "study/svg_chart.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 TargetingSummary targeting_summary(const std::vector<FrameRecord>& records, int warmup,
                                    double target_ms, const std::vector<ImageError>& errors) {
@@ -190,4 +190,4 @@ std::string degraded_quality_warning(double step_scale, double image_scale, doub
       1.0 / kVisibleCost);
 }
 
-}  // namespace multiray::app
+}  // namespace multiray::study

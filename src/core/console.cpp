@@ -1,9 +1,11 @@
-#include "app/console.h"
+#include "core/console.h"
+
+#include <unistd.h>
 
 #include <atomic>
 #include <mutex>
 
-namespace multiray::app {
+namespace multiray {
 
 namespace {
 std::atomic<bool> stdout_closed{false}, stderr_closed{false};
@@ -29,4 +31,6 @@ bool write_console(std::FILE* stream, std::string_view text) {
 
 bool console_closed(std::FILE* stream) { return closed_flag(stream); }
 
-}  // namespace multiray::app
+bool stderr_is_tty() { return isatty(STDERR_FILENO) == 1; }
+
+}  // namespace multiray

@@ -1,4 +1,4 @@
-#include "app/simulate_calibrated.h"
+#include "study/simulate_calibrated.h"
 
 #include <cmath>
 #include <fstream>
@@ -6,14 +6,14 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include "app/console.h"
-#include "app/stats_json.h"
 #include "balance/trace_calibration.h"
+#include "core/console.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "run/parse_options.h"
+#include "study/stats_json.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 balance::Trace load_trace(const std::string& path) {
   std::ifstream in(path);
@@ -201,4 +201,4 @@ nlohmann::json calibrated_study(const balance::Trace& trace, const CalibratedRun
                         {"frames", frames},      {"calibration", to_json(cal)}, {"rows", list}};
 }
 
-}  // namespace multiray::app
+}  // namespace multiray::study

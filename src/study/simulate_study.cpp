@@ -1,4 +1,4 @@
-#include "app/simulate_study.h"
+#include "study/simulate_study.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,6 @@
 
 #include <fmt/core.h>
 
-#include "app/commands.h"
 #include "balance/balancer.h"
 #include "core/error.h"
 #include "run/run.h"
@@ -14,7 +13,7 @@
 #include "util/result_encoding.h"
 #include "util/spec.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 namespace {
 
@@ -158,4 +157,4 @@ CalibratedRun calibrated_run(const SimulateOptions& o) {
   return run;
 }
 
-}  // namespace multiray::app
+}  // namespace multiray::study

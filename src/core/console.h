@@ -10,7 +10,7 @@
 
 #include <fmt/core.h>
 
-namespace multiray::app {
+namespace multiray {
 
 // Writes `text` to `stream` (stdout or stderr) unless an earlier write to it failed.
 // Returns false when the text did not (all) arrive.
@@ -18,6 +18,9 @@ bool write_console(std::FILE* stream, std::string_view text);
 
 // True once a write to `stream` has failed (its reader is gone).
 bool console_closed(std::FILE* stream);
+
+// True when stderr is a terminal (progress lines are drawn only then).
+bool stderr_is_tty();
 
 template <class... Args>
 void print_out(fmt::format_string<Args...> format, Args&&... args) {
@@ -29,4 +32,4 @@ void print_err(fmt::format_string<Args...> format, Args&&... args) {
   write_console(stderr, fmt::format(format, std::forward<Args>(args)...));
 }
 
-}  // namespace multiray::app
+}  // namespace multiray

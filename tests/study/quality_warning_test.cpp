@@ -4,11 +4,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "app/adapt_summary.h"
+#include "study/adapt_summary.h"
 
 namespace quality_warning_test {
 
-using multiray::app::degraded_quality_warning;
+using multiray::study::degraded_quality_warning;
 using ::testing::HasSubstr;
 
 TEST(QualityWarning, SaysWhatTargetKeepsTheQuality) {

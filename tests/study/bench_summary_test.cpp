@@ -2,9 +2,9 @@
 // rebalances, the default warm-up and the bit-identity verdict.
 #include <gtest/gtest.h>
 
-#include "app/bench_summary.h"
+#include "study/bench_summary.h"
 
-namespace multiray::app {
+namespace multiray::study {
 namespace bench_summary_test {
 
 std::vector<FrameRecord> frames(const std::vector<double>& ms,
@@ -124,4 +124,4 @@ TEST(BenchSummary, EfficiencyLeavesOutFramesBelowFullQuality) {
 }
 
 }  // namespace bench_summary_test
-}  // namespace multiray::app
+}  // namespace multiray::study

@@ -11,7 +11,7 @@
 #include "engine/bench_harness.h"
 #include "engine/frame_record.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 struct RunSummary {
   // Frames >= warm-up; frame time is frame_total_ms().
@@ -107,4 +107,4 @@ nlohmann::json breakdown_to_json(const balance::Breakdown& b, bool stolen_measur
 // uniform:layout=strips would otherwise write the same files).
 std::vector<std::string> lane_file_stems(const std::vector<std::string>& names);
 
-}  // namespace multiray::app
+}  // namespace multiray::study

@@ -1,4 +1,4 @@
-#include "app/svg_chart.h"
+#include "study/svg_chart.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "core/file_io.h"
 
-namespace multiray::app {
+namespace multiray::study {
 
 double nice_ceiling(double x) {
   if (!(x > 0) || !std::isfinite(x)) return 1;
@@ -187,4 +187,4 @@ std::string SvgChart::svg() const {
 
 void SvgChart::write(const std::string& path) const { write_file_atomically(path, svg()); }
 
-}  // namespace multiray::app
+}  // namespace multiray::study

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-namespace multiray::app {
+namespace multiray::study {
 
 // The smallest 1, 2 or 5 times a power of ten at or above x (x <= 0: 1).
 double nice_ceiling(double x);
@@ -66,4 +66,4 @@ class SvgChart {
   std::string body_;
 };
 
-}  // namespace multiray::app
+}  // namespace multiray::study
