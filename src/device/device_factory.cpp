@@ -116,6 +116,7 @@ OpenClDeviceOptions read_opencl_options(Spec& spec) {
   o.index = spec.get_int("index", o.index, 0, 65535);
   o.speed = spec.get_double("speed", o.speed, kMinEmulatedSpeed, 1.0);  // emulated
   o.tile = spec.get_int("tile", o.tile, 1, 4096);
+  o.work_group_given = spec.has("wg");
   o.work_group = spec.get_int("wg", o.work_group, 1, 4096);
   o.batch = spec.get_int("batch", o.batch, 1, 64);  // MR_BATCH_MAX (kernels/batch_rects.h)
   o.cores = read_cores(spec);
@@ -162,7 +163,8 @@ std::vector<BackendEntry> make_backends() {
                {{"index", "0..65535", "0", "the device (also written opencl:N)"},
                 kSpeed,
                 {"tile", "1..4096", "256", "side of the largest square one launch renders"},
-                {"wg", "1..4096", "64", "work-group size (clamped to the kernel's maximum)"},
+                {"wg", "1..4096", "64",
+                 "work-group size (fitted to each kernel's maximum; a larger one is noted)"},
                 {"batch", "1..64", "16",
                  "items taken together and rendered in one launch (1: one launch per item)"},
                 {"cores", "0, 0+2, 0-3", "", "cores to pin the thread driving the device to"},
