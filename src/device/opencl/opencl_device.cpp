@@ -186,6 +186,13 @@ OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::st
   }
   if (impl_->kernels.count("path"))
     info_.representation = opts.compact ? "opencl-compact" : "opencl-flat-bvh";
+  // llvmpipe (Mesa's software driver, under rusticl) ends a work-item's loops after 65535
+  // iterations of all its loops together (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS): pixels of
+  // many samples times bounces come out wrong, silently (docs/devices.md).
+  if (name.find("llvmpipe") != std::string::npos)
+    info_.notes.push_back(spec +
+                          ": llvmpipe stops a work-item after 65535 loop iterations, so "
+                          "pixels of many samples or bounces come out too dark");
   info_.memory_limit = opts.memory_limit;
   info_.spec = std::move(spec);
   info_.emulated_speed = opts.speed;
