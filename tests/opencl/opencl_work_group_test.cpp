@@ -44,7 +44,9 @@ TEST(OpenClWorkGroup, ALargeWgIsFittedToEachKernelNotedAndChangesNoPixel) {
   OpenClDevice fitted(rs, {.work_group = 4096, .work_group_given = true}, "opencl:0:wg=4096");
   const size_t wg = fitted.work_group_size("path");
   ASSERT_GE(wg, 1u);
-  ASSERT_LE(wg, 4096u);
+  // Within what the compiled kernel allows (rusticl 22.3 launched 64 where it allows 32
+  // without an error, so only this sees a size left unfitted).
+  ASSERT_LE(wg, fitted.work_group_limit("path"));
   std::vector<std::string> notes;  // about the work group (llvmpipe adds another)
   for (const std::string& n : fitted.info().notes)
     if (n.find("kernel allows") != std::string::npos) notes.push_back(n);
@@ -61,6 +63,7 @@ TEST(OpenClWorkGroup, ALargeWgIsFittedToEachKernelNotedAndChangesNoPixel) {
     EXPECT_EQ(n.find("kernel allows"), std::string::npos)
         << "the default is fitted silently: " << n;
   EXPECT_LE(by_default.work_group_size("path"), 64u);
+  EXPECT_LE(by_default.work_group_size("path"), by_default.work_group_limit("path"));
   EXPECT_TRUE(same_bits(render_whole(fitted, view, s), render_whole(by_default, view, s)));
 }
 

@@ -54,6 +54,7 @@ ClBuiltKernel ClRuntime::build_kernel(const char* source, const char* name, cl_u
                         std::to_string(local_mem) + " bytes of local memory, the device has " +
                         std::to_string(device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>()));
     const size_t limit = out.kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device);
+    out.limit = limit;
     if (limit >= out.local || out.local == 1) return out;
     const size_t multiple =
         out.kernel.getWorkGroupInfo<CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE>(device);

@@ -27,6 +27,7 @@ struct ClBuiltKernel {
   cl::Kernel kernel;
   size_t local = 1;         // work-group size, fitted to the kernel (fit_work_group)
   size_t launch_items = 0;  // global size of every launch: tile^2 rounded up to `local`
+  size_t limit = 0;         // CL_KERNEL_WORK_GROUP_SIZE of the kernel as built (>= local)
   bool from_cache = false;  // the program binary came from the disk cache
 };
 
@@ -170,9 +171,10 @@ class ClKernelRunner {
   virtual std::vector<KernelStats> render_rects(const ViewSetup& view,
                                                 const RenderSettings& settings,
                                                 std::span<const Rect> rects, Framebuffer& out) = 0;
-  bool from_cache = false;   // the program binary came from the disk cache
-  uint64_t scene_bytes = 0;  // bytes of the scene buffers it uploaded
-  size_t work_group = 0;     // the work-group size its launches use (ClBuiltKernel::local)
+  bool from_cache = false;      // the program binary came from the disk cache
+  uint64_t scene_bytes = 0;     // bytes of the scene buffers it uploaded
+  size_t work_group = 0;        // the work-group size its launches use (ClBuiltKernel::local)
+  size_t work_group_limit = 0;  // what the compiled kernel allows (ClBuiltKernel::limit)
 };
 
 // `v` and `w` as a float4 of a parameter block (render/shared/language.h).

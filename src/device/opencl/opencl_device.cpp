@@ -219,6 +219,10 @@ size_t OpenClDevice::work_group_size(const std::string& kernel) const {
   const auto it = impl_->kernels.find(kernel);
   return it == impl_->kernels.end() ? 0 : it->second->work_group;
 }
+size_t OpenClDevice::work_group_limit(const std::string& kernel) const {
+  const auto it = impl_->kernels.find(kernel);
+  return it == impl_->kernels.end() ? 0 : it->second->work_group_limit;
+}
 
 void OpenClDevice::set_emulated_speed(double speed) {
   impl_->speed = speed;

@@ -67,6 +67,8 @@ class OpenClDevice : public Device {
   // The work-group size `kernel`'s launches use, fitted to what the compiled kernel
   // allows (ClRuntime::build_kernel); 0 for a kernel this device did not build.
   size_t work_group_size(const std::string& kernel) const;
+  // CL_KERNEL_WORK_GROUP_SIZE of `kernel` as built (at least work_group_size); 0 likewise.
+  size_t work_group_limit(const std::string& kernel) const;
 
  private:
   struct Impl;

@@ -23,6 +23,7 @@ class ClPathTracer : public ClKernelRunner {
                              s.is_compact ? "-DMR_COMPACT=1" : "");
     from_cache = built_.from_cache;
     work_group = built_.local;
+    work_group_limit = built_.limit;
     // Every argument is a buffer, set once here; the arguments are listed once, in
     // kernels/launch_params.h. The buffers of the representation not in use are empty
     // (one placeholder byte each).

@@ -24,6 +24,7 @@ class ClVolumeRaycaster : public ClKernelRunner {
                              "-cl-fp32-correctly-rounded-divide-sqrt");
     from_cache = built_.from_cache;
     work_group = built_.local;
+    work_group_limit = built_.limit;
     cl::Kernel& k = built_.kernel;
     const Volume& v = vs.volume;
     values_ = rt.upload(v.values.data(), v.values.size() * sizeof(float), "the volume");
