@@ -11,8 +11,9 @@
 # (PoCL, Mesa's rusticl on llvmpipe) stands in for one, and the report says so.
 # Environment (defaults keep a run to a few minutes):
 #   BUILD=build/        the Release build (make build)
-#   TESTS=quick|all|none  quick: the image tests (split, wg, Sobol, match, compact,
-#                       volume, batch, implementations); all: every OpenCL test
+#   TESTS=quick|all|none  quick: the fast image tests (split, wg, Sobol, same-seed match,
+#                       volume, batch, failure) and the implementations' images; all:
+#                       every OpenCL test (slow on CPU stand-ins)
 #   RES=320x180 FRAMES=12 REPEATS=3  the bench: frames, each balancer timed REPEATS times
 #   BALANCERS=queue,semi-static      the bench's balancers
 #   OCLGRIND=0          1: also the Oclgrind check of every kernel (minutes)
@@ -78,7 +79,7 @@ fi
 
 # Tests: the OpenCL test program on each implementation, opencl:0 its first device.
 filter="-OpenClImplementations.*:OpenClOclgrind.*"
-[ "$TESTS" = quick ] && filter="OpenClSplit.*:OpenClSobol.*:OpenClMatch.*:OpenClCompact.*:OpenClVolume.*:OpenClBatch.*:OpenClStrict.*"
+[ "$TESTS" = quick ] && filter="OpenClSplit.*:OpenClSobol.*:OpenClWorkGroup.*:OpenClLitPlane.*:OpenClMatch.SameSeed*:OpenClVolume.*:OpenClBatch.VolumeImages*:OpenClBatch.Reports*:OpenClEngine.InjectedFailure*:OpenClStrict.*"
 out ""
 out "## OpenCL tests"
 out ""

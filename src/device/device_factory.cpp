@@ -116,12 +116,12 @@ OpenClDeviceOptions read_opencl_options(Spec& spec) {
   o.index = spec.get_int("index", o.index, 0, 65535);
   o.speed = spec.get_double("speed", o.speed, kMinEmulatedSpeed, 1.0);  // emulated
   o.tile = spec.get_int("tile", o.tile, 1, 4096);
-  o.work_group_given = spec.has("wg");
   o.work_group = spec.get_int("wg", o.work_group, 1, 4096);
   o.batch = spec.get_int("batch", o.batch, 1, 64);  // MR_BATCH_MAX (kernels/batch_rects.h)
   o.cores = read_cores(spec);
   o.fail_after = spec.get_int("fail_after", o.fail_after, 0, std::numeric_limits<int>::max());
   read_memory_options(spec, o.compact, o.memory_limit);
+  o.work_group_given = spec.has("wg");  // a wg= asked for is noted when fitted
   spec.finish();
   return o;
 }
