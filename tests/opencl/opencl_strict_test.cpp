@@ -3,7 +3,9 @@
 // those here. clang's OpenCL front end (clang-15, which the test dependencies install)
 // parses each embedded program for a generic SPIR device without the optional doubles
 // (cl_khr_fp64, which some GPUs lack), with the build options the device uses, and every
-// warning is an error. Needs no OpenCL device; skips with a message without clang-15.
+// warning is an error. And it compiles each to LLVM IR as an optimising driver would, to
+// refuse intrinsics an IR interpreter (Oclgrind) cannot run. Needs no OpenCL device;
+// skips with a message without clang-15.
 #include <gtest/gtest.h>
 
 #include <cstdio>
