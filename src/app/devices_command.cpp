@@ -75,6 +75,8 @@ Runner add_devices_command(CLI::App& app) {
     print_out("{:<8} {:<40} {:>6} {:>9}  {}\n", "type", "name", "units", "memory", "spec");
     for (const OfferedDevice& d : offer.devices)
       print_row(d.type, d.name, d.units, gib(double(d.memory_bytes)), d.spec);
+    for (const OfferedDevice& d : offer.devices)
+      if (!d.driver.empty()) print_out("  {}: {}\n", d.spec, d.driver);
     print_out(
         "\nWhat each backend runs (--integrator, --sampling) and on which scene "
         "representation:\n");

@@ -52,6 +52,10 @@ struct DeviceInfo {
   std::string representation;
   uint64_t scene_bytes = 0;
   uint64_t memory_limit = 0;
+  // What the user should know about how the device was set up, one line each (e.g. an
+  // OpenCL `wg=` larger than a kernel allows, rendered at a smaller size); the CLI prints
+  // them as notes.
+  std::vector<std::string> notes;
 };
 
 // Empty when a device with `info` can render frames of `kernel` with `sampling`;

@@ -121,6 +121,7 @@ OpenClDeviceOptions read_opencl_options(Spec& spec) {
   o.cores = read_cores(spec);
   o.fail_after = spec.get_int("fail_after", o.fail_after, 0, std::numeric_limits<int>::max());
   read_memory_options(spec, o.compact, o.memory_limit);
+  o.work_group_given = spec.has("wg");  // a wg= asked for is noted when fitted
   spec.finish();
   return o;
 }
@@ -162,7 +163,8 @@ std::vector<BackendEntry> make_backends() {
                {{"index", "0..65535", "0", "the device (also written opencl:N)"},
                 kSpeed,
                 {"tile", "1..4096", "256", "side of the largest square one launch renders"},
-                {"wg", "1..4096", "64", "work-group size (clamped to the kernel's maximum)"},
+                {"wg", "1..4096", "64",
+                 "work-group size (fitted to each kernel's maximum; a larger one is noted)"},
                 {"batch", "1..64", "16",
                  "items taken together and rendered in one launch (1: one launch per item)"},
                 {"cores", "0, 0+2, 0-3", "", "cores to pin the thread driving the device to"},

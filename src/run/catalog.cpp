@@ -51,16 +51,17 @@ Offer offered_devices() {
   Offer offer;
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const uint64_t ram = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
-  offer.devices.push_back(
-      {"cpu", "all cores (oneTBB + Embree)", cores, ram, fmt::format("cpu:threads={}", cores)});
+  offer.devices.push_back({"cpu", "all cores (oneTBB + Embree)", cores, ram,
+                           fmt::format("cpu:threads={}", cores), ""});
   for (unsigned c = 0; c < cores; ++c)
     offer.devices.push_back(
-        {"cpu", fmt::format("core {}", c), 1, ram, fmt::format("cpu:threads=1:cores={}", c)});
+        {"cpu", fmt::format("core {}", c), 1, ram, fmt::format("cpu:threads=1:cores={}", c), ""});
 #ifdef MULTIRAY_HAS_OPENCL
   offer.opencl_built = true;
   for (const OpenClDeviceListing& d : list_opencl_devices())
     offer.devices.push_back({"opencl", fmt::format("{} ({})", d.name, d.kind), d.compute_units,
-                             d.memory_bytes, fmt::format("opencl:{}", d.index)});
+                             d.memory_bytes, fmt::format("opencl:{}", d.index),
+                             fmt::format("platform {}, driver {}", d.platform, d.driver)});
 #endif
   for (const char* type : {"cpu", "opencl"}) {
     DeviceCapabilities caps = backend_capabilities(type);

@@ -36,7 +36,8 @@ struct OfferedDevice {
   std::string type, name;  // "cpu", "all cores (oneTBB + Embree)"
   unsigned units = 0;      // cores or compute units
   uint64_t memory_bytes = 0;
-  std::string spec;  // the --devices text that makes it
+  std::string spec;    // the --devices text that makes it
+  std::string driver;  // OpenCL: "platform NAME, driver VERSION"; empty for the CPU
 };
 struct Offer {
   std::vector<OfferedDevice> devices;

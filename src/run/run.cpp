@@ -356,7 +356,10 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
     }
   }
   if (!s.cluster || !s.cluster->master() || o.distributed.master_renders)
-    for (const DeviceSpec& d : specs) s.devices.push_back(create_device(d, *s.scenes));
+    for (const DeviceSpec& d : specs) {
+      s.devices.push_back(create_device(d, *s.scenes));
+      for (const std::string& n : s.devices.back()->info().notes) s.notes.push_back(n);
+    }
   // The G-buffer passes (adaptive edges, reprojection) run on the host, on the CPU
   // representation.
   const RenderScene* host =

@@ -85,7 +85,8 @@ TEST(Protocol, MessagesSurviveARoundTrip) {
                                  {{"path"}, {"uniform"}, "embree"},
                                  "embree",
                                  0,
-                                 0});
+                                 0,
+                                 {}});
   const HelloMessage h2 = decode_hello(encode(h));
   ASSERT_EQ(h2.devices.size(), 1u);
   EXPECT_EQ(h2.devices[0].caps.kernels, std::vector<std::string>{"path"});

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <memory>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -16,10 +18,28 @@
 
 namespace multiray::testing {
 
-#define MULTIRAY_SKIP_WITHOUT_OPENCL()                                                \
-  if (list_opencl_devices().empty())                                                  \
-  GTEST_SKIP() << "no OpenCL device on this machine (install pocl-opencl-icd to run " \
-                  "the OpenCL tests)"
+// MULTIRAY_TEST_OPENCL_ICD=FILE runs these tests on the implementation of that ICD file
+// alone (tests/opencl/CMakeLists.txt registers a run on Mesa's rusticl): set before main,
+// so before the ICD loader reads it, and inherited by the multiray processes tests start.
+// rusticl lists llvmpipe only when RUSTICL_ENABLE names it; LP_NUM_THREADS=1 keeps it to
+// one thread beside the other tests (neither changes another implementation or the CPU).
+inline const std::string kTestOpenClIcd = [] {
+  const char* icd = std::getenv("MULTIRAY_TEST_OPENCL_ICD");
+  if (!icd || !*icd) return std::string();
+  setenv("OCL_ICD_VENDORS", icd, 1);
+  setenv("RUSTICL_ENABLE", "llvmpipe", 0);
+  setenv("LP_NUM_THREADS", "1", 0);
+  return std::string(icd);
+}();
+
+#define MULTIRAY_SKIP_WITHOUT_OPENCL()                                                       \
+  if (list_opencl_devices().empty())                                                         \
+  GTEST_SKIP() << (::multiray::testing::kTestOpenClIcd.empty()                               \
+                       ? std::string("no OpenCL device on this machine (install "            \
+                                     "pocl-opencl-icd to run the OpenCL tests)")             \
+                       : "no OpenCL device through " + ::multiray::testing::kTestOpenClIcd + \
+                             " (this run of the OpenCL tests is for that implementation; "   \
+                             "install it, e.g. mesa-opencl-icd for rusticl)")
 
 inline ViewSetup view_of(const Scene& scene, int w, int h, int frame = 0) {
   ViewSetup v;

@@ -116,7 +116,9 @@ TEST(OpenClProgram, KernelBinaryIsCachedOnDisk) {
   int files = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir + "/multiray"))
     files += e.path().extension() == ".bin";
-  EXPECT_EQ(files, 1);
+  // One binary per size built: two where the kernel allowed fewer than the default 64
+  // work-items per group and was rebuilt smaller (rusticl on llvmpipe: 32).
+  EXPECT_EQ(files, OpenClDevice(rs, {}, "opencl:0").work_group_size("path") < 64 ? 2 : 1);
   if (old)
     setenv("XDG_CACHE_HOME", saved.c_str(), 1);
   else

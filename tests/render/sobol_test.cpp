@@ -146,6 +146,26 @@ TEST(Sobol, DirectLightNoiseFallsFasterThanOneOverN) {
   EXPECT_LT(v16, 0.5 * v1 / 16) << "1 spp " << v1 << ", 16 spp " << v16;
 }
 
+// reverse_bits32 is written twice (sobol.h): the masked swaps the C++ side runs and the
+// products OpenCL C runs (which clang cannot turn into llvm.bitreverse). Both are the same
+// function: every byte value in every byte position (the bytes are reversed
+// independently, so these fix the function), and a million other words.
+TEST(SobolBits, ProductsReverseEveryWordAsTheSwapsDo) {
+  for (uint32_t b = 0; b < 256; ++b) {
+    ASSERT_EQ(reverse_bits8_by_products(b), reverse_bits32(b) >> 24) << b;
+    for (int shift = 0; shift < 32; shift += 8)
+      ASSERT_EQ(reverse_bits32_by_products(b << shift), reverse_bits32(b << shift))
+          << b << " << " << shift;
+  }
+  uint32_t x = 12345;
+  for (int i = 0; i < 1000000; ++i) {
+    x = x * 1664525u + 1013904223u;
+    ASSERT_EQ(reverse_bits32_by_products(x), reverse_bits32(x)) << x;
+  }
+  EXPECT_EQ(reverse_bits32(1u), 0x80000000u);
+  EXPECT_EQ(reverse_bits32(0x12345678u), 0x1e6a2c48u);
+}
+
 // Russian roulette: the square root of the throughput, 1 from a throughput of 1 on.
 TEST(RussianRoulette, SurvivalIsTheSquareRootOfTheThroughput) {
   EXPECT_FLOAT_EQ(rr_survival(0.25f), 0.5f);

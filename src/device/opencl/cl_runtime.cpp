@@ -11,35 +11,56 @@ ClRuntime::ClRuntime(const cl::Device& d, int device_index, int tile_side, int w
     : device(d), context(d), queue(context, d), index(device_index), tile(tile_side) {
   local = std::max<size_t>(
       1, std::min<size_t>(size_t(work_group), device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>()));
-  launch_items = (size_t(tile) * size_t(tile) + local - 1) / local * local;
   max_alloc = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
   global_mem = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
 }
 
-cl::Kernel ClRuntime::build_kernel(const char* source, const char* name, cl_uint arg_count,
-                                   const std::string& extra_options, bool& from_cache) const {
-  // Every launch has the same global size, and the program is built for that size.
-  // Why: PoCL 3.1 caches compiled work-group functions per (program, local size, grid
-  // width) but releases them by (program, local size) only, so two devices launching
-  // one program with different global sizes at the same moment corrupt its reference
-  // counts and abort (assertion in pocl_release_dlhandle_cache, seen with
-  // POCL_DEVICES="basic basic"). One size per program keeps one cache entry per program.
-  std::string options = "-cl-std=CL1.2 -DMR_GROUP_ITEMS=" + std::to_string(local) +
-                        " -DMR_LAUNCH_ITEMS=" + std::to_string(launch_items);
-  if (!extra_options.empty()) options += " " + extra_options;
-  const cl_util::BuiltProgram built = cl_util::build_program(context, device, source, options);
-  from_cache = built.from_cache;
-  cl::Kernel kernel(built.program, name);
-  const size_t kernel_max = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device);
-  if (kernel_max < local)
-    throw DeviceError("opencl device " + std::to_string(index) + ": work-group size " +
-                      std::to_string(local) + " is too large for the kernel here (at most " +
-                      std::to_string(kernel_max) + "); use :wg=" + std::to_string(kernel_max));
-  const cl_uint args = kernel.getInfo<CL_KERNEL_NUM_ARGS>();
-  if (args != arg_count)
-    throw DeviceError(std::string("OpenCL: ") + name + " has " + std::to_string(args) +
-                      " arguments, the host sets " + std::to_string(arg_count));
-  return kernel;
+size_t fit_work_group(size_t local, size_t limit, size_t multiple) {
+  if (limit >= local) return local;
+  if (multiple > 1 && multiple <= limit) return limit / multiple * multiple;
+  size_t p = 1;
+  while (p * 2 <= limit) p *= 2;
+  return p;
+}
+
+ClBuiltKernel ClRuntime::build_kernel(const char* source, const char* name, cl_uint arg_count,
+                                      const std::string& extra_options) const {
+  ClBuiltKernel out;
+  out.local = local;
+  // A rebuild at a smaller size can only lower the size again, so this ends; 1 always fits.
+  for (;;) {
+    // Every launch has the same global size, and the program is built for that size.
+    // Why: PoCL 3.1 caches compiled work-group functions per (program, local size, grid
+    // width) but releases them by (program, local size) only, so two devices launching
+    // one program with different global sizes at the same moment corrupt its reference
+    // counts and abort (assertion in pocl_release_dlhandle_cache, seen with
+    // POCL_DEVICES="basic basic"). One size per program keeps one cache entry per program.
+    out.launch_items = (size_t(tile) * size_t(tile) + out.local - 1) / out.local * out.local;
+    std::string options = "-cl-std=CL1.2 -DMR_GROUP_ITEMS=" + std::to_string(out.local) +
+                          " -DMR_LAUNCH_ITEMS=" + std::to_string(out.launch_items);
+    if (!extra_options.empty()) options += " " + extra_options;
+    const cl_util::BuiltProgram built = cl_util::build_program(context, device, source, options);
+    out.from_cache = built.from_cache;
+    out.kernel = cl::Kernel(built.program, name);
+    const cl_uint args = out.kernel.getInfo<CL_KERNEL_NUM_ARGS>();
+    if (args != arg_count)
+      throw DeviceError(std::string("OpenCL: ") + name + " has " + std::to_string(args) +
+                        " arguments, the host sets " + std::to_string(arg_count));
+    // The kernels declare no __local memory; a driver that still needs more than the
+    // device has cannot run them at any size.
+    const cl_ulong local_mem = out.kernel.getWorkGroupInfo<CL_KERNEL_LOCAL_MEM_SIZE>(device);
+    if (local_mem > device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>())
+      throw DeviceError("opencl device " + std::to_string(index) + ": " + name + " needs " +
+                        std::to_string(local_mem) + " bytes of local memory, the device has " +
+                        std::to_string(device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>()));
+    const size_t limit = out.kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device);
+    out.limit = limit;
+    if (limit >= out.local || out.local == 1) return out;
+    const size_t multiple =
+        out.kernel.getWorkGroupInfo<CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE>(device);
+    out.local = std::min(out.local - 1, fit_work_group(out.local, limit, multiple));
+    out.local = std::max<size_t>(1, out.local);
+  }
 }
 
 cl::Buffer ClRuntime::upload(const void* data, size_t bytes, const std::string& what) const {

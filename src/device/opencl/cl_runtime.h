@@ -19,20 +19,41 @@
 
 namespace multiray {
 
-// One OpenCL device, set up once: every kernel of the device uses its queue and launches
-// exactly `launch_items` work-items in groups of `local` (one global size per program,
-// see ClRuntime::build_kernel).
+// A kernel built for its launch shape: every launch of it uses exactly `launch_items`
+// work-items in groups of `local` (one global size per program, see
+// ClRuntime::build_kernel). Kernels of one device may have different shapes: each is
+// fitted to its own limit.
+struct ClBuiltKernel {
+  cl::Kernel kernel;
+  size_t local = 1;         // work-group size, fitted to the kernel (fit_work_group)
+  size_t launch_items = 0;  // global size of every launch: tile^2 rounded up to `local`
+  size_t limit = 0;         // CL_KERNEL_WORK_GROUP_SIZE of the kernel as built (>= local)
+  bool from_cache = false;  // the program binary came from the disk cache
+};
+
+// The work-group size to rebuild a kernel at when, built for `local`, it allows only
+// `limit` (CL_KERNEL_WORK_GROUP_SIZE, which depends on the compiled code: Mesa's rusticl
+// on llvmpipe allows 32 where the device allows 1024): `local` when it fits, else the
+// largest multiple of `multiple` (CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE, the
+// SIMD width) not above `limit`, else the largest power of two not above it; at least 1.
+size_t fit_work_group(size_t local, size_t limit, size_t multiple);
+
+// One OpenCL device, set up once: every kernel of the device uses its queue.
 struct ClRuntime {
-  // Creates the context and queue of `device` and fixes the launch shape for launches of
-  // at most tile x tile pixels with work groups of `work_group` (clamped to the device).
+  // Creates the context and queue of `device`; kernels are built for launches of at most
+  // tile x tile pixels with work groups of `work_group`, clamped to the device's maximum
+  // and then fitted to each kernel (build_kernel).
   ClRuntime(const cl::Device& device, int index, int tile, int work_group);
 
   // Builds `source` (from the disk cache when it can, cl_program.h) with the launch-shape
   // options plus `extra_options` and returns its kernel `name`, after checking that it has
-  // `arg_count` arguments and accepts work groups of `local`. Sets `from_cache`. Throws
-  // DeviceError otherwise.
-  cl::Kernel build_kernel(const char* source, const char* name, cl_uint arg_count,
-                          const std::string& extra_options, bool& from_cache) const;
+  // `arg_count` arguments. The program is built for work groups of `local`; when the
+  // compiled kernel allows fewer (CL_KERNEL_WORK_GROUP_SIZE), it is rebuilt at
+  // fit_work_group's size, never refused: the size changes no pixel (each work-item
+  // renders its own pixel alone; the kernels use no local memory and no barrier). Throws
+  // DeviceError on a build error or a kernel that does not match the host.
+  ClBuiltKernel build_kernel(const char* source, const char* name, cl_uint arg_count,
+                             const std::string& extra_options) const;
 
   // A read-only buffer holding `bytes` of `data` (at least one byte: OpenCL has no empty
   // buffers). Throws DeviceError "<what> needs a N MB buffer, the device allows M MB"
@@ -44,8 +65,7 @@ struct ClRuntime {
   cl::CommandQueue queue;
   int index = 0;            // `opencl:N`, for messages
   int tile = 256;           // side of the largest square one launch renders
-  size_t local = 64;        // work-group size
-  size_t launch_items = 0;  // global size of every launch: tile^2 rounded up to `local`
+  size_t local = 64;        // work-group size asked for, within the device's maximum
   uint64_t max_alloc = 0;   // CL_DEVICE_MAX_MEM_ALLOC_SIZE, bytes
   uint64_t global_mem = 0;  // CL_DEVICE_GLOBAL_MEM_SIZE, bytes
 };
@@ -151,8 +171,10 @@ class ClKernelRunner {
   virtual std::vector<KernelStats> render_rects(const ViewSetup& view,
                                                 const RenderSettings& settings,
                                                 std::span<const Rect> rects, Framebuffer& out) = 0;
-  bool from_cache = false;   // the program binary came from the disk cache
-  uint64_t scene_bytes = 0;  // bytes of the scene buffers it uploaded
+  bool from_cache = false;      // the program binary came from the disk cache
+  uint64_t scene_bytes = 0;     // bytes of the scene buffers it uploaded
+  size_t work_group = 0;        // the work-group size its launches use (ClBuiltKernel::local)
+  size_t work_group_limit = 0;  // what the compiled kernel allows (ClBuiltKernel::limit)
 };
 
 // `v` and `w` as a float4 of a parameter block (render/shared/language.h).

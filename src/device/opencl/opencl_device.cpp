@@ -175,9 +175,24 @@ OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::st
   info_.caps.representation = impl_->kernels.count("volume") ? "opencl-volume"
                               : opts.compact                 ? "opencl-compact"
                                                              : "opencl-flat-bvh";
-  for (const auto& [kernel, runner] : impl_->kernels) info_.scene_bytes += runner->scene_bytes;
+  for (const auto& [kernel, runner] : impl_->kernels) {
+    info_.scene_bytes += runner->scene_bytes;
+    // The default size is fitted silently; one asked for is fitted too, never refused
+    // (a size changes no pixel), and the user told.
+    if (opts.work_group_given && runner->work_group < size_t(opts.work_group))
+      info_.notes.push_back(spec + ": wg=" + std::to_string(opts.work_group) +
+                            " is more than the " + kernel + " kernel allows on '" + name +
+                            "'; it uses wg=" + std::to_string(runner->work_group));
+  }
   if (impl_->kernels.count("path"))
     info_.representation = opts.compact ? "opencl-compact" : "opencl-flat-bvh";
+  // llvmpipe (Mesa's software driver, under rusticl) ends a work-item's loops after 65535
+  // iterations of all its loops together (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS): pixels of
+  // many samples times bounces come out wrong, silently (docs/devices.md).
+  if (name.find("llvmpipe") != std::string::npos)
+    info_.notes.push_back(spec +
+                          ": llvmpipe stops a work-item after 65535 loop iterations, so "
+                          "pixels of many samples or bounces come out too dark");
   info_.memory_limit = opts.memory_limit;
   info_.spec = std::move(spec);
   info_.emulated_speed = opts.speed;
@@ -200,7 +215,14 @@ bool OpenClDevice::kernel_from_cache() const {
     if (!runner->from_cache) return false;
   return true;
 }
-size_t OpenClDevice::work_group_size() const { return impl_->runtime->local; }
+size_t OpenClDevice::work_group_size(const std::string& kernel) const {
+  const auto it = impl_->kernels.find(kernel);
+  return it == impl_->kernels.end() ? 0 : it->second->work_group;
+}
+size_t OpenClDevice::work_group_limit(const std::string& kernel) const {
+  const auto it = impl_->kernels.find(kernel);
+  return it == impl_->kernels.end() ? 0 : it->second->work_group_limit;
+}
 
 void OpenClDevice::set_emulated_speed(double speed) {
   impl_->speed = speed;

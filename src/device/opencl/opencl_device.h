@@ -27,15 +27,16 @@
 namespace multiray {
 
 struct OpenClDeviceOptions {
-  int index = 0;              // global device index over all platforms (`opencl:N`)
-  double speed = 1.0;         // emulated speed in (0, 1]: idles after each unit
-  int tile = 256;             // side of the largest square one kernel launch renders
-  int work_group = 64;        // work-group size, clamped to what the kernel allows
-  int batch = 16;             // items taken together and rendered in one launch, 1..64
-  std::vector<int> cores{};   // pin the thread that drives the device (empty: not pinned)
-  int fail_after = -1;        // testing aid: fail when pulling a unit after this many units
-  bool compact = false;       // upload the compact scene representation (compact_scene.h)
-  uint64_t memory_limit = 0;  // emulated device memory limit in bytes (mem=); 0: none
+  int index = 0;                  // global device index over all platforms (`opencl:N`)
+  double speed = 1.0;             // emulated speed in (0, 1]: idles after each unit
+  int tile = 256;                 // side of the largest square one kernel launch renders
+  int work_group = 64;            // work-group size, fitted to what each kernel allows
+  bool work_group_given = false;  // `wg=` was given: a fitted size is noted (DeviceInfo::notes)
+  int batch = 16;                 // items taken together and rendered in one launch, 1..64
+  std::vector<int> cores{};       // pin the thread that drives the device (empty: not pinned)
+  int fail_after = -1;            // testing aid: fail when pulling a unit after this many units
+  bool compact = false;           // upload the compact scene representation (compact_scene.h)
+  uint64_t memory_limit = 0;      // emulated device memory limit in bytes (mem=); 0: none
 };
 
 class OpenClDevice : public Device {
@@ -63,8 +64,11 @@ class OpenClDevice : public Device {
 
   // True when every kernel binary came from the on-disk cache (see cl_program.h).
   bool kernel_from_cache() const;
-  // The work-group size in use after clamping.
-  size_t work_group_size() const;
+  // The work-group size `kernel`'s launches use, fitted to what the compiled kernel
+  // allows (ClRuntime::build_kernel); 0 for a kernel this device did not build.
+  size_t work_group_size(const std::string& kernel) const;
+  // CL_KERNEL_WORK_GROUP_SIZE of `kernel` as built (at least work_group_size); 0 likewise.
+  size_t work_group_limit(const std::string& kernel) const;
 
  private:
   struct Impl;

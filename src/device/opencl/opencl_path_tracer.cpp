@@ -19,8 +19,11 @@ class ClPathTracer : public ClKernelRunner {
     scene_bytes = cl_scene_bytes(s);
     // One program per representation: the compact one traverses the quantized tree and
     // decodes the mesh (kernels/shading.cl, traverse_compact.cl).
-    kernel_ = rt.build_kernel(kPathTracerSource, "render_rect", MR_ARG_COUNT,
-                              s.is_compact ? "-DMR_COMPACT=1" : "", from_cache);
+    built_ = rt.build_kernel(kPathTracerSource, "render_rect", MR_ARG_COUNT,
+                             s.is_compact ? "-DMR_COMPACT=1" : "");
+    from_cache = built_.from_cache;
+    work_group = built_.local;
+    work_group_limit = built_.limit;
     // Every argument is a buffer, set once here; the arguments are listed once, in
     // kernels/launch_params.h. The buffers of the representation not in use are empty
     // (one placeholder byte each).
@@ -63,7 +66,7 @@ class ClPathTracer : public ClKernelRunner {
       if (!args[i]())
         throw std::logic_error(std::string("OpenCL: no buffer for render_rect argument ") +
                                kRenderRectArgNames[i]);
-      kernel_.setArg(i, args[i]);
+      built_.kernel.setArg(i, args[i]);
     }
   }
 
@@ -87,8 +90,8 @@ class ClPathTracer : public ClKernelRunner {
       // Always `launch_items` work-items (see ClRuntime::build_kernel); those beyond the
       // batch's pixels return at once.
       params_block_.write(rt_, params_);
-      rt_.queue.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(rt_.launch_items),
-                                     cl::NDRange(rt_.local));
+      rt_.queue.enqueueNDRangeKernel(built_.kernel, cl::NullRange,
+                                     cl::NDRange(built_.launch_items), cl::NDRange(built_.local));
     });
     std::vector<KernelStats> stats(counts.size());
     for (size_t k = 0; k < counts.size(); ++k)
@@ -104,7 +107,7 @@ class ClPathTracer : public ClKernelRunner {
   }
 
   const ClRuntime& rt_;
-  cl::Kernel kernel_;
+  ClBuiltKernel built_;
   std::vector<cl::Buffer> scene_;  // kept alive while the kernel refers to them
   ClLaunchBuffers out_;
   ClParamBlock<LaunchParams> params_block_;  // `params_` on the device

@@ -20,19 +20,23 @@ class ClVolumeRaycaster : public ClKernelRunner {
   ClVolumeRaycaster(const ClRuntime& rt, const VolumeScene& vs)
       : rt_(rt), vs_(vs), out_(rt), params_block_(rt) {
     // Division and sqrt correctly rounded, as on the CPU (OpenCL allows 2.5 and 3 ulp).
-    kernel_ = rt.build_kernel(kVolumeSource, "render_volume", MR_VARG_COUNT,
-                              "-cl-fp32-correctly-rounded-divide-sqrt", from_cache);
+    built_ = rt.build_kernel(kVolumeSource, "render_volume", MR_VARG_COUNT,
+                             "-cl-fp32-correctly-rounded-divide-sqrt");
+    from_cache = built_.from_cache;
+    work_group = built_.local;
+    work_group_limit = built_.limit;
+    cl::Kernel& k = built_.kernel;
     const Volume& v = vs.volume;
     values_ = rt.upload(v.values.data(), v.values.size() * sizeof(float), "the volume");
     opacity_ = cl::Buffer(rt.context, CL_MEM_READ_ONLY,
                           std::max<size_t>(1, vs.blocks.count()) * sizeof(float));
-    kernel_.setArg(MR_VARG_values, values_);
-    kernel_.setArg(MR_VARG_block_opacity, opacity_);
-    kernel_.setArg(MR_VARG_params, params_block_.buffer);
-    kernel_.setArg(MR_VARG_batch, out_.batch);
-    kernel_.setArg(MR_VARG_spp_map, out_.spp_map);
-    kernel_.setArg(MR_VARG_radiance, out_.radiance);
-    kernel_.setArg(MR_VARG_steps, out_.counts);
+    k.setArg(MR_VARG_values, values_);
+    k.setArg(MR_VARG_block_opacity, opacity_);
+    k.setArg(MR_VARG_params, params_block_.buffer);
+    k.setArg(MR_VARG_batch, out_.batch);
+    k.setArg(MR_VARG_spp_map, out_.spp_map);
+    k.setArg(MR_VARG_radiance, out_.radiance);
+    k.setArg(MR_VARG_steps, out_.counts);
     // MR_VARG_table is set by use_style, before the first launch.
     params_.lower = cl_f4(v.lower());
     params_.spacing = cl_f4(v.spacing);
@@ -49,8 +53,8 @@ class ClVolumeRaycaster : public ClKernelRunner {
     const std::vector<ClRectCounts> counts = out_.render(rt_, view, st, rects, out, [&] {
       // Always `launch_items` work-items (see ClRuntime::build_kernel).
       params_block_.write(rt_, params_);
-      rt_.queue.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(rt_.launch_items),
-                                     cl::NDRange(rt_.local));
+      rt_.queue.enqueueNDRangeKernel(built_.kernel, cl::NullRange,
+                                     cl::NDRange(built_.launch_items), cl::NDRange(built_.local));
     });
     std::vector<KernelStats> stats(counts.size());
     for (size_t k = 0; k < counts.size(); ++k) {
@@ -76,7 +80,7 @@ class ClVolumeRaycaster : public ClKernelRunner {
     if (table_bytes != table_bytes_) {
       table_ = cl::Buffer(rt_.context, CL_MEM_READ_ONLY, table_bytes);
       table_bytes_ = table_bytes;
-      kernel_.setArg(MR_VARG_table, table_);
+      built_.kernel.setArg(MR_VARG_table, table_);
     }
     rt_.queue.enqueueWriteBuffer(table_, CL_TRUE, 0, table_bytes,
                                  style->colour_log_transparency.data());
@@ -110,7 +114,7 @@ class ClVolumeRaycaster : public ClKernelRunner {
 
   const ClRuntime& rt_;
   const VolumeScene& vs_;
-  cl::Kernel kernel_;
+  ClBuiltKernel built_;
   cl::Buffer values_, opacity_, table_;
   size_t table_bytes_ = 0;
   std::shared_ptr<const VolumeStyle> style_;  // whose table and opacities are on the device

@@ -34,6 +34,7 @@ ClCompactScene to_cl(const CompactScene& c) {
   i.cell = m.grid.cell;
   i.step = m.grid.step;
   i.has_normals = m.normals.empty() ? 0u : 1u;
+  i.has_uvs = m.uvs.empty() ? 0u : 1u;
   i.has_nodes = c.bvh.nodes.empty() ? 0u : 1u;
   put(i.root_lo, c.bvh.root.lo), put(i.root_hi, c.bvh.root.hi);
   for (int a = 0; a < 2; ++a)

@@ -32,7 +32,8 @@ struct ClCompactInfo {
   uint32_t widths;
   int32_t uv_shift_base[2];
   uint32_t prim_bits;  // width of the tree's packed triangle references
-  uint32_t pad[3];
+  uint32_t has_uvs;    // 0: no uvs, `uvs` is empty (the kernel must not read it)
+  uint32_t pad[2];
 };
 static_assert(sizeof(ClCompactInfo) == 96);
 

@@ -28,6 +28,25 @@ MR_NAMESPACE_BEGIN
 #define MR_SOBOL_BOUNCE_DIMS 5u  // light choice, light 2D, lobe, BSDF 2D, Russian roulette
 #define MR_SOBOL_BSDF_OFFSET 2u  // where the BSDF's lobe and 2D value start in that block
 
+// Bit k of `x` moved to bit 31 - k, written twice with equal results on every input (all
+// 2^32 compared once; SobolBits.* compares them on every byte value and the OpenCL values
+// with the CPU's). C++ swaps halves, bytes, nibbles, pairs and bits. OpenCL C reverses
+// each byte by multiplications ("Bit Twiddling Hacks", the byte in 7 operations without
+// 64 bits): clang recognises the swaps as the intrinsic llvm.bitreverse, which backends
+// lower but Oclgrind, which interprets the IR, cannot run ("Undefined external function:
+// llvm.bitreverse.i32"); products hide the bit moves from that recognition
+// (OpenClStrict.NoProgramCallsAnIntrinsicAnInterpreterLacks).
+MR_CONSTEXPR mr_uint reverse_bits8_by_products(mr_uint b) {
+  return (((b * 0x0802u & 0x22110u) | (b * 0x8020u & 0x88440u)) * 0x10101u >> 16) & 0xffu;
+}
+MR_CONSTEXPR mr_uint reverse_bits32_by_products(mr_uint x) {
+  return reverse_bits8_by_products(x >> 24) | (reverse_bits8_by_products((x >> 16) & 0xffu) << 8) |
+         (reverse_bits8_by_products((x >> 8) & 0xffu) << 16) |
+         (reverse_bits8_by_products(x & 0xffu) << 24);
+}
+#ifdef MR_OPENCL_C
+MR_CONSTEXPR mr_uint reverse_bits32(mr_uint x) { return reverse_bits32_by_products(x); }
+#else
 MR_CONSTEXPR mr_uint reverse_bits32(mr_uint x) {
   x = (x << 16) | (x >> 16);
   x = ((x & 0x00ff00ffu) << 8) | ((x & 0xff00ff00u) >> 8);
@@ -35,6 +54,7 @@ MR_CONSTEXPR mr_uint reverse_bits32(mr_uint x) {
   x = ((x & 0x33333333u) << 2) | ((x & 0xccccccccu) >> 2);
   return ((x & 0x55555555u) << 1) | ((x & 0xaaaaaaaau) >> 1);
 }
+#endif
 
 // A seeded permutation of 32-bit words in which each bit is flipped depending only on the
 // bits below it (multiplying by an even constant carries upwards only): Laine and Karras'

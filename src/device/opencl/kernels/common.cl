@@ -47,7 +47,8 @@ typedef struct {
   uint widths;
   int uv_shift_base[2];
   uint prim_bits;  // width of the tree's packed triangle references (SceneData::prims)
-  uint pad[3];
+  uint has_uvs;    // 0: the mesh has no uvs (SceneData::quvs is a placeholder byte)
+  uint pad[2];
 } CompactInfo;
 
 typedef struct {

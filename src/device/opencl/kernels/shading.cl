@@ -17,9 +17,12 @@ float3 compact_corner(const SceneData* sc, uint prim, int k) {
                                  (uint)q[1] | (uint)q[2] << 16);
 }
 
-// Corner k's uv: the triangle's shifts and the vertex's codes.
+// Corner k's uv: the triangle's shifts and the vertex's codes (render/shared/compact.h);
+// zero without uvs, as CompactMesh::uv (their buffer is then one placeholder byte: reading
+// it was out of bounds, which Oclgrind reported and a GPU may fault on).
 float2 compact_uv(const SceneData* sc, uint prim, int k) {
   const __global CompactInfo* g = sc->compact;
+  if (!g->has_uvs) return (float2)(0.0f);
   const __global ushort* q = &sc->quvs[2 * (size_t)compact_vertex(sc, prim, k)];
   const uint bits_u = (g->widths >> 16) & 0xffu, bits_v = g->widths >> 24;
   const uint entry = compact_read_bits(sc->uv_shifts, prim, bits_u + bits_v);
