@@ -43,8 +43,9 @@ struct Texture {
   bool empty() const { return width <= 0 || height <= 0; }
 };
 
-// The decoding table of `coding`: linear value of each byte (core of Texture::sample;
-// the OpenCL backend uploads the same tables so both decode bytes identically).
+// The decoding table of `coding`: linear value of each byte (core of texture sampling,
+// render/shared/texture.h; the OpenCL backend uploads the same tables so both decode bytes
+// identically).
 const float* texel_decoding_table(TexelCoding coding);
 
 // glTF's alpha modes: opaque ignores alpha; mask keeps a surface point when its alpha is

@@ -1,8 +1,7 @@
-// The environment map's geometry and importance sampling, written once for the CPU's
-// EnvironmentLight (render/environment.h) and the OpenCL path tracer (kernels/
-// environment.cl), in render/shared/language.h's dialect. The map is equirectangular in
-// the frame (x, up, z) of render/environment.h's EnvFrame: u right, v down, both in
-// [0, 1]; its middle column (u = 1/2) looks along -z, u = 3/4 along +x.
+// The environment map's geometry and importance sampling, written once for every backend
+// (the environment light of render/shared/sky.h), in render/shared/language.h's dialect. The map
+// is equirectangular in the frame (x, up, z) of render/environment.h's EnvFrame: u right, v down,
+// both in [0, 1]; its middle column (u = 1/2) looks along -z, u = 3/4 along +x.
 #ifndef MULTIRAY_RENDER_SHARED_ENVIRONMENT_H
 #define MULTIRAY_RENDER_SHARED_ENVIRONMENT_H
 

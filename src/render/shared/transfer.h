@@ -1,8 +1,7 @@
-// The transfer function's lookup as the volume raycasters sample it, written once for the
-// CPU's (render/volume_raycaster.cpp) and the OpenCL one (kernels/volume_sample.cl), in
-// render/shared/language.h's dialect. The table (VolumeStyle::colour_log_transparency)
-// holds per entry linear RGB and log(1 - alpha) at the reference step, entries evenly
-// spaced over the data values.
+// The transfer function's lookup as the volume raycaster (render/shared/volume.h) samples
+// it, written once for every backend in render/shared/language.h's dialect. The table
+// (VolumeStyle::colour_log_transparency) holds per entry linear RGB and log(1 - alpha) at the
+// reference step, entries evenly spaced over the data values.
 #ifndef MULTIRAY_RENDER_SHARED_TRANSFER_H
 #define MULTIRAY_RENDER_SHARED_TRANSFER_H
 

@@ -18,7 +18,9 @@
 #ifdef __cplusplus
 #include "render/shared/language.h"
 #include "render/shared/transfer.h"
-#define MR_GRID_FUNCTION template <class VolumeGrid> inline
+#define MR_GRID_FUNCTION      \
+  template <class VolumeGrid> \
+  inline
 #else
 #define MR_GRID_FUNCTION
 #endif
@@ -92,8 +94,8 @@ MR_DEVICE GridWalk grid_walk_start(const mr_int n[3], mr_int size, const VoxelRa
 MR_DEVICE bool grid_walk_next(GridWalk* w, float t1, mr_ulong* index, float* enter, float* exit) {
   if (w->done || !(w->t < t1)) return false;
   const int a = w->next[0] <= w->next[1] && w->next[0] <= w->next[2] ? 0
-                : w->next[1] <= w->next[2]                             ? 1
-                                                                       : 2;
+                : w->next[1] <= w->next[2]                           ? 1
+                                                                     : 2;
   *enter = w->t;
   *exit = min_std(max_std(w->next[a], w->t), t1);
   *index = ((mr_ulong)w->cell[2] * (mr_ulong)w->n[1] + (mr_ulong)w->cell[1]) * (mr_ulong)w->n[0] +
@@ -148,9 +150,9 @@ typedef struct {
   const MR_GLOBAL mr_float4* table;
   mr_uint last;  // table entries - 1
   float table_lo, to_index;
-  float dt;     // world units
-  float ratio;  // step / reference step (opacity correction)
-  float ert;    // early ray termination at this opacity
+  float dt;                // world units
+  float ratio;             // step / reference step (opacity correction)
+  float ert;               // early ray termination at this opacity
   float ambient, diffuse;  // the headlight
   bool skip_empty;
   const MR_GLOBAL float* block_opacity;
@@ -204,8 +206,8 @@ MR_GRID_FUNCTION void volume_march(const VolumeGrid* g, const VolumeShading* s, 
 // the empty ones passed over. A walk cut short by rounding at the grid's faces leaves the
 // rest unskipped.
 MR_GRID_FUNCTION void volume_march_cells(const VolumeGrid* g, const VolumeShading* s,
-                                         const VoxelRay* r, mr_float3 view_dir, float t0,
-                                         float ta, float tb, VolumeAccum* acc) {
+                                         const VoxelRay* r, mr_float3 view_dir, float t0, float ta,
+                                         float tb, VolumeAccum* acc) {
   GridWalk w = grid_walk_start(s->cells, MR_VOLUME_SKIP_CELL, r, ta);
   mr_ulong cell;
   float ca, cb;

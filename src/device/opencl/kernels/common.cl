@@ -109,6 +109,6 @@ typedef struct {
   uint light_count;
   bool has_tangents;  // some material has a normal map (and the scene has uvs)
   bool cutouts;       // some material has an alpha mode: traversal tests coverage
-  float p_env;        // probability of sampling the environment (PathTracer::step's p_env)
+  float p_env;        // probability of sampling the environment (render/shared/path.h)
   float eps;          // ray-origin offset
 } SceneData;
