@@ -11,17 +11,23 @@
 
 namespace multiray::backend_options {
 
-const BackendParam kSpeed{"speed", "[0.01, 1]", "1",
-                          "emulated speed: the device idles after each item (always labelled "
-                          "emulated)"};
-const BackendParam kCores{"cores", "0, 0+2, 0-3", "", "cores to pin to"};
-const BackendParam kCompact{"compact", "0 or 1", "0",
-                            "trace the compact scene (quantized mesh and tree)"};
-const BackendParam kMem{"mem", "1M..1024T", "",
-                        "emulated memory limit (512M, 2G): a scene that does not fit the "
-                        "representation is refused"};
-const BackendParam kFailAfter{"fail_after", "0..2^31-1", "0",
-                              "testing aid: the device fails after this many items (0: never)"};
+BackendParam speed_param() {
+  return {"speed", "[0.01, 1]", "1",
+          "emulated speed: the device idles after each item (always labelled emulated)"};
+}
+BackendParam cores_param() { return {"cores", "0, 0+2, 0-3", "", "cores to pin to"}; }
+BackendParam compact_param() {
+  return {"compact", "0 or 1", "0", "trace the compact scene (quantized mesh and tree)"};
+}
+BackendParam mem_param() {
+  return {"mem", "1M..1024T", "",
+          "emulated memory limit (512M, 2G): a scene that does not fit the representation is "
+          "refused"};
+}
+BackendParam fail_after_param() {
+  return {"fail_after", "0..2^31-1", "0",
+          "testing aid: the device fails after this many items (0: never)"};
+}
 
 LoopOptions read_loop_options(Spec& spec) {
   LoopOptions o;

@@ -13,8 +13,13 @@
 
 namespace multiray::backend_options {
 
-// Help rows of the shared keys.
-extern const BackendParam kSpeed, kCores, kCompact, kMem, kFailAfter;
+// Help rows of the shared keys (functions, not globals: registry entries may be built
+// during static initialisation, e.g. by a test's registration).
+BackendParam speed_param();
+BackendParam cores_param();
+BackendParam compact_param();
+BackendParam mem_param();
+BackendParam fail_after_param();
 
 // speed=S in [kMinEmulatedSpeed, 1] (emulated) and fail_after=K (testing aid).
 LoopOptions read_loop_options(Spec& spec);

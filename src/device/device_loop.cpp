@@ -11,6 +11,10 @@ size_t BatchRenderer::batch_limit(const WorkItem& /*first*/) const { return 1; }
 DeviceLoop::DeviceLoop(LoopOptions options)
     : fail_after_(options.fail_after), speed_(options.speed) {}
 
+std::string emulated_label(double speed) {
+  return speed < 1 ? ", emulated speed " + std::to_string(speed).substr(0, 4) : "";
+}
+
 std::vector<double> apportion(double total_ms, const std::vector<double>& weights) {
   double sum = 0;
   for (double w : weights) sum += w;

@@ -144,6 +144,10 @@ class LoopDevice : public Device {
   DeviceLoop loop_;
 };
 
+// The label of an emulated speed in a device's name, ", emulated speed 0.25" ("" at full
+// speed): emulated slowness is always labelled, the same way on every backend.
+std::string emulated_label(double speed);
+
 // Splits `total_ms` over items in proportion to `weights` (their samples); by equal shares
 // when every weight is 0. One batch has one time: this is each item's share of it.
 std::vector<double> apportion(double total_ms, const std::vector<double>& weights);

@@ -48,13 +48,13 @@ BackendEntry cpu_backend() {
   b.name = "cpu";
   b.help = "CPU cores through oneTBB and Embree";
   b.params = {{"threads", "1..1024", "1", "worker threads (--devices cpu:threads=0: all)"},
-              kCores,
-              kSpeed,
+              cores_param(),
+              speed_param(),
               {"quota", "(0, 1]", "", "real throttle: a fraction of a core per thread (cgroup)"},
               {"tile", "1..4096", "16", "pixel block handed to a thread"},
-              kFailAfter,
-              kCompact,
-              kMem};
+              fail_after_param(),
+              compact_param(),
+              mem_param()};
   b.capabilities = &CpuDevice::capabilities;
   b.offer = &offer_cpu;
   b.check = [](Spec& spec) { read_cpu_options(spec); };

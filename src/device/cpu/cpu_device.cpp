@@ -93,7 +93,7 @@ CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec
     for (int c : opts.cores) info_.name.append(" ").append(std::to_string(c));
   }
   if (opts.quota > 0) info_.name += ", quota " + std::to_string(opts.quota).substr(0, 4);
-  if (opts.speed < 1) info_.name += ", emulated speed " + std::to_string(opts.speed).substr(0, 4);
+  info_.name += emulated_label(opts.speed);
   if (opts.compact) info_.name += ", compact scene";
   if (opts.memory_limit > 0) info_.name += ", emulated memory " + format_bytes(opts.memory_limit);
   info_.name += ")";

@@ -69,15 +69,15 @@ BackendEntry opencl_backend() {
   b.name = "opencl";
   b.help = "an OpenCL device, opencl:N as `multiray devices` lists it";
   b.params = {{"index", "0..65535", "0", "the device (also written opencl:N)"},
-              kSpeed,
+              speed_param(),
               {"tile", "1..4096", "256", "side of the largest square one launch renders"},
               {"wg", "1..4096", "64", "work-group size (clamped to the kernel's maximum)"},
               {"batch", "1..64", "16",
                "items taken together and rendered in one launch (1: one launch per item)"},
               {"cores", "0, 0+2, 0-3", "", "cores to pin the thread driving the device to"},
-              kFailAfter,
-              kCompact,
-              kMem};
+              fail_after_param(),
+              compact_param(),
+              mem_param()};
   b.notes =
       "With PoCL, POCL_DEVICES=\"basic basic\" gives two independent one-core devices "
       "opencl:0 and opencl:1; POCL_MAX_PTHREAD_COUNT=N limits its default pthread device to "

@@ -167,7 +167,7 @@ OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::st
     // Appended in two steps: GCC 12 warns (-Wrestrict, falsely) on " " + to_string(c).
     for (int c : opts.cores) info_.name.append(" ").append(std::to_string(c));
   }
-  if (opts.speed < 1) info_.name += ", emulated speed " + std::to_string(opts.speed).substr(0, 4);
+  info_.name += emulated_label(opts.speed);
   if (opts.compact) info_.name += ", compact scene";
   if (opts.memory_limit > 0) info_.name += ", emulated memory " + format_bytes(opts.memory_limit);
   info_.name += ")";
