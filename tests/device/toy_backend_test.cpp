@@ -57,6 +57,7 @@ TEST(ToyBackend, AppearsInTheHelp) {
 TEST(ToyBackend, AutoWeighsItsFeaturesAndItRendersThroughTheCli) {
   const std::string dir = ::testing::TempDir() + "/toy_backend_auto";
   std::filesystem::remove_all(dir);
+  std::filesystem::remove_all(dir + "_cpu");
   const Ran r = cli({"render", "--res", "32x16", "--spp", "1", "--devices", "cpu,cpu,cpu,cpu,toy",
                      "--balancer", "auto", "--out", dir});
   ASSERT_EQ(r.code, 0) << r.out;
