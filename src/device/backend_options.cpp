@@ -25,8 +25,10 @@ BackendParam mem_param() {
           "refused"};
 }
 BackendParam fail_after_param() {
-  return {"fail_after", "0..2^31-1", "0",
-          "testing aid: the device fails after this many items (0: never)"};
+  // No default: without the key the device never fails; fail_after=0 fails at the
+  // first item.
+  return {"fail_after", "0..2^31-1", "",
+          "testing aid: the device fails when it takes an item after this many (0: at once)"};
 }
 
 LoopOptions read_loop_options(Spec& spec) {
