@@ -25,8 +25,8 @@ struct SceneData {
   const TextureView* textures;      // per scene texture
   const TriangleTangent* tangents;  // per triangle; null without normal maps
   const SkyRecord* sky;
-  const float* sky_tables;  // the map's sampling tables at sky's offsets
-  const float* sky_map;     // the map's radiance, 3 floats a pixel (null without a map)
+  const float* sky_tables;         // the map's sampling tables at sky's offsets
+  const float* sky_map;            // the map's radiance, 3 floats a pixel (null without a map)
   const TriangleShading* shading;  // full precision (null with a compact scene)
   const CompactScene* compact;     // null at full precision
   float p_env;  // probability that next-event estimation samples the environment

@@ -114,7 +114,8 @@ MR_DEVICE void path_sample_light(const SceneData* sc, PathState* p, const BsdfPa
   float ul = sample_1d(&p->u);
   const mr_float2 u12 = sample_2d(&p->u);
   if (ul < p_env) {
-    const EnvSample es = sky_sample(sc->sky, sc->sky_tables, sc->sky_map, ng, ul / p_env, u12.x, u12.y);
+    const EnvSample es =
+        sky_sample(sc->sky, sc->sky_tables, sc->sky_map, ng, ul / p_env, u12.x, u12.y);
     if (!(es.pdf > 0.0f) || dot3(es.dir, ng) <= 0.0f) return;
     path_set_shadow(p, bsdf, wo, to_local(frame, es.dir), es.radiance, p_env * es.pdf,
                     make_ray(pos + ng * sc->eps, es.dir, INFINITY));
@@ -172,8 +173,8 @@ MR_DEVICE void path_scatter(const SceneData* sc, PathState* p, const BsdfParams*
 
 // One bounce at `hit`, the closest hit of p->ray on a scene triangle. `base`, when given,
 // is the footprint of the hit material's base colour texture (the caller looked it up).
-MR_DEVICE void path_shade(const SceneData* sc, PathState* p, const Hit* hit,
-                          PathSettings settings, const TexFootprint* base) {
+MR_DEVICE void path_shade(const SceneData* sc, PathState* p, const Hit* hit, PathSettings settings,
+                          const TexFootprint* base) {
   const ShadingRecord d = scene_shading(sc, hit->prim);
   const float w = 1.0f - hit->u - hit->v;
   const mr_float3 pos = p->ray.org + p->ray.dir * hit->t;

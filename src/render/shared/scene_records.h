@@ -70,14 +70,14 @@ typedef struct {
   float sun_dir[3];
   mr_uint sun_on;
   float sun_radiance[3];
-  mr_uint sky_on;             // constant or map
-  mr_int map_width;           // 0 x 0 without a map
+  mr_uint sky_on;    // constant or map
+  mr_int map_width;  // 0 x 0 without a map
   mr_int map_height;
-  mr_uint on;                 // EnvironmentLight::on()
-  mr_uint row_cdf;            // offsets into the tables: height floats,
-  mr_uint row_pdf;            // height floats,
-  mr_uint col_cdf;            // width x height floats,
-  mr_uint pix_pdf;            // width x height floats
+  mr_uint on;       // EnvironmentLight::on()
+  mr_uint row_cdf;  // offsets into the tables: height floats,
+  mr_uint row_pdf;  // height floats,
+  mr_uint col_cdf;  // width x height floats,
+  mr_uint pix_pdf;  // width x height floats
   float map_scale;
 } SkyRecord;
 

@@ -73,10 +73,10 @@ MR_DEVICE EnvSample sky_sample(const MR_GLOBAL SkyRecord* s, const MR_GLOBAL flo
     const Frame f = frame_from_normal(load3(s->sun_dir));
     es.dir = normalize3(to_world(&f, sample_cone(s->sun_cos, u1, u2)));
   } else if (s->map_width > 0) {
-    es.dir = equirect_direction(
-        load3(s->frame_x), load3(s->frame_up), load3(s->frame_z),
-        sample_equirect(tables + s->row_cdf, tables + s->col_cdf, (mr_uint)s->map_width,
-                        (mr_uint)s->map_height, u1, u2));
+    es.dir =
+        equirect_direction(load3(s->frame_x), load3(s->frame_up), load3(s->frame_z),
+                           sample_equirect(tables + s->row_cdf, tables + s->col_cdf,
+                                           (mr_uint)s->map_width, (mr_uint)s->map_height, u1, u2));
   } else {
     const Frame f = frame_from_normal(n);
     es.dir = to_world(&f, sample_cosine_hemisphere(u1, u2));

@@ -97,8 +97,8 @@ MR_DEVICE float alpha_at(const SceneData* sc, const MR_GLOBAL MaterialRecord* m,
 // Whether a ray passes through the point of `m` at `uv`: `mask` compares the coverage
 // with the cutoff, `blend` compares it with `u` (uniform in [0, 1), fixed per ray so
 // that every device makes the same decision). Always false for opaque materials.
-MR_DEVICE bool passes_through(const SceneData* sc, const MR_GLOBAL MaterialRecord* m,
-                              mr_float2 uv, float u) {
+MR_DEVICE bool passes_through(const SceneData* sc, const MR_GLOBAL MaterialRecord* m, mr_float2 uv,
+                              float u) {
   if (m->alpha_mode == 1u) return alpha_at(sc, m, uv) < m->alpha_cutoff;
   if (m->alpha_mode == 2u) return u >= alpha_at(sc, m, uv);
   return false;
