@@ -62,8 +62,10 @@ void FrameLoop::take(BatchRenderer& renderer, uint32_t first, std::vector<uint32
     throw std::runtime_error("injected failure after " + std::to_string(done) +
                              " items (fail_after, a testing aid)");
   ids.assign(1, first);
-  size_t more = renderer.batch_limit(source_.item(first)) - 1;
+  size_t more = std::max<size_t>(1, renderer.batch_limit(source_.item(first))) - 1;
   if (more == 0) return;
+  // (With concurrent threads each batching, another thread's take between the count
+  // above and this one could pass fail_after; no backend batches concurrently.)
   if (fail_after >= 0) more = std::min(more, size_t(std::max(0, fail_after - done - 1)));
   // Only items already this device's own (its assigned list, or shared items the
   // dispatcher moved to it) join a batch: the shared queue's and other devices' items are
