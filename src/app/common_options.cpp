@@ -155,7 +155,8 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
                  "Augmented reality: a shadow catcher standing for the real ground, the plane "
                  "AXIS=HEIGHT (y=0: where y is 0), diffuse, [,albedo=A] (0.5). The virtual "
                  "objects' shadows darken it; images become an RGBA layer (docs/ar.md). "
-                 "CPU devices, the path integrator");
+                 "Devices: " +
+                     shadow_catcher_backends() + "; the path integrator");
   cmd.add_option("--poses", o.poses,
                  "Augmented reality: the capture's camera poses and intrinsics, one per frame "
                  "(JSON close to ARKit / ARCore exports; docs/ar.md); replaces --camera-path "
@@ -163,10 +164,7 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
   cmd.add_option("--devices", o.devices,
                  "Comma-separated devices, each TYPE[:KEY=VALUE...], e.g. "
                  "cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.33. " +
-                     device_keys_help() +
-                     ". With PoCL, POCL_DEVICES=\"basic basic\" gives two independent "
-                     "one-core devices opencl:0 and opencl:1; POCL_MAX_PTHREAD_COUNT=N limits "
-                     "its default pthread device to N threads")
+                     device_keys_help())
       ->capture_default_str();
   // The common case in one word, as other renderers have it (pbrt --nthreads, Blender -t).
   cmd.add_option_function<int>(
@@ -220,9 +218,8 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
   for (const Choice& k : kernel_choices())
     kernels += (kernels.empty() ? "" : "; ") + k.name + ": " + k.help;
   cmd.add_option("--integrator", o.integrator,
-                 "The kernel that renders; default: path for meshes, volume for volumes "
-                 "(OpenCL devices: path only). " +
-                     kernels);
+                 "The kernel that renders; default: path for meshes, volume for volumes (" +
+                     kernels_by_backend_help() + "). " + kernels);
   add_volume_options(cmd, o.volume);
   add_distributed_options(cmd, o.distributed);
   cmd.add_option("--ao-rays", o.ao_rays, "Occlusion rays per AO sample")->capture_default_str();

@@ -85,9 +85,10 @@ Runner add_devices_command(CLI::App& app) {
       for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
       return out;
     };
-    for (const auto& [type, caps] : offer.backends)
-      print_out("  {:<7} kernels: {}; sampling: {}; representation: {}\n", type,
-                list(caps.kernels), list(caps.sampling), caps.representation);
+    for (const OfferedBackend& b : offer.backends)
+      if (b.built)
+        print_out("  {:<7} kernels: {}; sampling: {}; representation: {}\n", b.name,
+                  list(b.caps.kernels), list(b.caps.sampling), b.caps.representation);
     print_out("\nKeys of each backend (TYPE:KEY=VALUE:...):\n");
     for (const BackendEntry& b : device_backend_choices()) {
       print_out("  {}: {}\n", b.name, b.help);
@@ -95,17 +96,15 @@ Runner add_devices_command(CLI::App& app) {
         print_out("    {:<11} {:<12} {}{}\n", p.key, p.values, p.help,
                   p.fallback.empty() ? "" : " (default " + p.fallback + ")");
     }
-    if (offer.opencl_built) {
-      const bool none = std::none_of(offer.devices.begin(), offer.devices.end(),
-                                     [](const OfferedDevice& d) { return d.type == "opencl"; });
-      if (none) print_out("No OpenCL device found (install an ICD, e.g. pocl-opencl-icd).\n");
-      print_out(
-          "With PoCL, POCL_DEVICES=\"basic basic\" gives two independent one-core devices; "
-          "POCL_MAX_PTHREAD_COUNT=N limits its pthread device.\n");
-    } else {
-      print_out(
-          "This multiray was built without OpenCL (-DMULTIRAY_WITH_OPENCL=ON to require "
-          "it).\n");
+    // What each backend says of itself: not built (and how to build it), no device found
+    // (and what to install), its notes.
+    for (const OfferedBackend& b : offer.backends) {
+      if (!b.built) {
+        print_out("{}: {}.\n", b.name, b.not_built);
+        continue;
+      }
+      if (!b.none_found.empty()) print_out("{}\n", b.none_found);
+      if (!b.notes.empty()) print_out("{}.\n", b.notes);
     }
     return 0;
   };

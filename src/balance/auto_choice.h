@@ -16,13 +16,15 @@
 
 namespace multiray::balance {
 
-// One device the run renders on, as the rules see it.
+// One device the run renders on, as the rules see it: plain data, filled by the run layer
+// from the device backend registry (device/device_factory.h), so no rule names a backend.
 struct AutoDevice {
-  std::string type;    // "cpu", "opencl", "remote" (a worker rank); empty: unknown
+  std::string type;    // a name for the reason line ("cpu", "remote", ...); empty: unknown
   int threads = 1;     // hardware threads it renders with (a rank: over its devices)
   double speed = 1.0;  // emulated speed, (0, 1]; 1: not emulated
-  // A remote rank's own devices' types ("cpu", "opencl"), as its worker described them.
-  std::vector<std::string> local_types;
+  // It pays a fixed cost per item, such as a kernel launch (BackendFeatures::item_cost);
+  // a worker rank: one of its own devices does.
+  bool item_cost = false;
 };
 
 struct AutoInputs {

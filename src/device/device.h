@@ -1,7 +1,8 @@
 // The Device interface: anything that renders work items of a frame and reports, from
-// inside, how long it took. Backends live in sub-folders (cpu/, opencl/, later remote/)
-// behind CMake options; the engine sees only this header. A device states what it can do
-// (DeviceCapabilities) so the CLI refuses an impossible job before any work starts.
+// inside, how long it took. Backends live in sub-folders (cpu/, opencl/, ...) behind CMake
+// options, each one entry of the registry (device_factory.h) whose frames run through the
+// one device loop (device_loop.h); the engine sees only this header. A device states what it can
+// do (DeviceCapabilities) so the CLI refuses an impossible job before any work starts.
 #pragma once
 
 #include <atomic>
@@ -30,6 +31,9 @@ struct DeviceCapabilities {
   std::vector<std::string> kernels;
   std::vector<std::string> sampling;  // "uniform", "adaptive", "foveated", "reproject"
   std::string representation;         // the scene representation this device renders
+  // Renders RenderSettings' shadow catcher (--ground). Known from the backend's registry
+  // entry, not sent to other ranks.
+  bool shadow_catcher = false;
 };
 
 // The sampling modes of a backend: uniform, adaptive (per-pixel sample maps) and reproject
@@ -39,7 +43,7 @@ struct DeviceCapabilities {
 std::vector<std::string> sampling_modes(bool point_samples);
 
 struct DeviceInfo {
-  std::string type;  // "cpu", "opencl", ...
+  std::string type;  // the backend's registry name (device_factory.h), or "rank"
   std::string name;  // human readable, e.g. "cpu (1 thread, cores 0)"
   std::string spec;  // the --devices string that creates this device
   int threads = 1;

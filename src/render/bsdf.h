@@ -12,7 +12,7 @@ namespace multiray {
 
 // The material's index of refraction as the BSDF uses it (1.5 unless the material gives
 // one above 1), and whether the material is the dielectric. No texture changes either, so
-// the OpenCL device decides them once per material (device/opencl/scene_buffers.cpp).
+// the OpenCL device decides them once per material (device/gpu_scene/scene_buffers.cpp).
 inline float material_ior(const Material& m) { return m.ior > 1.0f ? m.ior : 1.5f; }
 inline bool material_is_dielectric(const Material& m) { return m.transmission > 0.5f; }
 

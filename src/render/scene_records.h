@@ -1,6 +1,6 @@
 // The scene's records as the integrator reads them (render/shared/scene_records.h), made
 // from scene/scene.h's types once per scene: the CPU keeps them in RenderScene, an OpenCL
-// device uploads the same bytes (device/opencl/scene_buffers.cpp).
+// device uploads the same bytes (device/gpu_scene/scene_buffers.cpp).
 #pragma once
 
 #include "render/shared/scene_records.h"

@@ -4,6 +4,7 @@
 
 #include "balance/auto_choice.h"
 #include "core/error.h"
+#include "device/device_factory.h"
 #include "run/run.h"
 #include "util/link.h"
 #include "util/spec.h"
@@ -21,9 +22,12 @@ balance::AutoInputs gather_auto_inputs(const Run& s, const RunConfig& o) {
     a.type = info.type == "rank" ? "remote" : info.type;
     a.threads = info.threads;
     a.speed = info.emulated_speed;
+    // The rules see backend features as data, from the registry, never a backend's name.
+    a.item_cost = backend_features(info.type).item_cost;
 #ifdef MULTIRAY_HAS_MPI
     if (const auto* r = dynamic_cast<const remote::RemoteDevice*>(d.get()))
-      for (const DeviceInfo& local : r->local_devices()) a.local_types.push_back(local.type);
+      for (const DeviceInfo& local : r->local_devices())
+        a.item_cost = a.item_cost || backend_features(local.type).item_cost;
 #endif
     in.devices.push_back(a);
   }

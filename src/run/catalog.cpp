@@ -1,10 +1,5 @@
 #include "run/catalog.h"
 
-#include <unistd.h>
-
-#include <algorithm>
-#include <thread>
-
 #include <fmt/core.h>
 
 #include "core/error.h"
@@ -17,9 +12,6 @@
 #include "scene/builders.h"
 #include "scene/loaders.h"
 #include "volume/transfer_function.h"
-#ifdef MULTIRAY_HAS_OPENCL
-#include "device/opencl/opencl_platform.h"
-#endif
 
 namespace multiray {
 
@@ -42,30 +34,48 @@ std::string device_keys_help() {
     for (const BackendParam& p : b.params)
       keys += (keys.empty() ? "" : ", ") + p.key + " (" + p.values +
               (p.fallback.empty() ? "" : ", default " + p.fallback) + "): " + p.help;
-    out += (out.empty() ? "" : ". ") + b.name + " (" + b.help + ") keys: " + keys;
+    out += (out.empty() ? "" : ". ") + b.name + " (" + b.help + (b.built ? "" : "; not built") +
+           ") keys: " + keys;
+    if (!b.notes.empty()) out += ". " + b.notes;
   }
   return out;
 }
 
+namespace {
+std::string joined(const std::vector<std::string>& list) {
+  std::string out;
+  for (const std::string& s : list) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+}  // namespace
+
+std::string kernels_by_backend_help() {
+  std::string out;
+  for (const BackendEntry& b : device_backends())
+    if (b.built)
+      out += (out.empty() ? "" : "; ") + b.name + " runs " +
+             joined(backend_capabilities(b.name).kernels);
+  return out;
+}
+
+std::string shadow_catcher_backends() {
+  std::vector<std::string> names;
+  for (const BackendEntry& b : device_backends())
+    if (backend_capabilities(b.name).shadow_catcher) names.push_back(b.name);
+  return names.empty() ? "no" : joined(names);
+}
+
 Offer offered_devices() {
   Offer offer;
-  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  const uint64_t ram = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
-  offer.devices.push_back({"cpu", "all cores (oneTBB + Embree)", cores, ram,
-                           fmt::format("cpu:threads={}", cores), ""});
-  for (unsigned c = 0; c < cores; ++c)
-    offer.devices.push_back(
-        {"cpu", fmt::format("core {}", c), 1, ram, fmt::format("cpu:threads=1:cores={}", c), ""});
-#ifdef MULTIRAY_HAS_OPENCL
-  offer.opencl_built = true;
-  for (const OpenClDeviceListing& d : list_opencl_devices())
-    offer.devices.push_back({"opencl", fmt::format("{} ({})", d.name, d.kind), d.compute_units,
-                             d.memory_bytes, fmt::format("opencl:{}", d.index),
-                             fmt::format("platform {}, driver {}", d.platform, d.driver)});
-#endif
-  for (const char* type : {"cpu", "opencl"}) {
-    DeviceCapabilities caps = backend_capabilities(type);
-    if (!caps.kernels.empty()) offer.backends.emplace_back(type, std::move(caps));
+  for (const BackendEntry& b : device_backends()) {
+    OfferedBackend o{b.name,  b.help, b.built, b.not_built, backend_capabilities(b.name),
+                     b.notes, ""};
+    if (b.built && b.offer) {
+      const std::vector<OfferedDevice> found = b.offer();
+      offer.devices.insert(offer.devices.end(), found.begin(), found.end());
+      if (found.empty()) o.none_found = b.none_found;
+    }
+    offer.backends.push_back(std::move(o));
   }
   return offer;
 }

@@ -22,8 +22,13 @@ struct Choice {
 std::vector<Choice> kernel_choices();
 // The device backends --devices takes (device/device_factory.h's registry), with their keys.
 const std::vector<BackendEntry>& device_backend_choices();
-// One line per backend for help: "cpu: CPU cores ...; keys: threads (1..1024, default 1), ...".
+// One line per backend for help: "cpu: CPU cores ...; keys: threads (1..1024, default 1), ...",
+// with the entry's notes.
 std::string device_keys_help();
+// For --integrator's help: "cpu runs path, ao, ...; opencl runs path, volume" (built backends).
+std::string kernels_by_backend_help();
+// The built backends whose devices render the shadow catcher (--ground), e.g. "cpu".
+std::string shadow_catcher_backends();
 // The transfer-function presets --tf takes.
 std::vector<std::string> transfer_presets();
 // Whether this build compresses workers' results with zstd (distributed/pixel_codec.h,
@@ -31,19 +36,20 @@ std::vector<std::string> transfer_presets();
 // default is float.
 bool zstd_results_available();
 
-// One device this machine offers, as `multiray devices` lists it.
-struct OfferedDevice {
-  std::string type, name;  // "cpu", "all cores (oneTBB + Embree)"
-  unsigned units = 0;      // cores or compute units
-  uint64_t memory_bytes = 0;
-  std::string spec;    // the --devices text that makes it
-  std::string driver;  // OpenCL: "platform NAME, driver VERSION"; empty for the CPU
+// The backends of the registry, built or not, and the devices this machine offers, as
+// `multiray devices` lists them: every line comes from the registry
+// (device/device_factory.h), so a new backend appears with no edit here.
+struct OfferedBackend {
+  std::string name, help;
+  bool built = true;
+  std::string not_built;  // how to build it, when !built
+  DeviceCapabilities caps;
+  std::string notes;       // the entry's further help ("" when none)
+  std::string none_found;  // said when built but no device was found ("" when found)
 };
 struct Offer {
   std::vector<OfferedDevice> devices;
-  // What each backend built into this binary runs ("cpu", "opencl").
-  std::vector<std::pair<std::string, DeviceCapabilities>> backends;
-  bool opencl_built = false;  // false: this binary was built without OpenCL
+  std::vector<OfferedBackend> backends;
 };
 Offer offered_devices();
 

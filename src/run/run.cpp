@@ -23,6 +23,7 @@
 #include "render/kernel.h"
 #include "render/volume_raycaster.h"
 #include "run/ar_setup.h"
+#include "run/catalog.h"
 #include "run/lighting.h"
 #include "scene/builders.h"
 #include "scene/camera_check.h"
@@ -279,8 +280,9 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
     info.caps = backend_capabilities(d.type);
     const std::string why = unsupported_job(info, s.settings.kernel, o.sampling);
     if (!why.empty()) throw InputError("--devices: " + why);
-    if (s.settings.catcher_axis >= 0 && d.type != "cpu")
-      throw InputError("--ground: the shadow catcher runs on CPU devices only, not " + d.text);
+    if (s.settings.catcher_axis >= 0 && !info.caps.shadow_catcher)
+      throw InputError("--ground: the shadow catcher runs on " + shadow_catcher_backends() +
+                       " devices only, not " + d.text);
   }
   if (!s.cluster) s.perturbations = parse_perturbations(o.perturb, int(specs.size()));
 

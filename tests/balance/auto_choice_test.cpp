@@ -9,9 +9,11 @@
 namespace multiray::balance {
 namespace auto_choice_test {
 
+// Devices named by type; an "opencl" one pays a fixed cost per item, as the OpenCL
+// backend's registry entry says (the run layer reads it there: tests/device/).
 AutoInputs devices(std::vector<std::string> types) {
   AutoInputs in;
-  for (const std::string& t : types) in.devices.push_back(AutoDevice{t, 1, 1.0, {}});
+  for (const std::string& t : types) in.devices.push_back(AutoDevice{t, 1, 1.0, t == "opencl"});
   return in;
 }
 
@@ -37,7 +39,7 @@ TEST(AutoChoice, AnOpenClDeviceRunsHybridWithItsPerItemCostModel) {
   EXPECT_TRUE(says(c, "fixed cost per item")) << c.reason;
   // Inside a worker rank, and ahead of the link's row.
   AutoInputs ranks = devices({"remote", "remote"});
-  ranks.devices[1].local_types = {"cpu", "opencl"};
+  ranks.devices[1].item_cost = true;  // one of its own devices is an OpenCL device
   ranks.distributed = true;
   ranks.ranks = 3;
   EXPECT_TRUE(says(choose_balancer(ranks), "fixed cost per item"));
@@ -108,7 +110,7 @@ TEST(AutoChoice, FoveatedSamplingRunsSemiStaticInRowBands) {
   EXPECT_EQ(c.spec, "semi-static:split=rows:cdf=frame");
   EXPECT_TRUE(says(c, "rendered by both neighbours")) << c.reason;
   EXPECT_EQ(make_balancer(c.spec, 2)->spec(), "semi-static:alpha=0.4:split=rows:cdf=frame");
-  in.devices[1].type = "opencl";  // ahead of the OpenCL row
+  in.devices[1] = devices({"opencl"}).devices[0];  // ahead of the fixed-cost row
   EXPECT_EQ(choose_balancer(in).spec, c.spec);
   in.devices.resize(1);
   EXPECT_EQ(choose_balancer(in).spec, "uniform");

@@ -58,7 +58,7 @@ std::string num(double v) {
 TEST(DeviceRegistry, EveryStatedRangeIsTheEnforcedOne) {
   int ranges = 0;
   for (const BackendEntry& b : device_backends())
-    for (const BackendParam& p : b.params) {
+    for (const BackendParam& p : b.built ? b.params : std::vector<BackendParam>{}) {
       const auto r = numeric_range(p.values);
       if (!r) continue;
       ++ranges;
@@ -79,6 +79,7 @@ TEST(DeviceRegistry, EveryStatedRangeIsTheEnforcedOne) {
 
 TEST(DeviceRegistry, EveryListedKeyIsTakenAndNoOther) {
   for (const BackendEntry& b : device_backends()) {
+    if (!b.built) continue;  // refused whole: NotBuiltBackendsAreListedAndSayHowToBuildThem
     for (const BackendParam& p : b.params) {
       // Present but with an empty value: refused for its value, never as an unknown key.
       try {
@@ -112,7 +113,7 @@ TEST(DeviceRegistry, TheDocsNameEveryBackendKeyAndKernel) {
     for (const BackendParam& p : b.params)
       EXPECT_NE(part.find("| `" + p.key + "` | " + p.values + " |"), std::string::npos)
           << b.name << "'s " << p.key << " (" << p.values << ") in docs/devices.md";
-    for (const std::string& k : b.capabilities().kernels)
+    for (const std::string& k : backend_capabilities(b.name).kernels)
       EXPECT_NE(part.find("`" + k + "`"), std::string::npos) << b.name << "'s kernel " << k;
   }
 }
@@ -128,6 +129,22 @@ TEST(DeviceRegistry, UnknownTypesAreRefusedNamingTheKnownOnes) {
   ASSERT_NE(find_backend("cpu"), nullptr);
   EXPECT_FALSE(backend_capabilities("cpu").kernels.empty());
   EXPECT_TRUE(backend_capabilities("gpu").kernels.empty());
+}
+
+// A backend this multiray was built without stays in the registry (help, `multiray
+// devices`), without capabilities, and a spec naming it is refused saying how to build it.
+TEST(DeviceRegistry, NotBuiltBackendsAreListedAndSayHowToBuildThem) {
+  for (const BackendEntry& b : device_backends()) {
+    EXPECT_EQ(b.built, b.capabilities != nullptr && b.create != nullptr) << b.name;
+    if (b.built) continue;
+    EXPECT_TRUE(backend_capabilities(b.name).kernels.empty()) << b.name;
+    try {
+      parse_device_specs(b.name);
+      ADD_FAILURE() << b.name << " is not built but was accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), ::testing::HasSubstr(b.not_built));
+    }
+  }
 }
 
 }  // namespace

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <map>
-#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <thread>
@@ -16,7 +15,6 @@
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/cpu/cgroup_quota.h"
-#include "device/cpu/item_time_share.h"
 #include "device/cpu/thread_setup.h"
 #include "device/scene_memory.h"
 #include "render/foveated.h"
@@ -60,11 +58,10 @@ struct CpuDevice::Impl {
   std::optional<CgroupQuota> quota;  // declared before `setup`, which points to it
   oneapi::tbb::task_arena arena;
   std::optional<ThreadSetup> setup;
-  std::atomic<double> speed{1.0};
-  std::atomic<int> items_done{0};  // over the device's lifetime, for fail_after
 };
 
-CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec) {
+CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec)
+    : LoopDevice({opts.speed, opts.fail_after}) {
   if (opts.threads < 1 || opts.threads > 1024)
     throw InputError("cpu device: threads must be in 1..1024, got " +
                      std::to_string(opts.threads));
@@ -78,11 +75,9 @@ CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec
   check_scene_fits(scenes.scene(), opts.compact, opts.memory_limit, "--devices '" + spec + "'");
   static std::atomic<int> counter{0};
   impl_ = std::make_unique<Impl>(scenes, opts, "cpu" + std::to_string(counter++));
-  impl_->speed = opts.speed;
   info_.type = "cpu";
   info_.spec = std::move(spec);
   info_.threads = opts.threads;
-  info_.emulated_speed = opts.speed;
   info_.cpu_quota = opts.quota;
   info_.caps = capabilities();
   if (scenes.scene().has_triangles()) {
@@ -98,7 +93,7 @@ CpuDevice::CpuDevice(SceneCache& scenes, CpuDeviceOptions opts, std::string spec
     for (int c : opts.cores) info_.name.append(" ").append(std::to_string(c));
   }
   if (opts.quota > 0) info_.name += ", quota " + std::to_string(opts.quota).substr(0, 4);
-  if (opts.speed < 1) info_.name += ", emulated speed " + std::to_string(opts.speed).substr(0, 4);
+  info_.name += emulated_label(opts.speed);
   if (opts.compact) info_.name += ", compact scene";
   if (opts.memory_limit > 0) info_.name += ", emulated memory " + format_bytes(opts.memory_limit);
   info_.name += ")";
@@ -115,36 +110,48 @@ DeviceCapabilities CpuDevice::capabilities() {
   }
   caps.sampling = sampling_modes(point_samples);
   caps.representation = "embree";
+  caps.shadow_catcher = true;  // the path kernel's catcher plane (render/shadow_catcher.h)
   return caps;
 }
 
 uint64_t CpuDevice::arena_entries() const { return impl_->arena_entries; }
 int CpuDevice::item_takers() const { return impl_->takers; }
 
-void CpuDevice::set_emulated_speed(double speed) {
-  impl_->speed = speed;
-  info_.emulated_speed = speed;
-}
+// One frame's rendering of one item at a time for the device loop: a rect of several tiles
+// is cut into tiles for the arena's threads; a foveated unit renders its samples, then its
+// pixels. Runs inside the device's arena.
+class CpuDevice::Items : public BatchRenderer {
+ public:
+  Items(Impl& impl, const FrameJob& job, const Kernel& kernel)
+      : impl_(impl), job_(job), kernel_(kernel) {}
 
-// One frame of one device, shared by the threads that render it.
-struct CpuDevice::Frame {
-  Frame(const FrameJob& j, const Kernel& k, WorkSource& s, int i, DeviceReport& r)
-      : job(j), kernel(k), source(s), index(i), report(r) {}
-  const FrameJob& job;
-  const Kernel& kernel;
-  WorkSource& source;
-  int index;
-  DeviceReport& report;
-  std::atomic<int64_t> stolen_ns{0};  // multi-threaded: summed over the arena's threads
-  // Team mode only:
-  std::mutex mutex;               // guards `report`
-  ItemTimeShare share;            // the items' times (ItemReport::time_ms)
-  std::atomic<bool> stop{false};  // a thread failed: the others take no more items
-  std::atomic<int> takers{0};     // team loops that took at least one item
+  std::vector<KernelStats> render(const std::vector<WorkItem>& items) override {
+    const WorkItem& item = items.front();  // one at a time (batch_limit 1)
+    const ViewSetup& view = job_.views.at(size_t(item.view));
+    Framebuffer& out = job_.outputs->at(size_t(item.view));
+    std::atomic<uint64_t> samples{0}, rays{0};
+    if (view.foveation)
+      render_foveated(view, item.rect, out, samples, rays);
+    else
+      render_rect(view, item.rect, out, samples, rays);
+    return {KernelStats{samples.load(), rays.load()}};
+  }
+
+  // Several threads: the time their chunks were runnable but not running, summed.
+  std::atomic<int64_t> stolen_ns{0};
+
+ private:
+  void render_rect(const ViewSetup& view, Rect r, Framebuffer& out, std::atomic<uint64_t>& samples,
+                   std::atomic<uint64_t>& rays);
+  void render_foveated(const ViewSetup& view, Rect r, Framebuffer& out,
+                       std::atomic<uint64_t>& samples, std::atomic<uint64_t>& rays);
+
+  Impl& impl_;
+  const FrameJob& job_;
+  const Kernel& kernel_;
 };
 
 DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int index) {
-  DeviceReport report;
   // Pin the calling thread and move it into the quota group once per thread and device
   // (the engine keeps one thread per device); this set-up is not part of the frame time.
   thread_local const void* prepared_for = nullptr;
@@ -152,58 +159,56 @@ DeviceReport CpuDevice::render(const FrameJob& job, WorkSource& source, int inde
     impl_->setup->prepare_current_thread();
     prepared_for = this;
   }
-  const Stopwatch frame_clock;
+  const bool one_thread = impl_->opts.threads == 1;
+  bool foveated = false;
+  for (const ViewSetup& v : job.views) foveated = foveated || v.foveation;
+  // Threads take items themselves unless the frame needs items one at a time: the
+  // emulated speed idles after each item, and foveated units share the device's sample
+  // buffers. With one thread the item runs on this thread: its CPU time is the device's
+  // own work (see SlowdownEmulator).
+  const bool team = !one_thread && loop_.speed() >= 1.0 && !foveated;
+  FrameLoop frame(loop_, info_, job, source, index, FrameMode{team, one_thread});
   ++impl_->render_calls;
   // Stolen time (DeviceReport::stolen_ms): with one thread, per item on this thread; with
   // several, per chunk on each arena thread, averaged over the threads. A quota's
-  // throttling is this device's emulated speed, and foveated units are not measured.
-  const bool one_thread = impl_->opts.threads == 1;
-  report.stolen_measured = !impl_->quota;
+  // throttling is this device's emulated speed, and foveated units on several threads are
+  // not measured.
+  frame.report().stolen_measured = !impl_->quota && (one_thread || !foveated);
+  if (frame.refused()) return frame.finish();
   try {
-    Frame f(job, impl_->kernel(job.settings.kernel), source, index, report);
-    // Threads take items themselves unless the frame needs items one at a time: the
-    // emulated speed idles after each item, and foveated units share the device's
-    // sample buffers.
-    bool team = !one_thread && impl_->speed.load() >= 1.0;
-    for (const ViewSetup& v : job.views) team = team && !v.foveation;
+    Items items(*impl_, job, impl_->kernel(job.settings.kernel));
     // The arena is entered once a frame, not once an item: entering and leaving it per
     // item let its threads fall asleep between items, to be woken for the next.
     ++impl_->arena_entries;
     impl_->arena.execute([&] {
-      try {
-        team ? render_team(f) : render_in_turn(f);
-      } catch (const std::exception& e) {
-        report.failed = true;
-        report.error = e.what();
-      }
+      if (!team) return frame.run(items);
+      // Every arena thread takes items itself until none is left: no hand-over between
+      // items. An item of several tiles is still cut, its tiles open to threads that ran
+      // out of items.
+      oneapi::tbb::task_group threads;
+      for (int t = 1; t < impl_->opts.threads; ++t) threads.run([&] { frame.run(items); });
+      frame.run(items);  // the caller's thread is one of the team
+      threads.wait();
     });
-    impl_->takers = team ? f.takers.load() : 1;
-    if (!one_thread) report.stolen_ms = double(f.stolen_ns.load()) * 1e-6 / impl_->opts.threads;
+    impl_->takers = team ? frame.takers() : 1;
+    if (!one_thread)
+      frame.report().stolen_ms = double(items.stolen_ns.load()) * 1e-6 / impl_->opts.threads;
   } catch (const std::exception& e) {
-    report.failed = true;
-    report.error = e.what();
+    frame.fail(e.what());
   }
-  report.time_ms = frame_clock.elapsed_ms();
-  return report;
+  return frame.finish();
 }
 
-void CpuDevice::count_item() {
-  const int done = impl_->items_done.fetch_add(1);
-  if (impl_->opts.fail_after >= 0 && done >= impl_->opts.fail_after)
-    throw std::runtime_error("injected failure after " + std::to_string(done) +
-                             " items (fail_after, a testing aid)");
-}
-
-void CpuDevice::render_rect(Frame& f, const ViewSetup& view, Rect r, Framebuffer& out,
-                            std::atomic<uint64_t>& samples, std::atomic<uint64_t>& rays) {
-  std::atomic<int64_t>* stolen = impl_->opts.threads == 1 ? nullptr : &f.stolen_ns;
+void CpuDevice::Items::render_rect(const ViewSetup& view, Rect r, Framebuffer& out,
+                                   std::atomic<uint64_t>& samples, std::atomic<uint64_t>& rays) {
+  std::atomic<int64_t>* stolen = impl_.opts.threads == 1 ? nullptr : &stolen_ns;
   const auto chunk = [&](Rect sub) {
     const ThreadTimes times(stolen);
-    const KernelStats ks = f.kernel.render_rect(view, f.job.settings, sub, out);
+    const KernelStats ks = kernel_.render_rect(view, job_.settings, sub, out);
     samples += ks.samples;
     rays += ks.rays;
   };
-  const int tile = std::max(1, impl_->opts.tile);
+  const int tile = std::max(1, impl_.opts.tile);
   if (r.width() <= tile && r.height() <= tile) return chunk(r);  // one tile: no split
   // Isolated: a thread waiting for this item's tiles helps only with them, never starts
   // another team loop (which would hold this item until the frame's end).
@@ -216,75 +221,9 @@ void CpuDevice::render_rect(Frame& f, const ViewSetup& view, Rect r, Framebuffer
   });
 }
 
-// Items one at a time, each cut into tiles for the arena's threads (the caller's thread
-// takes them). Runs inside the arena.
-void CpuDevice::render_in_turn(Frame& f) {
-  const bool one_thread = impl_->opts.threads == 1;
-  SlowdownEmulator slowdown(impl_->speed.load());
-  for (uint32_t id; f.source.next(f.index, id);) {
-    count_item();
-    const Stopwatch item_clock;
-    // With one thread the item runs on this thread: its CPU time is the device's own
-    // work (see SlowdownEmulator).
-    const double cpu_start = one_thread ? SlowdownEmulator::thread_cpu_ms() : 0;
-    const WorkItem& item = f.source.item(id);
-    const ViewSetup& view = f.job.views.at(size_t(item.view));
-    Framebuffer& out = f.job.outputs->at(size_t(item.view));
-    std::atomic<uint64_t> samples{0}, rays{0};
-    if (view.foveation) {
-      f.report.stolen_measured &= one_thread;
-      render_foveated(f.job, f.kernel, view, item.rect, out, samples, rays);
-    } else {
-      render_rect(f, view, item.rect, out, samples, rays);
-    }
-    const double busy = item_clock.elapsed_ms();
-    const double cpu = one_thread ? SlowdownEmulator::thread_cpu_ms() - cpu_start : busy;
-    if (one_thread) f.report.stolen_ms += std::max(0.0, busy - cpu);
-    slowdown.after_unit(cpu);
-    f.report.add(ItemReport{item, item_clock.elapsed_ms(), double(samples.load()), busy, id},
-                 rays);
-  }
-}
-
-// Every arena thread takes items itself until none is left: no hand-over between items.
-// An item of several tiles is still cut, its tiles open to threads that ran out of items.
-void CpuDevice::render_team(Frame& f) {
-  const auto loop = [this, &f] {
-    int taken = 0;
-    try {
-      for (uint32_t id; !f.stop && f.source.next(f.index, id);) {
-        if (taken++ == 0) ++f.takers;
-        count_item();
-        const WorkItem& item = f.source.item(id);
-        const ViewSetup& view = f.job.views.at(size_t(item.view));
-        std::atomic<uint64_t> samples{0}, rays{0};
-        const double mark = f.share.start();
-        try {
-          render_rect(f, view, item.rect, f.job.outputs->at(size_t(item.view)), samples, rays);
-        } catch (...) {
-          f.share.finish(mark);
-          throw;
-        }
-        const double ms = f.share.finish(mark);
-        const std::lock_guard<std::mutex> lock(f.mutex);
-        f.report.add(ItemReport{item, ms, double(samples.load()), ms, id}, rays);
-      }
-    } catch (const std::exception& e) {
-      const std::lock_guard<std::mutex> lock(f.mutex);
-      if (!f.report.failed) f.report.error = e.what();
-      f.report.failed = true;
-      f.stop = true;
-    }
-  };
-  oneapi::tbb::task_group team;
-  for (int t = 1; t < impl_->opts.threads; ++t) team.run(loop);
-  loop();  // the caller's thread is one of the team
-  team.wait();
-}
-
-void CpuDevice::render_foveated(const FrameJob& job, const Kernel& kernel, const ViewSetup& view,
-                                Rect r, Framebuffer& out, std::atomic<uint64_t>& samples,
-                                std::atomic<uint64_t>& rays) {
+void CpuDevice::Items::render_foveated(const ViewSetup& view, Rect r, Framebuffer& out,
+                                       std::atomic<uint64_t>& samples,
+                                       std::atomic<uint64_t>& rays) {
   // The unit's samples are rendered once for the whole unit (not per thread tile, which
   // would render the samples on tile borders twice), then its pixels reconstructed.
   // Samples this device already rendered for an earlier unit of the frame are reused:
@@ -294,25 +233,25 @@ void CpuDevice::render_foveated(const FrameJob& job, const Kernel& kernel, const
   // samples rendered for the rect's border are overhead, visible in its time and rays.
   const FoveationFrame& f = foveation_of(view);
   samples += samples_in_rect(f, r);
-  if (impl_->sample_values.size() < f.size()) {
-    impl_->sample_values.resize(f.size());
-    impl_->sample_stamp.resize(f.size(), 0);
+  if (impl_.sample_values.size() < f.size()) {
+    impl_.sample_values.resize(f.size());
+    impl_.sample_stamp.resize(f.size(), 0);
   }
-  const uint64_t stamp = impl_->render_calls << 32 | view.view;
+  const uint64_t stamp = impl_.render_calls << 32 | view.view;
   std::vector<uint32_t> idx = select_samples(f, r);
   idx.erase(std::remove_if(idx.begin(), idx.end(),
                            [&](uint32_t s) {
-                             if (impl_->sample_stamp[s] == stamp) return true;
-                             impl_->sample_stamp[s] = stamp;
+                             if (impl_.sample_stamp[s] == stamp) return true;
+                             impl_.sample_stamp[s] = stamp;
                              return false;
                            }),
             idx.end());
-  Vec3* values = impl_->sample_values.data();
-  const int tile = std::max(1, impl_->opts.tile);
+  Vec3* values = impl_.sample_values.data();
+  const int tile = std::max(1, impl_.opts.tile);
   oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<size_t>(0, idx.size(), 64),
                             [&](const oneapi::tbb::blocked_range<size_t>& b) {
-                              const KernelStats ks = FoveatedKernel(kernel).shade(
-                                  view, job.settings, idx.data() + b.begin(), b.size(), values);
+                              const KernelStats ks = FoveatedKernel(kernel_).shade(
+                                  view, job_.settings, idx.data() + b.begin(), b.size(), values);
                               rays += ks.rays;
                             });
   oneapi::tbb::parallel_for(

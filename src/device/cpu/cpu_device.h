@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include "device/device.h"
+#include "device/device_loop.h"
 #include "render/kernel.h"
 #include "render/scene_cache.h"
 
@@ -24,7 +24,9 @@ struct CpuDeviceOptions {
   uint64_t memory_limit = 0;    // emulated memory limit in bytes (mem=); 0: none
 };
 
-class CpuDevice : public Device {
+// Its frames run through the one device loop (device_loop.h): it supplies the rendering of
+// one item (cut into tiles for its threads) and its arena.
+class CpuDevice : public LoopDevice {
  public:
   // Uses the "embree" representation of `scenes` (shared by every CPU device: one BVH);
   // `scenes` must outlive the device.
@@ -36,9 +38,7 @@ class CpuDevice : public Device {
   // Every CPU kernel, every sampling mode, on the "embree" representation.
   static DeviceCapabilities capabilities();
 
-  const DeviceInfo& info() const override { return info_; }
   DeviceReport render(const FrameJob& job, WorkSource& source, int index) override;
-  void set_emulated_speed(double speed) override;
 
   // Testing aids: how many times render() entered the device's task arena (once a frame),
   // and how many of its threads took items in the last frame (1 when it rendered items
@@ -47,27 +47,9 @@ class CpuDevice : public Device {
   int item_takers() const;
 
  private:
-  struct Frame;
-  // A frame's items one at a time, each cut into tiles for the threads: one thread, an
-  // emulated speed, or foveated views.
-  void render_in_turn(Frame& f);
-  // A frame's items taken by every thread of the arena, each for itself.
-  void render_team(Frame& f);
-  // Renders rect `r` of `view`: a rect of several tiles is cut into tiles for the arena's
-  // threads. Runs inside the arena.
-  void render_rect(Frame& f, const ViewSetup& view, Rect r, Framebuffer& out,
-                   std::atomic<uint64_t>& samples, std::atomic<uint64_t>& rays);
-  // Counts an item taken; throws once fail_after items were taken.
-  void count_item();
-  // Renders unit rect `r` of a foveated view: its samples, then its pixels. Runs inside
-  // the device's arena.
-  void render_foveated(const FrameJob& job, const Kernel& kernel, const ViewSetup& view, Rect r,
-                       Framebuffer& out, std::atomic<uint64_t>& samples,
-                       std::atomic<uint64_t>& rays);
-
+  class Items;  // the frame's rendering of one item, for the loop
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  DeviceInfo info_;
 };
 
 }  // namespace multiray

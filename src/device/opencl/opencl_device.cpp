@@ -27,17 +27,6 @@ void pin_current_thread(const std::vector<int>& cores) {
   pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
 }
 
-// Splits `total_ms` over items in proportion to `weights` (their samples); by equal
-// shares when every weight is 0.
-std::vector<double> apportion(double total_ms, const std::vector<double>& weights) {
-  double sum = 0;
-  for (double w : weights) sum += w;
-  std::vector<double> out(weights.size());
-  for (size_t k = 0; k < weights.size(); ++k)
-    out[k] = sum > 0 ? total_ms * weights[k] / sum : total_ms / double(weights.size());
-  return out;
-}
-
 }  // namespace
 
 struct OpenClDevice::Impl {
@@ -45,8 +34,6 @@ struct OpenClDevice::Impl {
   std::unique_ptr<ClRuntime> runtime;
   // The kernels that accept the scene, by RenderSettings::kernel name.
   std::map<std::string, std::unique_ptr<ClKernelRunner>> kernels;
-  std::atomic<double> speed{1.0};
-  int units_done = 0;  // over the device's lifetime, for fail_after
 
   // Builds the kernels whose registry entry accepts the cache's scene (opencl_kernels.h),
   // as the CPU device builds those of cpu_kernels().
@@ -69,54 +56,49 @@ struct OpenClDevice::Impl {
                                   kernel_names() + ")");
     throw std::invalid_argument("opencl device has no kernel '" + name + "' for this scene");
   }
-  // How many items to take after `first` for its batch: up to opts.batch in all, no more
-  // than one launch holds if the others are as large as `first` (a batch is then about one
-  // launch of work, so what the device holds back from stealing stays as today's one
-  // large item), and none past fail_after.
-  size_t batch_more(const WorkItem& first) const {
-    const size_t capacity = size_t(runtime->tile) * size_t(runtime->tile);
-    const size_t area = size_t(std::max<int64_t>(1, first.rect.area()));
-    size_t items = std::min(size_t(std::max(1, opts.batch)), std::max<size_t>(1, capacity / area));
-    if (opts.fail_after >= 0)
-      items = std::min(items, size_t(std::max(1, opts.fail_after - units_done)));
-    return items - 1;
-  }
-  // Renders `ids` (taken in one go) as batches of consecutive items of one view, one
-  // render_rects call each, and reports one ItemReport per item.
-  void render_batches(const FrameJob& job, WorkSource& source, ClKernelRunner& kernel,
-                      const std::vector<uint32_t>& ids, SlowdownEmulator& slowdown,
-                      DeviceReport& report) {
-    for (size_t begin = 0, end; begin < ids.size(); begin = end) {
-      const int view = source.item(ids[begin]).view;
-      std::vector<Rect> rects;
-      for (end = begin; end < ids.size() && source.item(ids[end]).view == view; ++end)
-        rects.push_back(source.item(ids[end]).rect);
-      const Stopwatch clock;
-      const std::vector<KernelStats> ks = kernel.render_rects(
-          job.views.at(size_t(view)), job.settings, rects, job.outputs->at(size_t(view)));
-      const double busy = clock.elapsed_ms();
-      slowdown.after_unit(busy);
-      const double time = clock.elapsed_ms();
-      // One launch rendered the whole batch, so no item has a time of its own: the batch's
-      // time (and busy time) is split over its items in proportion to their samples, the
-      // work the balancers learn a device's speed from. With batch=1 this is the item's
-      // own time.
-      std::vector<double> weights;
-      for (const KernelStats& k : ks) weights.push_back(double(k.samples));
-      const std::vector<double> times = apportion(time, weights), busys = apportion(busy, weights);
-      for (size_t k = 0; k < rects.size(); ++k) {
-        const uint32_t id = ids[begin + k];
-        report.add(ItemReport{source.item(id), times[k], double(ks[k].samples), busys[k], id},
-                   ks[k].rays);
-        ++units_done;
-      }
-    }
-  }
   static std::string kernel_names() {
     std::string names;
     for (const ClKernelEntry& e : opencl_kernels()) names += (names.empty() ? "" : ", ") + e.name;
     return names;
   }
+};
+
+// One frame's batches for the device loop: up to `batch` items of one view in one
+// render_rects call (a launch). The loop splits a batch's time over its items by samples.
+class OpenClDevice::Batches : public BatchRenderer {
+ public:
+  Batches(const Impl& impl, const FrameJob& job, ClKernelRunner& kernel, const std::string& name)
+      : impl_(impl), job_(job), kernel_(kernel), name_(name) {}
+
+  // Up to opts.batch items, no more than one launch holds if the others are as large as
+  // `first`: a batch is then about one launch of work, so what the device holds back from
+  // stealing stays as one large item would.
+  size_t batch_limit(const WorkItem& first) const override {
+    const size_t capacity = size_t(impl_.runtime->tile) * size_t(impl_.runtime->tile);
+    const size_t area = size_t(std::max<int64_t>(1, first.rect.area()));
+    return std::min(size_t(std::max(1, impl_.opts.batch)), std::max<size_t>(1, capacity / area));
+  }
+
+  // Errors say which device: "<name>: <OpenCL error>".
+  std::vector<KernelStats> render(const std::vector<WorkItem>& items) override {
+    const size_t view = size_t(items.front().view);
+    std::vector<Rect> rects;
+    for (const WorkItem& item : items) rects.push_back(item.rect);
+    try {
+      return kernel_.render_rects(job_.views.at(view), job_.settings, rects,
+                                  job_.outputs->at(view));
+    } catch (const cl::Error& e) {
+      throw std::runtime_error(name_ + ": " + cl_util::describe(e));
+    } catch (const std::exception& e) {
+      throw std::runtime_error(name_ + ": " + e.what());
+    }
+  }
+
+ private:
+  const Impl& impl_;
+  const FrameJob& job_;
+  ClKernelRunner& kernel_;
+  const std::string& name_;
 };
 
 DeviceCapabilities OpenClDevice::capabilities() {
@@ -133,7 +115,7 @@ DeviceCapabilities OpenClDevice::capabilities() {
 }
 
 OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::string spec)
-    : impl_(std::make_unique<Impl>()) {
+    : LoopDevice({opts.speed, opts.fail_after}), impl_(std::make_unique<Impl>()) {
   if (!(opts.speed > 0 && opts.speed <= 1))
     throw InputError("opencl device: speed must be in (0, 1], got " + std::to_string(opts.speed));
   if (opts.tile < 1 || opts.tile > 4096)
@@ -157,7 +139,6 @@ OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::st
                      ", numbered from 0; see `multiray devices`)");
   check_scene_fits(scenes.scene(), opts.compact, opts.memory_limit, "--devices '" + spec + "'");
   impl_->opts = opts;
-  impl_->speed = opts.speed;
   const cl::Device& device = all[size_t(opts.index)];
   std::string name = "?";
   try {
@@ -195,14 +176,13 @@ OpenClDevice::OpenClDevice(SceneCache& scenes, OpenClDeviceOptions opts, std::st
                           "pixels of many samples or bounces come out too dark");
   info_.memory_limit = opts.memory_limit;
   info_.spec = std::move(spec);
-  info_.emulated_speed = opts.speed;
   info_.name = "opencl " + std::to_string(opts.index) + " (" + name;
   if (!opts.cores.empty()) {
     info_.name += ", cores";
     // Appended in two steps: GCC 12 warns (-Wrestrict, falsely) on " " + to_string(c).
     for (int c : opts.cores) info_.name.append(" ").append(std::to_string(c));
   }
-  if (opts.speed < 1) info_.name += ", emulated speed " + std::to_string(opts.speed).substr(0, 4);
+  info_.name += emulated_label(opts.speed);
   if (opts.compact) info_.name += ", compact scene";
   if (opts.memory_limit > 0) info_.name += ", emulated memory " + format_bytes(opts.memory_limit);
   info_.name += ")";
@@ -224,13 +204,7 @@ size_t OpenClDevice::work_group_limit(const std::string& kernel) const {
   return it == impl_->kernels.end() ? 0 : it->second->work_group_limit;
 }
 
-void OpenClDevice::set_emulated_speed(double speed) {
-  impl_->speed = speed;
-  info_.emulated_speed = speed;
-}
-
 DeviceReport OpenClDevice::render(const FrameJob& job, WorkSource& source, int index) {
-  DeviceReport report;
   // Pin the calling thread once per thread and device, as the CPU device does (the engine
   // keeps one thread per device); the set-up is not part of the frame time.
   thread_local const void* pinned_for = nullptr;
@@ -238,48 +212,16 @@ DeviceReport OpenClDevice::render(const FrameJob& job, WorkSource& source, int i
     pin_current_thread(impl_->opts.cores);
     pinned_for = this;
   }
-  const Stopwatch frame_clock;
-  // Refuse, before taking any work, what the kernel does not implement: the engine then
-  // drops this device and the others render the frame.
-  std::string unsupported;
-  for (const ViewSetup& v : job.views)
-    if (v.foveation) unsupported = unsupported_job(info_, job.settings.kernel, "foveated");
-  if (unsupported.empty()) unsupported = unsupported_job(info_, job.settings.kernel, "uniform");
-  if (!unsupported.empty()) {
-    report.failed = true;
-    report.error = unsupported;
-    report.time_ms = frame_clock.elapsed_ms();
-    return report;
-  }
+  // The driver renders: the calling thread's CPU time is not the work (FrameMode).
+  FrameLoop frame(loop_, info_, job, source, index, FrameMode{});
+  if (frame.refused()) return frame.finish();
   try {
-    SlowdownEmulator slowdown(impl_->speed.load());
-    ClKernelRunner& kernel = impl_->kernel(job.settings.kernel);
-    std::vector<uint32_t> ids;
-    for (uint32_t id; source.next(index, id);) {
-      if (impl_->opts.fail_after >= 0 && impl_->units_done >= impl_->opts.fail_after) {
-        report.failed = true;
-        report.error = "injected failure after " + std::to_string(impl_->units_done) +
-                       " units (fail_after, a testing aid)";
-        break;
-      }
-      ids.assign(1, id);
-      // Only items already this device's own (its assigned list, or shared items the
-      // dispatcher moved to it) join a batch: the shared queue's and other devices' items
-      // are taken one at a time, so a dynamic balancer's tail stays fine-grained and
-      // stealable (batching those made queue and hybrid 4-10% slower on CPU + PoCL).
-      const size_t more = std::min(impl_->batch_more(source.item(id)), source.pending(index));
-      if (more > 0) source.next(index, more, ids);
-      impl_->render_batches(job, source, kernel, ids, slowdown, report);
-    }
-  } catch (const cl::Error& e) {
-    report.failed = true;
-    report.error = info_.name + ": " + cl_util::describe(e);
+    Batches batches(*impl_, job, impl_->kernel(job.settings.kernel), info_.name);
+    frame.run(batches);
   } catch (const std::exception& e) {
-    report.failed = true;
-    report.error = info_.name + ": " + e.what();
+    frame.fail(info_.name + ": " + e.what());
   }
-  report.time_ms = frame_clock.elapsed_ms();
-  return report;
+  return frame.finish();
 }
 
 }  // namespace multiray

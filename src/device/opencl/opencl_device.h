@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "device/device.h"
+#include "device/device_loop.h"
 #include "render/scene_cache.h"
 
 namespace multiray {
@@ -39,7 +39,9 @@ struct OpenClDeviceOptions {
   uint64_t memory_limit = 0;      // emulated device memory limit in bytes (mem=); 0: none
 };
 
-class OpenClDevice : public Device {
+// Its frames run through the one device loop (device_loop.h): it supplies batches of items
+// rendered by one launch each.
+class OpenClDevice : public LoopDevice {
  public:
   // Uploads what its kernels need of `scenes` into its own buffers: the "embree"
   // representation flattened for a scene with triangles (or without a volume), or the
@@ -56,11 +58,9 @@ class OpenClDevice : public Device {
   // for its scene.
   static DeviceCapabilities capabilities();
 
-  const DeviceInfo& info() const override { return info_; }
   // Never throws: an OpenCL error (or the injected failure) returns failed = true, with
   // the units finished before it listed.
   DeviceReport render(const FrameJob& job, WorkSource& source, int index) override;
-  void set_emulated_speed(double speed) override;
 
   // True when every kernel binary came from the on-disk cache (see cl_program.h).
   bool kernel_from_cache() const;
@@ -71,9 +71,9 @@ class OpenClDevice : public Device {
   size_t work_group_limit(const std::string& kernel) const;
 
  private:
+  class Batches;  // the frame's batches, for the loop
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  DeviceInfo info_;
 };
 
 }  // namespace multiray

@@ -3,9 +3,9 @@
 #include <array>
 #include <stdexcept>
 
+#include "device/gpu_scene/scene_buffers.h"
 #include "device/opencl/kernel_source.h"
 #include "device/opencl/kernels/launch_params.h"
-#include "device/opencl/scene_buffers.h"
 #include "render/path_tracer.h"
 
 namespace multiray {
@@ -15,8 +15,8 @@ namespace {
 class ClPathTracer : public ClKernelRunner {
  public:
   ClPathTracer(const ClRuntime& rt, const RenderScene& rs) : rt_(rt), out_(rt), params_block_(rt) {
-    const ClScene s = build_cl_scene(rs);
-    scene_bytes = cl_scene_bytes(s);
+    const GpuScene s = build_gpu_scene(rs);
+    scene_bytes = gpu_scene_bytes(s);
     // One program per representation: the compact one traverses the quantized tree and
     // decodes the mesh (kernels/shading.cl, traverse_compact.cl).
     built_ = rt.build_kernel(kPathTracerSource, "render_rect", MR_ARG_COUNT,
@@ -31,7 +31,7 @@ class ClPathTracer : public ClKernelRunner {
     args[MR_ARG_nodes] = upload(s.bvh.nodes);
     args[MR_ARG_tris] = upload(s.bvh.triangles);
     args[MR_ARG_shading] = upload(s.shading);
-    const ClCompactScene& k = s.compact;
+    const GpuCompactScene& k = s.compact;
     args[MR_ARG_cnodes] = upload(k.nodes);
     args[MR_ARG_prims] = upload(k.prims);
     args[MR_ARG_qpos] = upload(k.positions);
@@ -41,7 +41,7 @@ class ClPathTracer : public ClKernelRunner {
     args[MR_ARG_quvs] = upload(k.uvs);
     args[MR_ARG_uv_shifts] = upload(k.uv_shifts);
     args[MR_ARG_material_ids] = upload(k.material_ids);
-    args[MR_ARG_compact] = upload(std::vector<ClCompactInfo>{k.info});
+    args[MR_ARG_compact] = upload(std::vector<GpuCompactInfo>{k.info});
     args[MR_ARG_materials] = upload(s.materials);
     args[MR_ARG_lights] = upload(s.lights);
     args[MR_ARG_light_cdf] = upload(s.light_cdf);

@@ -29,9 +29,9 @@ typedef struct {
   uint child[2];  // as Node::child, `first` indexing SceneData::prims
 } CompactNode;
 
-// The scalars of the compact scene (scene_buffers.h ClCompactInfo): the position grid
-// (PositionGrid; its cell-index table is SceneData::cells), the root node's box and the uv
-// coding (UvCoding).
+// The scalars of the compact scene (device/gpu_scene/scene_buffers.h GpuCompactInfo): the
+// position grid (PositionGrid; its cell-index table is SceneData::cells), the root node's
+// box and the uv coding (UvCoding).
 typedef struct {
   float origin[3];
   float cell;

@@ -1,4 +1,4 @@
-#include "device/opencl/scene_buffers.h"
+#include "device/gpu_scene/scene_buffers.h"
 
 #include <algorithm>
 #include <type_traits>
@@ -13,7 +13,7 @@ void put(float out[3], Vec3 v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
 
 // The environment light as the integrator samples it: the CPU's own record and tables,
 // then the map's radiance (unscaled, as the CPU reads it: the record's map_scale applies).
-void build_sky(const RenderScene& rs, ClScene& c) {
+void build_sky(const RenderScene& rs, GpuScene& c) {
   const EnvironmentLight& env = rs.environment;
   c.sky = env.record();
   c.sky.choice = rs.environment_choice();
@@ -22,14 +22,14 @@ void build_sky(const RenderScene& rs, ClScene& c) {
   if (map == nullptr) return;
   const size_t floats = 3 * size_t(c.sky.map_width) * size_t(c.sky.map_height);
   if (c.sky_data.size() + floats > UINT32_MAX)
-    throw DeviceError("OpenCL: the environment map exceeds 4 G floats");
+    throw DeviceError("GPU scene: the environment map exceeds 4 G floats");
   c.sky_data.insert(c.sky_data.end(), map, map + floats);
 }
 
-ClCompactScene to_cl(const CompactScene& c) {
-  ClCompactScene k;
+GpuCompactScene to_gpu(const CompactScene& c) {
+  GpuCompactScene k;
   const CompactMesh& m = c.mesh;
-  ClCompactInfo& i = k.info;
+  GpuCompactInfo& i = k.info;
   put(i.origin, m.grid.origin);
   i.cell = m.grid.cell;
   i.step = m.grid.step;
@@ -62,10 +62,10 @@ uint64_t bytes_of(const std::vector<T>& v) {
 
 }  // namespace
 
-uint64_t cl_scene_bytes(const ClScene& c) {
-  const ClCompactScene& k = c.compact;
+uint64_t gpu_scene_bytes(const GpuScene& c) {
+  const GpuCompactScene& k = c.compact;
   return bytes_of(c.bvh.nodes) + bytes_of(c.bvh.triangles) + bytes_of(c.shading) +
-         (c.is_compact ? sizeof(ClCompactInfo) : 0) + bytes_of(k.nodes) + bytes_of(k.prims) +
+         (c.is_compact ? sizeof(GpuCompactInfo) : 0) + bytes_of(k.nodes) + bytes_of(k.prims) +
          bytes_of(k.positions) + bytes_of(k.cells) + bytes_of(k.indices) + bytes_of(k.normals) +
          bytes_of(k.uvs) + bytes_of(k.uv_shifts) + bytes_of(k.material_ids) +
          bytes_of(c.materials) + bytes_of(c.lights) + bytes_of(c.light_cdf) +
@@ -75,17 +75,17 @@ uint64_t cl_scene_bytes(const ClScene& c) {
 
 // Everything the CPU path tracer renders is rendered by the kernel too (environment map,
 // sun, per-texel materials, cut-outs); new features are refused here until ported.
-std::string cl_unsupported_feature(const Scene&) { return {}; }
+std::string gpu_unsupported_feature(const Scene&) { return {}; }
 
-ClScene build_cl_scene(const RenderScene& rs) {
+GpuScene build_gpu_scene(const RenderScene& rs) {
   const Scene& s = rs.scene;
-  if (const std::string why = cl_unsupported_feature(s); !why.empty())
-    throw DeviceError("OpenCL: " + why +
-                      ", which the OpenCL kernel does not render yet; use CPU devices for it");
-  ClScene c;
+  if (const std::string why = gpu_unsupported_feature(s); !why.empty())
+    throw DeviceError("GPU scene: " + why +
+                      ", which the GPU kernels do not render yet; use CPU devices for it");
+  GpuScene c;
   if (rs.compact) {
     c.is_compact = true;
-    c.compact = to_cl(*rs.compact);
+    c.compact = to_gpu(*rs.compact);
   } else {
     c.bvh = build_flat_bvh(s);
     c.shading = rs.shading;
@@ -97,7 +97,7 @@ ClScene build_cl_scene(const RenderScene& rs) {
 
   for (const Texture& t : s.textures) {
     if (c.texels.size() + t.texels.size() > UINT32_MAX)
-      throw DeviceError("OpenCL: the scene's textures exceed 4 G texels");
+      throw DeviceError("GPU scene: the scene's textures exceed 4 G texels");
     c.textures.push_back(
         TextureRecord{uint32_t(c.texels.size()), t.width, t.height, uint32_t(t.coding)});
     c.texels.insert(c.texels.end(), t.texels.begin(), t.texels.end());

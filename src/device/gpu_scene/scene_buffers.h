@@ -1,9 +1,11 @@
-// The scene as flat arrays for the OpenCL kernel: BVH, per-triangle shading records,
-// materials, light tables and textures. Built on the host once per device (no OpenCL
-// here, so it is testable alone). Materials, lights, textures and the sky are the
-// integrator's records (render/shared/scene_records.h, one layout on both sides); the
-// compact scene's scalars mirror kernels/common.cl's CompactInfo. Float arrays, never
-// float3 (16 bytes in OpenCL C), so host and device layouts agree.
+// The scene as flat arrays for a GPU-style backend's kernels (OpenCL today, CUDA or HIP
+// alike): BVH or compact tree, per-triangle shading records, materials, light tables and
+// textures. Backend-neutral: built on the host once per device with no GPU API, so any
+// backend uploads the same arrays (and it is testable alone). Materials, lights, textures
+// and the sky are the integrator's records (render/shared/scene_records.h, one layout on
+// both sides); the compact scene's scalars mirror the kernels' CompactInfo
+// (device/opencl/kernels/common.cl today). Float arrays, never float3 (16 bytes in OpenCL
+// C), so host and device layouts agree.
 #pragma once
 
 #include <cstdint>
@@ -16,8 +18,8 @@
 
 namespace multiray {
 
-// CompactInfo of kernels/common.cl: the scalars of the compact scene.
-struct ClCompactInfo {
+// The kernels' CompactInfo (opencl/kernels/common.cl): the scalars of the compact scene.
+struct GpuCompactInfo {
   float origin[3];
   float cell;
   float root_lo[3];
@@ -35,13 +37,13 @@ struct ClCompactInfo {
   uint32_t has_uvs;    // 0: no uvs, `uvs` is empty (the kernel must not read it)
   uint32_t pad[2];
 };
-static_assert(sizeof(ClCompactInfo) == 96);
+static_assert(sizeof(GpuCompactInfo) == 96);
 
 // The compact scene's arrays as the kernel reads them (render/compact_scene.h): its nodes
 // and QuantizedPosition are uploaded byte for byte, the cell-index table as 3 ushorts per
 // geometry cell, the bit-packed faces, material ids and uv shifts as their 32-bit words.
-struct ClCompactScene {
-  ClCompactInfo info{};
+struct GpuCompactScene {
+  GpuCompactInfo info{};
   std::vector<CompactNode> nodes;
   std::vector<uint32_t> prims;
   std::vector<QuantizedPosition> positions;
@@ -50,13 +52,13 @@ struct ClCompactScene {
   std::vector<uint16_t> normals, uvs;
 };
 
-struct ClScene {
+struct GpuScene {
   // Full precision: the flat BVH and a shading record per scene triangle (64 bytes each).
   // With a compact scene both are empty and `compact` holds the quantized mesh and tree.
   bool is_compact = false;
   FlatBvh bvh;
   std::vector<TriangleShading> shading;
-  ClCompactScene compact;
+  GpuCompactScene compact;
   std::vector<MaterialRecord> materials;  // RenderScene's
   std::vector<LightRecord> lights;        // the LightSampler's
   std::vector<float> light_cdf;           // LightSampler::cdf()
@@ -73,16 +75,16 @@ struct ClScene {
   float ray_eps = 0;     // ray-origin offset, as PathTracer's
 };
 
-// What `scene` uses that the OpenCL kernel does not render (one phrase), or "".
-std::string cl_unsupported_feature(const Scene& scene);
+// What `scene` uses that the GPU kernels do not render (one phrase), or "".
+std::string gpu_unsupported_feature(const Scene& scene);
 
 // The buffers for `rs`: the compact scene when rs.compact is set (lights, materials,
 // textures, tangents and the sky stay full precision in both). Throws DeviceError when
 // the BVH cannot be built (see build_flat_bvh) or the scene uses a feature of
-// cl_unsupported_feature().
-ClScene build_cl_scene(const RenderScene& rs);
+// gpu_unsupported_feature().
+GpuScene build_gpu_scene(const RenderScene& rs);
 
 // Bytes of the scene buffers the device holds (every array of `c`).
-uint64_t cl_scene_bytes(const ClScene& c);
+uint64_t gpu_scene_bytes(const GpuScene& c);
 
 }  // namespace multiray

@@ -1,0 +1,7 @@
+#include "device/backends.h"
+
+namespace multiray {
+
+std::vector<BackendEntry> builtin_backends() { return {cpu_backend(), opencl_backend()}; }
+
+}  // namespace multiray
