@@ -86,7 +86,9 @@ void register_toy_backend() {
   // As a GPU-style backend would: every batch pays a fixed cost, which auto weighs.
   b.features.item_cost = true;
   b.capabilities = &ToyDevice::capabilities;
-  b.offer = [] { return std::vector<OfferedDevice>{{"toy", "the calling thread", 1, 0, "toy"}}; };
+  b.offer = [] {
+    return std::vector<OfferedDevice>{{"toy", "the calling thread", 1, 0, "toy", ""}};
+  };
   b.check = [](Spec& spec) { read_toy_options(spec); };
   b.create = [](Spec& spec, SceneCache& scenes) -> std::unique_ptr<Device> {
     return std::make_unique<ToyDevice>(scenes, read_toy_options(spec), spec.text());

@@ -33,11 +33,11 @@ std::vector<OfferedDevice> offer_cpu() {
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const uint64_t ram = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
   std::vector<OfferedDevice> out;
-  out.push_back(
-      {"cpu", "all cores (oneTBB + Embree)", cores, ram, "cpu:threads=" + std::to_string(cores)});
+  out.push_back({"cpu", "all cores (oneTBB + Embree)", cores, ram,
+                 "cpu:threads=" + std::to_string(cores), ""});
   for (unsigned c = 0; c < cores; ++c)
-    out.push_back(
-        {"cpu", "core " + std::to_string(c), 1, ram, "cpu:threads=1:cores=" + std::to_string(c)});
+    out.push_back({"cpu", "core " + std::to_string(c), 1, ram,
+                   "cpu:threads=1:cores=" + std::to_string(c), ""});
   return out;
 }
 
