@@ -3,6 +3,7 @@
 #include <cstddef>
 
 #include "render/bsdf.h"
+#include "render/shared/bvh_records.h"
 
 namespace multiray {
 
@@ -11,6 +12,10 @@ static_assert(offsetof(MaterialRecord, emission) == 16 && offsetof(MaterialRecor
               offsetof(MaterialRecord, alpha_cutoff) == 72);
 static_assert(offsetof(LightRecord, b) == 16 && offsetof(LightRecord, prim) == 28 &&
               offsetof(LightRecord, radiance) == 48);
+static_assert(offsetof(FlatNode, hi) == 24 && offsetof(FlatNode, child) == 48);
+static_assert(offsetof(FlatTriangle, e1n) == 16 && offsetof(FlatTriangle, e2) == 32);
+static_assert(offsetof(CompactInfo, root_lo) == 16 && offsetof(CompactInfo, widths) == 68 &&
+              offsetof(CompactInfo, has_uvs) == 84);
 static_assert(offsetof(SkyRecord, frame_x) == 16 && offsetof(SkyRecord, sun_on) == 76 &&
               offsetof(SkyRecord, map_width) == 96 && offsetof(SkyRecord, map_scale) == 124);
 

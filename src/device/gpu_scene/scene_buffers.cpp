@@ -29,7 +29,7 @@ void build_sky(const RenderScene& rs, GpuScene& c) {
 GpuCompactScene to_gpu(const CompactScene& c) {
   GpuCompactScene k;
   const CompactMesh& m = c.mesh;
-  GpuCompactInfo& i = k.info;
+  CompactInfo& i = k.info;
   put(i.origin, m.grid.origin);
   i.cell = m.grid.cell;
   i.step = m.grid.step;
@@ -65,7 +65,7 @@ uint64_t bytes_of(const std::vector<T>& v) {
 uint64_t gpu_scene_bytes(const GpuScene& c) {
   const GpuCompactScene& k = c.compact;
   return bytes_of(c.bvh.nodes) + bytes_of(c.bvh.triangles) + bytes_of(c.shading) +
-         (c.is_compact ? sizeof(GpuCompactInfo) : 0) + bytes_of(k.nodes) + bytes_of(k.prims) +
+         (c.is_compact ? sizeof(CompactInfo) : 0) + bytes_of(k.nodes) + bytes_of(k.prims) +
          bytes_of(k.positions) + bytes_of(k.cells) + bytes_of(k.indices) + bytes_of(k.normals) +
          bytes_of(k.uvs) + bytes_of(k.uv_shifts) + bytes_of(k.material_ids) +
          bytes_of(c.materials) + bytes_of(c.lights) + bytes_of(c.light_cdf) +

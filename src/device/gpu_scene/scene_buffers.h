@@ -18,32 +18,11 @@
 
 namespace multiray {
 
-// The kernels' CompactInfo (opencl/kernels/common.cl): the scalars of the compact scene.
-struct GpuCompactInfo {
-  float origin[3];
-  float cell;
-  float root_lo[3];
-  uint32_t has_nodes;
-  float root_hi[3];
-  uint32_t has_normals;
-  float uv_step[2];
-  uint32_t uv_period_log2[2];
-  float step;
-  // Bit widths of the packed arrays (render/compact_packed.h): vertex index in bits 0-7,
-  // material id 8-15, uv shift offsets u 16-23 and v 24-31.
-  uint32_t widths;
-  int32_t uv_shift_base[2];
-  uint32_t prim_bits;  // width of the tree's packed triangle references
-  uint32_t has_uvs;    // 0: no uvs, `uvs` is empty (the kernel must not read it)
-  uint32_t pad[2];
-};
-static_assert(sizeof(GpuCompactInfo) == 96);
-
 // The compact scene's arrays as the kernel reads them (render/compact_scene.h): its nodes
 // and QuantizedPosition are uploaded byte for byte, the cell-index table as 3 ushorts per
 // geometry cell, the bit-packed faces, material ids and uv shifts as their 32-bit words.
 struct GpuCompactScene {
-  GpuCompactInfo info{};
+  CompactInfo info{};
   std::vector<CompactNode> nodes;
   std::vector<uint32_t> prims;
   std::vector<QuantizedPosition> positions;

@@ -41,7 +41,7 @@ class ClPathTracer : public ClKernelRunner {
     args[MR_ARG_quvs] = upload(k.uvs);
     args[MR_ARG_uv_shifts] = upload(k.uv_shifts);
     args[MR_ARG_material_ids] = upload(k.material_ids);
-    args[MR_ARG_compact] = upload(std::vector<GpuCompactInfo>{k.info});
+    args[MR_ARG_compact] = upload(std::vector<CompactInfo>{k.info});
     args[MR_ARG_materials] = upload(s.materials);
     args[MR_ARG_lights] = upload(s.lights);
     args[MR_ARG_light_cdf] = upload(s.light_cdf);

@@ -1,24 +1,7 @@
-// The OpenCL kernels' own records: the BVHs' nodes and triangles (render/flat_bvh.h,
-// render/compact_scene.h byte for byte), a triangle's shading record, rays and hits, and
-// SceneData, the struct through which the integrator (render/shared/) reads the scene.
-// The integrator's records (materials, lights, textures, sky) are
-// render/shared/scene_records.h's.
-
-typedef struct {
-  float lo[2][3];  // boxes of the two children
-  float hi[2][3];
-  uint child[2];  // node index, or LEAF_BIT | first triangle << LEAF_COUNT_BITS | (count - 1)
-  uint pad[2];
-} Node;
-
-typedef struct {
-  float v0[3];
-  uint prim;  // index of the triangle in the scene
-  float e1n[3];  // v0 - v1 (Embree's e1)
-  float pad0;
-  float e2[3];
-  float pad1;
-} Tri;
+// The OpenCL kernels' own records: the compact tree's node (render/compact_scene.h byte
+// for byte), a triangle's shading record, rays and hits, and SceneData, the struct through
+// which the integrator (render/shared/) reads the scene. The other records are shared:
+// render/shared/bvh_records.h (flat BVH, compact scalars) and scene_records.h.
 
 // The compact scene (render/compact_scene.h, built with -DMR_COMPACT=1): a node of the
 // quantized BVH, 20 bytes, its children's boxes in 8 bits per plane of its own box,
@@ -28,28 +11,6 @@ typedef struct {
   uchar q[3][4];
   uint child[2];  // as Node::child, `first` indexing SceneData::prims
 } CompactNode;
-
-// The scalars of the compact scene (device/gpu_scene/scene_buffers.h GpuCompactInfo): the
-// position grid (PositionGrid; its cell-index table is SceneData::cells), the root node's
-// box and the uv coding (UvCoding).
-typedef struct {
-  float origin[3];
-  float cell;
-  float root_lo[3];
-  uint has_nodes;  // 0: the tree is empty, nothing can be hit
-  float root_hi[3];
-  uint has_normals;  // 0: the mesh has no normals, shading uses the face normal
-  float uv_step[2];
-  uint uv_period_log2[2];
-  float step;  // PositionGrid::step: cell / 1023
-  // Bit widths of the packed arrays (compact_read_bits): vertex index in bits 0-7,
-  // material id 8-15, uv shift offsets u 16-23 and v 24-31.
-  uint widths;
-  int uv_shift_base[2];
-  uint prim_bits;  // width of the tree's packed triangle references (SceneData::prims)
-  uint has_uvs;    // 0: the mesh has no uvs (SceneData::quvs is a placeholder byte)
-  uint pad[2];
-} CompactInfo;
 
 typedef struct {
   float normal[9];  // three corner normals
@@ -78,8 +39,8 @@ typedef struct {
 
 // The render_rect kernel's scene buffers and scalars, passed down as one pointer.
 typedef struct {
-  const __global Node* nodes;
-  const __global Tri* tris;
+  const __global FlatNode* nodes;
+  const __global FlatTriangle* tris;
   const __global Shading* shading;
   const __global MaterialRecord* materials;
   const __global LightRecord* lights;

@@ -66,9 +66,9 @@ typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 176 ? 1 : -1];
 #endif
 
 // clang-format off
-#define MR_RENDER_RECT_ARGS(X, SEP)                     \
-  X(nodes, const __global Node*) SEP()                \
-  X(tris, const __global Tri*) SEP()                  \
+#define MR_RENDER_RECT_ARGS(X, SEP)                   \
+  X(nodes, const __global FlatNode*) SEP()            \
+  X(tris, const __global FlatTriangle*) SEP()         \
   X(shading, const __global Shading*) SEP()           \
   X(materials, const __global MaterialRecord*) SEP()  \
   X(lights, const __global LightRecord*) SEP()        \

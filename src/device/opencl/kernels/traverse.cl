@@ -81,8 +81,8 @@ bool tri_hit(const SceneData* sc, uint prim, float3 v0, float3 e1n, float3 e2, c
 // Closest hit (any_hit = false) or any hit (any_hit = true, for shadow rays). `ref` is the
 // child reference being visited (a node index or a leaf, see render/flat_bvh.h).
 bool traverse(const SceneData* sc, const Ray* ray, bool any_hit, Hit* hit) {
-  const __global Node* nodes = sc->nodes;
-  const __global Tri* tris = sc->tris;
+  const __global FlatNode* nodes = sc->nodes;
+  const __global FlatTriangle* tris = sc->tris;
   const float3 inv_dir = safe_inverse(ray->dir);
   float tmax = ray->tmax;
   uint stack[STACK_SIZE];
@@ -102,7 +102,7 @@ bool traverse(const SceneData* sc, const Ray* ray, bool any_hit, Hit* hit) {
           if (any_hit) return true;
         }
     } else {
-      const __global Node* n = &nodes[ref];
+      const __global FlatNode* n = &nodes[ref];
       float t0, t1;
       const bool h0 = box_hit(load3(n->lo[0]), load3(n->hi[0]), ray->org, inv_dir, ray->tmin,
                               tmax, &t0);
