@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "render/compact_accel.h"
 #include "render/embree_device.h"
+#include "render/shared/surface.h"
 #include "render/surface.h"
 
 namespace multiray {
@@ -22,21 +23,6 @@ void set_fast_float_mode() {
 }
 
 namespace {
-
-// A number in [0, 1) fixed by the ray and the triangle (a 32-bit mix of their bits).
-float hash_floats(const float* values, int n, uint32_t prim) {
-  uint32_t h = 0x9e3779b9u ^ prim;
-  for (int i = 0; i < n; ++i) {
-    uint32_t b;
-    std::memcpy(&b, &values[i], sizeof b);
-    h ^= b + 0x7f4a7c15u + (h << 6) + (h >> 2);
-    h *= 0x85ebca6bu;
-    h ^= h >> 13;
-  }
-  h *= 0xc2b2ae35u;
-  h ^= h >> 16;
-  return float(h >> 8) * (1.0f / 16777216.0f);
-}
 
 // Embree filter for cut-out materials; geometryUserPtr is the Scene.
 void alpha_filter(const RTCFilterFunctionNArguments* args) {
@@ -58,7 +44,7 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
         RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
         RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
         RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
-    if (passes_through(*scene, m, uv, hash_floats(key, 6, prim))) args->valid[i] = 0;
+    if (passes_through(*scene, m, uv, multiray::cutout_hash(key, prim))) args->valid[i] = 0;
   }
 }
 
@@ -66,7 +52,7 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
 
 float cutout_hash(const Ray& ray, uint32_t prim) {
   const float key[6] = {ray.org.x, ray.org.y, ray.org.z, ray.dir.x, ray.dir.y, ray.dir.z};
-  return hash_floats(key, 6, prim);
+  return cutout_hash(key, prim);
 }
 
 Accel::Accel(const Scene& scene, const CompactScene* compact) : compact_(compact) {

@@ -82,6 +82,7 @@ typedef int4 mr_int4;
 #define mr_ceil ceil
 #define mr_min_int min
 #define mr_max_int max
+#define mr_float_as_uint as_uint
 
 // As core/math.h's dot, cross and normalize, operation for operation (not the built-ins,
 // whose order of operations is the driver's).
@@ -122,6 +123,7 @@ float3 to_world(const Frame* f, float3 v) { return f->t * v.x + f->b * v.y + f->
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "core/math.h"
 
@@ -153,6 +155,11 @@ inline float dot3(Vec3 a, Vec3 b) { return dot(a, b); }
 inline Vec3 cross3(Vec3 a, Vec3 b) { return cross(a, b); }
 inline Vec3 normalize3(Vec3 a) { return normalize(a); }
 inline Vec3 load3(const float* p) { return Vec3(p[0], p[1], p[2]); }
+inline uint32_t mr_float_as_uint(float f) {
+  uint32_t b;
+  std::memcpy(&b, &f, sizeof b);
+  return b;
+}
 inline float max3(Vec3 a) { return max_component(a); }
 inline Vec3 lerp3(Vec3 a, Vec3 b, float t) { return lerp(a, b, t); }
 inline bool finite3(Vec3 a) { return is_finite(a); }

@@ -94,6 +94,21 @@ MR_DEVICE float alpha_at(const SceneData* sc, const MR_GLOBAL MaterialRecord* m,
   return m->opacity * texture_sample_alpha(&t, uv);
 }
 
+// The number in [0, 1) that decides a `blend` cut-out: a 32-bit mix of the bits of a
+// ray's origin and direction (`key`, 6 floats) and the triangle, so every device makes
+// the same decision for the same ray (render/accel.cpp's filter, the OpenCL traversal).
+MR_DEVICE float cutout_hash(const float key[6], mr_uint prim) {
+  mr_uint h = 0x9e3779b9u ^ prim;
+  for (int i = 0; i < 6; ++i) {
+    h ^= mr_float_as_uint(key[i]) + 0x7f4a7c15u + (h << 6) + (h >> 2);
+    h *= 0x85ebca6bu;
+    h ^= h >> 13;
+  }
+  h *= 0xc2b2ae35u;
+  h ^= h >> 16;
+  return (float)(h >> 8) * (1.0f / 16777216.0f);
+}
+
 // Whether a ray passes through the point of `m` at `uv`: `mask` compares the coverage
 // with the cutoff, `blend` compares it with `u` (uniform in [0, 1), fixed per ray so
 // that every device makes the same decision). Always false for opaque materials.

@@ -33,29 +33,14 @@ float3 safe_inverse(float3 d) {
   return 1.0f / select(d, tiny, isless(fabs(d), (float3)(1e-30f)));
 }
 
-// accel.cpp's ray_hash: a number in [0, 1) fixed by the ray's origin and direction bits
-// and the triangle, the same on every device for the same floats.
-float ray_hash(const Ray* ray, uint prim) {
-  const float key[6] = {ray->org.x, ray->org.y, ray->org.z, ray->dir.x, ray->dir.y, ray->dir.z};
-  uint h = 0x9e3779b9u ^ prim;
-  for (int i = 0; i < 6; ++i) {
-    const uint b = as_uint(key[i]);
-    h ^= b + 0x7f4a7c15u + (h << 6) + (h >> 2);
-    h *= 0x85ebca6bu;
-    h ^= h >> 13;
-  }
-  h *= 0xc2b2ae35u;
-  h ^= h >> 16;
-  return (float)(h >> 8) * (1.0f / 16777216.0f);
-}
-
 // accel.cpp's alpha_filter: whether `ray` passes through scene triangle `prim` at
 // barycentrics (u, v).
 bool cut_out(const SceneData* sc, const Ray* ray, uint prim, float u, float v) {
   const __global MaterialRecord* m = &sc->materials[material_of(sc, prim)];
   if (m->alpha_mode == 0u) return false;
   const ShadingRecord d = scene_shading(sc, prim);
-  return passes_through(sc, m, shading_uv(&d, 1.0f - u - v, u, v), ray_hash(ray, prim));
+  const float key[6] = {ray->org.x, ray->org.y, ray->org.z, ray->dir.x, ray->dir.y, ray->dir.z};
+  return passes_through(sc, m, shading_uv(&d, 1.0f - u - v, u, v), cutout_hash(key, prim));
 }
 
 // The shared ray/triangle test (render/shared/triangle.h) on scene triangle `prim` with
