@@ -139,9 +139,8 @@ void quantize_subtree(const FlatBvh& flat, uint32_t index, const Bounds3& box,
     if (!(f.child[c] & kLeafBit)) quantize_subtree(flat, f.child[c], child_box[c], out);
 }
 
-}  // namespace
-
-CompactScene build_compact_scene(const Scene& scene) {
+// The mesh and its tree (the scalars are filled by build_compact_scene).
+CompactScene build_mesh_and_tree(const Scene& scene) {
   CompactScene c;
   c.mesh = build_compact_mesh(scene);
   // The tree is built over the decoded positions: its boxes must bound what is tested.
@@ -174,6 +173,48 @@ CompactScene build_compact_scene(const Scene& scene) {
   c.bvh.nodes.resize(flat.nodes.size());
   quantize_subtree(flat, 0, c.bvh.root, c.bvh.nodes);
   return c;
+}
+
+void put(float out[3], Vec3 v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
+
+CompactInfo compact_info(const CompactScene& c) {
+  const CompactMesh& m = c.mesh;
+  CompactInfo i{};
+  put(i.origin, m.grid.origin);
+  i.cell = m.grid.cell;
+  i.step = m.grid.step;
+  i.has_normals = m.normals.empty() ? 0u : 1u;
+  i.has_uvs = m.uvs.empty() ? 0u : 1u;
+  i.has_nodes = c.bvh.nodes.empty() ? 0u : 1u;
+  put(i.root_lo, c.bvh.root.lo), put(i.root_hi, c.bvh.root.hi);
+  for (int a = 0; a < 2; ++a)
+    i.uv_step[a] = m.uv_coding.step[a], i.uv_period_log2[a] = m.uv_coding.period_log2[a],
+    i.uv_shift_base[a] = m.uv_shifts.base[a];
+  i.widths = m.indices.width | m.material_ids.width << 8 | m.uv_shifts.bits[0] << 16 |
+             m.uv_shifts.bits[1] << 24;
+  i.prim_bits = c.bvh.prims.width;
+  return i;
+}
+
+}  // namespace
+
+CompactScene build_compact_scene(const Scene& scene) {
+  CompactScene c = build_mesh_and_tree(scene);
+  c.info = compact_info(c);
+  return c;
+}
+
+CompactMeshView CompactScene::view() const {
+  static_assert(sizeof(QuantizedPosition) == 3 * sizeof(uint16_t));
+  const CompactMesh& m = mesh;
+  return CompactMeshView{&info,
+                         reinterpret_cast<const uint16_t*>(m.positions.data()),
+                         m.grid.cells.data(),
+                         m.indices.words.data(),
+                         m.normals.data(),
+                         m.uvs.data(),
+                         m.uv_shifts.packed.words.data(),
+                         m.material_ids.words.data()};
 }
 
 SceneBytes full_precision_bytes(const Scene& s, size_t tree_nodes) {

@@ -24,6 +24,7 @@
 
 #include "render/compact_packed.h"
 #include "render/compact_quantize.h"
+#include "render/shared/compact_mesh.h"
 #include "scene/scene.h"
 
 namespace multiray {
@@ -107,7 +108,10 @@ uint8_t quantize_plane(float lo, float hi, float value, bool upper);
 struct CompactScene {
   CompactMesh mesh;
   CompactBvh bvh;
+  CompactInfo info;  // the scalars as the shared decoding reads them (render/shared/)
   size_t bytes() const { return mesh.bytes() + bvh.bytes(); }
+  // The mesh as render/shared/compact_mesh.h reads it (pointing into this scene).
+  CompactMeshView view() const;
 };
 
 // Sizes, in bytes, of the parts of a scene at full precision and compact, for the

@@ -24,18 +24,9 @@ std::vector<TriangleShading> build_shading_data(const Scene& s) {
 }
 
 TriangleShading decode_shading(const CompactScene& c, uint32_t prim) {
-  const CompactMesh& m = c.mesh;
-  const uint32_t idx[3] = {m.vertex(prim, 0), m.vertex(prim, 1), m.vertex(prim, 2)};
+  const CompactMeshView m = c.view();
   TriangleShading r;
-  if (m.normals.empty()) {
-    const Vec3 p0 = m.position(idx[0]);
-    const Vec3 face = normalize(cross(m.position(idx[1]) - p0, m.position(idx[2]) - p0));
-    r.normal[0] = r.normal[1] = r.normal[2] = face;
-  } else {
-    for (int k = 0; k < 3; ++k) r.normal[k] = decode_normal(m.normals[idx[k]]);
-  }
-  for (int k = 0; k < 3; ++k) r.uv[k] = m.uv(prim, k);
-  r.material = m.material(prim);
+  compact_shading(&m, prim, r.normal, r.uv, &r.material);
   return r;
 }
 

@@ -19,6 +19,7 @@
 #include "render/compact_accel.h"
 #include "render/compact_scene.h"
 #include "render/flat_bvh.h"
+#include "render/shading_data.h"
 #include "render_helpers.h"
 #include "scene/builders.h"
 
@@ -692,6 +693,42 @@ TEST(CompactScene, MemoryLimitRefusesWhatDoesNotFitUnlessCompactFits) {
   const CpuDevice d(cache, CpuDeviceOptions{.compact = true, .memory_limit = limit},
                     "cpu:compact=1:mem=1M");
   EXPECT_LE(d.info().scene_bytes, limit);
+}
+
+}  // namespace compact_test
+}  // namespace multiray
+
+namespace multiray {
+namespace compact_test {
+
+// The shared decoding (render/shared/compact_mesh.h, which the CPU's shading and the
+// OpenCL kernels both use) gives what CompactMesh's own readers give, corner for corner:
+// normals, material and uvs, on a mesh whose triangles have different uv shifts (the v
+// shift sits past the u shift's bits in a packed entry) and on meshes without normals or
+// uvs.
+TEST(CompactMeshView, DecodesAsTheMeshsOwnReaders) {
+  Scene tiling = make_lit_sphere(0.8f, 16, 32, true);
+  tiling.uvs.clear();
+  for (size_t v = 0; v < tiling.positions.size(); ++v)
+    tiling.uvs.push_back({37.0f * float(v % 7) / 7.0f, -3.0f + 2.5f * float(v % 5)});
+  Scene bare = make_cornell_box();
+  bare.normals.clear();
+  bare.uvs.clear();
+  for (const Scene& scene : {tiling, bare}) {
+    const CompactScene c = build_compact_scene(scene);
+    const CompactMesh& m = c.mesh;
+    for (uint32_t t = 0; t < m.triangle_count(); ++t) {
+      const TriangleShading d = decode_shading(c, t);
+      ASSERT_EQ(d.material, m.material(t));
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_EQ(d.uv[k].x, m.uv(t, k).x) << scene.name << " " << t << " " << k;
+        ASSERT_EQ(d.uv[k].y, m.uv(t, k).y) << scene.name << " " << t << " " << k;
+        if (m.normals.empty()) continue;
+        const Vec3 n = decode_normal(m.normals[m.vertex(t, k)]);
+        ASSERT_TRUE(same(d.normal[k], n)) << scene.name << " " << t << " " << k;
+      }
+    }
+  }
 }
 
 }  // namespace compact_test

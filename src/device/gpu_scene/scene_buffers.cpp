@@ -9,8 +9,6 @@ namespace multiray {
 
 namespace {
 
-void put(float out[3], Vec3 v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
-
 // The environment light as the integrator samples it: the CPU's own record and tables,
 // then the map's radiance (unscaled, as the CPU reads it: the record's map_scale applies).
 void build_sky(const RenderScene& rs, GpuScene& c) {
@@ -29,22 +27,9 @@ void build_sky(const RenderScene& rs, GpuScene& c) {
 GpuCompactScene to_gpu(const CompactScene& c) {
   GpuCompactScene k;
   const CompactMesh& m = c.mesh;
-  CompactInfo& i = k.info;
-  put(i.origin, m.grid.origin);
-  i.cell = m.grid.cell;
-  i.step = m.grid.step;
-  i.has_normals = m.normals.empty() ? 0u : 1u;
-  i.has_uvs = m.uvs.empty() ? 0u : 1u;
-  i.has_nodes = c.bvh.nodes.empty() ? 0u : 1u;
-  put(i.root_lo, c.bvh.root.lo), put(i.root_hi, c.bvh.root.hi);
-  for (int a = 0; a < 2; ++a)
-    i.uv_step[a] = m.uv_coding.step[a], i.uv_period_log2[a] = m.uv_coding.period_log2[a],
-    i.uv_shift_base[a] = m.uv_shifts.base[a];
-  i.widths = m.indices.width | m.material_ids.width << 8 | m.uv_shifts.bits[0] << 16 |
-             m.uv_shifts.bits[1] << 24;
+  k.info = c.info;
   k.nodes = c.bvh.nodes;
   k.prims = c.bvh.prims.words;
-  i.prim_bits = c.bvh.prims.width;
   k.positions = m.positions;
   k.cells = m.grid.cells;
   k.indices = m.indices.words;

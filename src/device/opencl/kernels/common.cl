@@ -54,19 +54,11 @@ typedef struct {
   const __global float* sky_tables;  // the map's sampling tables at sky's offsets
   const __global float* sky_map;     // the map's radiance, after the tables
   // The compact scene (placeholders without MR_COMPACT): the tree, triangle references in
-  // leaf order, 3 ushorts per vertex (QuantizedPosition), the cell-index table (3 ushorts
-  // per geometry cell), faces (bit-packed vertex indices), normal codes and uv codes per
-  // vertex, uv shifts and material ids per triangle (bit-packed; widths in CompactInfo).
+  // leaf order (bit-packed; width in CompactInfo), the scalars, and the mesh's arrays.
   const __global CompactNode* cnodes;
   const __global uint* prims;
-  const __global ushort* qpos;
-  const __global ushort* cells;
-  const __global uint* indices;
-  const __global ushort* qnormals;
-  const __global ushort* quvs;
-  const __global uint* uv_shifts;     // bit-packed, one entry per triangle
-  const __global uint* material_ids;  // bit-packed
   const __global CompactInfo* compact;
+  CompactMeshView cmesh;  // render/shared/compact_mesh.h
   uint light_count;
   bool has_tangents;  // some material has a normal map (and the scene has uvs)
   bool cutouts;       // some material has an alpha mode: traversal tests coverage

@@ -39,8 +39,9 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void render
       sky_data + sky->pix_pdf + (uint)sky->map_width * (uint)sky->map_height;
   const SceneData sc = {nodes, tris, shading, materials, lights, light_cdf, light_pdf_by_prim,
                         texels, textures, texel_luts, tangents, sky, sky_data, sky_map, cnodes,
-                        prims, qpos, cells, indices, qnormals, quvs, uv_shifts, material_ids,
-                        compact, p.light_count, p.has_tangents != 0, p.cutouts != 0,
+                        prims, compact,
+                        {compact, qpos, cells, indices, qnormals, quvs, uv_shifts, material_ids},
+                        p.light_count, p.has_tangents != 0, p.cutouts != 0,
                         p.env_choice_eps.x, p.env_choice_eps.w};
   const PathSettings settings = {p.max_bounces, p.rr_start};
   const int x = rect.x + (int)((i - first) % (uint)rect.z);

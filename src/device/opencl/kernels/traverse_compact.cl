@@ -24,9 +24,9 @@ float3 dequantize_corner(float3 lo, float3 hi, const __global CompactNode* n, in
 }
 
 bool compact_tri_hit(const SceneData* sc, uint prim, const Ray* ray, float* tmax, Hit* hit) {
-  const float3 v0 = compact_corner(sc, prim, 0);
-  return tri_hit(sc, prim, v0, v0 - compact_corner(sc, prim, 1),
-                 compact_corner(sc, prim, 2) - v0, ray, tmax, hit);
+  const float3 v0 = compact_corner(&sc->cmesh, prim, 0);
+  return tri_hit(sc, prim, v0, v0 - compact_corner(&sc->cmesh, prim, 1),
+                 compact_corner(&sc->cmesh, prim, 2) - v0, ray, tmax, hit);
 }
 
 bool traverse(const SceneData* sc, const Ray* ray, bool any_hit, Hit* hit) {
