@@ -15,13 +15,13 @@
 MR_NAMESPACE_BEGIN
 
 typedef struct {
-  const MR_GLOBAL CompactInfo* info;  // the scalars: grid, uv coding, bit widths
-  const MR_GLOBAL mr_ushort* qpos;    // 3 a vertex (QuantizedPosition)
-  const MR_GLOBAL mr_ushort* cells;   // the grid's cell-index table, 3 a geometry cell
-  const MR_GLOBAL mr_uint* indices;   // 3 vertex indices a triangle, bit-packed
-  const MR_GLOBAL mr_ushort* normals;   // a code a vertex (read only when has_normals)
-  const MR_GLOBAL mr_ushort* uvs;       // 2 codes a vertex (read only when has_uvs)
-  const MR_GLOBAL mr_uint* uv_shifts;   // an entry a triangle, bit-packed
+  const MR_GLOBAL CompactInfo* info;      // the scalars: grid, uv coding, bit widths
+  const MR_GLOBAL mr_ushort* qpos;        // 3 a vertex (QuantizedPosition)
+  const MR_GLOBAL mr_ushort* cells;       // the grid's cell-index table, 3 a geometry cell
+  const MR_GLOBAL mr_uint* indices;       // 3 vertex indices a triangle, bit-packed
+  const MR_GLOBAL mr_ushort* normals;     // a code a vertex (read only when has_normals)
+  const MR_GLOBAL mr_ushort* uvs;         // 2 codes a vertex (read only when has_uvs)
+  const MR_GLOBAL mr_uint* uv_shifts;     // an entry a triangle, bit-packed
   const MR_GLOBAL mr_uint* material_ids;  // bit-packed
 } CompactMeshView;
 
@@ -64,7 +64,8 @@ MR_DEVICE mr_float2 compact_uv(const CompactMeshView* m, mr_uint prim, int k) {
 MR_DEVICE void compact_shading(const CompactMeshView* m, mr_uint prim, mr_float3 normal[3],
                                mr_float2 uv[3], mr_uint* material) {
   if (m->info->has_normals) {
-    for (int k = 0; k < 3; ++k) normal[k] = compact_decode_normal(m->normals[compact_vertex(m, prim, k)]);
+    for (int k = 0; k < 3; ++k)
+      normal[k] = compact_decode_normal(m->normals[compact_vertex(m, prim, k)]);
   } else {
     const mr_float3 p0 = compact_corner(m, prim, 0);
     const mr_float3 face =
