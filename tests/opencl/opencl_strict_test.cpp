@@ -42,16 +42,19 @@ int strict_check(const char* source, const std::string& options, std::string& ou
   return code;
 }
 
+// Every program the devices build, with the options that make its variants.
+struct Program {
+  const char* name;
+  const char* source;
+  const char* options;
+};
+const Program kPrograms[] = {{"path tracer", kPathTracerSource, ""},
+                             {"path tracer, compact scene", kPathTracerSource, "-DMR_COMPACT=1"},
+                             {"volume raycaster", kVolumeSource, ""}};
+
 TEST(OpenClStrict, EveryProgramIsStandardOpenClC12) {
   if (!have_clang()) GTEST_SKIP() << "clang-15 not found (the test dependencies install it)";
-  const struct {
-    const char* name;
-    const char* source;
-    const char* options;
-  } programs[] = {{"path tracer", kPathTracerSource, ""},
-                  {"path tracer, compact scene", kPathTracerSource, "-DMR_COMPACT=1"},
-                  {"volume raycaster", kVolumeSource, ""}};
-  for (const auto& p : programs) {
+  for (const Program& p : kPrograms) {
     std::string out;
     EXPECT_EQ(strict_check(p.source, p.options, out), 0) << p.name << ":\n" << out;
   }
@@ -118,14 +121,7 @@ std::string joined(const std::set<std::string>& names) {
 // reach an LLVM-based driver without such idioms turned into intrinsics.
 TEST(OpenClStrict, NoProgramCallsAnIntrinsicAnInterpreterLacks) {
   if (!have_clang()) GTEST_SKIP() << "clang-15 not found (the test dependencies install it)";
-  const struct {
-    const char* name;
-    const char* source;
-    const char* options;
-  } programs[] = {{"path tracer", kPathTracerSource, ""},
-                  {"path tracer, compact scene", kPathTracerSource, "-DMR_COMPACT=1"},
-                  {"volume raycaster", kVolumeSource, ""}};
-  for (const auto& p : programs) {
+  for (const Program& p : kPrograms) {
     std::string out;
     EXPECT_EQ(joined(foreign_intrinsics(p.source, p.options, out)), "") << p.name << "\n" << out;
   }
