@@ -9,21 +9,10 @@
 #include <cstdint>
 
 #include "core/math.h"
+#include "render/shared/ray.h"
 #include "scene/scene.h"
 
 namespace multiray {
-
-struct Ray {
-  Vec3 org, dir;
-  float tmin = 0.0f, tmax = INFINITY;
-};
-
-struct Hit {
-  float t = INFINITY;
-  uint32_t prim = 0;   // triangle index in Scene
-  float u = 0, v = 0;  // barycentrics of vertices 1 and 2
-  Vec3 ng;             // unnormalised geometric normal, along cross(v1 - v0, v2 - v0)
-};
 
 // Materials with an alpha mode (scene.h AlphaMode) are cut out during traversal, for
 // closest hits and shadow rays alike, by an Embree filter function: a point whose

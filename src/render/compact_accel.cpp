@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "render/flat_bvh.h"
+#include "render/shared/bvh_walk.h"
 #include "render/shared/triangle.h"
 #include "render/surface.h"
 
@@ -141,23 +142,29 @@ bool triangle_hit(const CompactMesh& m, const Scene* cutouts, uint32_t prim, Vec
   return true;
 }
 
+static_assert(MR_LEAF_BIT == kLeafBit && MR_LEAF_COUNT_BITS == kLeafCountBits &&
+              MR_BVH_STACK == kMaxBvhDepth);
+
+// A node's children as the walk (render/shared/bvh_walk.h) keeps them between testing
+// them and taking one: their decoded planes and their references.
+struct NodeKids {
+  ChildPlanes planes;
+  const uint32_t* refs;
+};
+
 // The compact tree as stored: a node's child boxes are decoded from its own box (which
-// the traversal carries down and keeps on its stack), a triangle from the quantized mesh
-// at each test.
+// the walk carries down and keeps on its stack), a triangle from the quantized mesh at
+// each test.
 struct QuantizedTree {
   const CompactScene& c;
+  const Scene* cutouts;
   using Box = LaneBox;
+  using Kids = NodeKids;
   Box root() const {
     const Bounds3& r = c.bvh.root;
     return Box{v4f{r.lo.x, r.lo.y, r.lo.z, 0.0f}, v4f{r.hi.x, r.hi.y, r.hi.z, 0.0f}};
   }
-  const uint32_t* refs(uint32_t node) const { return c.bvh.nodes[node].child; }
-  ChildPlanes children(uint32_t node, const Box& box) const {
-    return decode_children(c.bvh.nodes[node], box);
-  }
-  Box child(const ChildPlanes& p, int k) const { return child_box(p, k); }
-  uint32_t prim(uint32_t slot) const { return c.bvh.prims[slot]; }
-  void triangle(uint32_t, uint32_t prim, Vec3& v0, Vec3& e1n, Vec3& e2) const {
+  void triangle(uint32_t prim, Vec3& v0, Vec3& e1n, Vec3& e2) const {
     v0 = c.mesh.corner(prim, 0), e1n = v0 - c.mesh.corner(prim, 1);
     e2 = c.mesh.corner(prim, 2) - v0;
   }
@@ -169,101 +176,87 @@ struct QuantizedTree {
 template <bool per_slot>
 struct FloatTree {
   const CompactFloatTree& t;
+  const CompactScene& c;
+  const Scene* cutouts;
   struct Box {};
-  Box root() const { return {}; }
-  const uint32_t* refs(uint32_t node) const { return t.nodes[node].child; }
-  ChildPlanes children(uint32_t node, Box) const {
-    ChildPlanes p;
-    std::memcpy(&p, t.nodes[node].planes, sizeof(p));
-    return p;
-  }
-  Box child(const ChildPlanes&, int) const { return {}; }
-  uint32_t prim(uint32_t slot) const { return t.prims[slot]; }
-  void triangle(uint32_t slot, uint32_t prim, Vec3& v0, Vec3& e1n, Vec3& e2) const {
-    if (per_slot) {
-      v0 = t.triangles[3 * size_t(slot)], e1n = t.triangles[3 * size_t(slot) + 1];
-      e2 = t.triangles[3 * size_t(slot) + 2];
-      return;
-    }
-    const uint32_t* f = &t.faces[3 * size_t(prim)];
-    v0 = t.positions[f[0]], e1n = v0 - t.positions[f[1]], e2 = t.positions[f[2]] - v0;
-  }
+  using Kids = NodeKids;
 };
 
-// Closest hit (or, with `any_hit`, any hit) along `ray` in `tree`, nearer child first,
-// a subtree popped only while it may still hold a closer hit.
-template <class Tree>
-bool traverse(const Tree& tree, const CompactScene& c, const Scene* cutouts, const Ray& ray,
-              bool any_hit, Hit& hit) {
-  if (c.bvh.nodes.empty()) return false;
-  struct StackEntry {
-    uint32_t ref;
-    float t;                 // where the ray enters the subtree
-    typename Tree::Box box;  // the subtree root's box, when the tree needs it
-  };
-  const Vec3 inv = safe_inverse(ray.dir);
-  float tmax = ray.tmax;
-  StackEntry stack[kMaxBvhDepth];
-  int sp = 0;
-  uint32_t ref = 0;
-  typename Tree::Box box = tree.root();
-  bool found = false;
-  for (;;) {
-    bool descend = false;
-    if (ref & kLeafBit) {
-      const uint32_t first = (ref & ~kLeafBit) >> kLeafCountBits;
-      const uint32_t count = (ref & (kMaxLeafTriangles - 1)) + 1;
-      for (uint32_t i = first; i < first + count; ++i) {
-        const uint32_t prim = tree.prim(i);
-        Vec3 v0, e1n, e2;
-        tree.triangle(i, prim, v0, e1n, e2);
-        if (triangle_hit(c.mesh, cutouts, prim, v0, e1n, e2, ray, tmax, hit)) {
-          found = true;
-          if (any_hit) return true;
-        }
-      }
-    } else {
-      const ChildPlanes p = tree.children(ref, box);
-      const uint32_t* child = tree.refs(ref);
-      float t[2];
-      const int h = two_box_hit(p, ray.org, inv, ray.tmin, tmax, t);
-      if (h == 3) {
-        const int first = t[1] < t[0] ? 1 : 0;
-        stack[sp++] = StackEntry{child[1 - first], t[1 - first], tree.child(p, 1 - first)};
-        ref = child[first], box = tree.child(p, first);
-        descend = true;
-      } else if (h != 0) {
-        const int k = h == 1 ? 0 : 1;
-        ref = child[k], box = tree.child(p, k);
-        descend = true;
-      }
-    }
-    if (descend) continue;
-    for (;;) {  // the nearest pending subtree that can still hold a closer hit
-      if (sp == 0) return found;
-      --sp;
-      if (stack[sp].t <= tmax) break;
-    }
-    ref = stack[sp].ref, box = stack[sp].box;
+// The walk's tree interface (render/shared/bvh_walk.h) for both.
+bool tree_root(const QuantizedTree* q, LaneBox* box) {
+  *box = q->root();
+  return !q->c.bvh.nodes.empty();
+}
+template <bool per_slot>
+bool tree_root(const FloatTree<per_slot>* f, typename FloatTree<per_slot>::Box*) {
+  return !f->t.nodes.empty();
+}
+
+int tree_children(const QuantizedTree* q, uint32_t ref, const LaneBox& box, const Ray* ray,
+                  Vec3 inv, float tmax, float t[2], NodeKids* kids) {
+  const CompactNode& n = q->c.bvh.nodes[ref];
+  *kids = NodeKids{decode_children(n, box), n.child};
+  return two_box_hit(kids->planes, ray->org, inv, ray->tmin, tmax, t);
+}
+template <bool per_slot>
+int tree_children(const FloatTree<per_slot>* f, uint32_t ref, typename FloatTree<per_slot>::Box,
+                  const Ray* ray, Vec3 inv, float tmax, float t[2], NodeKids* kids) {
+  const auto& n = f->t.nodes[ref];
+  std::memcpy(&kids->planes, n.planes, sizeof(kids->planes));
+  kids->refs = n.child;
+  return two_box_hit(kids->planes, ray->org, inv, ray->tmin, tmax, t);
+}
+
+uint32_t tree_child(const QuantizedTree*, const NodeKids* kids, int c, LaneBox* box) {
+  *box = child_box(kids->planes, c);
+  return kids->refs[c];
+}
+template <bool per_slot>
+uint32_t tree_child(const FloatTree<per_slot>*, const NodeKids* kids, int c,
+                    typename FloatTree<per_slot>::Box*) {
+  return kids->refs[c];
+}
+
+bool tree_leaf_hit(const QuantizedTree* q, uint32_t slot, const Ray* ray, float* tmax, Hit* hit) {
+  const uint32_t prim = q->c.bvh.prims[slot];
+  Vec3 v0, e1n, e2;
+  q->triangle(prim, v0, e1n, e2);
+  return triangle_hit(q->c.mesh, q->cutouts, prim, v0, e1n, e2, *ray, *tmax, *hit);
+}
+template <bool per_slot>
+bool tree_leaf_hit(const FloatTree<per_slot>* f, uint32_t slot, const Ray* ray, float* tmax,
+                   Hit* hit) {
+  const uint32_t prim = f->t.prims[slot];
+  Vec3 v0, e1n, e2;
+  if (per_slot) {
+    const Vec3* tri = &f->t.triangles[3 * size_t(slot)];
+    v0 = tri[0], e1n = tri[1], e2 = tri[2];
+  } else {
+    const uint32_t* face = &f->t.faces[3 * size_t(prim)];
+    v0 = f->t.positions[face[0]], e1n = v0 - f->t.positions[face[1]];
+    e2 = f->t.positions[face[2]] - v0;
   }
+  return triangle_hit(f->c.mesh, f->cutouts, prim, v0, e1n, e2, *ray, *tmax, *hit);
 }
 
 }  // namespace
 
 bool compact_intersect(const CompactScene& c, const Scene* cutouts, const Ray& ray, Hit& hit) {
-  return traverse(QuantizedTree{c}, c, cutouts, ray, false, hit);
+  const QuantizedTree tree{c, cutouts};
+  return bvh_walk(&tree, &ray, false, &hit);
 }
 
 bool compact_occluded(const CompactScene& c, const Scene* cutouts, const Ray& ray) {
+  const QuantizedTree tree{c, cutouts};
   Hit unused;
-  return traverse(QuantizedTree{c}, c, cutouts, ray, true, unused);
+  return bvh_walk(&tree, &ray, true, &unused);
 }
 
 CompactFloatTree decode_compact_tree(const CompactScene& c) {
   CompactFloatTree t;
   t.nodes.resize(c.bvh.nodes.size());
   std::vector<std::pair<uint32_t, LaneBox>> todo;  // inner nodes and their boxes
-  if (!c.bvh.nodes.empty()) todo.push_back({0u, QuantizedTree{c}.root()});
+  if (!c.bvh.nodes.empty()) todo.push_back({0u, QuantizedTree{c, nullptr}.root()});
   while (!todo.empty()) {
     const auto [ref, box] = todo.back();
     todo.pop_back();
@@ -283,7 +276,7 @@ CompactFloatTree decode_compact_tree(const CompactScene& c) {
   t.triangles.reserve(3 * t.prims.size());
   for (uint32_t slot = 0; slot < t.prims.size(); ++slot) {
     Vec3 v0, e1n, e2;
-    QuantizedTree{c}.triangle(slot, t.prims[slot], v0, e1n, e2);
+    QuantizedTree{c, nullptr}.triangle(t.prims[slot], v0, e1n, e2);
     t.triangles.insert(t.triangles.end(), {v0, e1n, e2});
   }
   return t;
@@ -291,8 +284,12 @@ CompactFloatTree decode_compact_tree(const CompactScene& c) {
 
 bool compact_float_intersect(const CompactFloatTree& t, const CompactScene& c,
                              const Scene* cutouts, const Ray& ray, Hit& hit, bool per_slot) {
-  return per_slot ? traverse(FloatTree<true>{t}, c, cutouts, ray, false, hit)
-                  : traverse(FloatTree<false>{t}, c, cutouts, ray, false, hit);
+  if (per_slot) {
+    const FloatTree<true> tree{t, c, cutouts};
+    return bvh_walk(&tree, &ray, false, &hit);
+  }
+  const FloatTree<false> tree{t, c, cutouts};
+  return bvh_walk(&tree, &ray, false, &hit);
 }
 
 }  // namespace multiray

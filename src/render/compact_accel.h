@@ -1,8 +1,10 @@
-// Ray queries against the compact scene (compact_scene.h) on the CPU: the traversal the
-// OpenCL kernel runs with compact=1 (device/opencl/kernels/traverse_compact.cl), in C++.
-// Child boxes are decoded from their parent's box on the way down (so the stack holds
-// boxes), triangles from the quantized positions at each leaf test. Hits carry the same
-// fields as Embree's (accel.h), the geometric normal computed as Embree computes it.
+// Ray queries against the compact scene (compact_scene.h) on the CPU: the stack walk the
+// OpenCL kernel runs with compact=1 (render/shared/bvh_walk.h, written once), over the
+// tree with a 4-wide decode and slab test of both children (kernels/traverse_compact.cl
+// does the same arithmetic a plane at a time). Child boxes are decoded from their parent's box on
+// the way down (so the stack holds boxes), triangles from the quantized positions at each leaf
+// test. Hits carry the same fields as Embree's (accel.h), the geometric normal computed as Embree
+// computes it.
 #pragma once
 
 #include <vector>

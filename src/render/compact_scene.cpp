@@ -107,9 +107,9 @@ uint8_t quantize_plane(float lo, float hi, float value, bool upper) {
   int q = int(upper ? std::ceil(f) : std::floor(f));
   q = std::clamp(q, 0, 255);
   if (upper)
-    while (q < 255 && dequantize_plane(lo, hi, uint8_t(q), true) < value) ++q;
+    while (q < 255 && compact_dequantize_plane(lo, hi, uint8_t(q), true) < value) ++q;
   else
-    while (q > 0 && dequantize_plane(lo, hi, uint8_t(q), false) > value) --q;
+    while (q > 0 && compact_dequantize_plane(lo, hi, uint8_t(q), false) > value) --q;
   return uint8_t(q);
 }
 
@@ -126,10 +126,10 @@ void quantize_subtree(const FlatBvh& flat, uint32_t index, const Bounds3& box,
   for (int c = 0; c < 2; ++c) {
     float dlo[3], dhi[3];
     for (int a = 0; a < 3; ++a) {
-      n.lo(c, a) = quantize_plane(lo[a], hi[a], f.lo[c][a], false);
-      n.hi(c, a) = quantize_plane(lo[a], hi[a], f.hi[c][a], true);
-      dlo[a] = dequantize_plane(lo[a], hi[a], n.lo(c, a), false);
-      dhi[a] = dequantize_plane(lo[a], hi[a], n.hi(c, a), true);
+      n.q[a][c] = quantize_plane(lo[a], hi[a], f.lo[c][a], false);
+      n.q[a][2 + c] = quantize_plane(lo[a], hi[a], f.hi[c][a], true);
+      dlo[a] = compact_dequantize_plane(lo[a], hi[a], n.q[a][c], false);
+      dhi[a] = compact_dequantize_plane(lo[a], hi[a], n.q[a][2 + c], true);
     }
     child_box[c].lo = Vec3(dlo[0], dlo[1], dlo[2]);
     child_box[c].hi = Vec3(dhi[0], dhi[1], dhi[2]);

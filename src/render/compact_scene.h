@@ -66,24 +66,8 @@ struct CompactMesh {
   size_t bytes() const { return parts().total(); }
 };
 
-// 20 bytes: the boxes of both children, each plane as q / 255 of the way across this
-// node's own box (lower planes rounded down, upper up, so a child box always contains its
-// triangles), and the children's references as in FlatNode (a node index or a leaf:
-// kLeafBit | first << kLeafCountBits | (count - 1), `first` indexing CompactBvh::prims).
-// The codes are stored axis by axis in the order a 4-wide vector register takes them for
-// the slab test of both children at once (compact_accel.cpp): q[axis] = child 0's lower
-// plane, child 1's lower, child 0's upper, child 1's upper.
-struct CompactNode {
-  uint8_t q[3][4];
-  uint32_t child[2];
-  uint8_t& lo(int c, int axis) { return q[axis][c]; }
-  uint8_t& hi(int c, int axis) { return q[axis][2 + c]; }
-  uint8_t lo(int c, int axis) const { return q[axis][c]; }
-  uint8_t hi(int c, int axis) const { return q[axis][2 + c]; }
-};
-static_assert(sizeof(CompactNode) == 20 && offsetof(CompactNode, q) == 0,
-              "kernels expect 20-byte nodes, the codes first");
-
+// The tree: its nodes are render/shared/bvh_records.h's CompactNode (20 bytes, 8-bit
+// planes of both children's boxes relative to the node's own box).
 struct CompactBvh {
   Bounds3 root;                    // the root node's own box, at full precision
   std::vector<CompactNode> nodes;  // nodes[0] is the root; empty: nothing can be hit
@@ -94,15 +78,9 @@ struct CompactBvh {
   size_t bytes() const { return nodes.size() * sizeof(CompactNode) + prims.bytes(); }
 };
 
-// A child's box from its parent's decoded box `lo`..`hi` and its 8-bit planes
-// (render/shared/compact.h, as the OpenCL kernel decodes it). Plane 0 is the parent's
-// lower plane and 255 its upper plane exactly, whatever the rounding.
-inline float dequantize_plane(float lo, float hi, uint8_t q, bool upper) {
-  return upper ? compact_dequantize_upper(lo, hi, q) : compact_dequantize_lower(lo, hi, q);
-}
 // The code of plane `value` (in [lo, hi]) of a child's box: the tightest whose decoded
 // plane lies on the safe side of `value` (at or below it for a lower plane, at or above
-// it for an upper one), checked with dequantize_plane, the traversal's own arithmetic.
+// it for an upper one), checked with compact_dequantize_plane, the traversal's own arithmetic.
 uint8_t quantize_plane(float lo, float hi, float value, bool upper);
 
 struct CompactScene {

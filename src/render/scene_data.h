@@ -13,9 +13,6 @@
 
 namespace multiray {
 
-// What the integrator reads of a triangle: corner normals and uvs, and the material.
-typedef TriangleShading ShadingRecord;
-
 struct SceneData {
   const MaterialRecord* materials;
   const LightRecord* lights;

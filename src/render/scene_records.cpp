@@ -3,6 +3,7 @@
 #include <cstddef>
 
 #include "render/bsdf.h"
+#include "render/shading_data.h"
 #include "render/shared/bvh_records.h"
 
 namespace multiray {
@@ -14,6 +15,12 @@ static_assert(offsetof(LightRecord, b) == 16 && offsetof(LightRecord, prim) == 2
               offsetof(LightRecord, radiance) == 48);
 static_assert(offsetof(FlatNode, hi) == 24 && offsetof(FlatNode, child) == 48);
 static_assert(offsetof(FlatTriangle, e1n) == 16 && offsetof(FlatTriangle, e2) == 32);
+static_assert(offsetof(CompactNode, child) == 12);
+// The kernels read TriangleShading through StoredShading.
+static_assert(sizeof(TriangleShading) == sizeof(StoredShading) &&
+              offsetof(TriangleShading, normal) == offsetof(StoredShading, normal) &&
+              offsetof(TriangleShading, uv) == offsetof(StoredShading, uv) &&
+              offsetof(TriangleShading, material) == offsetof(StoredShading, material));
 static_assert(offsetof(CompactInfo, root_lo) == 16 && offsetof(CompactInfo, widths) == 68 &&
               offsetof(CompactInfo, has_uvs) == 84);
 static_assert(offsetof(SkyRecord, frame_x) == 16 && offsetof(SkyRecord, sun_on) == 76 &&

@@ -9,15 +9,14 @@
 #include <vector>
 
 #include "core/math.h"
+#include "render/shared/ray.h"
 #include "scene/scene.h"
 
 namespace multiray {
 
-struct alignas(64) TriangleShading {
-  Vec3 normal[3];  // per-corner shading normals (the face normal when the scene has none)
-  Vec2 uv[3];      // per-corner texture coordinates (0 when the scene has none)
-  uint32_t material = 0;
-};
+// Per-corner shading normals (the face normal when the scene has none), per-corner
+// texture coordinates (0 when the scene has none) and the material.
+typedef ShadingRecord TriangleShading;
 static_assert(sizeof(TriangleShading) == 64, "one cache line per triangle");
 
 std::vector<TriangleShading> build_shading_data(const Scene& scene);

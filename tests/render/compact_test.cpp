@@ -561,12 +561,12 @@ TEST(CompactScene, EveryPlaneCodeIsSafeAndTight) {
     if (!(hi > lo)) continue;
     const uint8_t k = uint8_t(rng() % 256);
     for (bool upper : {false, true}) {
-      const float on = dequantize_plane(lo, hi, k, !upper);  // the other side's plane
+      const float on = compact_dequantize_plane(lo, hi, k, !upper);  // the other side's plane
       for (float value : {lo + (hi - lo) * u(rng), on, std::nextafter(on, -INFINITY),
                           std::nextafter(on, INFINITY)}) {
         if (!(value >= lo && value <= hi)) continue;
         const uint8_t q = quantize_plane(lo, hi, value, upper);
-        const float d = dequantize_plane(lo, hi, q, upper);
+        const float d = compact_dequantize_plane(lo, hi, q, upper);
         ASSERT_TRUE(upper ? d >= value : d <= value)
             << (upper ? "upper" : "lower") << " " << lo << ".." << hi << " value " << value;
         // Tight: within a code's width of `value` (two, for the rounding of q / 255), plus

@@ -3,9 +3,9 @@
 // textures. Backend-neutral: built on the host once per device with no GPU API, so any
 // backend uploads the same arrays (and it is testable alone). Materials, lights, textures
 // and the sky are the integrator's records (render/shared/scene_records.h, one layout on
-// both sides); the compact scene's scalars mirror the kernels' CompactInfo
-// (device/opencl/kernels/common.cl today). Float arrays, never float3 (16 bytes in OpenCL
-// C), so host and device layouts agree.
+// both sides); the BVH records (flat and compact nodes, triangles, the stored
+// shading record, the compact scene's scalars) are render/shared/bvh_records.h's. Float arrays,
+// never float3 (16 bytes in OpenCL C), so host and device layouts agree.
 #pragma once
 
 #include <cstdint>

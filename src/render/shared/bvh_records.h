@@ -7,6 +7,8 @@
 #define MULTIRAY_RENDER_SHARED_BVH_RECORDS_H
 
 #ifdef __cplusplus
+#include <cstddef>
+
 #include "render/shared/language.h"
 #endif
 
@@ -39,6 +41,28 @@ typedef struct {
   float pad1;
 } FlatTriangle;
 
+// 20 bytes, a node of the compact scene's quantized BVH (render/compact_scene.h): the
+// boxes of both children, each plane as q / 255 of the way across this node's own box
+// (lower planes rounded down, upper up, so a child box always contains its triangles;
+// compact.h decodes them), and the children's references as in FlatNode (`first`
+// indexing the compact tree's triangle references). The codes are stored axis by axis in
+// the order a 4-wide vector register takes them for the slab test of both children at
+// once (render/compact_accel.cpp): q[axis] = child 0's lower plane, child 1's lower,
+// child 0's upper, child 1's upper.
+typedef struct {
+  mr_uchar q[3][4];
+  mr_uint child[2];
+} CompactNode;
+
+// 64 bytes, a triangle's shading record as stored at full precision: three corner
+// normals, three corner uvs and the material; render/shading_data.h's TriangleShading
+// byte for byte (checked in render/scene_records.cpp).
+typedef struct {
+  float normal[9];
+  float uv[6];
+  mr_uint material;
+} StoredShading;
+
 // The scalars of the compact scene (render/compact_scene.h): the position grid
 // (PositionGrid; its cell-index table is an array of its own), the root node's box and
 // the uv coding (UvCoding).
@@ -67,10 +91,15 @@ MR_NAMESPACE_END
 static_assert(sizeof(multiray::FlatNode) == 64, "kernel expects 64-byte nodes");
 static_assert(sizeof(multiray::FlatTriangle) == 48, "kernel expects 48-byte triangles");
 static_assert(sizeof(multiray::CompactInfo) == 96);
+static_assert(sizeof(multiray::CompactNode) == 20 && offsetof(multiray::CompactNode, q) == 0,
+              "kernels expect 20-byte nodes, the codes first");
+static_assert(sizeof(multiray::StoredShading) == 64);
 #else
 typedef char mr_flat_node_is_64_bytes[sizeof(FlatNode) == 64 ? 1 : -1];
 typedef char mr_flat_triangle_is_48_bytes[sizeof(FlatTriangle) == 48 ? 1 : -1];
 typedef char mr_compact_info_is_96_bytes[sizeof(CompactInfo) == 96 ? 1 : -1];
+typedef char mr_compact_node_is_20_bytes[sizeof(CompactNode) == 20 ? 1 : -1];
+typedef char mr_stored_shading_is_64_bytes[sizeof(StoredShading) == 64 ? 1 : -1];
 #endif
 
 #endif  // MULTIRAY_RENDER_SHARED_BVH_RECORDS_H

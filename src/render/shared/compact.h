@@ -90,6 +90,9 @@ MR_DEVICE float compact_dequantize_lower(float lo, float hi, mr_uint q) {
 MR_DEVICE float compact_dequantize_upper(float lo, float hi, mr_uint q) {
   return hi + (lo - hi) * ((float)(255u - q) * (1.0f / 255.0f));
 }
+MR_DEVICE float compact_dequantize_plane(float lo, float hi, mr_uint q, bool upper) {
+  return upper ? compact_dequantize_upper(lo, hi, q) : compact_dequantize_lower(lo, hi, q);
+}
 
 MR_NAMESPACE_END
 

@@ -50,7 +50,10 @@
 #define MR_NAMESPACE_BEGIN
 #define MR_NAMESPACE_END
 #define MR_U64(x) x##UL
+#define MR_DEFAULT(x)  // a member's default value, C++ only
+#define MR_ALIGN_CPU(n)  // a record's alignment in the CPU's memory, C++ only
 
+typedef uchar mr_uchar;
 typedef short mr_short;
 typedef ushort mr_ushort;
 typedef int mr_int;
@@ -98,6 +101,12 @@ float3 load3(const __global float* p) { return (float3)(p[0], p[1], p[2]); }
 float max3(float3 a) { return fmax(a.x, fmax(a.y, a.z)); }
 float3 lerp3(float3 a, float3 b, float t) { return a * (1.0f - t) + b * t; }
 bool finite3(float3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+// core/math.h's safe_inverse: 1 / d, components under 1e-30 in magnitude taken as
+// +-1e-30 (sign kept), so a slab test never computes 0 * inf.
+float3 safe_inverse(float3 d) {
+  const float3 tiny = copysign((float3)(1e-30f), d);
+  return 1.0f / select(d, tiny, isless(fabs(d), (float3)(1e-30f)));
+}
 
 // Orthonormal basis around unit `n` (Duff et al. 2017), as core/math.h's Frame.
 typedef struct {
@@ -132,8 +141,11 @@ float3 to_world(const Frame* f, float3 v) { return f->t * v.x + f->b * v.y + f->
 #define MR_NAMESPACE_BEGIN namespace multiray {
 #define MR_NAMESPACE_END }
 #define MR_U64(x) x##ull
+#define MR_DEFAULT(x) = x
+#define MR_ALIGN_CPU(n) alignas(n)
 
 namespace multiray {
+typedef uint8_t mr_uchar;
 typedef int16_t mr_short;
 typedef uint16_t mr_ushort;
 typedef int32_t mr_int;

@@ -1,47 +1,10 @@
-// The OpenCL kernels' own records: the compact tree's node (render/compact_scene.h byte
-// for byte), a triangle's shading record, rays and hits, and SceneData, the struct through
-// which the integrator (render/shared/) reads the scene. The other records are shared:
-// render/shared/bvh_records.h (flat BVH, compact scalars) and scene_records.h.
-
-// The compact scene (render/compact_scene.h, built with -DMR_COMPACT=1): a node of the
-// quantized BVH, 20 bytes, its children's boxes in 8 bits per plane of its own box,
-// axis by axis: q[axis] = child 0's lower plane, child 1's lower, child 0's upper, child 1's
-// upper.
-typedef struct {
-  uchar q[3][4];
-  uint child[2];  // as Node::child, `first` indexing SceneData::prims
-} CompactNode;
-
-typedef struct {
-  float normal[9];  // three corner normals
-  float uv[6];      // three corner uvs
-  uint material;
-} Shading;
-
-// A triangle's shading record as the integrator reads it (render/scene_data.h's).
-typedef struct {
-  float3 normal[3];
-  float2 uv[3];
-  uint material;
-} ShadingRecord;
-
-typedef struct {
-  float3 org, dir;
-  float tmin, tmax;
-} Ray;
-
-typedef struct {
-  float t;
-  uint prim;
-  float u, v;  // barycentrics of vertices 1 and 2
-  float3 ng;   // unnormalised, Embree's Ng = cross(v2 - v0, v0 - v1)
-} Hit;
-
-// The render_rect kernel's scene buffers and scalars, passed down as one pointer.
+// SceneData, the struct through which the integrator (render/shared/) reads the scene:
+// the render_rect kernel's buffers and scalars, passed down as one pointer. Every record
+// is shared (render/shared/bvh_records.h, scene_records.h, ray.h).
 typedef struct {
   const __global FlatNode* nodes;
   const __global FlatTriangle* tris;
-  const __global Shading* shading;
+  const __global StoredShading* shading;
   const __global MaterialRecord* materials;
   const __global LightRecord* lights;
   const __global float* light_cdf;

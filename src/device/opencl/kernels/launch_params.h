@@ -69,7 +69,7 @@ typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 176 ? 1 : -1];
 #define MR_RENDER_RECT_ARGS(X, SEP)                   \
   X(nodes, const __global FlatNode*) SEP()            \
   X(tris, const __global FlatTriangle*) SEP()         \
-  X(shading, const __global Shading*) SEP()           \
+  X(shading, const __global StoredShading*) SEP()     \
   X(materials, const __global MaterialRecord*) SEP()  \
   X(lights, const __global LightRecord*) SEP()        \
   X(light_cdf, const __global float*) SEP()           \

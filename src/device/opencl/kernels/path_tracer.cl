@@ -1,20 +1,21 @@
 // The path tracer's entry point: the integrator of render/shared/path.h (written once for
 // every backend), one work-item per pixel of a rectangle, its samples' paths traced one
-// after another, each depth-first through this backend's BVH walk (traverse.cl).
+// after another, each depth-first through the BVH walk (render/shared/bvh_walk.h) over
+// this program's tree (traverse.cl or traverse_compact.cl).
 
 // One camera path to its end; returns its radiance and adds the rays it traced to *rays.
 float3 trace_path(const SceneData* sc, PathState* p, PathSettings settings, uint* rays) {
   while (p->alive) {
-    Hit hit;
+    Hit hit, unused;
     ++*rays;
-    if (!intersect_closest(sc, &p->ray, &hit)) {
+    if (!bvh_walk(sc, &p->ray, false, &hit)) {
       path_escape(sc, p);
       break;
     }
     path_shade(sc, p, &hit, settings, 0);
     if (p->has_shadow) {
       ++*rays;
-      path_shadow_done(p, occluded(sc, &p->shadow));
+      path_shadow_done(p, bvh_walk(sc, &p->shadow, true, &unused));
     }
   }
   return p->L;

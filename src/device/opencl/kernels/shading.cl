@@ -19,7 +19,7 @@ ShadingRecord scene_shading(const SceneData* sc, uint prim) {
 uint material_of(const SceneData* sc, uint prim) { return sc->shading[prim].material; }
 
 ShadingRecord scene_shading(const SceneData* sc, uint prim) {
-  const __global Shading* s = &sc->shading[prim];
+  const __global StoredShading* s = &sc->shading[prim];
   ShadingRecord d;
   for (int k = 0; k < 3; ++k) {
     d.normal[k] = load3(s->normal + 3 * k);

@@ -1,12 +1,8 @@
-// Ray queries: the flat BVH (render/flat_bvh.h) at full precision, or the quantized BVH of
-// the compact scene with -DMR_COMPACT=1 (traverse_compact.cl). Both are stack-based
-// traversals that visit the nearer child first and skip subtrees beyond the closest hit.
+// The ray tests every tree uses (the slab test, the shared triangle test with cut-outs),
+// and the flat BVH (render/flat_bvh.h) as a tree for render/shared/bvh_walk.h's walk, at
+// full precision; with -DMR_COMPACT=1 traverse_compact.cl's quantized tree replaces it.
 // Cut-out materials (alpha mask/blend) reject hits as render/accel.cpp's Embree filter
 // does, for closest and shadow rays alike, with the same hash of the ray.
-
-#define STACK_SIZE 64         // kMaxBvhDepth on the host
-#define LEAF_BIT 0x80000000u  // kLeafBit
-#define LEAF_COUNT_BITS 4     // kLeafCountBits
 
 // Slab test of the box lo..hi; `inv_dir` has no infinities (see safe_inverse). On a hit,
 // *t_near is where the ray enters the box (clamped to the ray's range). The exit distance
@@ -24,13 +20,6 @@ bool box_hit(float3 lo_corner, float3 hi_corner, float3 org, float3 inv_dir, flo
   const float hi = min(min(b.x, b.y) * SLAB_SLACK, min(b.z * SLAB_SLACK, tmax));
   *t_near = lo;
   return lo <= hi;
-}
-
-// 1 / dir with zero components replaced by a tiny value of the same sign, so the slab
-// test never computes 0 * inf.
-float3 safe_inverse(float3 d) {
-  const float3 tiny = copysign((float3)(1e-30f), d);
-  return 1.0f / select(d, tiny, isless(fabs(d), (float3)(1e-30f)));
 }
 
 // accel.cpp's alpha_filter: whether `ray` passes through scene triangle `prim` at
@@ -63,57 +52,37 @@ bool tri_hit(const SceneData* sc, uint prim, float3 v0, float3 e1n, float3 e2, c
 
 #ifndef MR_COMPACT
 
-// Closest hit (any_hit = false) or any hit (any_hit = true, for shadow rays). `ref` is the
-// child reference being visited (a node index or a leaf, see render/flat_bvh.h).
-bool traverse(const SceneData* sc, const Ray* ray, bool any_hit, Hit* hit) {
-  const __global FlatNode* nodes = sc->nodes;
-  const __global FlatTriangle* tris = sc->tris;
-  const float3 inv_dir = safe_inverse(ray->dir);
-  float tmax = ray->tmax;
-  uint stack[STACK_SIZE];
-  float stack_t[STACK_SIZE];  // entry distance of each stacked subtree
-  int sp = 0;
-  uint ref = 0;  // the root node
-  bool found = false;
-  for (;;) {
-    bool descend = false;
-    if (ref & LEAF_BIT) {
-      const uint first = (ref & ~LEAF_BIT) >> LEAF_COUNT_BITS;
-      const uint count = (ref & ((1u << LEAF_COUNT_BITS) - 1u)) + 1u;
-      for (uint i = first; i < first + count; ++i)
-        if (tri_hit(sc, tris[i].prim, load3(tris[i].v0), load3(tris[i].e1n), load3(tris[i].e2),
-                    ray, &tmax, hit)) {
-          found = true;
-          if (any_hit) return true;
-        }
-    } else {
-      const __global FlatNode* n = &nodes[ref];
-      float t0, t1;
-      const bool h0 = box_hit(load3(n->lo[0]), load3(n->hi[0]), ray->org, inv_dir, ray->tmin,
-                              tmax, &t0);
-      const bool h1 = box_hit(load3(n->lo[1]), load3(n->hi[1]), ray->org, inv_dir, ray->tmin,
-                              tmax, &t1);
-      if (h0 && h1) {
-        const int first_child = t1 < t0 ? 1 : 0;
-        stack[sp] = n->child[1 - first_child];
-        stack_t[sp] = first_child ? t0 : t1;
-        ++sp;
-        ref = n->child[first_child];
-        descend = true;
-      } else if (h0 || h1) {
-        ref = n->child[h0 ? 0 : 1];
-        descend = true;
-      }
-    }
-    if (descend) continue;
-    // Pop the nearest pending subtree that can still hold a closer hit.
-    for (;;) {
-      if (sp == 0) return found;
-      --sp;
-      if (stack_t[sp] <= tmax) break;
-    }
-    ref = stack[sp];
-  }
+// The tree render/shared/bvh_walk.h walks (its interface is described there). The flat
+// BVH stores its children's boxes: a node carries no box down.
+typedef char NodeBox;
+typedef struct {
+  uint child[2];
+} NodeKids;
+
+bool tree_root(const SceneData* sc, NodeBox* box) {
+  *box = 0;
+  return true;
+}
+
+int tree_children(const SceneData* sc, uint ref, NodeBox box, const Ray* ray, float3 inv_dir,
+                  float tmax, float t[2], NodeKids* kids) {
+  const __global FlatNode* n = &sc->nodes[ref];
+  kids->child[0] = n->child[0], kids->child[1] = n->child[1];
+  return (box_hit(load3(n->lo[0]), load3(n->hi[0]), ray->org, inv_dir, ray->tmin, tmax, &t[0])
+              ? 1 : 0) |
+         (box_hit(load3(n->lo[1]), load3(n->hi[1]), ray->org, inv_dir, ray->tmin, tmax, &t[1])
+              ? 2 : 0);
+}
+
+uint tree_child(const SceneData* sc, const NodeKids* kids, int c, NodeBox* box) {
+  *box = 0;
+  return kids->child[c];
+}
+
+bool tree_leaf_hit(const SceneData* sc, uint slot, const Ray* ray, float* tmax, Hit* hit) {
+  const __global FlatTriangle* tri = &sc->tris[slot];
+  return tri_hit(sc, tri->prim, load3(tri->v0), load3(tri->e1n), load3(tri->e2), ray, tmax,
+                 hit);
 }
 
 #endif  // MR_COMPACT
