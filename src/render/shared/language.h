@@ -50,7 +50,7 @@
 #define MR_NAMESPACE_BEGIN
 #define MR_NAMESPACE_END
 #define MR_U64(x) x##UL
-#define MR_DEFAULT(x)  // a member's default value, C++ only
+#define MR_DEFAULT(x)    // a member's default value, C++ only
 #define MR_ALIGN_CPU(n)  // a record's alignment in the CPU's memory, C++ only
 
 typedef uchar mr_uchar;
