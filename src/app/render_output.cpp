@@ -68,6 +68,8 @@ void RenderOutput::on_frame(const std::shared_ptr<const FrameResult>& r) {
   if (stderr_is_tty()) print_err("\r\033[K");
   const FrameRecord& rec = r->record;
   for (const auto& m : rec.messages) print_err("multiray: warning: {}\n", m);
+  if (!quiet_)
+    for (const auto& m : rec.notes) print_err("multiray: note: frame {}: {}\n", rec.frame, m);
   if (target_ms_ > 0 && !warned_quality_) {
     const std::string w = study::degraded_quality_warning(
         rec.quality.step_scale, rec.quality.image_scale, rec.frame_ms, target_ms_);

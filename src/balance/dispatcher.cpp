@@ -11,7 +11,9 @@ Dispatcher::Dispatcher(const Plan& plan, const FrameShape& shape)
       own_weight_(plan.assigned.size(), 0.0),
       batch_(size_t(std::max(1, plan.batch))),
       steal_(plan.steal),
-      pull_on_ready_(plan.pull_on_ready) {
+      pull_on_ready_(plan.pull_on_ready),
+      resting_(plan.resting),
+      no_steal_(plan.no_steal) {
   const WeightMap map(shape.width, shape.height, shape.views, shape.pixel_weight);
   auto add = [&](const WorkItem& it) {
     items_.push_back(it);
@@ -59,7 +61,7 @@ bool Dispatcher::steal(uint32_t& id) {
 }
 
 bool Dispatcher::next(int device, uint32_t& id, Via* via) {
-  if (device < 0) return false;
+  if (device < 0 || (size_t(device) < resting_.size() && resting_[size_t(device)])) return false;
   const size_t d = size_t(device);
   std::lock_guard<std::mutex> lock(mutex_);
   auto& mine = own(d);
@@ -72,7 +74,7 @@ bool Dispatcher::next(int device, uint32_t& id, Via* via) {
     id = mine.front();
     mine.pop_front();
     own_weight_[d] -= weight_[id];
-  } else if (steal_ && steal(id)) {
+  } else if (steal_ && !(d < no_steal_.size() && no_steal_[d]) && steal(id)) {
     how = Via::Stolen;
   } else {
     return false;
@@ -89,7 +91,7 @@ size_t Dispatcher::next(int device, size_t max, std::vector<uint32_t>& out) {
 }
 
 size_t Dispatcher::prefetch(int device, size_t k) {
-  if (device < 0) return 0;
+  if (device < 0 || (size_t(device) < resting_.size() && resting_[size_t(device)])) return 0;
   std::lock_guard<std::mutex> lock(mutex_);
   const size_t before = own(size_t(device)).size();
   pull_shared(size_t(device), k);

@@ -9,6 +9,8 @@
 //   3. when both are empty and Plan::steal is set, the LAST not-started item of the device
 //      with the most not-started work (item weight: pixels × pixel_weight; > 0; lowest
 //      index on ties).
+// A device the plan leaves out (Plan::resting) gets nothing by any rule; one in
+// Plan::no_steal nothing by rule 3.
 // An item handed out by next() is started: nobody can steal it any more. Items moved into
 // a device's own list by prefetch() are not started and stay stealable, so a device behind
 // a slow link can hold k items in flight without keeping them from idle devices.
@@ -76,6 +78,8 @@ class Dispatcher {
   size_t batch_ = 1;
   bool steal_ = false;
   bool pull_on_ready_ = false;
+  std::vector<bool> resting_;   // Plan::resting: these devices get nothing
+  std::vector<bool> no_steal_;  // Plan::no_steal
   int stolen_ = 0;
 };
 

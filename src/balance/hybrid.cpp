@@ -32,7 +32,9 @@ HybridBalancer::HybridBalancer(int device_count, const Options& options)
       changes_(size_t(device_count), 0),
       pending_base_(size_t(device_count), 0.0),
       frame_cost_(size_t(device_count), 0.0),
-      frame_seen_(size_t(device_count), false) {}
+      frame_seen_(size_t(device_count), false),
+      part_(device_count, ParticipationTracker::Options{options.leave, options.probe, 0.03}),
+      probing_(size_t(device_count), false) {}
 
 std::string HybridBalancer::spec() const {
   std::ostringstream s;
@@ -40,7 +42,8 @@ std::string HybridBalancer::spec() const {
     << ":alpha=" << opt_.alpha << ":jump=" << opt_.jump << ":gamma=" << opt_.gamma
     << ":min_chunk=" << opt_.min_chunk << ":steal=" << (opt_.steal ? 1 : 0)
     << ":overhead=" << opt_.overhead << ":detect=" << (opt_.detect_noise ? "noise" : "fixed")
-    << ":z=" << opt_.z << ":frame=" << (opt_.frame_cost ? 1 : 0);
+    << ":z=" << opt_.z << ":frame=" << (opt_.frame_cost ? 1 : 0)
+    << ":leave=" << (opt_.leave ? 1 : 0) << ":probe=" << opt_.probe;
   return s.str();
 }
 
@@ -258,7 +261,19 @@ Plan HybridBalancer::plan(const FrameShape& shape, int /*frame*/) {
   double total = 0;
   for (size_t c = 0; c < row_cost.size(); ++c) total += row_cost[c] *= cost_[c];
 
-  const std::vector<double> speed = planning_speeds();
+  // Which devices take part (participation.h); the plan is made for them alone, then
+  // probed devices get their small shares.
+  if (!cost_shape_.same_size(shape)) part_.changed(false);
+  std::vector<bool> alive_now(static_cast<size_t>(device_count()), false);
+  for (int i = 0; i < device_count(); ++i) alive_now[size_t(i)] = alive(i);
+  std::vector<double> speed = planning_speeds();
+  const ParticipationTracker::Decision part = part_.decide(alive_now, total, speed);
+  bool probes = false;
+  for (size_t i = 0; i < speed.size(); ++i) {
+    probing_[i] = part.probe[i] > 0;
+    probes |= probing_[i];
+    if (part.rest[i] || probing_[i]) speed[i] = 0;
+  }
   Plan plan;
   plan.ratios = sanitize(speed, even());
   plan.steal = opt_.steal;
@@ -278,7 +293,28 @@ Plan HybridBalancer::plan(const FrameShape& shape, int /*frame*/) {
     plan.ratios = overhead_shares(speed, items, total);
     plan.assigned = lay_out(shape, row_cost, plan.ratios, speed);
   }
+  if (probes) add_probes(plan, part.probe, shape, row_cost, speed);
+  plan.resting = part.rest;
+  plan.rest_reason = part.reason;
+  plan.models = part.models;
+  // A device whose fixed cost is a visible part of the frame pays it again for each item
+  // it steals, mostly after the owner would have finished it: it does not steal.
+  plan.no_steal.assign(plan.assigned.size(), false);
+  for (size_t i = 0; i < plan.no_steal.size(); ++i)
+    plan.no_steal[i] =
+        part.models[i].determined && part.models[i].fixed_ms > kNoStealFixed * part.predicted_ms;
   return plan;
+}
+
+void HybridBalancer::add_probes(Plan& plan, const std::vector<double>& probe,
+                                const FrameShape& shape, const std::vector<double>& row_cost,
+                                const std::vector<double>& speed) const {
+  double probed = 0;
+  for (double p : probe) probed += p;
+  if (!(probed > 0 && probed < 1)) return;
+  for (size_t i = 0; i < plan.ratios.size(); ++i)
+    plan.ratios[i] = probe[i] > 0 ? probe[i] : plan.ratios[i] * (1 - probed);
+  plan.assigned = lay_out(shape, row_cost, plan.ratios, speed);
 }
 
 }  // namespace multiray::balance

@@ -89,6 +89,15 @@
 // cost per item (o_i > 0): its chunks are sized by that cost, and the fit of o_i needs
 // chunks of different sizes.
 //
+// Devices left out (`leave=1`, balance/participation.h): each device's frame time is also
+// fitted as F_i + n/s_i over frames (its whole frame, so a fixed cost inside one batched
+// launch is seen too, which the item fit above cannot see when a driver reports only a
+// batch's time); a device whose F_i exceeds what it would save the others is given
+// nothing (Plan::resting) and probed now and then with a small share. F_i only decides
+// who takes part: the shares of those who do are planned as above. (A fixed cost the
+// item fit cannot see makes a device's speed look lower than it is, so it is given less
+// than it could take: it finishes early, the frame does not wait for it.)
+//
 // clang-format off
 // | parameter | default | meaning
 // |-----------|---------|-------------------------------------------------------------------------
@@ -107,6 +116,9 @@
 // | overhead  | 0.1     | most of a chunk's time its device's fixed cost per item may take,
 // |           |         | [0, 0.9]; 0: no per-item cost model (hybrid before it)
 // | frame     | 1       | 1: learn and plan with a fixed cost per frame; 0: none (as before)
+// | leave     | 1       | 1: leave out devices whose fixed cost per frame does not pay; 0: never
+// | probe     | 8       | frames before a left-out device is first probed (then 2x, up to 8x);
+// |           |         | 0: never probed
 // clang-format on
 #pragma once
 
@@ -114,6 +126,7 @@
 #include <utility>
 
 #include "balance/balancer_base.h"
+#include "balance/participation.h"
 
 namespace multiray::balance {
 
@@ -132,6 +145,8 @@ class HybridBalancer final : public BalancerBase {
     bool detect_noise = true;  // detect=noise; false: detect=fixed
     double z = 3;
     bool frame_cost = true;
+    bool leave = true;
+    int probe = 8;
   };
 
   explicit HybridBalancer(int device_count);
@@ -156,6 +171,9 @@ class HybridBalancer final : public BalancerBase {
   std::vector<double> noise() const;
   const std::vector<double>& frame_costs() const { return frame_cost_; }
   const std::vector<int>& changes() const { return changes_; }
+  // Device i's frame-level cost model (participation.h) and whether it is left out now.
+  DeviceCostModel cost_model(size_t i) const { return part_.model(i); }
+  bool left_out(size_t i) const { return part_.left_out(i); }
 
  private:
   void reset_cost(const FrameShape& shape);
@@ -167,6 +185,13 @@ class HybridBalancer final : public BalancerBase {
   void take_speed(size_t i, double m);
   // Device i's gap between frame time and its items' times into f_i.
   void take_frame_cost(size_t i, const DeviceFrameStats& d);
+  // The devices taking part jumped by speed ratios `jumps` (the cost of work changed):
+  // the left-out devices' speeds and frame fits are restated by their geometric mean,
+  // and they are probed.
+  void restate_left_out(const std::vector<double>& jumps);
+  // The participants' ratios and items, with `probe` shares given to probed devices.
+  void add_probes(Plan& plan, const std::vector<double>& probe, const FrameShape& shape,
+                  const std::vector<double>& row_cost, const std::vector<double>& speed) const;
   // The speed each alive device is planned with: its estimate, or the mean of the
   // measured ones (1 if none is); 0 for dropped devices.
   std::vector<double> planning_speeds() const;
@@ -197,6 +222,9 @@ class HybridBalancer final : public BalancerBase {
                      std::vector<WorkItem>& out) const;
 
   static constexpr size_t kMaxChunks = 256;  // per device and frame
+  // A device with a determined fixed cost per frame above this share of the predicted
+  // frame does not steal (Plan::no_steal).
+  static constexpr double kNoStealFixed = 0.02;
   // Weight left to the earlier fits of the fixed cost per item after each frame.
   static constexpr double kOverheadMemory = 0.8;
   // A cut moves to a row boundary if that changes neither neighbour's share by more than
@@ -231,6 +259,8 @@ class HybridBalancer final : public BalancerBase {
   std::vector<double> pending_base_;  // the estimate the pending measurement was made against
   std::vector<double> frame_cost_;    // f_i, ms
   std::vector<bool> frame_seen_;      // some gap measured
+  ParticipationTracker part_;
+  std::vector<bool> probing_;  // devices probed in the frame last planned
 };
 
 }  // namespace multiray::balance

@@ -66,6 +66,19 @@ void HybridBalancer::take_speed(size_t i, double m) {
   s = (1 - opt_.alpha) * s + opt_.alpha * m;
 }
 
+void HybridBalancer::restate_left_out(const std::vector<double>& jumps) {
+  if (jumps.empty()) return;
+  double log_sum = 0;
+  for (double r : jumps) log_sum += std::log(r);
+  const double r = std::exp(log_sum / double(jumps.size()));  // their geometric mean
+  for (int i = 0; i < device_count(); ++i)
+    if (part_.left_out(size_t(i)) && !probing_[size_t(i)]) {
+      if (speed_[size_t(i)] > 0) speed_[size_t(i)] *= r;
+      part_.rescale(size_t(i), r);
+    }
+  part_.changed(false);
+}
+
 void HybridBalancer::take_frame_cost(size_t i, const DeviceFrameStats& d) {
   if (!opt_.frame_cost || d.items.empty()) return;
   double items = 0;
@@ -138,9 +151,10 @@ void HybridBalancer::update(const FrameStats& stats) {
 
   LineDensity observed(base);
   std::vector<std::pair<double, double>> points;  // (model cost, time) of each item
+  std::vector<double> jumps;  // speed ratios of the devices taking part that jumped
   for (int i = 0; i < device_count(); ++i) {
     const DeviceFrameStats* d = device_stats(stats, i);
-    if (!d || !valid_time(d->time_ms)) continue;
+    if (!d || d->rested || !valid_time(d->time_ms)) continue;
     double work = 0;
     points.clear();
     for (const ItemReport& r : d->items) {
@@ -148,6 +162,9 @@ void HybridBalancer::update(const FrameStats& stats) {
       work += points.back().first;
     }
     if (d->items.empty()) work = work_done(*d);  // no item reports: assume mean cost 1
+    // Its frame fit takes a frame of no work too (everything stolen from it while it was
+    // starting): that is its fixed cost, measured alone.
+    part_.measured(size_t(i), work, d->time_ms);
     if (!(work > 0) || !std::isfinite(work)) continue;
     // The fixed cost per item, and the device's time net of it. Each frame's fit counts by
     // its precision (1/variance; a fit on a few items under outside load is worth little
@@ -185,7 +202,15 @@ void HybridBalancer::update(const FrameStats& stats) {
     }
     const double net = std::max(d->time_ms - f - items * o, 0.5 * d->time_ms);
     const double measured = work / net;
+    const int changes = changes_[size_t(i)];
+    const double before = speed_[size_t(i)];
     take_speed(size_t(i), measured);
+    // A device taking part (not a probe) whose speed jumped says the cost of work may
+    // have changed (spp, scene): the left-out devices, which did not see it, are restated
+    // and probed. (Its own fit is not: a device with a hidden fixed cost jumps when its
+    // share changes, and its frames show the fixed cost as it is.)
+    if (changes_[size_t(i)] != changes && before > 0 && !probing_[size_t(i)])
+      jumps.push_back(speed_[size_t(i)] / before);
     // Each item's time net of the fixed cost, as a share of the device's work: its
     // observed cost (so emulated idle, if the engine reports it only per frame, is
     // spread over the items).
@@ -198,6 +223,7 @@ void HybridBalancer::update(const FrameStats& stats) {
     for (const ItemReport& r : d->items)
       if (valid_time(r.time_ms)) observed.add(r.item, std::max(r.time_ms - o, 0.0) * scale);
   }
+  restate_left_out(jumps);
   if (observed.empty()) return;
 
   const std::vector<double> fresh = observed.density(std::numeric_limits<double>::quiet_NaN());

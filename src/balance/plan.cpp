@@ -68,6 +68,22 @@ std::string check_plan(const Plan& plan, const FrameShape& shape, int device_cou
     sum += r;
   }
   if (sum != 0 && std::abs(sum - 1) > 1e-9) return "ratios sum to " + std::to_string(sum);
+  if (!plan.no_steal.empty() && int(plan.no_steal.size()) != device_count)
+    return "plan says of " + std::to_string(plan.no_steal.size()) +
+           " devices whether they steal, for " + std::to_string(device_count) + " devices";
+  if (!plan.resting.empty() && int(plan.resting.size()) != device_count)
+    return "plan says of " + std::to_string(plan.resting.size()) +
+           " devices whether they rest, for " + std::to_string(device_count) + " devices";
+  size_t taking_part = 0;
+  for (size_t d = 0; d < plan.assigned.size(); ++d) {
+    if (!plan.rests(d)) {
+      ++taking_part;
+      continue;
+    }
+    if (!plan.assigned[d].empty() || plan.ratios[d] != 0)
+      return "device " + std::to_string(d) + " rests but has work";
+  }
+  if (taking_part == 0 && !plan.all_items().empty()) return "every device rests";
   const Quality& q = plan.quality;
   if (!(q.image_scale > 0 && q.image_scale <= 1))
     return "image scale " + std::to_string(q.image_scale) + " is outside (0, 1]";

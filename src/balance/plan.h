@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "balance/participation.h"
 #include "partition/rect.h"
 
 namespace multiray::balance {
@@ -75,6 +76,21 @@ struct Plan {
   // upload meanwhile (Seo et al.'s strategy I); false, kept several deep at the device so
   // that the round trip hides (multiray's own, --depth). Local devices ignore it.
   bool pull_on_ready = false;
+  // Devices left out of this frame (balance/participation.h): resting[i] set means device
+  // i has no items, is not started, pulls and steals nothing and costs nothing; the
+  // engine does not wait for it. Empty: every device takes part. rest_reason[i] says why
+  // in one line ("75 ms fixed per frame against a 44 ms frame").
+  std::vector<bool> resting;
+  std::vector<std::string> rest_reason;
+  // Devices that take no part in stealing (with `steal` set): a device whose fixed cost
+  // per launch outlasts the small items at a frame's end would make the frame wait by
+  // taking one. Empty: every device may steal.
+  std::vector<bool> no_steal;
+  // The balancer's cost model of each device, when it keeps one (hybrid): for stats.json
+  // and the trace. Empty otherwise.
+  std::vector<DeviceCostModel> models;
+
+  bool rests(size_t device) const { return device < resting.size() && resting[device]; }
 
   // Every item of the plan, device by device and then the shared queue.
   std::vector<WorkItem> all_items() const;

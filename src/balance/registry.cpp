@@ -73,6 +73,8 @@ std::unique_ptr<Balancer> make_hybrid(Spec& spec, int n) {
   o.detect_noise = spec.get_string("detect", "noise", {"noise", "fixed"}) == "noise";
   o.z = spec.get_double("z", o.z, 1.0, 100.0);
   o.frame_cost = spec.get_bool("frame", o.frame_cost);
+  o.leave = spec.get_bool("leave", o.leave);
+  o.probe = spec.get_int("probe", o.probe, 0, 1000);
   return std::make_unique<HybridBalancer>(n, o);
 }
 
@@ -158,7 +160,11 @@ std::vector<BalancerEntry> builtin_balancers() {
         {"detect", "noise", "noise|fixed",
          "a speed change is judged against the device's own noise, or by jump alone (before)"},
         {"z", "3", "1..100", "detect=noise: a change lies beyond z sigmas of the noise"},
-        {"frame", "1", "0|1", "learn and plan with a fixed cost per frame (0: none, before)"}},
+        {"frame", "1", "0|1", "learn and plan with a fixed cost per frame (0: none, before)"},
+        {"leave", "1", "0|1",
+         "leave out a device whose fixed cost per frame outweighs its share (0: never)"},
+        {"probe", "8", "0..1000",
+         "frames before a left-out device is probed again (doubling to 8x); 0: never"}},
        make_hybrid},
       {"bruder",
        "predicted costs, a k-d tree of tiles cut at the devices' shares",

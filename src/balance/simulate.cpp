@@ -111,12 +111,14 @@ SimFrame simulate_linked(const Plan& plan, const FrameShape& shape,
     if (d.alive && !(d.speed > 0 && d.speed_after > 0))
       throw std::invalid_argument("device " + std::to_string(i) + " has a speed <= 0");
     frame_factor[i] = 1 + d.frame_noise * symmetric_unit(rng);
-    if (!(d.frame_overhead_ms >= 0 && d.contention >= 0))
+    if (!(d.frame_overhead_ms >= 0 && d.contention >= 0 && d.launch_ms >= 0))
       throw std::invalid_argument("device " + std::to_string(i) +
-                                  " has a negative frame overhead or contention");
+                                  " has a negative frame overhead, launch cost or contention");
     stats.devices[i].alive = d.alive;
-    if (d.alive) out.speed_sum += d.speed * frame_factor[i];
-    if (d.alive) ready.push({link.latency_ms + d.frame_overhead_ms, i});  // frame start
+    stats.devices[i].rested = d.alive && plan.rests(i);
+    if (d.alive) out.speed_sum += d.speed * frame_factor[i];  // resting ones too: a bound
+    if (d.alive && !plan.rests(i))  // frame start; a resting device is not started
+      ready.push({link.latency_ms + d.frame_overhead_ms, i});
   }
   // When each device ran out of work (contention counts the devices still at work).
   std::vector<double> done_at(n, std::numeric_limits<double>::infinity());
@@ -139,24 +141,37 @@ SimFrame simulate_linked(const Plan& plan, const FrameShape& shape,
       continue;
     }
     if (via != Dispatcher::Via::Own) clock += 2 * link.latency_ms;  // asked the master
-    const WorkItem& item = dispatch.items()[id];
-    const double w = dispatch.weight(id);
     const SimDevice& d = devices[i];
-    const double c = std::max(0.0, cost(item)) * (1 + d.item_noise * symmetric_unit(rng));
-    const double start = clock + d.item_overhead_ms;
+    std::vector<uint32_t> batch{id};  // a launch: its own list's remaining items too
+    if (d.launch_ms > 0 && via == Dispatcher::Via::Own)
+      for (size_t k = dispatch.pending(int(i)).size(); k > 0; --k)
+        if (dispatch.next(int(i), id)) batch.push_back(id);
+    std::vector<double> c(batch.size());
+    double total = 0;
+    for (size_t k = 0; k < batch.size(); ++k)
+      total += c[k] = std::max(0.0, cost(dispatch.items()[batch[k]])) *
+                      (1 + d.item_noise * symmetric_unit(rng));
+    const double fixed = d.item_overhead_ms + d.launch_ms;
+    const double start = clock + fixed;
     const double slow = d.contention > 0 ? 1 + d.contention * (at_work(clock) - 1) : 1.0;
-    const double dt =
-        d.item_overhead_ms + run_time(start, c, d.speed * frame_factor[i] / slow, d.change_at_ms,
-                                      d.speed_after * frame_factor[i] / slow);
+    const double dt = fixed + run_time(start, total, d.speed * frame_factor[i] / slow,
+                                       d.change_at_ms, d.speed_after * frame_factor[i] / slow);
     DeviceFrameStats& dev = stats.devices[i];
-    dev.items.push_back(ItemReport{item, dt, w, dt, id});
+    for (size_t k = 0; k < batch.size(); ++k) {
+      const WorkItem& item = dispatch.items()[batch[k]];
+      const double w = dispatch.weight(batch[k]);
+      const double share = batch.size() == 1 ? dt
+                           : total > 0       ? dt * c[k] / total
+                                             : dt / double(batch.size());
+      dev.items.push_back(ItemReport{item, share, w, share, batch[k]});
+      dev.samples += w;
+      dev.pixels += double(item.rect.area());
+      if (batched_results)
+        unsent[i] += double(item.rect.area());
+      else
+        messages.push_back({clock + dt, double(item.rect.area()) * link.bytes_per_pixel, i});
+    }
     dev.time_ms = dev.busy_ms = clock + dt;
-    dev.samples += w;
-    dev.pixels += double(item.rect.area());
-    if (batched_results)
-      unsent[i] += double(item.rect.area());
-    else
-      messages.push_back({clock + dt, double(item.rect.area()) * link.bytes_per_pixel, i});
     ready.push({clock + dt, i});
   }
   for (const DeviceFrameStats& dev : stats.devices)

@@ -22,6 +22,11 @@ struct SimDevice {
   // Fixed cost per frame (start-up, thread wake-ups): the device's first item starts this
   // many ms after the frame reached it. Counted in its time_ms, not in any item.
   double frame_overhead_ms = 0;
+  // Fixed cost per launch, as a batching device (OpenCL) pays it: when it takes an item
+  // of its own list it takes every not-started item of that list with it (they can no
+  // longer be stolen) and renders them in one launch of launch_ms + their cost / speed,
+  // each item reported with a share of that time by its cost. 0: items one by one.
+  double launch_ms = 0;
   // Slowdown by the other devices (shared caches, memory bandwidth): an item runs at
   // speed / (1 + contention·(k − 1)) where k counts the devices at work when the item
   // starts, this one included (per item, not re-timed when k changes during it). A device

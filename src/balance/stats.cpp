@@ -10,7 +10,7 @@ bool usable_time(double ms) { return std::isfinite(ms) && ms >= 0; }
 std::vector<double> usable_times(const FrameStats& stats) {
   std::vector<double> t;
   for (const DeviceFrameStats& d : stats.devices)
-    if (d.alive && usable_time(d.time_ms)) t.push_back(d.time_ms);
+    if (d.alive && !d.rested && usable_time(d.time_ms)) t.push_back(d.time_ms);
   return t;
 }
 std::vector<double> usable_times(const std::vector<double>& times) {

@@ -17,6 +17,7 @@ struct DeviceFrameStats {
   double samples = 0, pixels = 0;
   std::vector<ItemReport> items;  // what it actually rendered, incl. pulled and stolen items
   bool alive = true;              // false: the device died; balancers drop it
+  bool rested = false;  // left out of the frame by its plan (Plan::resting): no measurement
 };
 
 struct FrameStats {
@@ -25,7 +26,8 @@ struct FrameStats {
   std::vector<DeviceFrameStats> devices;
 };
 
-// Balance metrics over the alive devices whose time is finite and >= 0 (see DESIGN.md).
+// Balance metrics over the alive devices that took part (not rested) whose time is finite
+// and >= 0 (see DESIGN.md).
 // Frame time: the largest device time (ms); 0 when no device qualifies.
 double frame_time_ms(const FrameStats& stats);
 // Imbalance λ = t_max / t_mean − 1; 0 with fewer than one usable device or a zero mean.

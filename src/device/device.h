@@ -117,6 +117,7 @@ struct DeviceReport {
   std::string error;  // set when failed
   // Filled in by the engine for its frame record.
   bool alive = true;         // false once the device failed and was dropped
+  bool rested = false;       // left out of the frame by its plan: not started at all
   double work_share = 0;     // fraction of the frame's samples this device rendered
   double planned_share = 0;  // the share the balancer intended
   // A worker rank (device/remote): each of its own devices' time in this frame, measured

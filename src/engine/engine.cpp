@@ -99,6 +99,7 @@ FrameRecord Engine::render_frame(int frame, const std::vector<ViewSetup>& views,
       rec.advise_ms = first.advise_ms;
       rec.predicted_ms = advice.predicted_ms > 0 ? first.frame_ms + advice.predicted_ms : 0;
       rec.messages.insert(rec.messages.begin(), first.messages.begin(), first.messages.end());
+      rec.notes.insert(rec.notes.begin(), first.notes.begin(), first.notes.end());
     }
 
   // The balancer and the advisor learn from the pass that became the frame.
@@ -169,6 +170,7 @@ balance::FrameShape Engine::plan_pass(int frame, const std::vector<ViewSetup>& v
   Stopwatch clock;
   last_plan_ = balancer_->plan(balance::scaled_shape(shape, advice.quality.image_scale), frame);
   rec.plan_ms = clock.elapsed_ms();
+  note_participation(rec);
   if (advisor_) {
     if (last_plan_.quality.image_scale != 1 || last_plan_.quality.step_scale != 1)
       throw InputError("balancer " + balancer_->name() +
@@ -184,10 +186,27 @@ std::vector<DeviceReport> Engine::run_devices(const FrameJob& job, WorkSource& s
   const size_t n = devices_.size();
   std::vector<DeviceReport> reports(n);
   std::vector<std::function<void()>> jobs(n);
+  // A device the plan leaves out is not started: no upload, no launch, no wait.
   for (size_t i = 0; i < n; ++i)
-    if (alive_[i]) jobs[i] = [&, i] { reports[i] = devices_[i]->render(job, source, int(i)); };
+    if (alive_[i] && !last_plan_.rests(i))
+      jobs[i] = [&, i] { reports[i] = devices_[i]->render(job, source, int(i)); };
   threads_.run(jobs);
   return reports;
+}
+
+void Engine::note_participation(FrameRecord& rec) {
+  // One line when a device is left out or comes back, not every frame.
+  resting_.resize(devices_.size(), false);
+  for (size_t i = 0; i < devices_.size(); ++i) {
+    const bool rests = last_plan_.rests(i);
+    if (rests == resting_[i]) continue;
+    resting_[i] = rests;
+    const std::string who = devices_[i]->info().spec;
+    const std::string why =
+        i < last_plan_.rest_reason.size() ? last_plan_.rest_reason[i] : std::string();
+    rec.notes.push_back(rests ? who + " left out" + (why.empty() ? "" : ": " + why)
+                              : who + " takes part again");
+  }
 }
 
 void Engine::recover_failures(const FrameJob& job, DispatchSource& source,
@@ -235,16 +254,19 @@ void Engine::record(std::vector<DeviceReport>& reports, FrameRecord& rec) {
   for (size_t i = 0; i < n; ++i) {
     DeviceReport& r = reports[i];
     r.alive = alive_[i];
+    r.rested = alive_[i] && last_plan_.rests(i);
     r.work_share = total_samples ? double(r.samples) / double(total_samples) : 0.0;
     r.planned_share = i < last_plan_.ratios.size() ? last_plan_.ratios[i] : 0.0;
-    if (alive_[i]) live_times.push_back(r.time_ms);
+    if (alive_[i] && !r.rested) live_times.push_back(r.time_ms);
     balance::DeviceFrameStats& s = stats_.devices[i];
     s.alive = alive_[i];
+    s.rested = r.rested;
     s.time_ms = r.time_ms, s.busy_ms = r.busy_ms;
     s.samples = double(r.samples), s.pixels = double(r.pixels);
     s.items = r.items;
     for (const ItemReport& it : r.items) rendered_[i].push_back(it.item);
   }
+  rec.models = last_plan_.models;
   rec.imbalance = balance::imbalance(live_times);
   rec.deviation = balance::deviation(live_times);
   rec.devices = std::move(reports);

@@ -83,6 +83,8 @@ class Engine {
                                 FrameRecord& rec);
   std::vector<DeviceReport> run_devices(const FrameJob& job, WorkSource& source);
   // Re-renders what failed devices left, on the first live device; drops the failed ones.
+  // Adds a message to `rec` for each device the new plan leaves out or takes back.
+  void note_participation(FrameRecord& rec);
   void recover_failures(const FrameJob& job, DispatchSource& source,
                         std::vector<DeviceReport>& reports, FrameRecord& rec);
   // Fills rec.devices, rendered_ and stats_ from the reports.
@@ -94,6 +96,7 @@ class Engine {
   std::unique_ptr<FrameAdvisor> advisor_;
   std::vector<Framebuffer> images_, scaled_images_;
   std::vector<bool> alive_;
+  std::vector<bool> resting_;  // left out by the last plan (for note_participation)
   std::vector<Perturbation> perturbations_;
   balance::Plan last_plan_;
   balance::FrameStats stats_;

@@ -38,6 +38,10 @@ struct FrameRecord {
   double imbalance = 0;               // t_max / t_mean - 1
   double deviation = 0;               // max |t_i - t_mean| / t_mean (Harada)
   std::vector<std::string> messages;  // e.g. a device dropped
+  std::vector<std::string> notes;     // news that is no fault: a device left out or back
+  // The balancer's cost model of each device as it planned the frame (Plan::models; empty
+  // for balancers without one).
+  std::vector<balance::DeviceCostModel> models;
 };
 
 }  // namespace multiray

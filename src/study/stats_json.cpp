@@ -130,7 +130,7 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
   nlohmann::json device_ms = nlohmann::json::array(), busy_ms = nlohmann::json::array(),
                  share = nlohmann::json::array(), planned = nlohmann::json::array(),
                  samples = nlohmann::json::array(), pixels = nlohmann::json::array(),
-                 result_bytes = nlohmann::json::array();
+                 result_bytes = nlohmann::json::array(), left_out = nlohmann::json::array();
   // Every device at the bottom of the hierarchy: a rank's own devices, or the device.
   nlohmann::json leaf_ms = nlohmann::json::array();
   std::vector<double> leaves;
@@ -150,7 +150,16 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
     samples.push_back(d.samples);
     pixels.push_back(d.pixels);
     result_bytes.push_back(d.result_bytes);
+    left_out.push_back(d.rested);
   }
+  // The balancer's model of each device (hybrid's: fixed cost per frame and speed, fitted
+  // over frames; participation.h), or null.
+  nlohmann::json models = nlohmann::json::array();
+  for (const balance::DeviceCostModel& m : rec.models)
+    models.push_back({{"fixed_ms", m.fixed_ms},
+                      {"fixed_sigma_ms", m.fixed_sigma},
+                      {"speed", m.speed},
+                      {"determined", m.determined}});
   return {{"frame", rec.frame},
           {"frame_ms", rec.frame_ms},
           {"first_pass_ms", rec.first_pass_ms},
@@ -161,6 +170,8 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
           {"samples", samples},
           {"pixels", pixels},
           {"result_bytes", result_bytes},
+          {"left_out", left_out},
+          {"device_model", rec.models.empty() ? nlohmann::json() : models},
           {"imbalance", rec.imbalance},
           {"deviation", rec.deviation},
           {"leaf_device_ms", leaf_ms},
@@ -170,6 +181,7 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
           {"update_ms", rec.update_ms},
           {"stolen_items", rec.stolen},
           {"messages", rec.messages},
+          {"notes", rec.notes},
           {"quality",
            {{"image_scale", rec.quality.image_scale}, {"step_scale", rec.quality.step_scale}}},
           {"advise_ms", rec.advise_ms},

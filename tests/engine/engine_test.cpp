@@ -235,3 +235,78 @@ TEST(SlowdownEmulator, SleepsToBusyOverSpeed) {
 
 }  // namespace engine_test
 }  // namespace multiray
+
+namespace multiray {
+namespace engine_test {
+
+// A CPU device that pays `fixed_ms` (a sleep) every frame it is started, as a GPU pays
+// its upload, launch and read-back whatever its share, and counts the frames it was
+// started on.
+class FixedCostDevice : public Device {
+ public:
+  FixedCostDevice(Device& inner, double fixed_ms) : inner_(inner), fixed_ms_(fixed_ms) {}
+  const DeviceInfo& info() const override { return inner_.info(); }
+  void set_emulated_speed(double speed) override { inner_.set_emulated_speed(speed); }
+  DeviceReport render(const FrameJob& job, WorkSource& source, int index) override {
+    ++started;
+    const Stopwatch clock;
+    std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(fixed_ms_));
+    DeviceReport r = inner_.render(job, source, index);
+    r.time_ms = clock.elapsed_ms();
+    return r;
+  }
+  int started = 0;
+
+ private:
+  Device& inner_;
+  double fixed_ms_;
+};
+
+// Issue 50: a device whose fixed cost outlasts the frame is left out by the default
+// balancer (hybrid) and then costs nothing: it is not even started. After a change that
+// makes it pay (512x the samples: the frame now takes hundreds of ms, its 30 ms are worth
+// paying) it comes back. The image is bit-identical to one device's whichever subset
+// rendered it. What is timed is a sleep of 30 ms against a frame of ~0.5 ms (and later
+// against one of ~250 ms): the decisions hold with wide margins at any load.
+TEST(Engine, ADeviceWhoseFixedCostDoesNotPayIsLeftOutAndComesBackWhenItDoes) {
+  const Scene scene = make_cornell_box();
+  SceneCache rs(scene);
+  CpuDevice cpu(rs, {}, "cpu"), inner(rs, {}, "cpu"), alone(rs, {}, "cpu");
+  FixedCostDevice slow_start(inner, 30);
+  Engine engine({&cpu, &slow_start}, balance::make_balancer("hybrid", 2));
+  Engine reference({&alone}, balance::make_balancer("uniform", 1));
+  auto small = [&](int frame) {
+    std::vector<ViewSetup> v = views(scene, frame);
+    v[0].width = 24, v[0].height = 16;
+    return v;
+  };
+  int rested = 0, back_at = -1;
+  constexpr int kChange = 20, kFrames = 26;
+  for (int f = 0; f < kFrames; ++f) {
+    const RenderSettings settings{.spp = f < kChange ? 1 : 512, .max_bounces = 4};
+    const int started = slow_start.started;
+    const FrameRecord rec = engine.render_frame(f, small(f), settings);
+    reference.render_frame(f, small(f), settings);
+    const auto& img = engine.images()[0].pixels;
+    const auto& ref = reference.images()[0].pixels;
+    ASSERT_EQ(img.size(), ref.size());
+    EXPECT_EQ(std::memcmp(img.data(), ref.data(), img.size() * sizeof(Vec3)), 0) << f;
+    if (rec.devices[1].rested) {
+      ++rested;
+      EXPECT_EQ(slow_start.started, started) << f;  // not started: it costs nothing
+      EXPECT_EQ(rec.devices[1].pixels, 0u) << f;
+      EXPECT_EQ(rec.devices[0].pixels, 24u * 16u) << f;
+    } else if (f >= kChange && back_at < 0) {
+      back_at = f;
+    }
+    if (f >= kChange + 3) {
+      EXPECT_FALSE(rec.devices[1].rested) << f;
+    }
+  }
+  EXPECT_GE(rested, 10);  // of the 20 frames before the change: left out after learning
+  EXPECT_GE(back_at, kChange);
+  EXPECT_LE(back_at, kChange + 2);
+}
+
+}  // namespace engine_test
+}  // namespace multiray
