@@ -17,6 +17,10 @@ Runner add_bench_command(CLI::App& app) {
                   "`render --help` lists them with their options)")
       ->capture_default_str();
   cmd->add_option("--json", b->json_path, "Write all measurements as JSON to this file");
+  cmd->add_flag("--regret", b->regret,
+                "The default balancer (auto) against every subset of --devices: each device "
+                "alone, ..., all of them (subset lanes, instead of --balancers); prints the "
+                "regret, the default's frame time over the best subset's, with its interval");
   cmd->add_option(
       "--report", b->report_dir,
       "Folder for plots: comparison.svg (efficiency, imbalance and frame time of every "

@@ -13,6 +13,7 @@
 #include "balance/queue.h"
 #include "balance/semi_static.h"
 #include "balance/static_ratios.h"
+#include "balance/subset.h"
 #include "balance/uniform.h"
 
 namespace multiray::balance {
@@ -177,6 +178,20 @@ std::vector<BalancerEntry> builtin_balancers() {
          "fixed cost per sample, one per device > 0: the paper's 7.5 static baseline "
          "(absent: predicted, else measured)"}},
        make_bruder},
+      {"subset",
+       "some devices only, split by hybrid:bands=1:leave=0; the others left out",
+       "ours (a baseline: the regret table of bench --regret)",
+       {{"devices", "all", "0+2+...",
+         "the devices that render, by index (--devices order), joined by +"}},
+       [](Spec& s, int n) {
+         const std::string list = s.get_string("devices", "all", {});
+         std::vector<int> members;
+         if (list == "all")
+           for (int d = 0; d < n; ++d) members.push_back(d);
+         else
+           members = SubsetBalancer::parse_members(list, n);
+         return std::make_unique<SubsetBalancer>(n, std::move(members));
+       }},
       // Not a method: picks one of the above (auto_choice.h). Built here with only the
       // device count known; the run layer resolves it from the devices and the link.
       {"auto",

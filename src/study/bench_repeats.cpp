@@ -114,6 +114,39 @@ void print_repeats(const RepeatSummary& s) {
           s.labels[k]);
 }
 
+nlohmann::json regret_of(const std::vector<RepeatLane>& lanes, const RepeatSummary& s) {
+  const balance::Verdict& v = s.time;
+  const size_t n = s.labels.size();
+  size_t deflt = n, best = n;
+  for (size_t k = 0; k < n && k < v.medians.size() && k < lanes.size(); ++k) {
+    if (s.labels[k] == "auto") deflt = k;
+    if (s.labels[k].rfind("subset:", 0) == 0 && v.medians[k].valid &&
+        (best == n || v.medians[k].median < v.medians[best].median))
+      best = k;
+  }
+  if (deflt == n || best == n) return {{"text", "regret: not measured"}};
+  // The two lanes alone: the interval of their per-frame ratio.
+  const balance::Verdict pair = balance::verdict({s.labels[deflt], s.labels[best]},
+                                                 {lanes[deflt].frame_ms, lanes[best].frame_ms});
+  balance::Interval r;
+  if (pair.best == 1) {
+    r = pair.ratios[0];
+  } else if (pair.best == 0 && pair.ratios[1].valid && pair.ratios[1].lo > 0) {
+    const balance::Interval& q = pair.ratios[1];  // the subset's ratio to the default
+    r = {1 / q.median, 1 / q.hi, 1 / q.lo, true};
+  }
+  if (!r.valid) return {{"text", "regret: no interval (it needs --repeats 2 or more)"}};
+  const std::string verdict = r.lo > 1   ? "slower than the best subset"
+                              : r.hi < 1 ? "faster than every subset"
+                                         : "tied with the best subset";
+  return {{"ratio", {{"median", r.median}, {"lo", r.lo}, {"hi", r.hi}}},
+          {"best_subset", s.labels[best]},
+          {"text", fmt::format("regret: {} {:.1f} ms, best subset {} {:.1f} ms: {:.3f}x "
+                               "[{:.3f}, {:.3f}] per frame ({})",
+                               s.labels[deflt], v.medians[deflt].median, s.labels[best],
+                               v.medians[best].median, r.median, r.lo, r.hi, verdict)}};
+}
+
 nlohmann::json repeats_to_json(const RepeatSummary& s) {
   auto j = [](const balance::Interval& i) {
     return i.valid ? nlohmann::json{{"median", i.median}, {"lo", i.lo}, {"hi", i.hi}}

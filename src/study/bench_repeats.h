@@ -49,6 +49,12 @@ void print_repeats(const RepeatSummary& s);
 
 nlohmann::json repeats_to_json(const RepeatSummary& s);
 
+// bench --regret (regret_lanes): the `auto` lane's frame time over the fastest `subset`
+// lane's, median [95% interval] of the per-frame ratios of those two lanes, and a line
+// ("regret: auto 36.4 ms, best subset subset:devices=0 33.7 ms: 1.08x [1.05, 1.10]").
+// {"ratio": {median, lo, hi}, "best_subset", "text"}; text only when nothing is known.
+nlohmann::json regret_of(const std::vector<RepeatLane>& lanes, const RepeatSummary& s);
+
 // The bars of comparison.svg: with several blocks the repeat medians and intervals, with
 // one the block's means (no intervals).
 std::vector<ComparisonBar> comparison_bars(const RepeatSummary& repeats,

@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/machine_load.h"
+#include "device/device_factory.h"
 #include "engine/bench_harness.h"
 #include "run/interrupt.h"
 #include "run/start_run.h"
@@ -29,10 +30,34 @@
 namespace multiray::study {
 
 std::string every_balancer() {
+  // Not auto (it runs one of the others) nor subset (a baseline for --regret).
   std::string list;
   for (const std::string& name : balance::balancer_names())
-    if (name != "auto") list += (list.empty() ? "" : ",") + name;
+    if (name != "auto" && name != "subset") list += (list.empty() ? "" : ",") + name;
   return list;
+}
+
+std::vector<std::string> regret_lanes(int device_count) {
+  // The first lane of every frame runs on caches the others warmed for the lanes after
+  // it (measured: ~1% slower on the same work), so a lane that is not compared goes
+  // first: all devices without the participation rule (the default before it).
+  std::vector<std::string> lanes = {"hybrid:bands=1:leave=0", "auto"};
+  auto subset = [](unsigned mask) {
+    std::string list;
+    for (int d = 0; mask >> d; ++d)
+      if (mask >> d & 1u) {
+        if (!list.empty()) list += '+';
+        list += std::to_string(d);
+      }
+    return "subset:devices=" + list;
+  };
+  if (device_count <= 4) {
+    for (unsigned mask = 1; mask < (1u << device_count); ++mask) lanes.push_back(subset(mask));
+  } else {
+    for (int d = 0; d < device_count; ++d) lanes.push_back(subset(1u << d));
+    lanes.push_back("subset:devices=all");
+  }
+  return lanes;
 }
 
 RunConfig bench_defaults() {
@@ -93,6 +118,12 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
     if (b.repeats_given)
       throw InputError("--repeats above 1 does not work with --distributed yet");
     b.repeats = 1;
+  }
+  if (b.regret) {
+    std::string list;
+    for (const std::string& lane : regret_lanes(int(parse_device_specs(o.devices).size())))
+      list += (list.empty() ? "" : ",") + lane;
+    b.balancers = list;
   }
   const auto specs = split_spec_list(b.balancers);
   if (specs.empty()) throw InputError("--balancers is empty");
@@ -233,6 +264,8 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
   if (!hooks.quiet && (emulated || !s.perturbations.empty()))
     print_out("(device speeds below 1 are emulated: the device idles after each piece of work)\n");
   if (!hooks.quiet && b.repeats > 1) print_repeats(repeats);
+  const nlohmann::json regret = b.regret ? regret_of(repeat_lanes, repeats) : nlohmann::json();
+  if (!hooks.quiet && b.regret) print_out("{}\n", regret["text"].get<std::string>());
   const balance::NoiseVerdict verdict = judge_noise(noise, repeat_lanes);
   if (!hooks.quiet) print_noise(noise, verdict);
   BenchOutcome out;
@@ -240,6 +273,7 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
     nlohmann::json& doc = out.doc;
     doc = run_description(s, o);
     doc["repeats"] = repeats_to_json(repeats);
+    if (b.regret) doc["regret"] = regret;
     doc["trustworthy"] = verdict.trustworthy;
     doc["noise"] = noise_to_json(noise, verdict);
     doc["ideal_ms"] = ideal_mean;

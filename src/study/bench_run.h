@@ -29,7 +29,16 @@ struct BenchOptions {
   int repeats = 3;
   bool repeats_given = false;  // --repeats given (refused above 1 with --distributed)
   int probe_ms = 200;
+  // --regret: the default (`auto`) against every subset of the devices (each alone, all
+  // together without the participation rule: `subset` lanes) instead of --balancers.
+  bool regret = false;
 };
+
+// The lanes of --regret for `device_count` devices: a first lane not compared (the first
+// lane of a frame runs on colder caches), "auto", then `subset` of each non-empty subset
+// (every device alone, pairs, ..., all), at most 4 devices (more: each alone and all).
+// The regret is auto's frame time over the best subset's.
+std::vector<std::string> regret_lanes(int device_count);
 
 // A RunConfig with bench's defaults: 100 frames, the orbit camera path, 4 spp for meshes.
 RunConfig bench_defaults();
