@@ -97,7 +97,7 @@ void RenderOutput::on_frame(const std::shared_ptr<const FrameResult>& r) {
         r->frame, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
         100.0 * rec.imbalance, adapted, holes, shown);
   records_.add(study::frame_result_to_json(*r));
-  if (trace_) trace_->frame(r->stats);
+  if (trace_) trace_->frame(r->stats, r->record.models);
   counters_.samples += samples;
   counters_.frame_us += uint64_t(std::max(0.0, rec.frame_ms) * 1e3);
   counters_.frames += 1;

@@ -260,7 +260,8 @@ class HybridBalancer final : public BalancerBase {
   std::vector<double> frame_cost_;    // f_i, ms
   std::vector<bool> frame_seen_;      // some gap measured
   ParticipationTracker part_;
-  std::vector<bool> probing_;  // devices probed in the frame last planned
+  std::vector<bool> probing_;   // devices probed in the frame last planned
+  int frames_since_probe_ = 2;  // frames updated since the last with a probe
 };
 
 }  // namespace multiray::balance

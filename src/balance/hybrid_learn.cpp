@@ -223,7 +223,13 @@ void HybridBalancer::update(const FrameStats& stats) {
     for (const ItemReport& r : d->items)
       if (valid_time(r.time_ms)) observed.add(r.item, std::max(r.time_ms - o, 0.0) * scale);
   }
-  restate_left_out(jumps);
+  // A probe perturbs the devices taking part (it shares their caches, memory and cores):
+  // their jumps in a probe's frame and in the frame after it (the way back) are not a
+  // change of the cost of work, and would only probe again.
+  bool probed = false;
+  for (bool p : probing_) probed |= p;
+  frames_since_probe_ = probed ? 0 : frames_since_probe_ + 1;
+  if (frames_since_probe_ >= 2) restate_left_out(jumps);
   if (observed.empty()) return;
 
   const std::vector<double> fresh = observed.density(std::numeric_limits<double>::quiet_NaN());

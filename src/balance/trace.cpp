@@ -77,13 +77,19 @@ TraceWriter::TraceWriter(std::ostream& out, const std::string& balancer,
     out_ << "device " << i << " " << num(devices[i].speed) << " " << devices[i].name << "\n";
 }
 
-void TraceWriter::frame(const FrameStats& s) {
+void TraceWriter::frame(const FrameStats& s, const std::vector<DeviceCostModel>& models) {
   out_ << "frame " << s.frame << " " << s.shape.width << " " << s.shape.height << " "
        << s.shape.views << "\n";
   for (size_t d = 0; d < s.devices.size(); ++d) {
     const DeviceFrameStats& dev = s.devices[d];
-    out_ << "time " << d << " " << (dev.alive ? 1 : 0) << " " << num(dev.time_ms) << " "
-         << num(dev.busy_ms) << "\n";
+    out_ << "time " << d << " "
+         << (!dev.alive   ? 0
+             : dev.rested ? 2
+                          : 1)
+         << " " << num(dev.time_ms) << " " << num(dev.busy_ms) << "\n";
+    if (d < models.size())
+      out_ << "model " << d << " " << num(models[d].fixed_ms) << " " << num(models[d].fixed_sigma)
+           << " " << num(models[d].speed) << " " << (models[d].determined ? 1 : 0) << "\n";
     for (const ItemReport& r : dev.items)
       out_ << "item " << d << " " << r.id << " " << r.item.view << " " << r.item.rect.x0 << " "
            << r.item.rect.y0 << " " << r.item.rect.x1 << " " << r.item.rect.y1 << " "
@@ -93,7 +99,9 @@ void TraceWriter::frame(const FrameStats& s) {
 
 void write_trace(std::ostream& out, const Trace& trace) {
   TraceWriter w(out, trace.balancer, trace.devices);
-  for (const FrameStats& f : trace.frames) w.frame(f);
+  for (size_t k = 0; k < trace.frames.size(); ++k)
+    w.frame(trace.frames[k],
+            k < trace.models.size() ? trace.models[k] : std::vector<DeviceCostModel>{});
 }
 
 Trace read_trace(std::istream& in) {
@@ -127,13 +135,26 @@ Trace read_trace(std::istream& in) {
       r.end();
       f.devices.resize(t.devices.size());
       t.frames.push_back(f);
+      t.models.emplace_back();
+    } else if (kind == "model") {
+      if (t.frames.empty()) r.fail("'model' before the first frame");
+      const int d = r.integer(0, int(t.devices.size()) - 1);
+      std::vector<DeviceCostModel>& m = t.models.back();
+      m.resize(t.devices.size());
+      m[size_t(d)].fixed_ms = r.number(0, kMaxMs);
+      m[size_t(d)].fixed_sigma = r.number(0, 1e300);
+      m[size_t(d)].speed = r.number(0, 1e300);
+      m[size_t(d)].determined = r.integer(0, 1) == 1;
+      r.end();
     } else if (kind == "time" || kind == "item") {
       if (t.frames.empty()) r.fail("'" + kind + "' before the first frame");
       FrameStats& f = t.frames.back();
       const int d = r.integer(0, int(t.devices.size()) - 1);
       DeviceFrameStats& dev = f.devices[size_t(d)];
       if (kind == "time") {
-        dev.alive = r.integer(0, 1) == 1;
+        const int state = r.integer(0, 2);  // 0 dropped, 1 alive, 2 left out (rested)
+        dev.alive = state != 0;
+        dev.rested = state == 2;
         dev.time_ms = r.number(0, kMaxMs);
         dev.busy_ms = r.number(0, kMaxMs);
       } else {

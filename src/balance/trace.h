@@ -34,6 +34,9 @@ struct Trace {
   std::string balancer;
   std::vector<TraceDevice> devices;
   std::vector<FrameStats> frames;  // shapes carry size and views (no pixel weights)
+  // Per frame, the balancer's cost model of each device as it planned the frame (`model`
+  // records; participation.h); an empty list where none was recorded.
+  std::vector<std::vector<DeviceCostModel>> models;
 };
 
 // Writes a trace as frames finish. Check the stream after the last frame.
@@ -41,7 +44,8 @@ class TraceWriter {
  public:
   TraceWriter(std::ostream& out, const std::string& balancer,
               const std::vector<TraceDevice>& devices);
-  void frame(const FrameStats& stats);
+  // `models`: the balancer's model of each device for the frame (Plan::models), or none.
+  void frame(const FrameStats& stats, const std::vector<DeviceCostModel>& models = {});
 
  private:
   std::ostream& out_;

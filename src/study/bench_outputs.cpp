@@ -64,7 +64,10 @@ nlohmann::json lane_outputs(size_t k, const Run& s, const BenchResult& result,
         lane.records, warmup, s.volume->options().target_ms, lane.error_vs_reference));
   if (!b.trace_prefix.empty()) {
     TraceFile trace(fmt::format("{}-{}.trace", b.trace_prefix, name), lane.spec, s.devices);
-    for (const balance::FrameStats& f : lane.stats) trace.frame(f);
+    for (size_t k = 0; k < lane.stats.size(); ++k)
+      trace.frame(lane.stats[k], k < lane.records.size()
+                                     ? lane.records[k].models
+                                     : std::vector<balance::DeviceCostModel>{});
     trace.close();
   }
   if (!b.report_dir.empty()) {

@@ -38,9 +38,9 @@ std::string every_balancer() {
 }
 
 std::vector<std::string> regret_lanes(int device_count) {
-  // The first lane of every frame runs on caches the others warmed for the lanes after
-  // it (measured: ~1% slower on the same work), so a lane that is not compared goes
-  // first: all devices without the participation rule (the default before it).
+  // The first lane of every frame runs ~1% slower on the same work (colder caches), so a
+  // lane that is not compared goes first and last (odd blocks run in reverse order): all
+  // devices without the participation rule (the default before it).
   std::vector<std::string> lanes = {"hybrid:bands=1:leave=0", "auto"};
   auto subset = [](unsigned mask) {
     std::string list;
@@ -57,6 +57,7 @@ std::vector<std::string> regret_lanes(int device_count) {
     for (int d = 0; d < device_count; ++d) lanes.push_back(subset(1u << d));
     lanes.push_back("subset:devices=all");
   }
+  lanes.push_back("hybrid:bands=1:leave=0:probe=0");  // the same (probe is moot), last
   return lanes;
 }
 
@@ -177,12 +178,22 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
   noise.probe_before = b.probe_ms > 0 ? contention_probe(b.probe_ms) : NAN;
   const CpuTimes cpu_before = read_cpu_times();
   for (int block = 0; block < b.repeats; ++block) {
-    if (block > 0) session = s.make_session(mapped, "--balancers");
+    // --regret: odd blocks run the lanes in reverse order. A lane's frame time depends by
+    // ~0.5% on the lane rendered before it (which caches and cores it left warm), which is
+    // the size of the differences the regret is about.
+    const bool reversed = b.regret && block % 2 == 1;
+    std::vector<std::string> order = mapped;
+    if (reversed) std::reverse(order.begin(), order.end());
+    if (block > 0) session = s.make_session(order, "--balancers");
     BenchResult r;
     if (const int code = run_block(*session, s, initial, config, block, b.repeats, hooks, r)) {
       BenchOutcome stopped = outcome(code);
       stopped.interrupted = true;
       return stopped;
+    }
+    if (reversed) {  // back in the lanes' order
+      std::reverse(r.lanes.begin(), r.lanes.end());
+      std::reverse(r.mismatched_frames.begin(), r.mismatched_frames.end());
     }
     add_block(repeat_lanes, lanes, r, warmup, perturb_frame);
     if (block == 0) result = std::move(r);

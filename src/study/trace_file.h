@@ -37,8 +37,9 @@ class TraceFile {
     if (!closed_) std::remove(temp_.c_str());
   }
   // Appends a frame; the first failed write's cause is kept for close().
-  void frame(const balance::FrameStats& stats) {
-    writer_->frame(stats);
+  void frame(const balance::FrameStats& stats,
+             const std::vector<balance::DeviceCostModel>& models = {}) {
+    writer_->frame(stats, models);
     out_.flush();
     if (!out_ && cause_.empty()) cause_ = std::strerror(errno);
   }

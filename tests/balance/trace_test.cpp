@@ -50,6 +50,30 @@ TEST(Trace, RoundTripsExactly) {
     }
 }
 
+// A device left out of a frame (time record 2) and the balancer's models (model records)
+// come back as written.
+TEST(Trace, LeftOutDevicesAndModelsRoundTrip) {
+  Trace t = record("hybrid", {1.0, 0.5}, 3);
+  t.frames[1].devices[1] = DeviceFrameStats{};
+  t.frames[1].devices[1].rested = true;
+  t.models.assign(3, {});
+  t.models[2] = {DeviceCostModel{1e-3, 2.5, 0.25, false}, DeviceCostModel{93.25, 75.5, 1.5, true}};
+  std::istringstream in(text(t));
+  const Trace back = read_trace(in);
+  EXPECT_EQ(text(back), text(t));
+  EXPECT_TRUE(back.frames[1].devices[1].rested);
+  EXPECT_TRUE(back.frames[1].devices[1].alive);
+  EXPECT_FALSE(back.frames[1].devices[0].rested);
+  ASSERT_EQ(back.models.size(), 3u);
+  EXPECT_TRUE(back.models[0].empty());
+  ASSERT_EQ(back.models[2].size(), 2u);
+  EXPECT_EQ(back.models[2][1].fixed_ms, 75.5);
+  EXPECT_EQ(back.models[2][1].fixed_sigma, 1.5);
+  EXPECT_EQ(back.models[2][1].speed, 93.25);
+  EXPECT_TRUE(back.models[2][1].determined);
+  EXPECT_FALSE(back.models[2][0].determined);
+}
+
 TEST(Trace, MalformedTracesAreRefusedWithTheLine) {
   const std::string good = "multiray-trace 1\nbalancer uniform\ndevice 0 1 cpu\nframe 0 4 4 1\n";
   for (const auto& [bad, line] : std::vector<std::pair<std::string, std::string>>{
@@ -63,7 +87,11 @@ TEST(Trace, MalformedTracesAreRefusedWithTheLine) {
            {"multiray-trace 1\ndevice 3 1 cpu\n", "line 2"},
            {"multiray-trace 1\nbogus\n", "line 2"},
            {good + "device 1 1 late\ntime 1 1 1 1\n", "line 5"},  // a device after a frame
-           {good + "frame 1 0 4 1\n", "line 5"}}) {
+           {good + "frame 1 0 4 1\n", "line 5"},
+           {good + "time 0 3 1 1\n", "line 5"},      // no such state
+           {good + "model 0 -1 0 1 1\n", "line 5"},  // a negative fixed cost
+           {good + "model 0 1 0 1\n", "line 5"},     // a field missing
+           {"multiray-trace 1\nmodel 0 1 0 1 1\n", "line 2"}}) {
     std::istringstream in(bad);
     try {
       read_trace(in);
