@@ -225,6 +225,9 @@ class HybridBalancer final : public BalancerBase {
   // A device with a determined fixed cost per frame above this share of the predicted
   // frame does not steal (Plan::no_steal).
   static constexpr double kNoStealFixed = 0.02;
+  // The speed ratio of the devices taking part (geometric mean of their jumps) beyond
+  // which the cost of work is taken to have changed for the left-out devices.
+  static constexpr double kRestateJump = 2.0;
   // Weight left to the earlier fits of the fixed cost per item after each frame.
   static constexpr double kOverheadMemory = 0.8;
   // A cut moves to a row boundary if that changes neither neighbour's share by more than
