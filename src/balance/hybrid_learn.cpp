@@ -156,9 +156,13 @@ void HybridBalancer::update(const FrameStats& stats) {
   LineDensity observed(base);
   std::vector<std::pair<double, double>> points;  // (model cost, time) of each item
   std::vector<double> jumps;  // speed ratios of the devices taking part that jumped
+  // Who was started this frame, and each one's measured speed: the samples of contention.
+  std::vector<bool> took(size_t(device_count()), false);
+  std::vector<double> measured_speed(size_t(device_count()), 0.0);
   for (int i = 0; i < device_count(); ++i) {
     const DeviceFrameStats* d = device_stats(stats, i);
     if (!d || d->rested || !valid_time(d->time_ms)) continue;
+    took[size_t(i)] = true;
     double work = 0;
     points.clear();
     for (const ItemReport& r : d->items) {
@@ -206,6 +210,7 @@ void HybridBalancer::update(const FrameStats& stats) {
     }
     const double net = std::max(d->time_ms - f - items * o, 0.5 * d->time_ms);
     const double measured = work / net;
+    measured_speed[size_t(i)] = measured;
     const int changes = changes_[size_t(i)];
     const double before = speed_[size_t(i)];
     take_speed(size_t(i), measured);
@@ -233,6 +238,7 @@ void HybridBalancer::update(const FrameStats& stats) {
   bool probed = false;
   for (bool p : probing_) probed |= p;
   frames_since_probe_ = probed ? 0 : frames_since_probe_ + 1;
+  part_.frame_speeds(took, measured_speed, frames_since_probe_ >= 2);
   if (frames_since_probe_ >= 2) restate_left_out(jumps);
   if (observed.empty()) return;
 

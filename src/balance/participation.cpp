@@ -62,18 +62,26 @@ double judged_fixed(const DeviceCostModel& m) { return m.determined ? m.fixed_ms
 
 double predicted_frame_ms(const std::vector<DeviceCostModel>& models,
                           const std::vector<bool>& take, double total) {
-  // T = (total + Σ s_i F_i) / Σ s_i over the taken devices; a device whose F_i is above
-  // that T would get no work, so it is dropped from the sum and T recomputed.
+  // T = (total + Σ s_i F_i) / Σ s_i over the taken devices, each s_i slowed by the others'
+  // contention; a device whose F_i is above that T would get no work, so it is dropped
+  // from the sum and T recomputed.
   std::vector<size_t> in;
+  double slow = 1;  // product of the taken devices' contention
   for (size_t i = 0; i < models.size() && i < take.size(); ++i)
-    if (take[i] && models[i].speed > 0) in.push_back(i);
+    if (take[i] && models[i].speed > 0) {
+      in.push_back(i);
+      slow *= std::clamp(models[i].contention, 0.05, 1.0);
+    }
+  auto speed = [&](size_t i) {
+    return models[i].speed * slow / std::clamp(models[i].contention, 0.05, 1.0);
+  };
   std::sort(in.begin(), in.end(),
             [&](size_t a, size_t b) { return judged_fixed(models[a]) < judged_fixed(models[b]); });
   double best = std::numeric_limits<double>::infinity(), s = 0, sf = 0;
   for (size_t i : in) {
     const double f = judged_fixed(models[i]);
     if (f >= best) break;
-    s += models[i].speed, sf += models[i].speed * f;
+    s += speed(i), sf += speed(i) * f;
     best = (total + sf) / s;
   }
   // A device with fixed cost above T still waits for its report: T is at least its F.
@@ -113,10 +121,15 @@ std::vector<bool> choose_participants(const std::vector<DeviceCostModel>& models
   return take;
 }
 
-std::string left_out_reason(const DeviceCostModel& model, double frame_ms) {
-  char line[96];
-  std::snprintf(line, sizeof line, "%.0f ms fixed per frame against a %.0f ms frame",
-                model.fixed_ms, frame_ms);
+std::string left_out_reason(const DeviceCostModel& model, double frame_ms, double margin) {
+  char line[128];
+  if (model.fixed_ms >= frame_ms)
+    std::snprintf(line, sizeof line, "%.0f ms fixed per frame against a %.0f ms frame",
+                  model.fixed_ms, frame_ms);
+  else
+    std::snprintf(line, sizeof line,
+                  "it would save less than %.0f%% of a %.0f ms frame (%.0f ms fixed per frame)",
+                  100 * margin, frame_ms, model.fixed_ms);
   return line;
 }
 
@@ -126,7 +139,13 @@ ParticipationTracker::ParticipationTracker(int devices, const Options& options)
       out_(fit_.size(), false),
       since_(fit_.size(), 0),
       every_(fit_.size(), std::max(options.probe, 1)),
-      probes_(fit_.size(), 0) {}
+      probes_(fit_.size(), 0),
+      since_in_(fit_.size(), 0),
+      every_in_(fit_.size(), std::max(options.probe, 1)),
+      log_contention_(fit_.size(), 0.0),
+      contention_samples_(fit_.size(), 0),
+      last_took_(fit_.size(), false),
+      last_speed_(fit_.size(), 0.0) {}
 
 ParticipationTracker::Decision ParticipationTracker::decide(const std::vector<bool>& alive,
                                                             double total,
@@ -140,6 +159,8 @@ ParticipationTracker::Decision ParticipationTracker::decide(const std::vector<bo
     d.models.push_back(fit_[i].model());
     const bool known = d.models[i].determined && d.models[i].speed > 0;
     if (!known && i < speed.size() && speed[i] > 0) d.models[i].speed = speed[i];
+    if (contention_samples_[i] > 0)
+      d.models[i].contention = std::clamp(std::exp(log_contention_[i]), 0.05, 1.0);
   }
   if (!opt_.leave) return d;
   // A left-out device comes back only once its fit says it pays.
@@ -151,6 +172,22 @@ ParticipationTracker::Decision ParticipationTracker::decide(const std::vector<bo
   const std::vector<bool> take = choose_participants(d.models, eligible, total, opt_.margin);
   d.predicted_ms = predicted_frame_ms(d.models, take, total);
   for (size_t i = 0; i < n && i < alive.size(); ++i) {
+    if (alive[i] && take[i] && d.models[i].determined && opt_.probe > 0 &&
+        d.models[i].fixed_ms > kRestProbeFixed * d.predicted_ms) {
+      // Taking part but saving little: rested for a frame now and then, so that what it
+      // saves (and costs the others) is measured, not only predicted.
+      std::vector<bool> without = take;
+      without[i] = false;
+      const double saves = predicted_frame_ms(d.models, without, total) / d.predicted_ms - 1;
+      if (++since_in_[i] >= every_in_[i] && saves < kRestProbeSaving) {
+        since_in_[i] = 0;
+        every_in_[i] = std::min(2 * every_in_[i], 8 * std::max(opt_.probe, 1));
+        d.rest[i] = true;
+        d.reason[i] = "rested for a frame to measure what it saves";
+        out_[i] = false;
+        continue;
+      }
+    }
     if (!alive[i] || take[i]) {
       out_[i] = false;
       continue;
@@ -166,7 +203,7 @@ ParticipationTracker::Decision ParticipationTracker::decide(const std::vector<bo
       continue;
     }
     d.rest[i] = true;
-    d.reason[i] = left_out_reason(d.models[i], d.predicted_ms);
+    d.reason[i] = left_out_reason(d.models[i], d.predicted_ms, opt_.margin);
   }
   recheck_ = false;
   return d;
@@ -178,6 +215,33 @@ void ParticipationTracker::measured(size_t i, double work, double time_ms) {
 
 void ParticipationTracker::rescale(size_t i, double r) {
   if (i < fit_.size()) fit_[i].rescale_work(r);
+}
+
+void ParticipationTracker::frame_speeds(const std::vector<bool>& took_part,
+                                        const std::vector<double>& speed, bool sample) {
+  const size_t n = fit_.size();
+  if (took_part.size() != n || speed.size() != n) return;
+  int flipped = -1, flips = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (took_part[i] != last_took_[i]) flipped = int(i), ++flips;
+  if (flips == 1 && sample) {
+    double now = 0, before = 0;  // the others' speeds, this frame and the last
+    bool same = true;
+    for (size_t j = 0; j < n; ++j) {
+      if (int(j) == flipped || !took_part[j]) continue;
+      same &= speed[j] > 0 && last_speed_[j] > 0;
+      now += speed[j], before += last_speed_[j];
+    }
+    if (same && now > 0 && before > 0) {
+      const size_t i = size_t(flipped);
+      const double sample = took_part[i] ? now / before : before / now;  // with / without
+      double& mean = log_contention_[i];
+      mean = contention_samples_[i] == 0 ? std::log(sample) : 0.5 * mean + 0.5 * std::log(sample);
+      ++contention_samples_[i];
+    }
+  }
+  last_took_ = took_part;
+  last_speed_ = speed;
 }
 
 void ParticipationTracker::changed(bool refit) {

@@ -13,6 +13,13 @@
 // device with a larger fixed cost never helps when one with a smaller one does not), so
 // choose_participants tries each prefix.
 //
+// Contention. A device at work can slow the others (two vCPUs shared by a CPU device and
+// a driver's threads; a GPU's feeding thread on a busy CPU). Each device's `contention`,
+// the others' speed with it over without it, is measured whenever it alone changes
+// between two frames (it is left out, or rested for one frame on the probes' schedule
+// while it saves under 10% of the frame with a fixed cost over 2% of it), and T(S) takes
+// every other device's speed times the contention of the devices taking part with it.
+//
 // Uncertainty. A device is kept only when it saves more than `margin` of the frame: near
 // the break-even point leaving a device out costs at most that margin, keeping a useless
 // one costs its whole F_i. Its fit's standard error is reported beside F_i.
@@ -32,6 +39,10 @@ struct DeviceCostModel {
   double fixed_ms = 0;     // F_i, ms per frame it renders anything
   double fixed_sigma = 0;  // standard error of fixed_ms
   bool determined = false;
+  // The others' speed while this device takes part, over their speed while it does not
+  // (shared cores, memory, a driver's threads): measured on consecutive frames whose only
+  // difference is this device; 1 until measured, never above 1.
+  double contention = 1;
 };
 
 // Weighted least squares of a device's frame time on its work, each frame's weight
@@ -71,8 +82,10 @@ std::vector<bool> choose_participants(const std::vector<DeviceCostModel>& models
                                       const std::vector<bool>& eligible, double total,
                                       double margin);
 
-// One line on why a device is left out ("75 ms fixed per frame against a 44 ms frame").
-std::string left_out_reason(const DeviceCostModel& model, double frame_ms);
+// One line on why a device is left out of a `frame_ms` frame: "75 ms fixed per frame
+// against a 44 ms frame", or when its fixed cost is below the frame, "it would save less
+// than 3% of a 44 ms frame (2 ms fixed per frame)".
+std::string left_out_reason(const DeviceCostModel& model, double frame_ms, double margin);
 
 // The rule over a run: each device's fit, which devices are left out, and when each is
 // probed. A left-out device is probed (given a small share, alternately kProbeShares[0]
@@ -88,6 +101,11 @@ class ParticipationTracker {
     double margin = 0.03;  // a device is kept only if it saves more of the frame than this
   };
   static constexpr double kProbeShares[2] = {0.005, 0.02};
+  // A device taking part is rested for a frame on the probes' schedule while it is
+  // predicted to save less than kRestProbeSaving of the frame and its fixed cost is more
+  // than kRestProbeFixed of it: a device that is worth little and costs visibly.
+  static constexpr double kRestProbeSaving = 0.10;
+  static constexpr double kRestProbeFixed = 0.02;
 
   ParticipationTracker(int devices, const Options& options);
 
@@ -111,6 +129,12 @@ class ParticipationTracker {
   void changed(bool refit);
   // Device i's unit of work now costs 1/r of what it did (DeviceCostFit::rescale_work).
   void rescale(size_t i, double r);
+  // Who took part in the frame last decided and each device's measured speed (0: none):
+  // where exactly one device changed from the frame before, the others' speeds are a
+  // sample of its contention. Not with `sample` false (a probe's small share was at work
+  // in this frame or the last: too briefly to slow the others as a share would).
+  void frame_speeds(const std::vector<bool>& took_part, const std::vector<double>& speed,
+                    bool sample = true);
   DeviceCostModel model(size_t i) const {
     return i < fit_.size() ? fit_[i].model() : DeviceCostModel{};
   }
@@ -123,6 +147,13 @@ class ParticipationTracker {
   std::vector<int> since_;   // frames since left out or last probed
   std::vector<int> every_;   // frames between probes
   std::vector<int> probes_;  // probes so far (alternates the probe share)
+  // A device taking part that saves little is rested for a frame now and then, to see
+  // what it saves (and its contention): frames since, and between, those rests.
+  std::vector<int> since_in_, every_in_;
+  std::vector<double> log_contention_;  // mean log of the contention samples
+  std::vector<int> contention_samples_;
+  std::vector<bool> last_took_;
+  std::vector<double> last_speed_;
   bool recheck_ = false;
 };
 

@@ -124,7 +124,8 @@ SimFrame simulate_linked(const Plan& plan, const FrameShape& shape,
   std::vector<double> done_at(n, std::numeric_limits<double>::infinity());
   auto at_work = [&](double t) {
     int k = 0;
-    for (size_t j = 0; j < n; ++j) k += devices[j].alive && link.latency_ms <= t && done_at[j] > t;
+    for (size_t j = 0; j < n; ++j)
+      k += devices[j].alive && !plan.rests(j) && link.latency_ms <= t && done_at[j] > t;
     return std::max(k, 1);
   };
 
