@@ -159,7 +159,8 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
     models.push_back({{"fixed_ms", m.fixed_ms},
                       {"fixed_sigma_ms", m.fixed_sigma},
                       {"speed", m.speed},
-                      {"determined", m.determined}});
+                      {"determined", m.determined},
+                      {"contention", m.contention}});
   return {{"frame", rec.frame},
           {"frame_ms", rec.frame_ms},
           {"first_pass_ms", rec.first_pass_ms},
