@@ -37,7 +37,11 @@ def main():
     n = len(auto)
     shown = [(l, f) for l, f in runs if max(x["frame_ms"] for x in f) < 40 * min(
         x["frame_ms"] for x in auto)]
-    top = max(max(x["frame_ms"] for x in f) for _, f in shown) * 1.1
+    # Up to 3x the default's median frame: frame 0 (an even split while nothing is known)
+    # would flatten every other frame; lines above it are clipped at the top.
+    times = sorted(x["frame_ms"] for x in auto)
+    top = min(max(max(x["frame_ms"] for x in f) for _, f in shown) * 1.1,
+              3 * times[len(times) // 2])
     x_of = lambda i: PAD_L + (W - PAD_L - PAD_R) * i / max(n - 1, 1)
     svg = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" '
            'font-family="sans-serif" font-size="12">',
@@ -47,13 +51,15 @@ def main():
            '(bench --regret, block 0)</text>']
     # Panel 1: frame times.
     y0 = PAD_T
-    y_of = lambda v: y0 + PANEL - PANEL * v / top
+    y_of = lambda v: y0 + PANEL - PANEL * min(v, top) / top
+    half = (x_of(1) - x_of(0)) / 2
+    band = lambda i: (max(x_of(i) - half, PAD_L), min(x_of(i) + half, W - PAD_R))
     for i, f in enumerate(auto):  # shade the frames the device was left out
         if f["left_out"][device]:
-            svg.append(f'<rect x="{x_of(i - 0.5):.1f}" y="{y0}" width="{x_of(1) - x_of(0):.1f}"'
-                       f' height="{PANEL}" fill="#eeeeee"/>')
-            svg.append(f'<rect x="{x_of(i - 0.5):.1f}" y="{y0 + PANEL + GAP}" '
-                       f'width="{x_of(1) - x_of(0):.1f}" height="{PANEL}" fill="#eeeeee"/>')
+            a, b = band(i)
+            for y in (y0, y0 + PANEL + GAP):
+                svg.append(f'<rect x="{a:.1f}" y="{y}" width="{b - a:.1f}" height="{PANEL}" '
+                           'fill="#eeeeee"/>')
     for k, (label, frames) in enumerate(shown):
         pts = " ".join(f"{x_of(i):.1f},{y_of(x['frame_ms']):.1f}" for i, x in enumerate(frames))
         svg.append(f'<polyline fill="none" stroke="{COLORS[k % len(COLORS)]}" '
@@ -70,9 +76,12 @@ def main():
     y1 = PAD_T + PANEL + GAP
     lo, hi = -3.0, 0.0  # shares 0.001 .. 1
     ys = lambda s: y1 + PANEL - PANEL * (max(math.log10(max(s, 1e-3)), lo) - lo) / (hi - lo)
-    pts = " ".join(f"{x_of(i):.1f},{ys(f['planned_share'][device]):.1f}"
-                   for i, f in enumerate(auto) if f["planned_share"][device] > 0)
-    svg.append(f'<polyline fill="none" stroke="{COLORS[0]}" stroke-width="2" points="{pts}"/>')
+    # Lines only between consecutive frames it took part in (none across its absences).
+    for i in range(1, n):
+        a, b = auto[i - 1]["planned_share"][device], auto[i]["planned_share"][device]
+        if a > 0 and b > 0:
+            svg.append(f'<line x1="{x_of(i - 1):.1f}" y1="{ys(a):.1f}" x2="{x_of(i):.1f}" '
+                       f'y2="{ys(b):.1f}" stroke="{COLORS[0]}" stroke-width="2"/>')
     for i, f in enumerate(auto):
         if f["planned_share"][device] > 0:
             svg.append(f'<circle cx="{x_of(i):.1f}" cy="{ys(f["planned_share"][device]):.1f}" '
