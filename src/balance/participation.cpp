@@ -58,6 +58,9 @@ DeviceCostModel DeviceCostFit::model() const {
 
 namespace {
 double judged_fixed(const DeviceCostModel& m) { return m.determined ? m.fixed_ms : 0.0; }
+bool judged(const DeviceCostModel& m) {
+  return m.determined || m.contention < ParticipationTracker::kContentionSeen;
+}
 }  // namespace
 
 double predicted_frame_ms(const std::vector<DeviceCostModel>& models,
@@ -94,13 +97,16 @@ std::vector<bool> choose_participants(const std::vector<DeviceCostModel>& models
                                       double margin) {
   const size_t n = models.size();
   std::vector<bool> take(n, false);
-  std::vector<size_t> order;  // determined devices, by judged fixed cost
+  // Judged devices by fixed cost: those whose fit is determined, and those whose cost to
+  // the others has been measured (contention below 1), judged at a fixed cost of 0 if the
+  // fit is not determined. The others are always taken.
+  std::vector<size_t> order;
   for (size_t i = 0; i < n; ++i) {
     if (i >= eligible.size() || !eligible[i]) continue;
-    if (models[i].determined && models[i].speed > 0)
+    if (judged(models[i]) && models[i].speed > 0)
       order.push_back(i);
     else
-      take[i] = true;  // not determined: always taken
+      take[i] = true;
   }
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
     return judged_fixed(models[a]) < judged_fixed(models[b]);
@@ -141,7 +147,8 @@ ParticipationTracker::ParticipationTracker(int devices, const Options& options)
       every_(fit_.size(), std::max(options.probe, 1)),
       probes_(fit_.size(), 0),
       since_in_(fit_.size(), 0),
-      every_in_(fit_.size(), std::max(options.probe, 1)),
+      every_in_(fit_.size(), std::min(kFirstRest, std::max(options.probe, 1))),
+      rests_(fit_.size(), 0),
       log_contention_(fit_.size(), 0.0),
       contention_samples_(fit_.size(), 0),
       last_took_(fit_.size(), false),
@@ -167,26 +174,20 @@ ParticipationTracker::Decision ParticipationTracker::decide(const std::vector<bo
   std::vector<bool> eligible(n, false);
   bool any = false;
   for (size_t i = 0; i < n && i < alive.size(); ++i)
-    any |= eligible[i] = alive[i] && !(out_[i] && !d.models[i].determined);
+    any |= eligible[i] = alive[i] && !(out_[i] && !judged(d.models[i]));
   if (!any) eligible = alive;
   const std::vector<bool> take = choose_participants(d.models, eligible, total, opt_.margin);
   d.predicted_ms = predicted_frame_ms(d.models, take, total);
+  // One device rested to measure per frame (a contention sample needs exactly one change
+  // from the frame before, and someone must work): the others wait for a later frame.
+  bool measuring = false;
   for (size_t i = 0; i < n && i < alive.size(); ++i) {
-    if (alive[i] && take[i] && d.models[i].determined && opt_.probe > 0 &&
-        d.models[i].fixed_ms > kRestProbeFixed * d.predicted_ms) {
-      // Taking part but saving little: rested for a frame now and then, so that what it
-      // saves (and costs the others) is measured, not only predicted.
-      std::vector<bool> without = take;
-      without[i] = false;
-      const double saves = predicted_frame_ms(d.models, without, total) / d.predicted_ms - 1;
-      if (++since_in_[i] >= every_in_[i] && saves < kRestProbeSaving) {
-        since_in_[i] = 0;
-        every_in_[i] = std::min(2 * every_in_[i], 8 * std::max(opt_.probe, 1));
-        d.rest[i] = true;
-        d.reason[i] = "rested for a frame to measure what it saves";
-        out_[i] = false;
-        continue;
-      }
+    if (alive[i] && take[i] && rest_to_measure(i, d, take, total, !measuring)) {
+      measuring = true;
+      d.rest[i] = true;
+      d.reason[i] = "rested for a frame to measure what it saves";
+      out_[i] = false;
+      continue;
     }
     if (!alive[i] || take[i]) {
       out_[i] = false;
@@ -194,10 +195,10 @@ ParticipationTracker::Decision ParticipationTracker::decide(const std::vector<bo
     }
     if (!out_[i]) out_[i] = true, since_[i] = 0, every_[i] = std::max(opt_.probe, 1);
     ++since_[i];
-    const bool due = recheck_ || since_[i] >= every_[i] || !d.models[i].determined;
+    const bool due = recheck_ || since_[i] >= every_[i] || !judged(d.models[i]);
     if (opt_.probe > 0 && due) {
       d.probe[i] = kProbeShares[probes_[i]++ % 2];
-      if (!recheck_ && d.models[i].determined)
+      if (!recheck_ && judged(d.models[i]))
         every_[i] = std::min(2 * every_[i], 8 * std::max(opt_.probe, 1));
       since_[i] = 0;
       continue;
@@ -207,6 +208,32 @@ ParticipationTracker::Decision ParticipationTracker::decide(const std::vector<bo
   }
   recheck_ = false;
   return d;
+}
+
+bool ParticipationTracker::rest_to_measure(size_t i, const Decision& d,
+                                           const std::vector<bool>& take, double total,
+                                           bool may) {
+  // (Its fit need not be determined: a device without fixed cost, given a steady share,
+  // never is; its speed is then the balancer's.)
+  const DeviceCostModel& m = d.models[i];
+  if (!(m.speed > 0) || opt_.probe <= 0) return false;
+  std::vector<bool> without = take;
+  without[i] = false;
+  const double saves = predicted_frame_ms(d.models, without, total) / d.predicted_ms - 1;
+  // Once rested, again only if it costs visibly: a fixed cost, or a measured slowing of
+  // the others.
+  const bool again = (m.determined && m.fixed_ms > kRestProbeFixed * d.predicted_ms) ||
+                     m.contention < kContentionSeen;
+  if (++since_in_[i] < every_in_[i] || !(saves < kRestProbeSaving) || (rests_[i] > 0 && !again))
+    return false;
+  if (!may) {  // another device rests this frame: due next frame
+    since_in_[i] = every_in_[i];
+    return false;
+  }
+  since_in_[i] = 0;
+  every_in_[i] = std::min(std::max(2 * every_in_[i], opt_.probe), 8 * opt_.probe);
+  ++rests_[i];
+  return true;
 }
 
 void ParticipationTracker::measured(size_t i, double work, double time_ms) {

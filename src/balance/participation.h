@@ -101,11 +101,19 @@ class ParticipationTracker {
     double margin = 0.03;  // a device is kept only if it saves more of the frame than this
   };
   static constexpr double kProbeShares[2] = {0.005, 0.02};
-  // A device taking part is rested for a frame on the probes' schedule while it is
-  // predicted to save less than kRestProbeSaving of the frame and its fixed cost is more
-  // than kRestProbeFixed of it: a device that is worth little and costs visibly.
+  // A device taking part is rested for a frame while it is predicted to save less than
+  // kRestProbeSaving of the frame, kFirstRest frames after it starts, so that what it
+  // saves, and what it costs the others (its contention, which no fit of its own times
+  // can show), is measured, not only predicted. It is rested again (after `probe`
+  // frames, then twice as many, up to 8 x `probe`) only while it costs visibly: a fixed
+  // cost over kRestProbeFixed of the frame, or contention below kContentionSeen. A rest
+  // costs at most kRestProbeSaving of one frame; among equal devices it happens from 11.
   static constexpr double kRestProbeSaving = 0.10;
   static constexpr double kRestProbeFixed = 0.02;
+  static constexpr int kFirstRest = 4;
+  // Contention below this (the others ~5% slower while the device works) is a measured
+  // cost: the device is judged by the rule even without a determined fit.
+  static constexpr double kContentionSeen = 0.95;
 
   ParticipationTracker(int devices, const Options& options);
 
@@ -149,7 +157,10 @@ class ParticipationTracker {
   std::vector<int> probes_;  // probes so far (alternates the probe share)
   // A device taking part that saves little is rested for a frame now and then, to see
   // what it saves (and its contention): frames since, and between, those rests.
-  std::vector<int> since_in_, every_in_;
+  std::vector<int> since_in_, every_in_, rests_;
+  // Whether taking-part device i rests this frame to be measured (`may`: no other does).
+  bool rest_to_measure(size_t i, const Decision& d, const std::vector<bool>& take, double total,
+                       bool may);
   std::vector<double> log_contention_;  // mean log of the contention samples
   std::vector<int> contention_samples_;
   std::vector<bool> last_took_;
