@@ -57,7 +57,12 @@ DeviceCostModel DeviceCostFit::model() const {
 }
 
 namespace {
-double judged_fixed(const DeviceCostModel& m) { return m.determined ? m.fixed_ms : 0.0; }
+// The fixed cost the frames show clearly: two standard errors below the fit's (a fit
+// over frames that mixed contended and uncontended times can claim a large F with a
+// larger error).
+double judged_fixed(const DeviceCostModel& m) {
+  return m.determined ? std::max(m.fixed_ms - 2 * m.fixed_sigma, 0.0) : 0.0;
+}
 bool judged(const DeviceCostModel& m) {
   return m.determined || m.contention < ParticipationTracker::kContentionSeen;
 }
