@@ -24,9 +24,15 @@ build: deps
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DMULTIRAY_WERROR=$(WERROR) -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8 > $(BUILD)/configure.log 2>&1 || (cat $(BUILD)/configure.log; false)
 	cmake --build $(BUILD) -j$(JOBS)
 
+# The default render on every device that helps (--devices auto), then, where this machine
+# has an OpenCL device, the same frame split between a CPU core and it, with the picture of
+# the split (out/pair_split.png) and the balance summary.
 run: build
-	$(MULTIRAY) render --res 640x360 --spp 16 --out out --overwrite
-	@echo "multiray: wrote out/frame_0000.png and out/stats.json"
+	@$(MULTIRAY) render --res 640x360 --spp 16 --out out/frame.png --overlay -q
+	@echo "multiray: wrote out/frame.png, out/frame_split.png and out/frame.stats.json"
+	@if $(MULTIRAY) devices | grep -q '^ *opencl:0:'; then \
+	  $(MULTIRAY) render --res 640x360 --spp 16 --out out/pair.png --overlay \
+	    --devices cpu:threads=1:cores=0,opencl:0:cores=1; fi
 
 check-format: deps
 	@scripts/check-format.sh

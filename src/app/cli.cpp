@@ -55,6 +55,24 @@ std::string did_you_mean(const CLI::App& app) {
   }
   return "";
 }
+
+// The first word when it names no command: one line with the nearest command (within two
+// edits) and the list; "" when it is an option or a command.
+std::string unknown_command(const CLI::App& app, const std::string& word) {
+  if (word.empty() || word[0] == '-') return "";
+  std::string names, best;
+  size_t best_distance = 3;
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    if (sub->get_name() == word) return "";
+    if (!names.empty()) names += ", ";
+    names += sub->get_name();
+    const size_t d = edit_distance(word, sub->get_name());
+    if (d < best_distance) best = sub->get_name(), best_distance = d;
+  }
+  std::string line = "unknown command '" + word + "'";
+  if (!best.empty()) line += " (did you mean " + best + "?)";
+  return line + "; the commands: " + names + ", help";
+}
 }  // namespace
 
 int run_cli(int argc, char** argv, const CliHooks& hooks) {
@@ -81,8 +99,23 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
   Runner simulate = add_simulate_command(app);
   Runner view = add_view_command(app);
   for (const char* name : {"render", "bench", "view"}) group_options(*app.get_subcommand(name));
+  // `multiray help [COMMAND]`, as git and cargo have it: the same as --help.
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && args[0] == "help") {
+    args.erase(args.begin());
+    args.resize(std::min<size_t>(args.size(), 1));
+    args.push_back("--help");
+  }
+  if (!args.empty()) {
+    const std::string unknown = unknown_command(app, args[0]);
+    if (!unknown.empty()) {
+      if (!hooks.quiet) print_err("multiray: error: {} (see multiray --help)\n", unknown);
+      return 2;
+    }
+  }
   try {
-    app.parse(argc, argv);
+    std::reverse(args.begin(), args.end());  // CLI11 takes the arguments last first
+    app.parse(args);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {

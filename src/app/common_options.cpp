@@ -162,7 +162,9 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
                  "(JSON close to ARKit / ARCore exports; docs/ar.md); replaces --camera-path "
                  "and sets --frames to their count unless given");
   cmd.add_option("--devices", o.devices,
-                 "Comma-separated devices, each TYPE[:KEY=VALUE...], e.g. "
+                 "auto (every core as one cpu device, and each GPU or accelerator OpenCL "
+                 "offers; `multiray devices` lists them), or comma-separated devices, each "
+                 "TYPE[:KEY=VALUE...], e.g. "
                  "cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.33. " +
                      device_keys_help())
       ->capture_default_str();

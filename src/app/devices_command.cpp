@@ -77,6 +77,9 @@ Runner add_devices_command(CLI::App& app) {
       print_row(d.type, d.name, d.units, gib(double(d.memory_bytes)), d.spec);
     for (const OfferedDevice& d : offer.devices)
       if (!d.driver.empty()) print_out("  {}: {}\n", d.spec, d.driver);
+    const AutoDevices chosen = auto_devices(offer.devices);
+    print_out("\n--devices auto (the default) is {}{}\n", chosen.devices,
+              chosen.note.empty() ? "" : "; " + chosen.note.substr(chosen.note.find("not using")));
     print_out(
         "\nWhat each backend runs (--integrator, --sampling) and on which scene "
         "representation:\n");

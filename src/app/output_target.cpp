@@ -55,6 +55,8 @@ bool OutputTarget::owns(const std::string& name) const {
   else
     return false;
   std::string rest = name.substr(0, end);
+  if (rest.size() >= 6 && rest.compare(rest.size() - 6, 6, "_split") == 0)
+    rest.resize(rest.size() - 6);  // --overlay's picture of the split
   if (rest.size() >= 5 && rest.compare(rest.size() - 5, 5, "_rgba") == 0)
     rest.resize(rest.size() - 5);  // an augmented-reality layer (docs/ar.md)
   if (rest.size() >= 6 && rest.compare(rest.size() - 6, 6, "_quilt") == 0)

@@ -96,8 +96,8 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                       "frame (render.png, render.exr), or a pattern whose run of # is the frame "
                       "number (shot_####.png; stats in shot.stats.json). A .exr name writes "
                       "linear OpenEXR only. Not given: out/, or out-2/, out-3/, ... when out/ "
-                      "holds an earlier run. Earlier outputs at a given -o are refused unless "
-                      "--overwrite")
+                      "holds an earlier run. A file named by -o is replaced; a folder's or "
+                      "pattern's earlier outputs are refused unless --overwrite")
           ->capture_default_str();
   cmd->add_flag("--overwrite", *overwrite,
                 "Replace an earlier run's outputs at -o (exactly the files this run would write "
@@ -130,6 +130,11 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                   "(frames/bg_####.png); PNG, JPEG or EXR, resized to --res when the aspect "
                   "ratio agrees. The PNGs then default to --exposure 0 --tone clamp, so the "
                   "real image comes out as it went in (docs/ar.md)");
+  auto overlay = std::make_shared<bool>(false);
+  cmd->add_flag("--overlay", *overlay,
+                "Also write a picture of how each frame was split: <image>_split.png, the frame "
+                "with each device's pieces tinted in its colour and a legend (share of the "
+                "samples, busy time)");
   cmd->add_flag("-q,--quiet", *quiet,
                 "No per-frame lines, and no progress lines when stderr is not a terminal");
   const CLI::Option* frames_option = cmd->get_option("--frames");
@@ -168,13 +173,19 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
             backgrounds = std::make_shared<const BackgroundImages>(*background, res.width,
                                                                    res.height, o->frames);
           }
+          // One file named by -o is replaced (atomically, as every image is written), as
+          // Cycles' -o and pbrt's --outfile do; a folder or a pattern holding an earlier
+          // run's frames is protected.
+          const bool one_file = target.pattern && target.digits == 0;
           folder = std::make_unique<OutputFolder>(
-              target.dir, *overwrite, "-o", [&](const std::string& n) { return target.owns(n); });
+              target.dir, *overwrite, "-o",
+              [&](const std::string& n) { return !one_file && target.owns(n); });
         },
         [](const Run& run) {
           if (run.volume && run.volume->modes().size() > 1)
             throw InputError("--adapt: render takes one mode (bench compares several)");
-        });
+        },
+        *quiet);
     if (!session) return worker_exit;
     const auto auto_choice = report_auto_choice(s, specs[0], "--balancer", *quiet);
     std::unique_ptr<study::TraceFile> trace;
@@ -187,6 +198,10 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     RenderOutput output(target, fixed_exposure, *quiet, s.views->rig().columns, display,
                         trace.get());
     output.set_target_ms(o->volume.target_ms);
+    std::vector<std::string> names;
+    for (const auto& d : s.devices) names.push_back(d->info().spec);
+    output.set_device_names(std::move(names));
+    if (*overlay) output.set_overlay();
     output.set_background(backgrounds);
     int done = 0;
     int interrupted = 0;
@@ -216,6 +231,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
       doc["balancer_auto"] = {{"spec", auto_choice->spec}, {"reason", auto_choice->reason}};
     if (interrupted) doc["interrupted_by"] = signal_name;
     output.write_stats(doc);
+    if (!*quiet) print_out("{}", output.balance_summary());
     // After stats.json, so that a failed trace (a full disk) loses only the trace.
     if (trace) trace->close();
     if (interrupted) {

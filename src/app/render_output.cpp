@@ -8,6 +8,7 @@
 #include "core/console.h"
 #include "core/exposure.h"
 #include "study/adapt_summary.h"
+#include "study/split_overlay.h"
 #include "study/stats_json.h"
 
 namespace multiray::app {
@@ -41,6 +42,7 @@ void RenderOutput::write_images(const FrameResult& r) {
     }
     if (target_.png) write_png(name + ".png", *image, display_);
     if (target_.exr) write_exr(name + ".exr", *image);
+    if (overlay_) write_overlay(r, v, *image, tag);
   }
   if (views) {
     const Framebuffer quilt = make_quilt(images, columns_);
@@ -51,6 +53,79 @@ void RenderOutput::write_images(const FrameResult& r) {
     else
       write_exr(name + ".exr", quilt);
   }
+}
+
+void RenderOutput::write_overlay(const FrameResult& r, size_t view, const Framebuffer& image,
+                                 const std::string& tag) {
+  study::Rgb8Image frame{image.width, image.height, to_srgb8(image, display_)};
+  std::vector<study::OverlayDevice> devices;
+  double samples = 0;
+  for (const auto& d : r.stats.devices) samples += d.samples;
+  for (size_t d = 0; d < r.stats.devices.size(); ++d) {
+    const balance::DeviceFrameStats& s = r.stats.devices[d];
+    study::OverlayDevice o;
+    o.name = d < device_names_.size() ? device_names_[d] : fmt::format("device {}", d);
+    for (const auto& it : s.items)
+      if (size_t(it.item.view) == view) o.rects.push_back(it.item.rect);
+    o.share = samples > 0 ? s.samples / samples : 0;
+    o.busy_ms = s.busy_ms;
+    o.left_out = s.rested;
+    devices.push_back(std::move(o));
+  }
+  const std::string title = fmt::format("frame {}: {:.0f} ms, imbalance {:.1f}%", r.frame,
+                                        r.record.frame_ms, 100 * r.record.imbalance);
+  const study::Rgb8Image out = study::split_overlay(frame, devices, title);
+  last_overlay_ = target_.image_base(r.frame, tag + "_split") + ".png";
+  write_png_rgb8(last_overlay_, out.width, out.height, out.rgb);
+}
+
+void RenderOutput::add_to_summary(const FrameResult& r) {
+  const size_t n = r.stats.devices.size();
+  sum_samples_.resize(n, 0), sum_busy_.resize(n, 0), took_part_.resize(n, 0);
+  for (size_t d = 0; d < n; ++d) {
+    const balance::DeviceFrameStats& s = r.stats.devices[d];
+    if (s.rested || !s.alive) continue;
+    sum_samples_[d] += s.samples;
+    sum_busy_[d] += s.busy_ms;
+    ++took_part_[d];
+  }
+  sum_imbalance_ += r.record.imbalance;
+  ++summary_frames_;
+}
+
+std::string RenderOutput::balance_summary() const {
+  if (summary_frames_ == 0 || sum_samples_.empty()) return "";
+  if (sum_samples_.size() == 1)
+    return fmt::format(
+        "balance: one device ({}) rendered everything, nothing to split (`multiray devices` "
+        "lists what else this machine offers; --devices takes several)\n",
+        device_names_.empty() ? "cpu" : device_names_[0]);
+  double samples = 0;
+  for (double s : sum_samples_) samples += s;
+  std::string out =
+      fmt::format("balance over {} frame{}:\n", summary_frames_, summary_frames_ == 1 ? "" : "s");
+  size_t width = 0;
+  for (size_t d = 0; d < sum_samples_.size(); ++d)
+    width = std::max(width, d < device_names_.size() ? device_names_[d].size() : 8);
+  for (size_t d = 0; d < sum_samples_.size(); ++d) {
+    const std::string name =
+        d < device_names_.size() ? device_names_[d] : fmt::format("device {}", d);
+    if (took_part_[d] == 0) {
+      out += fmt::format("  {:<{}}  left out of every frame\n", name, width);
+      continue;
+    }
+    out += fmt::format("  {:<{}}  {:5.1f}% of the samples  busy {:8.1f} ms a frame{}\n", name,
+                       width, samples > 0 ? 100 * sum_samples_[d] / samples : 0.0,
+                       sum_busy_[d] / took_part_[d],
+                       took_part_[d] < summary_frames_
+                           ? fmt::format(" (in {} of {} frames)", took_part_[d], summary_frames_)
+                           : "");
+  }
+  out += fmt::format("  the devices finished within {:.1f}% of each other (mean imbalance)",
+                     100 * sum_imbalance_ / summary_frames_);
+  if (!last_overlay_.empty()) out += "; the split: " + last_overlay_;
+  out += "\n";
+  return out;
 }
 
 void RenderOutput::on_frame(const std::shared_ptr<const FrameResult>& r) {
@@ -96,6 +171,7 @@ void RenderOutput::on_frame(const std::shared_ptr<const FrameResult>& r) {
         "-> {}\n",
         r->frame, rec.frame_ms, samples / rec.frame_ms / 1e3, rays / rec.frame_ms / 1e3,
         100.0 * rec.imbalance, adapted, holes, shown);
+  add_to_summary(*r);
   records_.add(study::frame_result_to_json(*r));
   if (trace_) trace_->frame(r->stats, r->record.models);
   counters_.samples += samples;

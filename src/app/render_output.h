@@ -44,6 +44,16 @@ class RenderOutput : public FrameObserver {
   // real images (core/composite.h); without them, over black.
   void set_background(std::shared_ptr<const BackgroundImages> b) { background_ = std::move(b); }
 
+  // The devices' names, in order (for the overlay's legend and the summary).
+  void set_device_names(std::vector<std::string> names) { device_names_ = std::move(names); }
+  // --overlay: beside each image, <name>_split.png, the frame with each device's pieces
+  // tinted and a legend (study/split_overlay.h).
+  void set_overlay() { overlay_ = true; }
+  // The balance over the frames so far, a few lines for the end of the run: each device's
+  // share of the samples and busy time a frame, and how closely they finished; with one
+  // device, a line saying so ("" before any frame).
+  std::string balance_summary() const;
+
   const RenderCounters& counters() const { return counters_; }
   // The exposure the PNG files were written with (metered or given), in stops; the metered
   // value is known once a frame has arrived.
@@ -55,6 +65,9 @@ class RenderOutput : public FrameObserver {
 
  private:
   void write_images(const FrameResult& r);
+  void write_overlay(const FrameResult& r, size_t view, const Framebuffer& image,
+                     const std::string& tag);
+  void add_to_summary(const FrameResult& r);
 
   OutputTarget target_;
   FrameSpool records_;
@@ -65,6 +78,14 @@ class RenderOutput : public FrameObserver {
   Display display_;
   study::TraceFile* trace_;
   std::shared_ptr<const BackgroundImages> background_;
+  bool overlay_ = false;
+  std::vector<std::string> device_names_;
+  // The summary's sums over frames: per device samples, busy ms and frames taken part in.
+  std::vector<double> sum_samples_, sum_busy_;
+  std::vector<int> took_part_;
+  double sum_imbalance_ = 0;
+  int summary_frames_ = 0;
+  std::string last_overlay_;  // the newest overlay's path
 };
 
 }  // namespace multiray::app

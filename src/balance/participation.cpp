@@ -216,8 +216,7 @@ ParticipationTracker::Decision ParticipationTracker::decide(const std::vector<bo
 }
 
 bool ParticipationTracker::rest_to_measure(size_t i, const Decision& d,
-                                           const std::vector<bool>& take, double total,
-                                           bool may) {
+                                           const std::vector<bool>& take, double total, bool may) {
   // (Its fit need not be determined: a device without fixed cost, given a steady share,
   // never is; its speed is then the balancer's.)
   const DeviceCostModel& m = d.models[i];

@@ -39,7 +39,14 @@ Spec device_spec(const std::string& item) {
   if (!backend) {
     std::vector<std::string> known;
     for (const BackendEntry& b : device_backends()) known.push_back(b.name);
-    spec.fail("unknown device type '" + spec.name() + "' (known: " + join(known) + ")");
+    // Users of CUDA, HIP or Metal renderers try those names: say how GPUs are reached.
+    const std::string& n = spec.name();
+    const bool gpu_word = n == "gpu" || n == "cuda" || n == "hip" || n == "optix" ||
+                          n == "metal" || n == "rocm" || n == "vulkan" || n == "sycl";
+    spec.fail("unknown device type '" + n + "' (known: " + join(known) + ")" +
+              (gpu_word ? std::string("; GPUs are reached through OpenCL (opencl:N): "
+                                      "`multiray devices` lists them")
+                        : std::string()));
   }
   if (!backend->built) spec.fail(backend->not_built);
   spec.accept_only(param_keys(*backend));

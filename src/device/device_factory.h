@@ -38,6 +38,9 @@ struct OfferedDevice {
   uint64_t memory_bytes = 0;
   std::string spec;    // the --devices text that makes it
   std::string driver;  // e.g. OpenCL's "platform NAME, driver VERSION"; empty when none
+  // It computes on the host's CPU cores (the cpu backend; an OpenCL CPU device such as
+  // PoCL's or llvmpipe's): beside the cpu device it adds no compute, only contention.
+  bool host_cores = true;
 };
 
 // What the run layer tells `--balancer auto` about a backend's devices (as plain data:

@@ -80,6 +80,30 @@ Offer offered_devices() {
   return offer;
 }
 
+AutoDevices auto_devices(const std::vector<OfferedDevice>& offered) {
+  AutoDevices a{"cpu:threads=0", ""};
+  std::vector<std::string> contend;
+  for (const OfferedDevice& d : offered) {
+    if (d.type == "cpu") continue;  // the cores: the one cpu device above
+    if (!d.host_cores)
+      a.devices += "," + d.spec;
+    else
+      contend.push_back(d.spec + " (" + d.name + ")");
+  }
+  if (!contend.empty()) {
+    a.note = "--devices auto: not using ";
+    for (size_t i = 0; i < contend.size(); ++i) {
+      if (i > 0) a.note += ", ";
+      a.note += contend[i];
+    }
+    a.note += contend.size() > 1 ? ": each computes" : ": it computes";
+    a.note += " on the cores the cpu device already uses (add one with --devices cpu,";
+    a.note += contend.front().substr(0, contend.front().find(' '));
+    a.note += ")";
+  }
+  return a;
+}
+
 SceneMemory scene_memory(const std::string& scene_path, const std::string& devices,
                          double max_memory) {
   RunConfig o;

@@ -53,6 +53,16 @@ struct Offer {
 };
 Offer offered_devices();
 
+// `--devices auto` (the default): every core as one cpu device, and each offered device
+// that does not compute on the host's cores (a GPU, an accelerator). Devices that do (an
+// OpenCL CPU device: PoCL, llvmpipe) would only contend with the cpu device for its
+// cores; `note` names them and how to add them anyway ("" when there are none).
+struct AutoDevices {
+  std::string devices;  // a --devices text
+  std::string note;
+};
+AutoDevices auto_devices(const std::vector<OfferedDevice>& offered);
+
 // The memory `devices` (a --devices text) take on the scene at `scene_path` (empty: the
 // Cornell box): the scene's full-precision and compact sizes by part, and each device's
 // representation, size and emulated limit. Builds the devices; throws InputError.

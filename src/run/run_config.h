@@ -48,7 +48,7 @@ struct RunConfig {
   // empty (none); the capture's camera poses (scene/ar_poses.h), a file or empty.
   std::string ground;
   std::string poses;
-  std::string devices = "cpu:threads=0";  // threads=0: all hardware threads
+  std::string devices = "auto";      // run/catalog.h auto_devices; threads=0: all hardware threads
   std::string seed = "0";            // a whole number in [0, 2^64); parsed strictly in build_run
   std::string env = "auto";          // auto | V | R,G,B | FILE.hdr|.exr (run/lighting.h)
   double env_scale = 1.0;            // multiplies an environment map

@@ -57,4 +57,31 @@ TEST(FriendlyCli, ThreadsAndOAreShorthands) {
   expect_input_error(run_cli(MULTIRAY_BIN, "render --threads -1"), "--threads -1", "--threads");
 }
 
+// Issue 51, item 7: a mistyped command gets the nearest one, `help` works as git's does,
+// and CUDA-style device names say how GPUs are reached.
+TEST(FriendlyCli, AMistypedCommandGetsTheNearestOne) {
+  expect_input_error(run_cli(MULTIRAY_BIN, "rendr"), "rendr", "did you mean render?");
+  expect_input_error(run_cli(MULTIRAY_BIN, "bnech --frames 3"), "bnech", "did you mean bench?");
+  const auto far = run_cli(MULTIRAY_BIN, "zzzzzzzz");
+  EXPECT_EQ(far.code, 2);
+  EXPECT_THAT(far.out, ::testing::HasSubstr("the commands: render"));
+  EXPECT_THAT(far.out, ::testing::Not(::testing::HasSubstr("did you mean")));
+}
+
+TEST(FriendlyCli, HelpIsACommand) {
+  const auto top = run_cli(MULTIRAY_BIN, "help");
+  EXPECT_EQ(top.code, 0) << top.out;
+  EXPECT_THAT(top.out, ::testing::HasSubstr("Examples:"));
+  const auto render = run_cli(MULTIRAY_BIN, "help render");
+  EXPECT_EQ(render.code, 0) << render.out;
+  EXPECT_THAT(render.out, ::testing::HasSubstr("Usage: multiray render"));
+  expect_input_error(run_cli(MULTIRAY_BIN, "help rendr"), "help rendr", "did you mean render?");
+}
+
+TEST(FriendlyCli, GpuDeviceNamesSayGpusAreReachedThroughOpenCl) {
+  for (const char* d : {"gpu", "cuda:0", "optix"})
+    expect_input_error(run_cli(MULTIRAY_BIN, std::string("render --devices ") + d), d,
+                       "GPUs are reached through OpenCL");
+}
+
 }  // namespace friendly_cli_test

@@ -56,8 +56,11 @@ TEST(OutputNames, AnImageNameIsOneFileAndItsStatsBesideIt) {
   const auto stats = read_json(dir + "/render.stats.json");
   EXPECT_EQ(stats.at("settings").at("output"), "render.png");
   EXPECT_EQ(stats.at("frames").size(), 1u);
-  // Again without --overwrite: refused, the first file kept; with it: replaced.
-  EXPECT_EQ(render_in(dir, "-q -o render.png").code, 2);
+  // Again: the one file the user named is replaced (as Cycles' -o and pbrt's --outfile
+  // do), with or without --overwrite; only folders and patterns are protected.
+  const auto again = render_in(dir, "-q -o render.png --seed 7");
+  ASSERT_EQ(again.code, 0) << again.out;
+  EXPECT_EQ(read_json(dir + "/render.stats.json").at("settings").at("seed"), 7);
   EXPECT_EQ(render_in(dir, "-q -o render.png --overwrite").code, 0);
   // Six frames into one file: refused before rendering, with the pattern to use.
   const auto six = render_in(dir, "-q -o six.png --frames 6");
@@ -76,6 +79,8 @@ TEST(OutputNames, HashesNumberTheFramesAndExrNamesWriteLinearFiles) {
   ASSERT_EQ(exr.code, 0) << exr.out;
   EXPECT_TRUE(fs::exists(dir + "/lin_0001.exr"));
   EXPECT_FALSE(fs::exists(dir + "/lin_0001.png"));
+  // A pattern's earlier frames are protected: refused without --overwrite.
+  EXPECT_EQ(render_in(dir, "-q --frames 1 -o shots/shot_##.png").code, 2);
   // --overwrite removes only this pattern's files: other files in the folder stay.
   std::ofstream(dir + "/shots/notes.txt") << "mine";
   ASSERT_EQ(render_in(dir, "-q --frames 1 -o shots/shot_##.png --overwrite").code, 0);
@@ -98,6 +103,27 @@ TEST(OutputNames, AutoExposureMetersAndRecordsTheStops) {
   const auto f = read_json(dir + "/fixed.stats.json").at("settings");
   EXPECT_EQ(f.at("exposure"), "fixed");
   EXPECT_EQ(f.at("exposure_ev"), -1.5);
+}
+
+// Issue 51: --overlay writes the picture of the split beside the image, the run ends with
+// the balance summary, and the picture counts as the run's output (a second run into the
+// folder is refused, --overwrite removes it).
+TEST(OutputNames, TheOverlayAndTheBalanceSummary) {
+  const std::string dir = fresh_dir("overlay");
+  const auto r =
+      render_in(dir, "--devices cpu:threads=1,cpu:threads=1:speed=0.5 --overlay -o out");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::is_regular_file(dir + "/out/frame_0000_split.png"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("balance over 1 frame:"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("cpu:threads=1:speed=0.5"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("% of the samples"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("the split: out/frame_0000_split.png"));
+  fs::remove(dir + "/out/frame_0000.png");
+  fs::remove(dir + "/out/stats.json");
+  EXPECT_EQ(render_in(dir, "-q -o out").code, 2);  // the overlay alone is an earlier output
+  const auto one = render_in(dir, "--devices cpu:threads=1 -o one.png");
+  ASSERT_EQ(one.code, 0) << one.out;
+  EXPECT_THAT(one.out, ::testing::HasSubstr("one device (cpu:threads=1) rendered everything"));
 }
 
 }  // namespace output_names_cli_test

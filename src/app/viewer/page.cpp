@@ -110,7 +110,7 @@ function drawOverlay() {
 }
 function drawStats(m) {
   const fps = frames / ((performance.now() - t0) / 1000);
-  const refine = m.refine_spp > 0 ? `  ${m.spp < m.refine_spp ? "refining" : "converged"} ${m.spp}/${m.refine_spp} spp` : "";
+  const refine = m.refine_spp > 0 ? `  ${m.spp < m.refine_spp ? "refining" : "done refining"} ${m.spp}/${m.refine_spp} spp` : "";
   $("stats").textContent = `frame ${m.frame}  ${m.frame_ms.toFixed(1)} ms  ${fps.toFixed(1)} fps shown${refine}  imbalance ${(100 * m.imbalance).toFixed(1)}%  ${m.balancer}  dropped ${m.dropped}`;
   if ($("balancer").value !== m.balancer.split(":")[0] && document.activeElement !== $("balancer")) $("balancer").value = m.balancer.split(":")[0];
   history.push(m.devices.map((d) => d.time_ms)); if (history.length > 100) history.shift();

@@ -38,7 +38,7 @@ std::vector<OfferedDevice> offer_opencl() {
   for (const OpenClDeviceListing& d : list_opencl_devices())
     out.push_back({"opencl", d.name + " (" + d.kind + ")", d.compute_units, d.memory_bytes,
                    "opencl:" + std::to_string(d.index),
-                   "platform " + d.platform + ", driver " + d.driver});
+                   "platform " + d.platform + ", driver " + d.driver, d.kind == "cpu"});
   return out;
 }
 
