@@ -184,8 +184,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
         [](const Run& run) {
           if (run.volume && run.volume->modes().size() > 1)
             throw InputError("--adapt: render takes one mode (bench compares several)");
-        },
-        *quiet);
+        });
     if (!session) return worker_exit;
     const auto auto_choice = report_auto_choice(s, specs[0], "--balancer", *quiet);
     std::unique_ptr<study::TraceFile> trace;
