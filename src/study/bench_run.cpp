@@ -72,12 +72,12 @@ RunConfig bench_defaults() {
 namespace {
 
 // Block `block` of `repeats`: every lane over the run's frames into `out`, with a progress
-// line on a terminal. Returns 0, or 128 + the signal that interrupted it (130 when
-// hooks.before_frame stopped it; then nothing is written: a summary of a cut-short run
-// would mislead).
+// line on a terminal. Returns 0, or 128 + the signal that interrupted it (`out` then holds
+// the frames every lane finished; the caller keeps them), or 130 when hooks.before_frame
+// stopped it (the caller writes nothing).
 int run_block(Session& session, const Run& s, const std::vector<double>& initial,
               const BenchConfig& config, int block, int repeats, const BenchHooks& hooks,
-              BenchResult& out) {
+              BenchResult& out, std::string& signal_name) {
   const bool progress = !hooks.quiet && stderr_is_tty();
   std::optional<InterruptWatch> watch;
   if (!hooks.before_frame) watch.emplace(session);
@@ -94,13 +94,30 @@ int run_block(Session& session, const Run& s, const std::vector<double>& initial
   if (progress) print_err("\r\033[K");
   if (stopped) return 130;
   if (!watch || !watch->signal()) return 0;
+  signal_name = watch->signal_name();
+  size_t done = out.lanes.empty() ? 0 : out.lanes[0].records.size();
+  for (const BenchLane& lane : out.lanes) done = std::min(done, lane.records.size());
   if (!hooks.quiet)
     print_err(
-        "multiray: bench interrupted by {} in block {} of {}, after {} of {} frames; "
-        "no output\n",
-        watch->signal_name(), block + 1, repeats,
-        out.lanes.empty() ? 0 : out.lanes[0].records.size(), config.frames);
+        "multiray: bench interrupted by {} in block {} of {}, after {} of {} frames; keeping "
+        "what finished (marked partial)\n",
+        signal_name, block + 1, repeats, done, config.frames);
   return 128 + watch->signal();
+}
+
+// An interrupted first block: every lane cut to the frames all of them finished. Returns
+// that count.
+int cut_to_common_frames(BenchResult& r) {
+  size_t n = r.lanes.empty() ? 0 : r.lanes[0].records.size();
+  for (const BenchLane& lane : r.lanes) n = std::min(n, lane.records.size());
+  for (BenchLane& lane : r.lanes) lane.records.resize(n);
+  for (auto& frames : r.mismatched_frames)
+    frames.erase(std::remove_if(frames.begin(), frames.end(), [n](int f) { return f >= int(n); }),
+                 frames.end());
+  r.ideal.erase(std::remove_if(r.ideal.begin(), r.ideal.end(),
+                               [n](const IdealSample& i) { return i.frame >= int(n); }),
+                r.ideal.end());
+  return int(n);
 }
 
 BenchOutcome outcome(int code) {
@@ -177,6 +194,9 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
   balance::NoiseReadings noise;
   noise.probe_before = b.probe_ms > 0 ? contention_probe(b.probe_ms) : NAN;
   const CpuTimes cpu_before = read_cpu_times();
+  const int repeats_asked = b.repeats;
+  int interrupted = 0, blocks_done = b.repeats;
+  std::string signal;  // the signal's name when one interrupted the run
   for (int block = 0; block < b.repeats; ++block) {
     // --regret: odd blocks run the lanes in reverse order. A lane's frame time depends by
     // ~0.5% on the lane rendered before it (which caches and cores it left warm), which is
@@ -186,10 +206,30 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
     if (reversed) std::reverse(order.begin(), order.end());
     if (block > 0) session = s.make_session(order, "--balancers");
     BenchResult r;
-    if (const int code = run_block(*session, s, initial, config, block, b.repeats, hooks, r)) {
+    const int code = run_block(*session, s, initial, config, block, b.repeats, hooks, r, signal);
+    if (code == 130 && signal.empty()) {  // hooks.before_frame: the caller wants nothing
       BenchOutcome stopped = outcome(code);
       stopped.interrupted = true;
       return stopped;
+    }
+    if (code) {
+      // Interrupted: the blocks that finished stand; a first block is cut to the frames
+      // every lane finished, and kept if some follow the warm-up.
+      interrupted = code;
+      blocks_done = block;
+      if (block > 0) break;
+      const int n = cut_to_common_frames(r);
+      if (n <= warmup) {
+        if (!hooks.quiet)
+          print_err("multiray: no frame after the warm-up ({}) had finished: nothing to keep\n",
+                    warmup);
+        BenchOutcome stopped = outcome(code);
+        stopped.interrupted = true;
+        return stopped;
+      }
+      o.frames = config.frames = n;
+      config.partition_frame = -1;
+      blocks_done = 1;
     }
     if (reversed) {  // back in the lanes' order
       std::reverse(r.lanes.begin(), r.lanes.end());
@@ -197,7 +237,9 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
     }
     add_block(repeat_lanes, lanes, r, warmup, perturb_frame);
     if (block == 0) result = std::move(r);
+    if (interrupted) break;
   }
+  b.repeats = blocks_done;  // what the statistics below are over
   noise.steal = steal_fraction(cpu_before, read_cpu_times());
   noise.probe_after = b.probe_ms > 0 ? contention_probe(b.probe_ms) : NAN;
   for (const BenchLane& lane : result.lanes)
@@ -292,6 +334,11 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
     doc["images_identical"] = mixed_types ? nlohmann::json("not compared: mixed device types")
                                           : nlohmann::json(mismatch.empty());
     doc["runs"] = std::move(runs_json);
+    if (interrupted)
+      doc["partial"] = {{"interrupted_by", signal},
+                        {"frames", o.frames},
+                        {"blocks", blocks_done},
+                        {"blocks_asked", repeats_asked}};
     doc["image_reference"] =
         o.volume.reference_step > 0
             ? fmt::format("every frame at step {} voxel lengths", o.volume.reference_step)
@@ -299,6 +346,13 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
     if (!b.json_path.empty()) write_file_atomically(b.json_path, dump_json(doc) + "\n");
   }
   out.mismatch = mismatch;
+  if (interrupted) {
+    out.exit_code = interrupted;
+    if (!hooks.quiet)
+      print_err("multiray: partial: {} block{} of {}, frames 0-{} (interrupted by {})\n",
+                blocks_done, blocks_done == 1 ? "" : "s", repeats_asked, o.frames - 1, signal);
+    return out;
+  }
   if (!mismatch.empty()) {
     // A broken promise of the renderer: reported after the table and JSON, exit code 1.
     out.exit_code = 1;

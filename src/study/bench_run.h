@@ -59,10 +59,13 @@ struct BenchOutcome {
   // 0; 1 when images differ between balancers at the same quality (`mismatch` says
   // where; the document is complete); 128 + the signal that stopped the run, or 130 when
   // before_frame did; a distributed worker's exit code.
+  // A signal keeps what finished: the blocks done, or the frames of the first block that
+  // every lane finished (if some follow the warm-up), reported and written with "partial"
+  // in the document; exit_code is then 128 + the signal and `interrupted` stays false.
   int exit_code = 0;
-  bool interrupted = false;
-  nlohmann::json doc;    // the --json document (null when interrupted or on a worker)
-  std::string mismatch;  // mismatch_summary(); empty when every image agreed
+  bool interrupted = false;  // stopped with nothing kept (before_frame, or too early)
+  nlohmann::json doc;        // the --json document (null when interrupted or on a worker)
+  std::string mismatch;      // mismatch_summary(); empty when every image agreed
 };
 
 // Runs bench with `o` and `b` (InputError with the CLI's one-line message for bad input,
