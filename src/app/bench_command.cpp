@@ -60,6 +60,7 @@ Runner add_bench_command(CLI::App& app) {
   return [=]() -> int {
     b->warmup_given = warmup_option->count() > 0;
     b->repeats_given = repeats_option->count() > 0;
+    b->refuse_one_device = o->devices == "auto";
     return study::run_bench_study(*o, *b, study::BenchHooks{}).exit_code;
   };
 }

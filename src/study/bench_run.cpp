@@ -4,6 +4,7 @@
 #include "study/bench_run.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -63,7 +64,7 @@ std::vector<std::string> regret_lanes(int device_count) {
 
 RunConfig bench_defaults() {
   RunConfig o;
-  o.frames = 100;
+  o.frames = 30;  // 11 balancers x 30 frames x 3 blocks: about a minute on two devices
   o.camera_path = "orbit";
   o.mesh_spp = 4;
   return o;
@@ -78,20 +79,34 @@ namespace {
 int run_block(Session& session, const Run& s, const std::vector<double>& initial,
               const BenchConfig& config, int block, int repeats, const BenchHooks& hooks,
               BenchResult& out, std::string& signal_name) {
-  const bool progress = !hooks.quiet && stderr_is_tty();
+  const bool terminal = stderr_is_tty(), progress = !hooks.quiet;
   std::optional<InterruptWatch> watch;
   if (!hooks.before_frame) watch.emplace(session);
   bool stopped = false;
+  // The ETA from the run's pace so far (every block renders the same frames); off a
+  // terminal, a line every 10 s.
+  static const auto start = std::chrono::steady_clock::now();
+  auto last_line = std::chrono::steady_clock::time_point{};
   out = run_bench(
       session, s.device_ptrs(), initial, s.perturbations, session.settings(), config, [&](int f) {
-        if (progress)
-          print_err("\rblock {}/{}  frame {}/{} ", block + 1, repeats, f + 1, config.frames);
+        const auto now = std::chrono::steady_clock::now();
+        if (progress && (terminal || now - last_line > std::chrono::seconds(10))) {
+          last_line = now;
+          const double done = double(block) * config.frames + f;
+          const double total = double(repeats) * config.frames;
+          const double elapsed = std::chrono::duration<double>(now - start).count();
+          const std::string eta =
+              done > 0 ? fmt::format(", about {:.0f} s left", elapsed / done * (total - done))
+                       : std::string();
+          print_err("{}bench: block {}/{}  frame {}/{}{}{}", terminal ? "\r" : "", block + 1,
+                    repeats, f + 1, config.frames, eta, terminal ? " \033[K" : "\n");
+        }
         if (hooks.before_frame && !stopped && !hooks.before_frame()) {
           stopped = true;
           session.request_stop();
         }
       });
-  if (progress) print_err("\r\033[K");
+  if (progress && terminal) print_err("\r\033[K");
   if (stopped) return 130;
   if (!watch || !watch->signal()) return 0;
   signal_name = watch->signal_name();
@@ -162,6 +177,11 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
   std::unique_ptr<Session> session =
       start_run(s, o, mapped, "--balancers", &worker_exit, {}, {}, hooks.quiet);
   if (!session) return outcome(worker_exit);
+  if (b.refuse_one_device && s.devices.size() == 1)
+    throw InputError("bench compares balancers, and one device (" + s.devices[0]->info().spec +
+                     ") has nothing to balance: give --devices several (`multiray devices` "
+                     "lists this machine's; e.g. --devices "
+                     "cpu:threads=1:cores=0,cpu:threads=1:cores=1)");
   for (const std::string& spec : mapped) report_auto_choice(s, spec, "--balancers", hooks.quiet);
   const std::vector<std::string> lanes = s.lane_labels(mapped);
   if (!b.report_dir.empty()) {

@@ -32,6 +32,9 @@ struct BenchOptions {
   // --regret: the default (`auto`) against every subset of the devices (each alone, all
   // together without the participation rule: `subset` lanes) instead of --balancers.
   bool regret = false;
+  // One device after --devices is resolved (the command line's default, auto, on a
+  // machine with nothing but its cores) is refused in one line: nothing to compare.
+  bool refuse_one_device = false;
 };
 
 // The lanes of --regret for `device_count` devices: a first lane not compared (the first
@@ -40,7 +43,7 @@ struct BenchOptions {
 // The regret is auto's frame time over the best subset's.
 std::vector<std::string> regret_lanes(int device_count);
 
-// A RunConfig with bench's defaults: 100 frames, the orbit camera path, 4 spp for meshes.
+// A RunConfig with bench's defaults: 30 frames, the orbit camera path, 4 spp for meshes.
 RunConfig bench_defaults();
 
 struct BenchHooks {
