@@ -268,11 +268,9 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   s.up = parse_up(o.up, volume_input);
   // "threads=0" means every hardware thread; resolved here so the spec stays readable.
   std::string devices = s.cluster ? s.cluster->devices_of_this_rank(o.devices) : o.devices;
-  if (devices == "auto") {  // each rank its own machine's
-    const AutoDevices a = auto_devices(offered_devices().devices);
-    devices = a.devices;
-    if (!a.note.empty()) s.notes.push_back(a.note);
-  }
+  // Each rank its own machine's. (What auto leaves out is said by `multiray devices` and
+  // by the one-device summary that points there, not on every run.)
+  if (devices == "auto") devices = auto_devices(offered_devices().devices).devices;
   const std::string all =
       "threads=" + std::to_string(std::max(1u, std::thread::hardware_concurrency()));
   for (size_t p; (p = devices.find("threads=0")) != std::string::npos &&
