@@ -96,8 +96,8 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                       "frame (render.png, render.exr), or a pattern whose run of # is the frame "
                       "number (shot_####.png; stats in shot.stats.json). A .exr name writes "
                       "linear OpenEXR only. Not given: out/, or out-2/, out-3/, ... when out/ "
-                      "holds an earlier run. A file named by -o is replaced; a folder's or "
-                      "pattern's earlier outputs are refused unless --overwrite")
+                      "holds an earlier run. Files named by -o (a file or a pattern) are "
+                      "replaced; a folder's earlier outputs are refused unless --overwrite")
           ->capture_default_str();
   cmd->add_flag("--overwrite", *overwrite,
                 "Replace an earlier run's outputs at -o (exactly the files this run would write "
@@ -173,13 +173,14 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
             backgrounds = std::make_shared<const BackgroundImages>(*background, res.width,
                                                                    res.height, o->frames);
           }
-          // One file named by -o is replaced (atomically, as every image is written), as
-          // Cycles' -o and pbrt's --outfile do; a folder or a pattern holding an earlier
-          // run's frames is protected.
-          const bool one_file = target.pattern && target.digits == 0;
+          // Files named by -o (one file, or a pattern of numbered files) are replaced
+          // (atomically, as every image is written), as Cycles' -o and pbrt's --outfile do;
+          // only a folder holding an earlier run's frames is protected. (--overwrite still
+          // removes a pattern's earlier files first: a shorter run leaves none behind.)
+          const bool named = target.pattern && !*overwrite;
           folder = std::make_unique<OutputFolder>(
               target.dir, *overwrite, "-o",
-              [&](const std::string& n) { return !one_file && target.owns(n); });
+              [&](const std::string& n) { return !named && target.owns(n); });
         },
         [](const Run& run) {
           if (run.volume && run.volume->modes().size() > 1)

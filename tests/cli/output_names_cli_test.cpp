@@ -57,7 +57,7 @@ TEST(OutputNames, AnImageNameIsOneFileAndItsStatsBesideIt) {
   EXPECT_EQ(stats.at("settings").at("output"), "render.png");
   EXPECT_EQ(stats.at("frames").size(), 1u);
   // Again: the one file the user named is replaced (as Cycles' -o and pbrt's --outfile
-  // do), with or without --overwrite; only folders and patterns are protected.
+  // do), with or without --overwrite; only folders are protected.
   const auto again = render_in(dir, "-q -o render.png --seed 7");
   ASSERT_EQ(again.code, 0) << again.out;
   EXPECT_EQ(read_json(dir + "/render.stats.json").at("settings").at("seed"), 7);
@@ -79,8 +79,8 @@ TEST(OutputNames, HashesNumberTheFramesAndExrNamesWriteLinearFiles) {
   ASSERT_EQ(exr.code, 0) << exr.out;
   EXPECT_TRUE(fs::exists(dir + "/lin_0001.exr"));
   EXPECT_FALSE(fs::exists(dir + "/lin_0001.png"));
-  // A pattern's earlier frames are protected: refused without --overwrite.
-  EXPECT_EQ(render_in(dir, "-q --frames 1 -o shots/shot_##.png").code, 2);
+  // A pattern names its files too: they are replaced without --overwrite.
+  EXPECT_EQ(render_in(dir, "-q --frames 1 -o shots/shot_##.png").code, 0);
   // --overwrite removes only this pattern's files: other files in the folder stay.
   std::ofstream(dir + "/shots/notes.txt") << "mine";
   ASSERT_EQ(render_in(dir, "-q --frames 1 -o shots/shot_##.png --overwrite").code, 0);
