@@ -1,9 +1,14 @@
 // Runs balancers through synthetic scenarios with multiray::balance::simulate and prints
-// one table: efficiency (ideal frame time / actual, mean over frames after a warm-up) for
-// most scenarios, the imbalance of the frame of a speed change, and the mean deviation
-// with irregular sample counts. Deterministic: the same numbers on every machine.
+// one table: efficiency (ideal frame time / actual, mean over frames after a warm-up;
+// higher is better) for most scenarios, the imbalance of the frame of a speed change and
+// the mean deviation with irregular sample counts (lower is better). Deterministic: the
+// same numbers on every machine.
+//
+// Usage: balancer_shootout [SPEC ...]   (default: uniform static queue semi-static dlb
+// hybrid; any spec `multiray render --help` lists, e.g. hybrid:bands=1)
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <functional>
 #include <string>
 #include <vector>
@@ -59,6 +64,20 @@ double run(const std::string& spec, const Scenario& s) {
 int main(int argc, char** argv) {
   std::vector<std::string> specs = {"uniform", "static", "queue", "semi-static", "dlb", "hybrid"};
   if (argc > 1) specs.assign(argv + 1, argv + argc);
+  for (const std::string& spec : specs) {
+    if (spec == "--help" || spec == "-h") {
+      std::printf(
+          "Usage: balancer_shootout [SPEC ...]\nRuns balancers (default: uniform static queue "
+          "semi-static dlb hybrid) through ten simulated scenarios and prints one table.\n");
+      return 0;
+    }
+    try {
+      mb::make_balancer(spec, 2);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "balancer_shootout: error: %s\n", e.what());
+      return 2;
+    }
+  }
   const mb::FrameShape hd{640, 360, 1, {}}, small{320, 180, 1, {}};
   auto flat = [](int, int, int, int) { return 1e-3; };
   auto floor_heavy = [](int, int, int, int y) { return y > 240 ? 6e-3 : 1e-3; };
@@ -104,12 +123,19 @@ int main(int argc, char** argv) {
   irregular.metric = Scenario::Deviation;
   scenarios.insert(scenarios.end(), {step, mid, irregular});
 
-  std::printf("%-30s", "scenario");
+  std::printf("%-34s", "scenario");
   for (const auto& spec : specs) std::printf(" %11.11s", spec.c_str());
   std::printf("\n");
-  for (const Scenario& s : scenarios) {
-    std::printf("%-30s", s.name);
-    for (const auto& spec : specs) std::printf(" %11.3f", run(spec, s));
+  for (size_t k = 0; k < scenarios.size(); ++k) {
+    const Scenario& s = scenarios[k];
+    const bool higher = s.metric == Scenario::Efficiency;
+    std::printf("%-34s", (std::string(s.name) + (higher ? " (^)" : " (v)")).c_str());
+    for (const auto& spec : specs) {
+      std::fprintf(stderr, "\r[%zu/%zu] %s ", k + 1, scenarios.size(), spec.c_str());
+      std::printf(" %11.3f", run(spec, s));
+    }
+    std::fprintf(stderr, "\r\033[K");
     std::printf("\n");
   }
+  std::printf("(^: efficiency, higher is better; v: imbalance or deviation, lower is better)\n");
 }
