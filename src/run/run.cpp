@@ -300,6 +300,7 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   if (need.total() > limit) throw InputError(memory_refusal(need.total(), parts(0), limit));
   if (before_load) before_load();
   LoadOptions load = memory_guarded_load(need.total(), limit, parts);
+  s.reserve_image = load.reserve_image;  // kept images are counted together
   load.allow_outside = o.allow_outside_paths;
   const bool sent = s.cluster && o.distributed.scene_from == "master";
   if (sent && !s.cluster->master()) {

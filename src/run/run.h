@@ -52,6 +52,11 @@ struct Run {
   // and --mapping, applied to what it picks.
   balance::AutoInputs auto_inputs;
   std::string mapping;
+  // Charges an image a command decodes while the run renders (render's --background)
+  // against --max-memory with the scene's own images: `keep` bytes for as long as the run
+  // lives, `transient` while it is decoded. Throws InputError (memory_refusal) when they
+  // would not fit; set by build_run (memory_guarded_load's reserve_image).
+  std::function<void(const std::string& what, uint64_t keep, uint64_t transient)> reserve_image;
 
   std::vector<Device*> device_ptrs() const;
   // A session over the devices with one lane per balancer spec (each already checked) and,

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <stb_image.h>
 #include <unistd.h>
@@ -105,6 +106,40 @@ TEST(ArCli, TheRealImageIsKeptWhereNoObjectReaches) {
   EXPECT_GE(same, clear);
   EXPECT_EQ(layer[4 * ((h / 2) * w + w / 2) + 3], 255);  // the sphere, in the middle
   stbi_image_free(ar), stbi_image_free(bg), stbi_image_free(layer);
+}
+
+// A PNG of 4x3 pixels whose header claims `width` x `height`: what a 560 KB file of one
+// colour claiming 16000x12000 looks like to a check that reads headers only.
+std::string png_claiming(const std::string& name, uint32_t width, uint32_t height) {
+  std::string png = multiray::encode_png_rgba(4, 3, std::vector<uint8_t>(4 * 3 * 4, 128));
+  for (int i = 0; i < 4; ++i) {  // IHDR's width and height, big-endian, at bytes 16 and 20
+    png[size_t(16 + i)] = char((width >> (24 - 8 * i)) & 0xff);
+    png[size_t(20 + i)] = char((height >> (24 - 8 * i)) & 0xff);
+  }
+  return temp_file(name, png);
+}
+
+// Backgrounds are charged against --max-memory from their headers before anything
+// renders, the largest frame of a numbered sequence included (issue 53).
+TEST(ArCli, BackgroundsAreChargedAgainstMaxMemory) {
+  const std::string huge = png_claiming("huge.png", 16000, 12000);
+  temp_file("seq_0000.png",
+            multiray::encode_png_rgba(160, 120, std::vector<uint8_t>(160 * 120 * 4, 128)));
+  const std::string seq = png_claiming("seq_0001.png", 16000, 12000);
+  const std::string base = "render '" + kExample + "/objects.obj' --spp 1 -q --res 160x120 -o " +
+                           example_output() + "/mem --overwrite --env 0.3 --ground y=0 ";
+  for (const std::string& bg : {huge, seq.substr(0, seq.size() - 8) + "####.png"}) {
+    const std::string args = "--max-memory 1G --frames 2 --background '" + bg + "'";
+    const CliResult r = run(base + args);
+    expect_input_error(r, args, "--max-memory");
+    EXPECT_THAT(r.out, ::testing::HasSubstr(bg == huge ? huge : seq)) << args;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("16000 x 12000 pixels")) << args;
+  }
+  // The same sequence within a limit that holds it renders.
+  EXPECT_EQ(run(base + "--frames 1 --max-memory 1G --background '" +
+                seq.substr(0, seq.size() - 8) + "####.png'")
+                .code,
+            0);
 }
 
 TEST(ArCli, BadInputIsRefusedInOneLine) {
