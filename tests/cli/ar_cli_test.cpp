@@ -153,6 +153,9 @@ TEST(ArCli, BadInputIsRefusedInOneLine) {
   const std::string skew =
       temp_file("skew.json", R"({"image":[160,120],"intrinsics":[100,100,80,60],
     "poses":[{"transform":[1,0,0,0, 0,2,0,0, 0,0,1,0, 0,1,5,1]}]})");
+  const std::string tele =
+      temp_file("tele.json", R"({"image":[160,120],"intrinsics":[1e30,1e30,80,60],
+    "poses":[{"transform":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,1,5,1]}]})");
   const std::pair<std::string, std::string> cases[] = {
       {"--background " + bg, "--background needs --ground"},
       {"--ground y", "--ground"},
@@ -168,6 +171,8 @@ TEST(ArCli, BadInputIsRefusedInOneLine) {
       {"--poses '" + wide + "'", "aspect ratio"},
       {"--poses '" + skew + "'", "not a rotation"},
       {"--poses '" + poses + "' --camera-path orbit", "both move the camera"},
+      {"--poses '" + poses + "' --frames 9", "--frames 9 is more than the 8 poses"},
+      {"--poses '" + tele + "'", "field of view"},
       {"--poses /nonexistent.json", "--poses"},
       {"--poses '" + obj + "'", "not valid JSON"},
   };
