@@ -182,9 +182,17 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
               target.dir, *overwrite, "-o",
               [&](const std::string& n) { return !named && target.owns(n); });
         },
-        [](const Run& run) {
+        [&](const Run& run) {
           if (run.volume && run.volume->modes().size() > 1)
             throw InputError("--adapt: render takes one mode (bench compares several)");
+          // The largest background, decoded in turn with every frame while the scene's
+          // images are kept: charged with them against --max-memory before anything renders.
+          if (backgrounds && run.reserve_image) {
+            const BackgroundImages::Largest& b = backgrounds->largest();
+            run.reserve_image("--background '" + b.path + "' (" + std::to_string(b.width) + " x " +
+                                  std::to_string(b.height) + " pixels)",
+                              0, b.bytes);
+          }
         });
     if (!session) return worker_exit;
     const auto auto_choice = report_auto_choice(s, specs[0], "--balancer", *quiet);

@@ -32,13 +32,18 @@ float decode_srgb(uint8_t v) {
   return float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
 }
 
-// Width and height from the file's header, without decoding its pixels.
-std::pair<int64_t, int64_t> image_size(const std::string& path) {
+// Width, height and channels from the file's header, without decoding its pixels (an
+// EXR's channels are read straight into floats: reported as 0, no decoder copy).
+struct ImageHeader {
+  int64_t width = 0, height = 0;
+  int channels = 0;
+};
+ImageHeader image_header(const std::string& path) {
   if (is_exr(path)) {
     try {
       Imf::InputFile file(path.c_str());
       const auto box = file.header().dataWindow();
-      return {int64_t(box.max.x) - box.min.x + 1, int64_t(box.max.y) - box.min.y + 1};
+      return {int64_t(box.max.x) - box.min.x + 1, int64_t(box.max.y) - box.min.y + 1, 0};
     } catch (const std::exception& e) {
       throw InputError("cannot read EXR '" + path + "': " + e.what());
     }
@@ -46,7 +51,11 @@ std::pair<int64_t, int64_t> image_size(const std::string& path) {
   int w = 0, h = 0, n = 0;
   if (!stbi_info(path.c_str(), &w, &h, &n))
     throw InputError("'" + path + "' is not an image this build reads (PNG, JPEG, BMP, TGA, EXR)");
-  return {w, h};
+  return {w, h, n};
+}
+std::pair<int64_t, int64_t> image_size(const std::string& path) {
+  const ImageHeader h = image_header(path);
+  return {h.width, h.height};
 }
 
 std::string size_text(int64_t w, int64_t h) { return std::to_string(w) + "x" + std::to_string(h); }
@@ -134,13 +143,26 @@ BackgroundImages::BackgroundImages(std::string spec, int width, int height, int 
     if (!std::filesystem::is_regular_file(p, ec))
       throw InputError("--background: '" + p + "' (frame " + std::to_string(f) +
                        ") does not exist or is not a file");
-    const auto [w, h] = image_size(p);
+    const ImageHeader header = image_header(p);
+    const int64_t w = header.width, h = header.height;
     const double a = double(w) / double(std::max<int64_t>(h, 1)), want = double(width) / height;
     if (w < 1 || h < 1 || w * h > kMaxPixels || !(std::abs(a / want - 1.0) <= 0.01))
       throw InputError("--background: '" + p + "' is " + size_text(w, h) +
                        ", whose aspect ratio is not the output's (" + size_text(width, height) +
                        "); crop it or change --res");
+    const uint64_t bytes = background_decode_bytes(w, h, header.channels, width, height);
+    if (bytes > largest_.bytes) largest_ = {p, w, h, bytes};
   }
+}
+
+uint64_t background_decode_bytes(int64_t w, int64_t h, int channels, int width, int height) {
+  const uint64_t pixels = uint64_t(std::max<int64_t>(w, 0)) * uint64_t(std::max<int64_t>(h, 0));
+  // stb's 8-bit RGB copy (3) and its decoder's own pixels in the file's channels of up to
+  // 16 bits (2 each), as texture_load.cpp charges them; then the linear Framebuffer.
+  const uint64_t decoder = channels > 0 ? 3 + 2 * uint64_t(std::clamp(channels, 1, 4)) : 0;
+  const bool resized = w != width || h != height;
+  return pixels * (sizeof(Vec3) + decoder) +
+         (resized ? uint64_t(width) * uint64_t(height) * sizeof(Vec3) : 0);
 }
 
 std::string BackgroundImages::path(int frame) const {

@@ -3,6 +3,7 @@
 // themselves (--background: a photograph, or one frame of a phone video per frame).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,11 @@ void write_png_rgba(const std::string& path, const Framebuffer& layer, const Dis
 // than 2^28 pixels.
 Framebuffer read_image_linear(const std::string& path);
 
+// Bytes held at once while frame() brings an image of w x h pixels with `channels`
+// channels (0: an EXR, read straight into floats) to width x height: the decoder's
+// pixels, the linear image and, when the sizes differ, the resampled one.
+uint64_t background_decode_bytes(int64_t w, int64_t h, int channels, int width, int height);
+
 // The real images of a run: one file for every frame, or a numbered sequence whose run of
 // '#' is the frame number zero-padded to its length (bg_####.png: bg_0000.png, ...), as
 // -o patterns are written. Each is brought to the output's size: as it is, or by bilinear
@@ -42,10 +48,21 @@ class BackgroundImages {
   // The file of frame `frame`.
   std::string path(int frame) const;
 
+  // The frame whose image takes the most memory while frame() reads it (from the headers
+  // the constructor read): its file, size in pixels and background_decode_bytes(). Nothing
+  // is kept between frames, so this is what --max-memory must allow on top of the run.
+  struct Largest {
+    std::string path;
+    int64_t width = 0, height = 0;
+    uint64_t bytes = 0;
+  };
+  const Largest& largest() const { return largest_; }
+
  private:
   std::string spec_;
   size_t hashes_at_ = std::string::npos, hashes_ = 0;  // the run of '#'
   int width_, height_;
+  Largest largest_;
 };
 
 }  // namespace multiray

@@ -151,7 +151,15 @@ bool SceneFiles::read_checked(const std::string& path, bool named, Bytes* out, s
   }
   out->resize(got);
   used_ += got;
+  if (options_.on_read) options_.on_read(path, content_hash(out->data(), out->size()));
   return true;
+}
+
+uint64_t content_hash(const void* data, size_t size, uint64_t seed) {
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  uint64_t h = seed;
+  for (size_t i = 0; i < size; ++i) h = (h ^ bytes[i]) * 0x100000001b3ull;
+  return h;
 }
 
 }  // namespace multiray

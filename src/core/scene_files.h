@@ -5,6 +5,7 @@
 // In core because scene and volume loaders share it (a volume never includes the scene).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -38,7 +39,15 @@ struct LoadOptions {
   // reads the scene: it reads it first in a child process limited to this much
   // (scene/assimp_trial.h). 0: no limit, no child. A run sets --max-memory's budget.
   uint64_t parser_memory_limit = 0;
+  // Called with every file a load has read (the scene file, each file it names, an
+  // environment map) and content_hash() of its bytes: what a distributed run compares
+  // between ranks (distributed/fingerprint.h). Unset: nothing is hashed.
+  std::function<void(const std::string& path, uint64_t hash)> on_read;
 };
+
+// FNV-1a (64 bit) of `size` bytes, continuing from `seed`: a file's content fingerprint
+// (not cryptographic: it tells a stale copy from the right one, not an attacker's).
+uint64_t content_hash(const void* data, size_t size, uint64_t seed = 0xcbf29ce484222325ull);
 
 // Helpers every loader (scene and volume) shares.
 namespace detail {

@@ -155,9 +155,11 @@ Scene Cluster::receive_scene() {
   }
 }
 
-void Cluster::say_hello(const std::vector<std::unique_ptr<Device>>& devices) {
+void Cluster::say_hello(const std::vector<std::unique_ptr<Device>>& devices,
+                        const PixelFingerprint& fingerprint) {
   remote::HelloMessage h;
   for (const auto& d : devices) h.devices.push_back(d->info());
+  h.fingerprint = fingerprint;
   transport_->send(0, remote::kHello, remote::encode(h));
 }
 
@@ -174,7 +176,7 @@ void Cluster::say_cannot_start(const std::string& why) {
       return obey_quit(*transport_, *m);
 }
 
-std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {
+std::vector<std::unique_ptr<Device>> Cluster::connect_workers(const PixelFingerprint& mine) {
   const auto timeout = std::chrono::milliseconds(int64_t(options_.worker_timeout_s * 1000));
   std::vector<std::optional<remote::HelloMessage>> hellos(static_cast<size_t>(size()));
   for (int waiting = size() - 1; waiting > 0;) {
@@ -195,6 +197,9 @@ std::vector<std::unique_ptr<Device>> Cluster::connect_workers() {
     --waiting;
     if (!hellos[size_t(m->from)]->ok)
       throw InputError(fmt::format("rank {}: {}", m->from, hellos[size_t(m->from)]->error));
+    const std::string other = fingerprint_difference(mine, hellos[size_t(m->from)]->fingerprint);
+    if (!other.empty())
+      throw InputError(fmt::format("rank {} has another scene: {}", m->from, other));
   }
   std::vector<std::unique_ptr<Device>> devices;
   remote::RemoteOptions ro;
@@ -236,9 +241,11 @@ Cluster::Cluster(const DistributedOptions& o) : options_(o) {
 Cluster::~Cluster() = default;
 int Cluster::rank() const { return 0; }
 int Cluster::size() const { return 1; }
-void Cluster::say_hello(const std::vector<std::unique_ptr<Device>>&) {}
+void Cluster::say_hello(const std::vector<std::unique_ptr<Device>>&, const PixelFingerprint&) {}
 void Cluster::say_cannot_start(const std::string&) {}
-std::vector<std::unique_ptr<Device>> Cluster::connect_workers() { return {}; }
+std::vector<std::unique_ptr<Device>> Cluster::connect_workers(const PixelFingerprint&) {
+  return {};
+}
 void Cluster::send_scene(const Scene&) {}
 Scene Cluster::receive_scene() { return {}; }
 

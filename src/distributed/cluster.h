@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "device/device.h"
+#include "distributed/fingerprint.h"
 #include "distributed/link.h"
 #include "distributed/options.h"
 #include "scene/scene.h"
@@ -47,13 +48,17 @@ class Cluster {
   // worker. Worker: waits for it; throws QuietExit when the master quits first.
   void send_scene(const Scene& scene);
   Scene receive_scene();
-  // Worker: tells the master it is ready with `devices`, or why it cannot start.
-  void say_hello(const std::vector<std::unique_ptr<Device>>& devices);
+  // Worker: tells the master it is ready with `devices` and what decides its pixels, or
+  // why it cannot start.
+  void say_hello(const std::vector<std::unique_ptr<Device>>& devices,
+                 const PixelFingerprint& fingerprint);
   // (This one returns once the master said quit, at most 30 s later.)
   void say_cannot_start(const std::string& why);
   // Master: waits for every worker's hello and returns one device per worker. Throws
-  // InputError naming the first worker that cannot start, DeviceError for a silent one.
-  std::vector<std::unique_ptr<Device>> connect_workers();
+  // InputError naming the first worker that cannot start or whose fingerprint is not
+  // `mine` ("rank 2 has another scene: 'a.obj' differs (...)"), DeviceError for a
+  // silent one.
+  std::vector<std::unique_ptr<Device>> connect_workers(const PixelFingerprint& mine);
   // Worker: serves the master over `devices` with `settings` (the master sends each
   // frame's changes) until it says quit; returns the exit code.
   int serve(const std::vector<Device*>& devices, const RenderSettings& settings);

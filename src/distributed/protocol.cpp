@@ -113,6 +113,8 @@ std::vector<uint8_t> encode(const HelloMessage& m) {
   ByteWriter w;
   w.put(uint8_t(m.ok)), w.put_string(m.error), w.put(uint64_t(m.devices.size()));
   for (const DeviceInfo& d : m.devices) put_info(w, d);
+  w.put(uint64_t(m.fingerprint.size()));
+  for (const FingerprintPart& p : m.fingerprint) w.put_string(p.what), w.put(p.hash);
   return w.take();
 }
 
@@ -121,6 +123,11 @@ HelloMessage decode_hello(const std::vector<uint8_t>& bytes) {
   HelloMessage m;
   m.ok = r.get<uint8_t>() != 0, m.error = r.get_string();
   for (uint64_t n = r.count(8); n > 0; --n) m.devices.push_back(get_info(r));
+  for (uint64_t n = r.count(16); n > 0; --n) {
+    FingerprintPart p;
+    p.what = r.get_string(), p.hash = r.get<uint64_t>();
+    m.fingerprint.push_back(std::move(p));
+  }
   return m;
 }
 

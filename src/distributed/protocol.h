@@ -17,11 +17,11 @@
 //
 // Scene (master → worker, first, only with --scene-from master: scene_codec.h) carries
 // the scene. Hello (worker → master, once, before any frame) says what the worker offers or why it
-// could not start; Speed sets the emulated speed of its devices (--perturb); Quit ends it,
-// saying whether the master gave up on a rank (then the worker must not call MPI_Finalize,
-// which waits for every rank of the job: transport.h).
-// `epoch` numbers the master's requests to that worker, so results of a frame the master
-// gave up on are recognised and dropped. (Heartbeats belong to the transport.)
+// could not start, with the fingerprint of what decides its pixels (fingerprint.h); Speed sets the
+// emulated speed of its devices (--perturb); Quit ends it, saying whether the master gave up on a
+// rank (then the worker must not call MPI_Finalize, which waits for every rank of the job:
+// transport.h). `epoch` numbers the master's requests to that worker, so results of a frame the
+// master gave up on are recognised and dropped. (Heartbeats belong to the transport.)
 #pragma once
 
 #include <cstdint>
@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "device/device.h"
+#include "distributed/fingerprint.h"
 #include "util/result_encoding.h"
 
 namespace multiray::remote {
@@ -39,6 +40,7 @@ struct HelloMessage {
   bool ok = true;
   std::string error;                // why the worker cannot render (ok = false)
   std::vector<DeviceInfo> devices;  // its local devices
+  PixelFingerprint fingerprint;     // what decides its pixels, checked by the master
 };
 
 struct FrameMessage {

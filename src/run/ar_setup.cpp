@@ -55,6 +55,10 @@ CameraPath poses_path(const RunConfig& o, int width, int height) {
     throw InputError("--poses: the capture's images are " + std::to_string(poses.width) + "x" +
                      std::to_string(poses.height) + ", an aspect ratio --res " +
                      std::to_string(width) + "x" + std::to_string(height) + " does not have");
+  if (o.frames > int(poses.cameras.size()))
+    throw InputError("--frames " + std::to_string(o.frames) + " is more than the " +
+                     std::to_string(poses.cameras.size()) + " poses of --poses '" + o.poses +
+                     "' (pose i is frame i)");
   return poses.path();
 }
 

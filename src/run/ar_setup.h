@@ -22,7 +22,8 @@ void parse_ground(const std::string& text, RenderSettings& settings);
 std::string ground_conflict(const RunConfig& o, const std::string& kernel, bool volume_input);
 
 // --poses as a camera path, checked against --res (the aspect ratios must agree within
-// 1%) and --camera-path (which it replaces). InputError otherwise.
+// 1%), --camera-path (which it replaces) and --frames (at most one frame a pose: frames
+// past the last would silently repeat it). InputError otherwise.
 CameraPath poses_path(const RunConfig& o, int width, int height);
 
 // How many frames --poses holds (for --frames' default).

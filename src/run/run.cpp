@@ -25,6 +25,7 @@
 #include "run/ar_setup.h"
 #include "run/catalog.h"
 #include "run/lighting.h"
+#include "run/run_fingerprint.h"
 #include "scene/builders.h"
 #include "scene/camera_check.h"
 #include "scene/loaders.h"
@@ -303,8 +304,13 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   if (need.total() > limit) throw InputError(memory_refusal(need.total(), parts(0), limit));
   if (before_load) before_load();
   LoadOptions load = memory_guarded_load(need.total(), limit, parts);
+  s.reserve_image = load.reserve_image;  // kept images are counted together
   load.allow_outside = o.allow_outside_paths;
   const bool sent = s.cluster && o.distributed.scene_from == "master";
+  if (s.cluster) {  // what the master compares with each worker's (distributed/fingerprint.h)
+    if (!sent) fingerprint_files(load, o.scene_path, s.fingerprint);
+    fingerprint_options(o, volume_input, sent, s.fingerprint);
+  }
   if (sent && !s.cluster->master()) {
     s.scene = std::make_unique<Scene>(s.cluster->receive_scene());
     if (o.up == "auto") s.up = s.scene->up;  // as the master resolved it
@@ -424,12 +430,12 @@ Run build_run(const RunConfig& o, int lanes, const std::function<void()>& before
       s.cluster->say_cannot_start(e.what());
       throw QuietExit{0};
     }
-    s.cluster->say_hello(s.devices);
+    s.cluster->say_hello(s.devices, s.fingerprint);
     return s;
   }
   check_distributed(o);
   fill_setup(s, o, lanes, before_load);
-  std::vector<std::unique_ptr<Device>> all = s.cluster->connect_workers();
+  std::vector<std::unique_ptr<Device>> all = s.cluster->connect_workers(s.fingerprint);
   for (auto& d : s.devices) all.push_back(std::move(d));
   s.devices = std::move(all);
   s.perturbations = parse_perturbations(o.perturb, int(s.devices.size()));

@@ -14,6 +14,7 @@
 #include "balance/auto_choice.h"
 #include "core/scene_files.h"
 #include "distributed/cluster.h"
+#include "distributed/fingerprint.h"
 #include "engine/frame_views.h"
 #include "engine/session.h"
 #include "render/scene_cache.h"
@@ -52,6 +53,14 @@ struct Run {
   // and --mapping, applied to what it picks.
   balance::AutoInputs auto_inputs;
   std::string mapping;
+  // Charges an image a command decodes while the run renders (render's --background)
+  // against --max-memory with the scene's own images: `keep` bytes for as long as the run
+  // lives, `transient` while it is decoded. Throws InputError (memory_refusal) when they
+  // would not fit; set by build_run (memory_guarded_load's reserve_image).
+  std::function<void(const std::string& what, uint64_t keep, uint64_t transient)> reserve_image;
+  // A distributed run: what decides this rank's pixels besides what the master sends
+  // (the files its loads read, the options that shape its scene): run/run_fingerprint.h.
+  PixelFingerprint fingerprint;
 
   std::vector<Device*> device_ptrs() const;
   // A session over the devices with one lane per balancer spec (each already checked) and,

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 
+#include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -94,6 +95,11 @@ ArPoses ar_poses_from_json(const nlohmann::json& j, const std::string& source) {
         std::abs(cy - 0.5f * image[1]) > 0.02f * image[1])
       throw InputError(where + ": the principal point is more than 2% of the image off centre");
     const float fov = 2.0f * std::atan(0.5f * image[1] / fy) * 180.0f / kPi;
+    if (!(fov >= kMinPoseFovDeg))
+      throw InputError(where + ": a focal length of " + fmt::format("{:g}", fy) +
+                       " pixels is a field of view of " + fmt::format("{:g}", fov) +
+                       " degrees (at least " + fmt::format("{:g}", kMinPoseFovDeg) +
+                       "; are the intrinsics in pixels?)");
     out.cameras.push_back(camera_of(numbers(p, "transform", 16, where), fov, where));
   }
   return out;

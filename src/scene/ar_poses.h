@@ -11,9 +11,11 @@
 //               "intrinsics": [...]},        optional, this pose's own
 //              ...]}
 //
-// Pose i is frame i. Pixels are taken as square and the principal point as the image
-// centre; intrinsics that say otherwise by more than 1% (fx against fy) or 2% of the image
-// (cx, cy) are refused rather than rendered with the wrong perspective.
+// Pose i is frame i (a run of more frames than poses is refused: run/ar_setup.h). Pixels
+// are taken as square and the principal point as the image centre; intrinsics that say
+// otherwise by more than 1% (fx against fy) or 2% of the image (cx, cy) are refused rather
+// than rendered with the wrong perspective, and so is a vertical field of view under
+// kMinPoseFovDeg.
 #pragma once
 
 #include <string>
@@ -25,6 +27,12 @@
 #include "scene/scene.h"
 
 namespace multiray {
+
+// The narrowest vertical field of view a pose may have, degrees. Below it neighbouring
+// pixels' rays differ by less than ~10 float epsilons at phone resolutions (the image
+// turns to one colour); no phone or camera lens is that narrow (a 1e30-pixel focal
+// length, 1e-28 degrees, is a unit error).
+constexpr float kMinPoseFovDeg = 0.1f;
 
 struct ArPoses {
   int width = 0, height = 0;    // of the images the intrinsics refer to

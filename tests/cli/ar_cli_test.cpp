@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <stb_image.h>
 #include <unistd.h>
@@ -107,6 +108,40 @@ TEST(ArCli, TheRealImageIsKeptWhereNoObjectReaches) {
   stbi_image_free(ar), stbi_image_free(bg), stbi_image_free(layer);
 }
 
+// A PNG of 4x3 pixels whose header claims `width` x `height`: what a 560 KB file of one
+// colour claiming 16000x12000 looks like to a check that reads headers only.
+std::string png_claiming(const std::string& name, uint32_t width, uint32_t height) {
+  std::string png = multiray::encode_png_rgba(4, 3, std::vector<uint8_t>(4 * 3 * 4, 128));
+  for (int i = 0; i < 4; ++i) {  // IHDR's width and height, big-endian, at bytes 16 and 20
+    png[size_t(16 + i)] = char((width >> (24 - 8 * i)) & 0xff);
+    png[size_t(20 + i)] = char((height >> (24 - 8 * i)) & 0xff);
+  }
+  return temp_file(name, png);
+}
+
+// Backgrounds are charged against --max-memory from their headers before anything
+// renders, the largest frame of a numbered sequence included (issue 53).
+TEST(ArCli, BackgroundsAreChargedAgainstMaxMemory) {
+  const std::string huge = png_claiming("huge.png", 16000, 12000);
+  temp_file("seq_0000.png",
+            multiray::encode_png_rgba(160, 120, std::vector<uint8_t>(160 * 120 * 4, 128)));
+  const std::string seq = png_claiming("seq_0001.png", 16000, 12000);
+  const std::string base = "render '" + kExample + "/objects.obj' --spp 1 -q --res 160x120 -o " +
+                           example_output() + "/mem --overwrite --env 0.3 --ground y=0 ";
+  for (const std::string& bg : {huge, seq.substr(0, seq.size() - 8) + "####.png"}) {
+    const std::string args = "--max-memory 1G --frames 2 --background '" + bg + "'";
+    const CliResult r = run(base + args);
+    expect_input_error(r, args, "--max-memory");
+    EXPECT_THAT(r.out, ::testing::HasSubstr(bg == huge ? huge : seq)) << args;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("16000 x 12000 pixels")) << args;
+  }
+  // The same sequence within a limit that holds it renders.
+  EXPECT_EQ(run(base + "--frames 1 --max-memory 1G --background '" +
+                seq.substr(0, seq.size() - 8) + "####.png'")
+                .code,
+            0);
+}
+
 TEST(ArCli, BadInputIsRefusedInOneLine) {
   const std::string obj = kExample + "/objects.obj", poses = kExample + "/poses.json";
   const std::string bg = example_output() + "/bg_####.png";
@@ -118,6 +153,9 @@ TEST(ArCli, BadInputIsRefusedInOneLine) {
   const std::string skew =
       temp_file("skew.json", R"({"image":[160,120],"intrinsics":[100,100,80,60],
     "poses":[{"transform":[1,0,0,0, 0,2,0,0, 0,0,1,0, 0,1,5,1]}]})");
+  const std::string tele =
+      temp_file("tele.json", R"({"image":[160,120],"intrinsics":[1e30,1e30,80,60],
+    "poses":[{"transform":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,1,5,1]}]})");
   const std::pair<std::string, std::string> cases[] = {
       {"--background " + bg, "--background needs --ground"},
       {"--ground y", "--ground"},
@@ -133,6 +171,8 @@ TEST(ArCli, BadInputIsRefusedInOneLine) {
       {"--poses '" + wide + "'", "aspect ratio"},
       {"--poses '" + skew + "'", "not a rotation"},
       {"--poses '" + poses + "' --camera-path orbit", "both move the camera"},
+      {"--poses '" + poses + "' --frames 9", "--frames 9 is more than the 8 poses"},
+      {"--poses '" + tele + "'", "field of view"},
       {"--poses /nonexistent.json", "--poses"},
       {"--poses '" + obj + "'", "not valid JSON"},
   };

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -290,6 +291,65 @@ TEST(Distributed, TheMasterSendsTheScene) {
   EXPECT_EQ(shared.code, 2) << shared.out;
   // Both workers fail; the master names whichever told it first.
   EXPECT_THAT(shared.out, ::testing::ContainsRegex("rank [12]: /nonexistent/scene.gltf"));
+}
+
+// A worker whose copy of a file that decides pixels differs by one byte (the scene's
+// material library, an environment map) is refused by the master in one line naming the
+// rank and the file, and every rank ends (issue 53); identical copies in other folders
+// render. mpirun's MPMD form gives the worker its own paths.
+TEST(Distributed, AWorkerWithAnotherSceneOrEnvIsRefused) {
+  namespace fs = std::filesystem;
+  const std::string root = out_dir("copies");
+  const std::string example = std::string(MULTIRAY_SOURCE_DIR) + "/examples/ar/";
+  // A 4x2 Radiance map (flat RGBE pixels: rows under 8 pixels are never run-length coded).
+  std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n";
+  for (int i = 0; i < 8; ++i) hdr += std::string("\x80\x80\x80\x81", 4);
+  for (const char* side : {"master", "same", "other"}) {
+    const std::string d = root + "/" + side;
+    fs::create_directories(d);
+    fs::copy_file(example + "objects.obj", d + "/objects.obj");
+    fs::copy_file(example + "ar.mtl", d + "/ar.mtl");
+    std::ofstream(d + "/sky.hdr", std::ios::binary) << hdr;
+  }
+  std::string mtl;
+  {
+    std::ifstream in(root + "/other/ar.mtl");
+    mtl.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  mtl[mtl.find("0.7 0.15")] = '9';  // red's Kd 0.7 becomes 0.9: one byte
+  std::ofstream(root + "/other/ar.mtl", std::ios::trunc) << mtl;
+  std::string other_hdr = hdr;
+  other_hdr.back() = '\x82';  // one pixel brighter
+  fs::create_directories(root + "/env");
+  std::ofstream(root + "/env/sky.hdr", std::ios::binary) << other_hdr;
+
+  const std::string args = " --res 32x24 --spp 1 --bounces 2 -q --devices cpu:threads=1 ";
+  const auto mpmd = [&](const std::string& master, const std::string& worker) {
+    const std::string dir = out_dir("run");
+    return multiray::testing::run_cli(kMpirun + " -np 1 " + MULTIRAY_BIN,
+                                      "render " + master + args + "--distributed --out " + dir +
+                                          " : -np 1 " + MULTIRAY_BIN + " render " + worker + args +
+                                          "--distributed --out " + dir);
+  };
+  const std::string scene = "/objects.obj --env ";
+  const CliResult same = mpmd(root + "/master" + scene + root + "/master/sky.hdr",
+                              root + "/same" + scene + root + "/same/sky.hdr");
+  EXPECT_EQ(same.code, 0) << same.out;
+  const CliResult mtl_run = mpmd(root + "/master" + scene + root + "/master/sky.hdr",
+                                 root + "/other" + scene + root + "/master/sky.hdr");
+  EXPECT_EQ(mtl_run.code, 2) << mtl_run.out;
+  EXPECT_THAT(mtl_run.out, ::testing::HasSubstr("multiray: error: rank 1 has another scene: "
+                                                "'ar.mtl' differs (content hash "));
+  const CliResult env_run = mpmd(root + "/master" + scene + root + "/master/sky.hdr",
+                                 root + "/same" + scene + root + "/env/sky.hdr");
+  EXPECT_EQ(env_run.code, 2) << env_run.out;
+  EXPECT_THAT(env_run.out, ::testing::HasSubstr("rank 1 has another scene: 'sky.hdr' differs"));
+  for (const CliResult* r : {&mtl_run, &env_run}) {  // one line, from the master alone
+    size_t lines = 0;
+    for (size_t at = 0; (at = r->out.find("multiray: error:", at)) != std::string::npos; ++at)
+      ++lines;
+    EXPECT_EQ(lines, 1u) << r->out;
+  }
 }
 
 }  // namespace distributed_test

@@ -87,7 +87,12 @@ TEST(Protocol, MessagesSurviveARoundTrip) {
                                  0,
                                  0,
                                  {}});
+  h.fingerprint = {{"'a.obj'", 0x0123456789abcdefull}, {"the scene options (--env 0.3)", 0}};
   const HelloMessage h2 = decode_hello(encode(h));
+  ASSERT_EQ(h2.fingerprint.size(), 2u);
+  EXPECT_EQ(h2.fingerprint[0].what, "'a.obj'");
+  EXPECT_EQ(h2.fingerprint[0].hash, 0x0123456789abcdefull);
+  EXPECT_EQ(h2.fingerprint[1].what, "the scene options (--env 0.3)");
   ASSERT_EQ(h2.devices.size(), 1u);
   EXPECT_EQ(h2.devices[0].caps.kernels, std::vector<std::string>{"path"});
   EXPECT_DOUBLE_EQ(h2.devices[0].emulated_speed, 0.5);
@@ -95,6 +100,25 @@ TEST(Protocol, MessagesSurviveARoundTrip) {
   EXPECT_DOUBLE_EQ(decode_speed(encode_speed(0.25)), 0.25);
   EXPECT_TRUE(decode_quit(encode_quit(true)));
   EXPECT_FALSE(decode_quit(encode_quit(false)));
+}
+
+// The master's comparison with a worker's fingerprint (issue 53): equal lists pass; a file
+// whose content differs is named with both hashes; other options or files are shown.
+TEST(Fingerprint, TheFirstDifferenceIsNamed) {
+  const PixelFingerprint mine = {{"'a.obj'", 1}, {"'a.mtl'", 2}, {"options (--env 0.3)", 0}};
+  EXPECT_EQ(fingerprint_difference(mine, mine), "");
+  PixelFingerprint other = mine;
+  other[1].hash = 3;
+  EXPECT_EQ(fingerprint_difference(mine, other),
+            "'a.mtl' differs (content hash 0000000000000002 here, 0000000000000003 there)");
+  other = mine;
+  other[2].what = "options (--env sky.hdr)";
+  EXPECT_EQ(fingerprint_difference(mine, other),
+            "options (--env 0.3) here, options (--env sky.hdr) there");
+  other = mine;
+  other.pop_back();
+  EXPECT_EQ(fingerprint_difference(mine, other), "options (--env 0.3) here, nothing more there");
+  EXPECT_EQ(fingerprint_difference(other, mine), "options (--env 0.3) there, nothing more here");
 }
 
 // Every setting for_each_sent_setting lists travels: each one changed from its default on

@@ -48,6 +48,13 @@ TEST(ArPoses, CamerasRoundTripThroughTheDocument) {
   EXPECT_NEAR(path.at(0).eye.z, 3.0f, 1e-5);
 }
 
+// A long lens (0.2 degrees, twice the narrowest allowed) is still a camera.
+TEST(ArPoses, ANarrowButRealFieldOfViewIsKept) {
+  const float f = 60.0f / std::tan(0.1f * float(M_PI) / 180.0f);
+  const ArPoses p = ar_poses_from_json(one_pose(kIdentityAt5, {f, f, 80, 60}), "t");
+  EXPECT_NEAR(p.cameras[0].fov_y_deg, 0.2f, 1e-4);
+}
+
 TEST(ArPoses, BadDocumentsAreRefusedNamingThePose) {
   const auto refused = [](const nlohmann::json& doc, const std::string& word) {
     try {
@@ -71,6 +78,11 @@ TEST(ArPoses, BadDocumentsAreRefusedNamingThePose) {
   refused(one_pose(kIdentityAt5, {100, 150, 80, 60}), "fx and fy");
   refused(one_pose(kIdentityAt5, {100, 100, 20, 60}), "principal point");
   refused(one_pose(kIdentityAt5, {0, 0, 80, 60}), "focal");
+  // A field of view of 1e-28 degrees (issue 53) or just under kMinPoseFovDeg: refused.
+  nlohmann::json tele = one_pose(kIdentityAt5);
+  tele["intrinsics"] = {1e30, 1e30, 80, 60};  // doubles: the largest magnitude taken
+  refused(tele, "pose 0: a focal length of 1e+30 pixels is a field of view of ");
+  refused(one_pose(kIdentityAt5, {1e5f, 1e5f, 80, 60}), "field of view of 0.0687");
   nlohmann::json nan_doc = one_pose(kIdentityAt5);
   nan_doc["poses"][0]["transform"][12] = "x";
   refused(nan_doc, "finite number");
