@@ -229,11 +229,6 @@ TEST(HybridLeave, ADeviceWithNoFixedCostThatSlowsTheOthersIsLeftOutEarly) {
   HybridBalancer hybrid(2);
   const std::vector<SimFrame> frames = run_contended(hybrid, 30, 0);
   int first_out = -1;
-  for (int f = 0; f < 30; ++f) {
-    const auto& m = frames[size_t(f)].plan.models[1];
-    std::printf("f%d det %d s %g F %g c %g ratio %g ms %g\n", f, m.determined, m.speed, m.fixed_ms,
-                m.contention, frames[size_t(f)].plan.ratios[1], frames[size_t(f)].frame_ms);
-  }
   for (int f = 0; f < 30 && first_out < 0; ++f)
     if (frames[size_t(f)].plan.rests(1)) first_out = f;
   ASSERT_GE(first_out, 0);
