@@ -217,7 +217,8 @@ void bind_balancer(py::module_& m) {
         "instance) under `name` for every balancer spec of this process: it is called as "
         "factory(devices, **options), the options being those of `params` (name -> default; "
         "a spec 'name:key=value' gives a value read as the default's type). ValueError for a "
-        "name already registered.");
+        "name already registered, or not of letters, digits, '-' and '_' alone (a spec's "
+        "grammar).");
   m.def(
       "balancer_names", [] { return balance::balancer_names(); },
       "Every balancer name a spec may use, the registered Python ones included.");
