@@ -1,5 +1,6 @@
 // Fuzz target of trace files (`multiray simulate TRACE`): balance::read_trace() on the
 // input must return a trace or throw std::invalid_argument (trace.h). A trace it returns
+// has frames, and each frame's items tile it (every pixel of every view once). It
 // must survive a round trip: written and read again, it is written identically. A small
 // one (at most 16 devices, 8 frames, 2^16 pixels a frame) is then replayed with the
 // balancer it names, as `multiray simulate --validate` does, and every simulated frame
@@ -18,6 +19,7 @@
 #include "balance/balancer.h"
 #include "balance/trace.h"
 #include "fuzz_support.h"
+#include "partition/coverage.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace multiray;
@@ -28,6 +30,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     trace = balance::read_trace(in);
   } catch (const std::invalid_argument&) {
     return 0;
+  }
+  if (trace.frames.empty()) fuzz::fail("read_trace() accepted a trace without frames");
+  for (const auto& f : trace.frames) {
+    std::vector<balance::WorkItem> items;
+    for (const auto& d : f.devices)
+      for (const auto& r : d.items) items.push_back(r.item);
+    const std::string wrong =
+        balance::coverage_error(items, f.shape.width, f.shape.height, f.shape.views);
+    if (!wrong.empty())
+      fuzz::fail("read_trace() accepted a frame whose items do not tile it: " + wrong);
   }
   std::ostringstream once;
   balance::write_trace(once, trace);

@@ -53,6 +53,16 @@ std::vector<WorkItem> Plan::all_items() const {
   return items;
 }
 
+namespace {
+
+bool has_work(const Plan& plan) {
+  for (const WorkItem& item : plan.all_items())
+    if (!item.rect.empty()) return true;
+  return false;
+}
+
+}  // namespace
+
 std::string check_plan(const Plan& plan, const FrameShape& shape, int device_count) {
   if (int(plan.assigned.size()) != device_count)
     return "plan has " + std::to_string(plan.assigned.size()) + " device lists for " +
@@ -67,7 +77,10 @@ std::string check_plan(const Plan& plan, const FrameShape& shape, int device_cou
       return "ratio " + std::to_string(r) + " is not finite and >= 0";
     sum += r;
   }
-  if (sum != 0 && std::abs(sum - 1) > 1e-9) return "ratios sum to " + std::to_string(sum);
+  // All 0 only for a plan with no work (every device dropped, a frame without pixels):
+  // ratios of 0 for work to be done say nothing of who does it.
+  if (std::abs(sum - 1) > 1e-9 && (sum != 0 || has_work(plan)))
+    return "ratios sum to " + std::to_string(sum) + ", not 1";
   if (!plan.no_steal.empty() && int(plan.no_steal.size()) != device_count)
     return "plan says of " + std::to_string(plan.no_steal.size()) +
            " devices whether they steal, for " + std::to_string(device_count) + " devices";

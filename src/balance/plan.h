@@ -97,10 +97,10 @@ struct Plan {
 };
 
 // Empty if `plan` is well formed for `shape` and `device_count` devices: one list and
-// one ratio per device, finite non-negative ratios summing to 1 (or all 0 when no device
-// is left), batch >= 1, a valid quality, and exact coverage of every pixel of the shape
-// at the plan's image scale. Otherwise one line saying what
-// is wrong. O(pixels); meant for tests and debug builds.
+// one ratio per device, finite non-negative ratios summing to 1 (or all 0 for a plan with
+// no work: no device left, or no pixels), batch >= 1, a valid quality, and exact coverage
+// of every pixel of the shape at the plan's image scale, no item inverted
+// (coverage_error()). Otherwise one line saying what is wrong. O(n log n) in the items.
 std::string check_plan(const Plan& plan, const FrameShape& shape, int device_count);
 
 }  // namespace multiray::balance

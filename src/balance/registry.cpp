@@ -1,5 +1,6 @@
 #include "balance/registry.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "balance/auto_choice.h"
@@ -242,9 +243,22 @@ std::vector<BalancerEntry>& registry() {
 
 const std::vector<BalancerEntry>& balancer_registry() { return registry(); }
 
+bool valid_balancer_name(const std::string& name) {
+  const auto allowed = [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+           c == '-' || c == '_';
+  };
+  return !name.empty() && std::all_of(name.begin(), name.end(), allowed);
+}
+
 void register_balancer(BalancerEntry entry) {
   if (entry.name.empty() || !entry.make)
     throw std::invalid_argument("register_balancer: an entry needs a name and a factory");
+  // A name a spec cannot carry could never be chosen, and would corrupt what carries it
+  // (a newline a trace's "balancer" line, a comma a list of specs).
+  if (!valid_balancer_name(entry.name))
+    throw std::invalid_argument("register_balancer: '" + entry.name +
+                                "' is not a balancer name (letters, digits, '-' and '_' only)");
   if (find_balancer(entry.name))
     throw std::invalid_argument("register_balancer: '" + entry.name + "' is already registered");
   registry().push_back(std::move(entry));

@@ -41,8 +41,13 @@ struct BalancerEntry {
 // balancers, then those added by register_balancer().
 const std::vector<BalancerEntry>& balancer_registry();
 
-// Adds a balancer. Throws std::invalid_argument for an empty or already registered name or
-// a missing factory. Not thread-safe: register before building balancers concurrently.
+// True for a name a spec and a list of specs can carry: one or more ASCII letters, digits,
+// '-' and '_' (the CLI's grammar; no ':', '=', ',', space or newline).
+bool valid_balancer_name(const std::string& name);
+
+// Adds a balancer. Throws std::invalid_argument for a name that is not valid_balancer_name()
+// or already registered, or a missing factory. Not thread-safe: register before building
+// balancers concurrently.
 void register_balancer(BalancerEntry entry);
 
 // The entry called `name`, or nullptr.

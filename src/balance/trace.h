@@ -53,7 +53,9 @@ class TraceWriter {
 
 void write_trace(std::ostream& out, const Trace& trace);
 // Throws std::invalid_argument naming the line for anything malformed: an unknown record,
-// a missing or non-numeric field, a number out of range, a device or frame out of order.
+// a missing or non-numeric field, a number out of range, a device or frame out of order;
+// a trace without frames; a frame whose items (all devices', a dropped one's included)
+// do not cover each pixel of each view exactly once (naming the frame's line).
 Trace read_trace(std::istream& in);
 
 // The cost (ms at speed 1) of an item of frame `frame_index` of `trace`: an item recorded

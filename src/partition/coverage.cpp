@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <utility>
 #include <vector>
 
 namespace multiray::balance {
@@ -54,20 +55,35 @@ std::string first_overlap(const std::vector<Rect>& rects, int view) {
   return "";
 }
 
-// The first pixel (row-major, view by view) no item covers, by painting them: only on the
-// error path, to name the pixel.
-std::string first_uncovered(const std::vector<std::vector<Rect>>& per_view, int width,
-                            int height) {
-  const size_t per = size_t(width) * size_t(height);
-  std::vector<uint8_t> hit(per);
-  for (size_t v = 0; v < per_view.size(); ++v) {
-    std::fill(hit.begin(), hit.end(), uint8_t(0));
-    for (const Rect& r : per_view[v])
-      for (int y = r.y0; y < r.y1; ++y)
-        std::fill_n(hit.begin() + std::ptrdiff_t(size_t(y) * size_t(width) + size_t(r.x0)),
-                    r.x1 - r.x0, uint8_t(1));
-    for (size_t p = 0; p < per; ++p)
-      if (!hit[p]) return where(int(p % size_t(width)), int(p / size_t(width)), int(v));
+// The first pixel (row-major) of one view that none of `rects` covers, or "" when they
+// cover width×height. The rects are in the frame and disjoint (first_overlap() found
+// none), so a row is whole exactly when the widths of the rects spanning it add up to
+// `width`: a sweep along y over the rects' top and bottom edges finds the first row that
+// is not, and that row's spans, sorted, its first gap. O(n log n) in the rects, whatever
+// the frame's size (a hostile trace may declare 2^20 x 2^20 pixels).
+std::string first_uncovered(const std::vector<Rect>& rects, int width, int height, int view) {
+  std::vector<std::pair<int, int64_t>> edges;  // (y, width entering (+) or leaving (-))
+  edges.reserve(2 * rects.size());
+  for (const Rect& r : rects)
+    edges.push_back({r.y0, r.width()}), edges.push_back({r.y1, -r.width()});
+  std::sort(edges.begin(), edges.end());
+  int64_t spanned = 0;  // width of the rects spanning row y
+  size_t k = 0;
+  for (int y = 0; y < height;) {
+    while (k < edges.size() && edges[k].first <= y) spanned += edges[k++].second;
+    if (spanned < width) {
+      std::vector<std::pair<int, int>> spans;
+      for (const Rect& r : rects)
+        if (r.y0 <= y && y < r.y1) spans.push_back({r.x0, r.x1});
+      std::sort(spans.begin(), spans.end());
+      int x = 0;
+      for (const auto& [x0, x1] : spans) {
+        if (x0 > x) break;
+        x = x1;
+      }
+      return where(x, y, view);
+    }
+    y = k < edges.size() ? edges[k].first : height;
   }
   return "";
 }
@@ -76,29 +92,37 @@ std::string first_uncovered(const std::vector<std::vector<Rect>>& per_view, int 
 
 std::string coverage_error(const std::vector<WorkItem>& items, int width, int height, int views) {
   if (width < 0 || height < 0 || views < 0) return "negative frame size";
-  std::vector<std::vector<Rect>> per_view(static_cast<size_t>(views));
+  // Only the views that have items, so that the cost follows the items, not the views.
+  std::map<int, std::vector<Rect>> per_view;
   for (const WorkItem& item : items) {
     const Rect& r = item.rect;
+    const auto name = [&] {
+      return "item [" + std::to_string(r.x0) + "," + std::to_string(r.x1) + ")x[" +
+             std::to_string(r.y0) + "," + std::to_string(r.y1) + ") of view " +
+             std::to_string(item.view);
+    };
+    // Corners swapped, not an empty share: whatever wrote it is wrong.
+    if (r.x1 < r.x0 || r.y1 < r.y0) return name() + " is inverted";
     if (r.empty()) continue;
     if (item.view < 0 || item.view >= views || r.x0 < 0 || r.y0 < 0 || r.x1 > width ||
         r.y1 > height)
-      return "item [" + std::to_string(r.x0) + "," + std::to_string(r.x1) + ")x[" +
-             std::to_string(r.y0) + "," + std::to_string(r.y1) + ") of view " +
-             std::to_string(item.view) + " is outside the " + std::to_string(width) + "x" +
-             std::to_string(height) + "x" + std::to_string(views) + " frame";
-    per_view[size_t(item.view)].push_back(r);
+      return name() + " is outside the " + std::to_string(width) + "x" + std::to_string(height) +
+             "x" + std::to_string(views) + " frame";
+    per_view[item.view].push_back(r);
   }
-  // Disjoint rects inside the frame cover it exactly when their areas add up to it.
-  bool short_of_pixels = false;
-  for (size_t v = 0; v < per_view.size(); ++v) {
-    if (const std::string twice = first_overlap(per_view[v], int(v)); !twice.empty())
+  for (const auto& [v, rects] : per_view)
+    if (const std::string twice = first_overlap(rects, v); !twice.empty())
       return "pixel " + twice + " is covered twice";
+  // Disjoint rects inside the frame cover it exactly when their areas add up to it.
+  if (width == 0 || height == 0) return "";
+  for (int v = 0; v < views; ++v) {
+    const auto found = per_view.find(v);
+    if (found == per_view.end()) return "pixel " + where(0, 0, v) + " is not covered";
     int64_t area = 0;
-    for (const Rect& r : per_view[v]) area += r.area();
-    short_of_pixels |= area != int64_t(width) * int64_t(height);
+    for (const Rect& r : found->second) area += r.area();
+    if (area != int64_t(width) * int64_t(height))
+      return "pixel " + first_uncovered(found->second, width, height, v) + " is not covered";
   }
-  if (short_of_pixels)
-    return "pixel " + first_uncovered(per_view, width, height) + " is not covered";
   return "";
 }
 

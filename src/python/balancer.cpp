@@ -56,7 +56,7 @@ class PythonBalancer final : public balance::Balancer {
       const py::object result = self().attr("plan")(shape, frame);
       plan = plan_from_python(result, class_name(self()) + ".plan()");
     }
-    // O(pixels), without the GIL: Python threads run meanwhile.
+    // O(n log n) in the items, without the GIL: Python threads run meanwhile.
     std::string wrong = balance::check_plan(plan, shape, devices_);
     if (wrong.empty()) wrong = dropped_given_work(plan);
     if (!wrong.empty())
@@ -131,11 +131,11 @@ Default read_option(Spec& spec, const std::string& key, const Default& d) {
 
 void register_python_balancer(const std::string& name, const py::object& factory,
                               const std::string& help, const py::dict& params) {
+  if (!balance::valid_balancer_name(name))
+    throw py::value_error("register_balancer: '" + name +
+                          "' is not a balancer name (letters, digits, '-' and '_' only)");
   if (balance::find_balancer(name))
     throw py::value_error("register_balancer: '" + name + "' is already registered");
-  const Spec parsed(name);  // std::invalid_argument (ValueError) for a malformed name
-  if (parsed.name() != name || !parsed.options().empty())
-    throw py::value_error("register_balancer: '" + name + "' is not a balancer name");
   if (!PyCallable_Check(factory.ptr()))
     throw py::type_error("register_balancer: the factory must be callable, not " +
                          class_name(factory));
@@ -217,7 +217,8 @@ void bind_balancer(py::module_& m) {
         "instance) under `name` for every balancer spec of this process: it is called as "
         "factory(devices, **options), the options being those of `params` (name -> default; "
         "a spec 'name:key=value' gives a value read as the default's type). ValueError for a "
-        "name already registered.");
+        "name already registered, or not of letters, digits, '-' and '_' alone (a spec's "
+        "grammar).");
   m.def(
       "balancer_names", [] { return balance::balancer_names(); },
       "Every balancer name a spec may use, the registered Python ones included.");

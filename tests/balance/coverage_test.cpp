@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <random>
 
+#include "balance/plan.h"
 #include "partition/coverage.h"
 
 namespace multiray::balance {
@@ -101,6 +102,42 @@ TEST(Coverage, NamesAPixelThatTwoItemsCover) {
   EXPECT_EQ(covering, 2) << e;
   // Touching edges are not an overlap (half-open rects).
   EXPECT_EQ(coverage_error({{Rect{0, 0, 2, 2}, 0}, {Rect{2, 0, 4, 2}, 0}}, 4, 2, 1), "");
+}
+
+// An inverted rect ((10,10)-(5,5)) has no pixels, but it is no empty item either: a
+// writer that produced it has its corners swapped. Refused, as an item outside the frame is.
+TEST(Coverage, AnInvertedRectIsRefused) {
+  const std::vector<WorkItem> whole{{Rect{0, 0, 16, 16}, 0}};
+  for (const Rect& inverted : {Rect{10, 10, 5, 5}, Rect{10, 0, 5, 4}, Rect{0, 10, 4, 5}}) {
+    std::vector<WorkItem> items = whole;
+    items.push_back({inverted, 0});
+    EXPECT_NE(coverage_error(items, 16, 16, 1).find("is inverted"), std::string::npos)
+        << coverage_error(items, 16, 16, 1);
+  }
+  // Empty rects that are not inverted stay allowed (a balancer's zero share).
+  EXPECT_EQ(coverage_error({{Rect{0, 0, 16, 16}, 0}, {Rect{3, 3, 3, 9}, 0}}, 16, 16, 1), "");
+}
+
+// check_plan: ratios must sum to 1 (docs/balancers.md); all 0 only for a plan with no work
+// (every device dropped, or a frame without pixels). An inverted rect is refused.
+TEST(CheckPlan, RefusesAnInvertedRectAndAllZeroRatiosForAPlanWithWork) {
+  const FrameShape shape{16, 16, 1, {}};
+  Plan plan;
+  plan.assigned = {{WorkItem{Rect{0, 0, 16, 8}, 0}}, {WorkItem{Rect{0, 8, 16, 16}, 0}}};
+  plan.ratios = {0.5, 0.5};
+  ASSERT_EQ(check_plan(plan, shape, 2), "");
+  Plan zero = plan;
+  zero.ratios = {0, 0};
+  EXPECT_NE(check_plan(zero, shape, 2), "");
+  Plan inverted = plan;
+  inverted.assigned[1].push_back(WorkItem{Rect{10, 10, 5, 5}, 0});
+  EXPECT_NE(check_plan(inverted, shape, 2).find("is inverted"), std::string::npos)
+      << check_plan(inverted, shape, 2);
+  // Nothing to render: all 0 is what a balancer with every device dropped returns.
+  Plan none;
+  none.assigned = {{}, {}};
+  none.ratios = {0, 0};
+  EXPECT_EQ(check_plan(none, FrameShape{0, 0, 1, {}}, 2), "");
 }
 
 }  // namespace coverage_test

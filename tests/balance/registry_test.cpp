@@ -104,5 +104,19 @@ TEST(Registry, AToyBalancerIsAddedByOneRegistration) {
   EXPECT_THROW(register_balancer({"", "", "", {}, nullptr}), std::invalid_argument);
 }
 
+// Names follow the CLI's grammar (letters, digits, '-', '_'): a newline made a trace its
+// own reader refused (bench writes "balancer NAME"), a comma split balancer lists, a ':'
+// or '=' reads as options. Refused, whoever registers.
+TEST(Registry, ANameOutsideTheGrammarIsRefused) {
+  const auto make = [](Spec&, int n) { return std::make_unique<Halves>(n, Layout::Rows); };
+  for (const std::string bad :
+       {"two\nlines", "a,b", "a:b", "a=b", "a b", "tab\t", "caf\xc3\xa9", "dot.ted", "slash/ed"}) {
+    EXPECT_THROW(register_balancer({bad, "bad", "ours", {}, make}), std::invalid_argument) << bad;
+    EXPECT_EQ(find_balancer(bad), nullptr) << bad;
+  }
+  register_balancer({"Toy_rows-2", "good", "ours", {}, make});
+  EXPECT_NE(find_balancer("Toy_rows-2"), nullptr);
+}
+
 }  // namespace registry_test
 }  // namespace multiray::balance

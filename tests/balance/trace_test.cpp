@@ -54,6 +54,10 @@ TEST(Trace, RoundTripsExactly) {
 // come back as written.
 TEST(Trace, LeftOutDevicesAndModelsRoundTrip) {
   Trace t = record("hybrid", {1.0, 0.5}, 3);
+  // Device 1 left out of frame 1: device 0 renders its items too (a trace tiles each frame).
+  std::vector<ItemReport>& mine = t.frames[1].devices[0].items;
+  const std::vector<ItemReport>& rested = t.frames[1].devices[1].items;
+  mine.insert(mine.end(), rested.begin(), rested.end());
   t.frames[1].devices[1] = DeviceFrameStats{};
   t.frames[1].devices[1].rested = true;
   t.models.assign(3, {});
@@ -100,6 +104,68 @@ TEST(Trace, MalformedTracesAreRefusedWithTheLine) {
       EXPECT_NE(std::string(e.what()).find(line), std::string::npos) << e.what();
     }
   }
+}
+
+// A trace without frames (header only, or cut off after its header) has nothing to replay:
+// refused when read, as `multiray simulate` must (it crashed on trace.frames[0]).
+TEST(Trace, ATraceWithoutFramesIsRefused) {
+  for (const std::string& bare :
+       {std::string("multiray-trace 1\n"), std::string("multiray-trace 1\nbalancer queue\n"),
+        std::string("multiray-trace 1\nbalancer queue\ndevice 0 1 a\n")}) {
+    std::istringstream in(bare);
+    try {
+      read_trace(in);
+      ADD_FAILURE() << "accepted: " << bare;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("no frames"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// Items must tile each frame exactly (every pixel of every view once): two devices over
+// the same pixels, or a frame half covered, are refused naming the frame's line, never
+// replayed as if they were whole (they gave an efficiency of 3.0, or a free half).
+TEST(Trace, ItemsThatDoNotTileTheFrameAreRefused) {
+  const std::string head = "multiray-trace 1\nbalancer uniform\ndevice 0 1 a\ndevice 1 1 b\n";
+  const std::string ok =
+      "frame 0 8 4 1\ntime 0 1 2 2\nitem 0 0 0 0 0 8 2 16 2 2\n"
+      "time 1 1 2 2\nitem 1 1 0 0 2 8 4 16 2 2\n";
+  for (const auto& [bad, what] : std::vector<std::pair<std::string, std::string>>{
+           {"frame 0 8 4 1\ntime 0 1 2 2\nitem 0 0 0 0 0 8 4 32 2 2\n"
+            "time 1 1 2 2\nitem 1 1 0 0 0 8 4 32 2 2\n",
+            "line 5 (frame 0): pixel (0,0) of view 0 is covered twice"},
+           {"frame 0 8 4 1\ntime 0 1 2 2\nitem 0 0 0 0 0 8 2 16 2 2\ntime 1 1 0 0\n",
+            "line 5 (frame 0): pixel (0,2) of view 0 is not covered"},
+           {ok + "frame 1 8 4 2\ntime 0 1 2 2\nitem 0 0 0 0 0 8 4 32 2 2\n",  // view 1 missing
+            "line 10 (frame 1): pixel (0,0) of view 1 is not covered"},
+           {ok + "frame 1 8 4 1\ntime 0 1 0 0\ntime 1 1 0 0\n",  // no items at all
+            "line 10 (frame 1): pixel (0,0) of view 0 is not covered"}}) {
+    std::istringstream in(head + bad);
+    try {
+      read_trace(in);
+      ADD_FAILURE() << "accepted: " << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  }
+}
+
+// What our own writer produces is accepted: a device that failed (time state 0) keeps the
+// items it finished, the others re-render the rest; a device left out (state 2) has none;
+// frames of several views.
+TEST(Trace, DroppedAndRestedDevicesOverManyViewsAreAccepted) {
+  std::istringstream in(
+      "multiray-trace 1\nbalancer queue\ndevice 0 1 a\ndevice 1 1 b\ndevice 2 1 c\n"
+      "frame 0 4 2 2\ntime 0 0 1 1\nitem 0 0 0 0 0 2 2 4 1 1\n"
+      "time 1 1 3 3\nitem 1 1 0 2 0 4 2 4 1 1\nitem 1 2 1 0 0 4 2 8 2 2\n"
+      "time 2 2 0 0\n"
+      "frame 1 4 2 2\ntime 0 0 0 0\ntime 1 1 2 2\nitem 1 0 1 0 0 4 2 8 1 1\n"
+      "time 2 1 2 2\nitem 2 1 0 0 0 4 2 8 1 1\n");
+  const Trace t = read_trace(in);
+  ASSERT_EQ(t.frames.size(), 2u);
+  EXPECT_FALSE(t.frames[0].devices[0].alive);
+  EXPECT_EQ(t.frames[0].devices[0].items.size(), 1u);
+  EXPECT_TRUE(t.frames[0].devices[2].rested);
 }
 
 // Replaying a trace with the balancer that recorded it reproduces every frame's plan and

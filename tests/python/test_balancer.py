@@ -78,6 +78,11 @@ def test_registration_errors():
         multiray.register_balancer("a:b=1", Cycles)
     with pytest.raises(TypeError):
         multiray.register_balancer("not_callable", 42)
+    # Names follow the CLI's grammar: a newline broke bench's traces, a comma balancer lists.
+    for bad in ["py\nline", "py,comma", "py space", "py.dot", ""]:
+        with pytest.raises(ValueError, match="letters, digits"):
+            multiray.register_balancer(bad, Cycles)
+        assert bad not in multiray.balancer_names()
     with pytest.raises(ValueError, match="nonsense"):
         multiray.Renderer(**TINY, balancer="pycycles:nonsense=1")
     if "pynotabalancer" not in multiray.balancer_names():
@@ -139,6 +144,10 @@ class Hostile(multiray.Balancer):
             p.assigned.append([])
         elif self.how == "ratios":
             p.ratios = ["half", "half"]
+        elif self.how == "zero_ratios":
+            p.ratios = [0.0, 0.0]
+        elif self.how == "inverted":
+            p.assigned[0].append(multiray.WorkItem(0, 10, 10, 5, 5))
         return p
 
     def update(self, stats):
@@ -150,6 +159,8 @@ HOSTILE = [("int", TypeError, "returned int, not a multiray.Plan"),
            ("str_item", TypeError, r"assigned\[0\]\[1\] is str"),
            ("missing_pixels", ValueError, "plan of frame 0 is wrong: pixel .* is not covered"),
            ("lists", ValueError, "3 device lists for 2 devices"),
+           ("zero_ratios", ValueError, "plan of frame 0 is wrong: ratios sum to 0"),
+           ("inverted", ValueError, r"plan of frame 0 is wrong: item \[10,5\)x\[10,5\) .*inverted"),
            ("ratios", TypeError, "ratios holds str"),
            ("update", ZeroDivisionError, "on purpose")]
 
