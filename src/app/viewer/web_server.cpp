@@ -138,7 +138,9 @@ void WebServer::on_ws_ready(mg_connection* conn, void* self) {
   auto peer = std::make_shared<Peer>();
   peer->conn = conn;
   peer->fd = find_connection_socket(info->server_port, info->remote_addr, info->remote_port);
-  if (peer->fd < 0) return;  // cannot happen on Linux; civetweb then serves and drops it
+  // Not found only without /proc (not Linux): the client is not served (no greeting, no
+  // frames), and civetweb's reading, whole frames, closes it at its first message.
+  if (peer->fd < 0) return;
   if (s->greeting_) peer->outbox.push_text(s->greeting_());  // before any frame
   int id = 0;
   {  // counted before the greeting can arrive: a client that has it is in clients()
