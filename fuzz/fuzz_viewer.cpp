@@ -1,25 +1,31 @@
 // Fuzz target of the live viewer's handling of what a client sends (src/app/viewer): the
-// input becomes WebSocket frames that go through WebServer::receive(), the path civetweb's
-// data callback takes for a connected client, into LiveView's dispatch (parse_command, the
-// balancer spec check, camera moves, the streamed view), and one frame is then rendered
-// through the LiveView as `multiray view` does, so a balancer switch is applied and the
-// camera the messages made is traced.
+// input is the bytes a client writes on its WebSocket after the handshake, raw RFC 6455
+// frames, fed in chunks through WebServer::receive() — the path the server's read loop
+// takes for a connected client: the frame decoder (ws_frames.h), then each text message into
+// LiveView's dispatch (parse_command, the balancer spec check, camera moves, the streamed
+// view). One frame is then rendered through the LiveView as `multiray view` does, so a
+// balancer switch is applied and the camera the messages made is traced.
 //
-// Checks: no exception escapes receive() (on civetweb's thread one would end the viewer),
-// every camera the session renders passes camera_problem(), and every pixel is finite.
-// Sanitizer reports and crashes are findings as in every target.
+// Checks: no exception escapes receive() (on civetweb's thread one would end the viewer);
+// the decoder never holds more than one frame and one message (under 14 + 4096 bytes each);
+// every control frame answered is at most 125 bytes; every camera the session renders passes
+// camera_problem(), and every pixel is finite. Sanitizer reports and crashes are findings as
+// in every target.
 //
-// Input: frames, each 1 byte of WebSocket FIN and opcode bits, a 2-byte payload length
-// (little endian; up to 65535, so the 4096-byte limit is crossed), then the payload, cut
-// short where the input ends. Each input starts from the starting camera, the `uniform`
-// balancer and view 0, sent as messages too.
+// Input: byte 0 is the chunk size the bytes arrive in (0: ws::kReadBytes), the rest the
+// client's bytes. When the server closes the connection (a close frame, a refusal), the
+// rest of the input starts a new connection. Each input starts from the starting camera, the
+// `uniform` balancer and view 0, sent as messages too.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <string_view>
 
 #include "app/viewer/live_view.h"
+#include "app/viewer/web_server.h"
+#include "app/viewer/ws_frames.h"
 #include "balance/balancer.h"
 #include "device/cpu/cpu_device.h"
 #include "engine/frame_views.h"
@@ -88,7 +94,9 @@ struct Viewer {
     check.view = view;
   }
   void text(const std::string& message) {
-    view->server().receive(kClient, 0x80 | 1, message.data(), message.size());
+    app::viewer::ws::Decoder d;  // a masked text frame, key 0
+    std::string frame = {char(0x81), char(0x80 | message.size()), 0, 0, 0, 0};
+    view->server().receive(kClient, d, frame + message);
   }
 };
 
@@ -99,16 +107,26 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   viewer->text(R"({"type":"reset"})");
   viewer->text(R"({"type":"balancer","spec":"uniform"})");
   viewer->text(R"({"type":"view","index":0})");
-  for (size_t at = 0; at + 3 <= size;) {
-    const int bits = data[at];
-    const size_t len = std::min<size_t>(data[at + 1] | size_t(data[at + 2]) << 8, size - at - 3);
-    const char* payload = reinterpret_cast<const char*>(data + at + 3);
+  namespace ws = app::viewer::ws;
+  const size_t chunk = size > 0 && data[0] ? data[0] : ws::kReadBytes;
+  ws::Decoder decoder;
+  for (size_t at = 1; at < size; at += chunk) {
+    const std::string_view bytes(reinterpret_cast<const char*>(data + at),
+                                 std::min(chunk, size - at));
+    app::viewer::WebServer::Answer answer;
     try {
-      viewer->view->server().receive(kClient, bits, payload, len);
+      answer = viewer->view->server().receive(kClient, decoder, bytes);
     } catch (const std::exception& e) {
       fuzz::fail(std::string("an exception escaped the message handler: ") + e.what());
     }
-    at += 3 + len;
+    if (decoder.pending.size() >= 14 + ws::kMaxMessageBytes ||
+        decoder.message.size() > ws::kMaxMessageBytes)
+      fuzz::fail("the decoder holds " + std::to_string(decoder.pending.size()) + " + " +
+                 std::to_string(decoder.message.size()) + " bytes, more than one frame");
+    for (const auto& [opcode, payload] : answer.frames)
+      if (payload.size() > ws::kMaxControlBytes)
+        fuzz::fail("a control frame of " + std::to_string(payload.size()) + " bytes answered");
+    if (answer.close) decoder = ws::Decoder{};  // the client connects again
   }
   if (viewer->session->run(viewer->frame++, 1, viewer->check) != 1)
     fuzz::fail("the session did not complete the frame");

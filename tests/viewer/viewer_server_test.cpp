@@ -155,8 +155,10 @@ TEST(ViewerServer, RefinesWhileStillAndStartsAgainOnAMove) {
   EXPECT_EQ(viewer.stop(), 128 + SIGINT);
 }
 
-// Fuzz-style: malformed, out-of-range, oversized and random messages each get an error
-// reply (or are ignored), and the server keeps streaming frames afterwards.
+// Fuzz-style: malformed, out-of-range and random messages each get an error reply (or are
+// ignored), and the server keeps streaming frames afterwards. Random bytes are ASCII: text
+// that is not UTF-8, or a message over 4096 bytes, closes the connection with 1007 or 1009
+// (RFC 6455 §7.4.1, issue 53; tests/viewer/ws_protocol_test.cpp).
 TEST(ViewerServer, SurvivesHostileMessages) {
   mg_init_library(MG_FEATURES_WEBSOCKET);
   multiray::testing::ViewerProcess viewer(kArgs);
@@ -172,12 +174,11 @@ TEST(ViewerServer, SurvivesHostileMessages) {
                                   R"({"type":"zoom","factor":"big"})",
                                   R"({"type":"balancer","spec":"nonsense:x=1"})",
                                   R"({"type":"view","index":3})",
-                                  std::string(10000, 'x'),
                                   R"({"type":"balancer","spec":"../../etc/passwd"})"};
   std::mt19937 rng(7);
   for (int i = 0; i < 200; ++i) {
     std::string s(size_t(rng() % 64), '\0');
-    for (char& ch : s) ch = char(rng());
+    for (char& ch : s) ch = char(rng() % 128);
     bad.push_back(s);
   }
   for (const std::string& m : bad) c.send(m);

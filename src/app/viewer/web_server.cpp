@@ -1,17 +1,19 @@
 #include "app/viewer/web_server.h"
 
 #include <civetweb.h>
+#include <poll.h>
+#include <sys/socket.h>
 
+#include <cerrno>
 #include <thread>
 #include <vector>
 
+#include "app/viewer/connection_socket.h"
 #include "core/error.h"
 
 namespace multiray::app::viewer {
 
 namespace {
-constexpr size_t kMaxIncoming = 4096;  // longer messages are answered with an error
-
 // Whether `bytes` went out whole (mg_websocket_write returns the payload bytes written,
 // fewer when a write timed out part-way, or the header's 2 bytes for an empty payload).
 bool write_whole(mg_connection* conn, int opcode, const std::string& bytes) {
@@ -24,6 +26,7 @@ bool write_whole(mg_connection* conn, int opcode, const std::string& bytes) {
 // on_ws_close, before civetweb reuses the connection.
 struct WebServer::Peer {
   mg_connection* conn = nullptr;
+  int fd = -1;  // the connection's socket, read by read_loop
   Outbox outbox;
   std::thread writer;
 };
@@ -48,7 +51,7 @@ WebServer::WebServer(const ListenAddress& address, int port, int max_clients, st
   const std::string listen = address.listening_port(port);
   const std::string threads = std::to_string(max_clients + kSpareThreads);
   const std::string request_ms = std::to_string(kRequestTimeoutMs);
-  const std::string ping_ms = std::to_string(kPingIntervalMs);
+  // No websocket_timeout_ms / ping options: read_loop reads and pings the WebSockets.
   const char* options[] = {"listening_ports",
                            listen.c_str(),
                            "num_threads",
@@ -57,10 +60,6 @@ WebServer::WebServer(const ListenAddress& address, int port, int max_clients, st
                            request_ms.c_str(),
                            "enable_keep_alive",
                            "no",
-                           "websocket_timeout_ms",
-                           ping_ms.c_str(),
-                           "enable_websocket_ping_pong",
-                           "yes",
                            nullptr};
   mg_callbacks callbacks{};
   callbacks.end_request = &WebServer::on_end_request;
@@ -74,8 +73,15 @@ WebServer::WebServer(const ListenAddress& address, int port, int max_clients, st
                            &WebServer::on_ws_data, &WebServer::on_ws_close, this);
 }
 
-// mg_stop ends every connection; their close handlers join the writer threads.
+// Read loops are woken (their sockets shut for reading) and end; mg_stop then ends every
+// connection, and their close handlers join the writer threads.
 WebServer::~WebServer() {
+  stopping_ = true;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& [id, peer] : clients_)
+      if (peer->fd >= 0) shutdown(peer->fd, SHUT_RD);
+  }
   if (ctx_) mg_stop(ctx_);
 }
 
@@ -123,21 +129,34 @@ void WebServer::on_end_request(const mg_connection* conn, int) {
   s->admitted_.erase(conn);
 }
 
+// Registers the client, then serves its WebSocket on this (civetweb's) thread until it
+// closes. Afterwards the socket is shut for reading, so that civetweb's own reading, which
+// follows, ends at once and closes the connection (on_ws_close).
 void WebServer::on_ws_ready(mg_connection* conn, void* self) {
   auto* s = static_cast<WebServer*>(self);
+  const mg_request_info* info = mg_get_request_info(conn);
   auto peer = std::make_shared<Peer>();
   peer->conn = conn;
+  peer->fd = find_connection_socket(info->server_port, info->remote_addr, info->remote_port);
+  // Not found only without /proc (not Linux): the client is not served (no greeting, no
+  // frames), and civetweb's reading, whole frames, closes it at its first message.
+  if (peer->fd < 0) return;
   if (s->greeting_) peer->outbox.push_text(s->greeting_());  // before any frame
+  int id = 0;
+  {  // counted before the greeting can arrive: a client that has it is in clients()
+    std::lock_guard<std::mutex> lock(s->mutex_);
+    id = s->next_id_++;
+    s->clients_[id] = peer;
+    s->ids_[conn] = id;
+  }
   peer->writer = std::thread([p = peer.get()] { write_loop(*p); });
-  std::lock_guard<std::mutex> lock(s->mutex_);
-  const int id = s->next_id_++;
-  s->clients_[id] = peer;
-  s->ids_[conn] = id;
+  if (!s->stopping_) s->read_loop(*peer, id);
+  shutdown(peer->fd, SHUT_RD);
 }
 
 // Sends what the client's outbox holds until it is closed. A write that fails (the client
-// left, or read nothing for kRequestTimeoutMs) ends the loop and closes the outbox; civetweb
-// then closes the connection when its pings fail or go unanswered.
+// left, or read nothing for kRequestTimeoutMs) ends the loop and closes the outbox; read_loop
+// then ends the connection when its pings fail or go unanswered.
 void WebServer::write_loop(Peer& peer) {
   std::vector<std::string> texts;
   std::shared_ptr<const OutFrame> frame;
@@ -155,33 +174,75 @@ void WebServer::write_loop(Peer& peer) {
   }
 }
 
-bool WebServer::receive(int client, int bits, const char* data, size_t len) {
-  const int opcode = bits & 0xf;
-  if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return false;
-  if (opcode != MG_WEBSOCKET_OPCODE_TEXT) return true;  // pings, binary: ignored
-  if (len > kMaxIncoming) {
-    send_text(client, R"({"type":"error","message":"message longer than 4096 bytes"})");
-    return true;
+WebServer::Answer WebServer::receive(int client, ws::Decoder& decoder, std::string_view bytes) {
+  Answer a;
+  decoder.pending.append(bytes);
+  for (;;) {
+    ws::Event e = ws::next_event(decoder);
+    switch (e.kind) {
+      case ws::Event::kNone:
+        return a;
+      case ws::Event::kMessage:
+        if (e.opcode == ws::kText && on_message_) on_message_(client, e.payload);
+        break;
+      case ws::Event::kPing:
+        a.frames.emplace_back(ws::kPong, std::move(e.payload));
+        break;
+      case ws::Event::kPong:
+        break;                 // any bytes count as an answer (read_loop)
+      case ws::Event::kClose:  // echo the code (§5.5.1)
+        a.frames.emplace_back(ws::kClose, e.payload.size() >= 2
+                                              ? e.payload.substr(0, 2)
+                                              : ws::close_body(ws::kNormalClosure, ""));
+        a.close = true;
+        return a;
+      case ws::Event::kRefuse:
+        a.frames.emplace_back(ws::kClose, ws::close_body(e.refusal.code, e.refusal.reason));
+        a.close = true;
+        return a;
+    }
   }
-  if (on_message_) on_message_(client, std::string(data, len));
-  return true;
 }
 
-int WebServer::on_ws_data(mg_connection* conn, int bits, char* data, size_t len, void* self) {
-  auto* s = static_cast<WebServer*>(self);
-  int id = 0;
-  {
-    std::lock_guard<std::mutex> lock(s->mutex_);
-    const auto it = s->ids_.find(conn);
-    if (it == s->ids_.end()) return 0;
-    id = it->second;
-  }
-  try {
-    return s->receive(id, bits, data, len) ? 1 : 0;
-  } catch (...) {  // a defect; it must not end civetweb's thread (std::terminate)
-    return 0;      // closes this client's connection
+// Reads `peer`'s socket kReadBytes at a time into receive() and writes its answers, until
+// the client closes or is refused, the socket fails, the server stops, or
+// kMaxUnansweredPings pings sent kPingIntervalMs apart got no byte back.
+void WebServer::read_loop(Peer& peer, int client) {
+  ws::Decoder decoder;
+  int unanswered = 0;
+  char buf[ws::kReadBytes];
+  while (!stopping_) {
+    pollfd p{peer.fd, POLLIN, 0};
+    const int r = poll(&p, 1, kPingIntervalMs);
+    if (r < 0 && errno == EINTR) continue;
+    if (r < 0) return;
+    if (r == 0) {
+      if (unanswered >= kMaxUnansweredPings) return;
+      if (!write_whole(peer.conn, ws::kPing, "")) return;
+      ++unanswered;
+      continue;
+    }
+    const ssize_t n = recv(peer.fd, buf, sizeof buf, 0);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;
+    unanswered = 0;
+    Answer a;
+    try {
+      a = receive(client, decoder, std::string_view(buf, size_t(n)));
+    } catch (...) {  // a defect; it must not end civetweb's thread (std::terminate)
+      return;        // closes this client's connection
+    }
+    if (a.close) peer.outbox.close();  // no frame after ours but one being written
+    for (const auto& [opcode, payload] : a.frames)
+      if (!write_whole(peer.conn, opcode, payload)) return;
+    if (a.close) return;
   }
 }
+
+// Reached only with bytes civetweb read before read_loop took the socket over (a client
+// that sent frames before the handshake's answer, against RFC 6455 §4.1) or after it ended:
+// the connection is closed.
+int WebServer::on_ws_data(mg_connection*, int, char*, size_t, void*) { return 0; }
 
 void WebServer::on_ws_close(const mg_connection* conn, void* self) {
   auto* s = static_cast<WebServer*>(self);

@@ -9,8 +9,15 @@
 // refused with HTTP 503 and a one-line reason. civetweb serves each connection on a thread
 // of its own, so it gets max_clients + kSpareThreads threads: the spare ones serve the page,
 // refusals and sockets that connect and send nothing (closed after kRequestTimeoutMs).
+//
+// civetweb does the HTTP upgrade; then the connection's thread reads the socket itself
+// (read_loop): civetweb would read a whole frame into memory before any limit applied. Frames
+// are decoded by ws_frames.h under RFC 6455: a frame declaring more than 4096 bytes is
+// refused from its header (close 1009), a protocol violation closes with 1002, text that is
+// not UTF-8 with 1007. Memory per connection: one 4 KB read buffer and ws::Decoder's bound.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -18,9 +25,13 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include "app/viewer/listen_address.h"
 #include "app/viewer/outbox.h"
+#include "app/viewer/ws_frames.h"
 
 struct mg_context;
 struct mg_connection;
@@ -37,8 +48,9 @@ class WebServer {
   // A connection's request must arrive within this, and a write that makes no progress
   // for this long fails (the client is dropped).
   static constexpr int kRequestTimeoutMs = 5000;
-  // An open WebSocket silent this long is pinged; civetweb closes it after 6 unanswered.
+  // An open WebSocket silent this long is pinged; it is closed after kMaxUnansweredPings.
   static constexpr int kPingIntervalMs = 5000;
+  static constexpr int kMaxUnansweredPings = 6;
 
   // Whether the civetweb library can listen on IPv6 addresses.
   static bool has_ipv6();
@@ -59,11 +71,16 @@ class WebServer {
   // Frames not sent to a client because a newer one replaced them, summed over clients.
   uint64_t frames_skipped() const;
 
-  // What the server does with one WebSocket frame from `client` (`bits`: FIN and opcode,
-  // as civetweb passes them): a text message goes to `on_message`, or gets an error reply
-  // when longer than 4096 bytes; other opcodes are ignored. False to close the connection
-  // (a close frame). Public so that the fuzz target drives the same path.
-  bool receive(int client, int bits, const char* data, size_t len);
+  // What the server answers to `bytes` (at most ws::kReadBytes) from `client`'s socket,
+  // decoded by that connection's `decoder`: frames to send back (opcode, payload: pongs, a
+  // close frame) and whether to close the connection after them. Each text message goes to
+  // `on_message`; binary messages are ignored. Public so that the fuzz target drives the
+  // same path with raw frames.
+  struct Answer {
+    std::vector<std::pair<int, std::string>> frames;
+    bool close = false;
+  };
+  Answer receive(int client, ws::Decoder& decoder, std::string_view bytes);
 
  private:
   struct Peer;
@@ -74,6 +91,7 @@ class WebServer {
   static void on_ws_close(const mg_connection* conn, void* self);
   static void on_end_request(const mg_connection* conn, int status);
   static void write_loop(Peer& peer);
+  void read_loop(Peer& peer, int client);
 
   std::string page_;
   Greeting greeting_;
@@ -87,7 +105,8 @@ class WebServer {
   // WebSocket requests let in by on_ws_connect and not yet ended (on_end_request): what
   // --max-clients counts, so that a handshake in progress holds its place.
   std::set<const mg_connection*> admitted_;
-  uint64_t skipped_by_gone_ = 0;  // frames_skipped() of clients that left
+  uint64_t skipped_by_gone_ = 0;       // frames_skipped() of clients that left
+  std::atomic<bool> stopping_{false};  // set by the destructor: read loops end
   int next_id_ = 1;
 };
 
