@@ -106,6 +106,13 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
     args.resize(std::min<size_t>(args.size(), 1));
     args.push_back("--help");
   }
+  // --help shows the common options; --help-all every one.
+  const auto all = std::find(args.begin(), args.end(), "--help-all");
+  if (all != args.end())
+    *all = "--help";
+  else
+    for (const char* name : {"render", "bench", "view"})
+      hide_uncommon_options(*app.get_subcommand(name));
   if (!args.empty()) {
     const std::string unknown = unknown_command(app, args[0]);
     if (!unknown.empty()) {

@@ -1,5 +1,8 @@
 #include "app/help_groups.h"
 
+#include "balance/registry.h"
+
+#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -56,6 +59,43 @@ void group_options(CLI::App& cmd) {
     const std::string group = help_group("--" + name);
     if (!group.empty()) opt->group(group);
   }
+}
+
+void hide_uncommon_options(CLI::App& cmd) {
+  // What a first run and most later ones use; the rest is one flag away.
+  static const std::vector<std::string> common = {
+      "--res",       "--spp",     "--frames",   "--camera",     "--camera-path", "--env",
+      "--devices",   "--threads", "--balancer", "--balancers",  "--regret",      "--out",
+      "--overwrite", "--exr",     "--exposure", "--overlay",    "--quiet",       "--json",
+      "--report",    "--repeats", "--trace",    "--integrator", "--port",        "--bind"};
+  // The two long entries, shortened (their full lists are in --help-all).
+  if (CLI::Option* d = cmd.get_option_no_throw("--devices"))
+    d->description(
+        "auto (every core as one cpu device and each GPU OpenCL offers) or a comma-separated "
+        "list, e.g. cpu:threads=1:cores=0,opencl:0 (`multiray devices` lists this machine's "
+        "and every key)");
+  std::string names;  // from the registry, so the list cannot go stale
+  for (const balance::BalancerEntry& e : balance::balancer_registry()) {
+    if (!names.empty()) names += ", ";
+    names += e.name;
+  }
+  for (const char* name : {"--balancer", "--balancers"})
+    if (CLI::Option* b = cmd.get_option_no_throw(name))
+      b->description("How work is split between devices, NAME[:key=value]...: " + names +
+                     " (docs/balancers.md; --help-all lists every key)");
+  size_t hidden = 0;
+  for (CLI::Option* opt : cmd.get_options()) {
+    if (opt->get_lnames().empty() || opt->get_lnames().front() == "help") continue;
+    const std::string name = "--" + opt->get_lnames().front();
+    if (std::find(common.begin(), common.end(), name) != common.end()) continue;
+    opt->group("");
+    ++hidden;
+  }
+  if (hidden > 0)
+    cmd.footer(std::to_string(hidden) +
+               " more options (scene and lights, sampling, volumes, multiview, augmented "
+               "reality, several machines, benchmarks, the viewer): multiray " +
+               cmd.get_name() + " --help-all");
 }
 
 }  // namespace multiray::app

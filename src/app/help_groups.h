@@ -16,4 +16,8 @@ std::string help_group(const std::string& option_name);
 // Puts every option of `cmd` that the table names into its section.
 void group_options(CLI::App& cmd);
 
+// For the short --help: hides every option but the common ones (the first run's) and says
+// in the footer how many more `--help-all` shows.
+void hide_uncommon_options(CLI::App& cmd);
+
 }  // namespace multiray::app

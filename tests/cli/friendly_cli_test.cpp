@@ -78,6 +78,19 @@ TEST(FriendlyCli, HelpIsACommand) {
   expect_input_error(run_cli(MULTIRAY_BIN, "help rendr"), "help rendr", "did you mean render?");
 }
 
+TEST(FriendlyCli, HelpIsShortAndHelpAllHasEveryOption) {
+  const auto brief = run_cli(MULTIRAY_BIN, "render --help");
+  EXPECT_EQ(brief.code, 0);
+  EXPECT_LT(std::count(brief.out.begin(), brief.out.end(), '\n'), 70) << brief.out;
+  EXPECT_THAT(brief.out, ::testing::HasSubstr("--spp"));
+  EXPECT_THAT(brief.out, ::testing::Not(::testing::HasSubstr("--ground")));
+  EXPECT_THAT(brief.out, ::testing::HasSubstr("multiray render --help-all"));
+  const auto all = run_cli(MULTIRAY_BIN, "render --help-all");
+  EXPECT_EQ(all.code, 0);
+  EXPECT_THAT(all.out, ::testing::HasSubstr("--ground"));
+  EXPECT_THAT(all.out, ::testing::HasSubstr("--spp"));
+}
+
 TEST(FriendlyCli, GpuDeviceNamesSayGpusAreReachedThroughOpenCl) {
   for (const char* d : {"gpu", "cuda:0", "optix"})
     expect_input_error(run_cli(MULTIRAY_BIN, std::string("render --devices ") + d), d,
