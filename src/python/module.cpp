@@ -15,6 +15,18 @@ PYBIND11_MODULE(multiray, m) {
       "multiray from Python: render frames as NumPy arrays with the CLI's settings (see "
       "src/python/README.md).";
   m.attr("__version__") = study::kVersion;
+  // Frames are NumPy arrays: without numpy the module would import and fail at the first
+  // render with a bare "No module named 'numpy'" (a pyenv or virtualenv python3 first on
+  // PATH lacks Debian's packages). Fail here, in one line naming both interpreters.
+  try {
+    py::module_::import("numpy");
+  } catch (const py::error_already_set&) {
+    const std::string here = py::module_::import("sys").attr("executable").cast<std::string>();
+    throw py::import_error(
+        "multiray was built for " MULTIRAY_PYTHON_EXECUTABLE
+        " and needs numpy; this interpreter (" +
+        here + ") has none: run " MULTIRAY_PYTHON_EXECUTABLE ", or install numpy for it");
+  }
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

@@ -79,3 +79,18 @@ def test_render_refuses_frames_that_would_not_fit_max_memory():
     with pytest.raises(ValueError, match="frames returned to Python.*--max-memory"):
         r.render(100)  # 100 x 2.8 MB
     assert r.next_frame == 0  # nothing rendered
+
+
+def test_an_interpreter_without_numpy_fails_at_import_naming_both():
+    """Issue 51 item 5: a python3 without numpy (a pyenv or virtualenv one first on PATH)
+    fails at `import multiray` in one line naming the interpreter it was built for, not
+    later with a bare "No module named 'numpy'"."""
+    import subprocess
+    import sys
+
+    code = "import sys; sys.modules['numpy'] = None; import multiray"
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert p.returncode != 0
+    last = p.stderr.strip().splitlines()[-1]
+    assert last.startswith("ImportError: multiray was built for ")
+    assert "needs numpy" in last and sys.executable in last
