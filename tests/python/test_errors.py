@@ -94,3 +94,14 @@ def test_an_interpreter_without_numpy_fails_at_import_naming_both():
     last = p.stderr.strip().splitlines()[-1]
     assert last.startswith("ImportError: multiray was built for ")
     assert "needs numpy" in last and sys.executable in last
+
+
+def test_a_mistyped_keyword_gets_the_nearest_one():
+    """Issue 51 item 5: keyword typos get "did you mean", as the CLI's option typos do."""
+    import multiray
+
+    with pytest.raises(TypeError, match=r"unexpected keyword argument 'sp' \(did you mean 'spp'\?\)"):
+        multiray.render(sp=4)
+    with pytest.raises(TypeError) as far:
+        multiray.render(zzzzzz=4)
+    assert "did you mean" not in str(far.value)
