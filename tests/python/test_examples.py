@@ -66,3 +66,10 @@ def test_volume_targeting(tmp_path):
                                                  "static adapt=last-frame"] * 2), out
     assert all(float(r[1]) > 0 and float(r[3]) > 0 for r in rows), out
     plotted_or_said_so(out, png)
+
+
+def test_cycles_balancer_runs_as_a_script():
+    # Issue 51 item 5: run as its header says, it benches itself beside the C++ `cycles`.
+    out = run_example("cycles_balancer.py")
+    assert "pycycles:interval_ms=1000:" in out and "cycles:interval_ms=1000:" in out
+    assert "images: identical, frame for frame" in out
