@@ -3,7 +3,7 @@ balancers (multiray.simulate, virtual time) and plot efficiency against device c
 
 Run from the repository root after building (the module is in build/python):
 
-    PYTHONPATH=build/python python3 examples/python/balancer_sweep.py sweep.png
+    PYTHONPATH=build/python /usr/bin/python3 examples/python/balancer_sweep.py sweep.png
 
 The trace is recorded by multiray.bench(trace=PREFIX) on two one-thread CPU devices
 (PREFIX-<balancer>.trace); --trace FILE replays an existing one instead (as written by

@@ -5,7 +5,7 @@ and the frame time, the error and the step scale chosen are printed (and plotted
 
 Run from the repository root after building (the module is in build/python):
 
-    PYTHONPATH=build/python python3 examples/python/volume_targeting.py targeting.png
+    PYTHONPATH=build/python /usr/bin/python3 examples/python/volume_targeting.py targeting.png
 
 Without a VOLUME argument a small synthetic volume is made here (a soft ball of 8-bit
 density, written as raw bytes next to nothing else), so the study needs no data set; with
