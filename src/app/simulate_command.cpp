@@ -79,15 +79,17 @@ Runner add_simulate_command(CLI::App& app) {
                   "Every virtual device this many times slower than the recording device (e.g. "
                   "phones or small GPUs); makes rendering weigh more against the link")
       ->capture_default_str();
-  cmd->add_option("--link", o->link,
-                  "Emulated link to the master: none, lan (0.1 ms, 10 Gbit/s), wifi (5 ms, "
-                  "200 Mbit/s, as Seo et al.'s mobile cluster) or LATENCY_MS,MBIT[,separate] (as "
-                  "render --link); the master's link is shared by all devices unless 'separate'")
+  cmd->add_option(
+         "--link", o->link,
+         "Emulated link to the master: none, lan (0.1 ms, 10 Gbit/s), wifi (5 ms, "
+         "200 Mbit/s: our assumption of a shared Wi-Fi link) or LATENCY_MS,MBIT[,separate] (as "
+         "render --link); the master's link is shared by all devices unless 'separate'")
       ->capture_default_str();
-  cmd->add_option("--result-encoding", o->results,
-                  "What each result pixel costs on the link: rgba8 (4 bytes, Seo et al.'s 8-bit "
-                  "colour), or as render --result-encoding: float (12), half (6), float+zstd or "
-                  "half+zstd (raw bytes times --zstd-ratio)")
+  cmd->add_option(
+         "--result-encoding", o->results,
+         "What each result pixel costs on the link: rgba8 (4 bytes of "
+         "8-bit colour), or as render --result-encoding: float (12), half (6), float+zstd or "
+         "half+zstd (raw bytes times --zstd-ratio)")
       ->capture_default_str();
   cmd->add_option("--zstd-ratio", o->zstd_ratio,
                   "Compressed / raw size of the zstd encodings, in (0, 1]; default: measured on "

@@ -102,7 +102,7 @@ std::vector<BalancerEntry> builtin_balancers() {
        }},
       {"static",
        "fixed ratios, given or measured on the first frame",
-       "Seo et al. 2022 §4.2; Bruder et al. 2017 §7.5",
+       "ours (a baseline; the papers' static forms are ospray-static and bruder:sigma=)",
        {{"ratios", "measured", "A/B/...", "one non-negative number per device"},
         kLayout,
         kBits,

@@ -24,8 +24,9 @@ std::vector<double> device_speeds(const std::string& dist, int n, uint64_t seed)
 // LATENCY_MS,MBIT[,separate]). Throws std::invalid_argument.
 SimLink simulated_link(const std::string& text);
 
-// Result bytes per pixel for `simulate --result-encoding`: rgba8 (4 bytes: the 8-bit
-// colour of Seo et al.'s phones, the simulator's default) or one of render's encodings
+// Result bytes per pixel for `simulate --result-encoding`: rgba8 (4 bytes of 8-bit
+// colour, as a display takes it: our assumption, not stated by Seo et al.; the
+// simulator's default) or one of render's encodings
 // (util/result_encoding.h), the zstd ones at `zstd_ratio` of their raw size (negative:
 // the ratio measured on Sponza). Throws std::invalid_argument.
 double simulated_bytes_per_pixel(const std::string& encoding, double zstd_ratio = -1);

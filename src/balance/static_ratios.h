@@ -1,4 +1,5 @@
-// `static`: fixed work ratios for the whole run (Seo et al. §4.2; Bruder et al. §7.5).
+// `static`: fixed work ratios for the whole run, a baseline of ours. (The papers' static
+// forms are other balancers: `ospray-static`, and Bruder et al. §7.5's `bruder:sigma=`.)
 // Either the user gives them ("static:ratios=3/1"), or they are calibrated once: the
 // first frame is split evenly and each device's speed (work / time) in it becomes its
 // ratio from then on. Calibration waits for a frame in which every alive device reported

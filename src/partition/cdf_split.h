@@ -1,6 +1,7 @@
 // The CDF splitter: cut a 1-D sequence of weighted cells into consecutive pieces holding
-// given shares of the total weight. As in Harada (GPU Pro 7, ch. 4, "Load Balancing for
-// Multi-GPU Rendering") and Harada & Fujita (2014), the cumulative weight is treated as
+// given shares of the total weight. As in Harada (GPU Pro 7, ch. 4, "Semi-static Load
+// Balancing for Low Latency Ray Tracing on Heterogeneous Multiple GPUs") and Harada &
+// Fujita (2014), the cumulative weight is treated as
 // piecewise linear (each cell's weight spread evenly over it) and each cut is found by
 // binary search in the prefix sums followed by linear interpolation inside the cell.
 //

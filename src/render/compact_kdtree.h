@@ -10,9 +10,10 @@
 //
 // Two forms (KdBuildOptions::inner_refs_max):
 // - 0: Wald & Havran's leaf-only tree, every reference in a leaf.
-// - 1 or 2 (default 2, Seo et al.'s setting): the form of Choi, Chang & Ihm, "Improving
-//   memory space efficiency of kd-tree for real-time ray tracing" (CGF 32(7), PG 2013),
-//   which Seo et al. use: an inner node may keep up to that many of the triangles that
+// - 1 or 2 (default 2): after Choi, Chang & Ihm, "Improving memory space efficiency of
+//   kd-tree for real-time ray tracing" (CGF 32(7), PG 2013), whose inner nodes keep one
+//   such triangle; two per inner node is Seo, Kim & Ihm's form (Sensors 2022), the
+//   default here. An inner node may keep up to that many of the triangles that
 //   straddle its split plane, instead of referencing them in both subtrees (where they
 //   would be cut again and again); the traversal tests them when it visits the node. At
 //   most path_refs_max such references lie on any root-to-leaf path. Which straddlers are

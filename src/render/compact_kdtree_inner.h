@@ -1,5 +1,6 @@
-// Which straddling triangles an inner node of the compact kd-tree keeps (the form of Choi,
-// Chang & Ihm, PG 2013, used by Seo et al., Sensors 2022; see compact_kdtree.h). Internal
+// Which straddling triangles an inner node of the compact kd-tree keeps (after Choi, Chang
+// & Ihm, PG 2013, who keep one; two is Seo, Kim & Ihm's form, Sensors 2022; see
+// compact_kdtree.h). Internal
 // to compact_kdtree.cpp; declared here so that the measures can be tested on their own.
 //
 // THE TWO MEASURES ARE OUR READING. The paper's text was not at hand; Seo et al. give only

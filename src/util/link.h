@@ -17,8 +17,9 @@ struct LinkSpec {
   std::string describe() const;
 };
 
-// none; lan (0.1 ms, 10 Gbit/s); wifi (5 ms, 200 Mbit/s: a mobile Wi-Fi cluster, Seo et
-// al.); or LATENCY_MS,MBIT[,separate]: latency in [0, 10000] ms, bandwidth in [0, 1e6]
+// none; lan (0.1 ms, 10 Gbit/s); wifi (5 ms, 200 Mbit/s: our assumption of a shared
+// 802.11 link such as a mobile cluster's, not a figure of Seo et al., who give none); or
+// LATENCY_MS,MBIT[,separate]: latency in [0, 10000] ms, bandwidth in [0, 1e6]
 // Mbit/s (0: unlimited), `separate` for one link per worker instead of the shared master
 // link. Throws std::invalid_argument "'TEXT': why (expected ...)".
 LinkSpec parse_link(const std::string& text);

@@ -1,5 +1,5 @@
 // Object-order empty-space skipping and cost estimation after Bruder, Frey & Ertl 2017,
-// §5: the volume is cut into blocks of 16^3 voxels; each block keeps its value range and
+// §4.1-4.2: the volume is cut into blocks of 16^3 voxels; each block keeps its value range and
 // a 64-bin density histogram, built once when the volume loads. When the transfer
 // function changes, each block's opacity histogram and maximum opacity are derived from
 // those (block_opacity), without touching the voxels again: a block whose maximum
