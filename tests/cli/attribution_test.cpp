@@ -9,6 +9,7 @@
 #include <fstream>
 #include <regex>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace attribution_test {
@@ -53,6 +54,26 @@ TEST(Attribution, WholeViewsPerDeviceAreNotCreditedToLeria) {
   const std::regex credit("whole views[^.;]*(Leria|paper's)|(Leria|paper's)[^.;]*whole views",
                           std::regex::icase);
   EXPECT_THAT(lines_matching(credit), ::testing::IsEmpty());
+}
+
+// Issue 54, item 7: credits the papers do not support.
+TEST(Attribution, WrongCreditsOfIssue54AreGone) {
+  const std::vector<std::pair<std::string, std::regex>> wrong = {
+      // Harada's chapter is "Semi-static Load Balancing for Low Latency Ray Tracing on
+      // Heterogeneous Multiple GPUs".
+      {"Harada's chapter title", std::regex("Load Balancing for\\s+Multi-GPU Rendering")},
+      // `static` is ours; the papers' static forms are ospray-static and bruder:sigma=.
+      {"static credited to Seo and Bruder",
+       std::regex("Seo et al\\.( 2022)? §4\\.2;? (and )?Bruder")},
+      // Neither the Wi-Fi figures nor 8-bit colour are in Seo et al.
+      {"Wi-Fi or 8-bit colour credited to Seo",
+       std::regex(
+           "Seo et al\\.'s (mobile cluster|8-bit)|Seo's phones sent 8-bit|Wi-Fi cluster, Seo")},
+      // The 20-byte nodes are our BVH's.
+      {"20-byte nodes credited to Seo", std::regex("Seo et al\\. §3:[^)]*20-byte")},
+  };
+  for (const auto& [what, pattern] : wrong)
+    EXPECT_THAT(lines_matching(pattern), ::testing::IsEmpty()) << what;
 }
 
 }  // namespace attribution_test
