@@ -106,11 +106,13 @@ int run_cli(int argc, char** argv, const CliHooks& hooks) {
     args.resize(std::min<size_t>(args.size(), 1));
     args.push_back("--help");
   }
-  // --help shows the common options; --help-all every one.
+  // --help shows the common options; --help-all every one. (Hidden only for help: an
+  // option in no group loses its name in CLI11's parse errors.)
   const auto all = std::find(args.begin(), args.end(), "--help-all");
   if (all != args.end())
     *all = "--help";
-  else
+  else if (std::find(args.begin(), args.end(), "--help") != args.end() ||
+           std::find(args.begin(), args.end(), "-h") != args.end())
     for (const char* name : {"render", "bench", "view"})
       hide_uncommon_options(*app.get_subcommand(name));
   if (!args.empty()) {

@@ -42,7 +42,7 @@ TEST(BenchCli, TwoFramesRunWithoutChoosingAWarmup) {
     EXPECT_EQ(lane.at("frames").size(), 2u);
     EXPECT_EQ(lane.at("summary").at("from_frame"), 0);  // min(10, 2 / 4)
   }
-  EXPECT_THAT(run("bench --help").out, ::testing::HasSubstr("min(10, frames / 4)"));
+  EXPECT_THAT(run("bench --help-all").out, ::testing::HasSubstr("min(10, frames / 4)"));
 }
 
 TEST(BenchCli, EveryViewOfEveryFrameIsHashedAndCompared) {

@@ -70,7 +70,7 @@ TEST(ClampCli, RefusesWhatIsNotAFiniteNumberAtLeastZero) {
 
 TEST(ClampCli, RenderBenchAndViewListItUnderSampling) {
   for (const char* command : {"render", "bench", "view"}) {
-    const Result r = run(std::string(command) + " --help");
+    const Result r = run(std::string(command) + " --help-all");
     ASSERT_EQ(r.code, 0) << r.out;
     const size_t section = r.out.find("\nSampling:"), option = r.out.find("--clamp");
     ASSERT_NE(section, std::string::npos) << command;

@@ -155,7 +155,7 @@ TEST(Cli, UpExposureAndToneAreChecked) {
   expect_input_error("render --res 8x8 --exposure nan", "--exposure");
   expect_input_error("render --res 8x8 --exposure two", "--exposure");
   expect_input_error("render --res 8x8 --tone aces", "--tone");
-  const Result help = run("render --help");
+  const Result help = run("render --help-all");
   for (const char* opt : {"--up", "--exposure", "--tone", "filmic"})
     EXPECT_THAT(help.out, ::testing::HasSubstr(opt));
 }

@@ -46,7 +46,7 @@ TEST(ToyBackend, AppearsInTheDevicesListing) {
 }
 
 TEST(ToyBackend, AppearsInTheHelp) {
-  const Ran r = cli({"render", "--help"});
+  const Ran r = cli({"render", "--help-all"});
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_THAT(r.out, HasSubstr("toy (a test backend"));  // --devices
   EXPECT_THAT(r.out, HasSubstr("toy runs path"));        // --integrator
