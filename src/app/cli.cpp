@@ -15,26 +15,11 @@
 #include "core/console.h"
 #include "core/error.h"
 #include "study/stats_json.h"
+#include "util/nearest.h"
 
 namespace multiray::app {
 
 namespace {
-// Levenshtein distance (insertions, deletions, substitutions), for option names.
-size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 // " (did you mean --spp?)" when an argument the parsed command did not expect is within
 // two edits of one of its long options (one edit, or fewer than half its length); else "".
 std::string did_you_mean(const CLI::App& app) {
@@ -42,14 +27,10 @@ std::string did_you_mean(const CLI::App& app) {
     for (const std::string& extra : sub->remaining()) {
       if (extra.rfind("--", 0) != 0) continue;
       const std::string name = extra.substr(2, extra.find('=') - 2);
-      std::string best;
-      size_t best_distance = 3;
+      std::vector<std::string> options;
       for (const CLI::Option* opt : sub->get_options())
-        for (const std::string& candidate : opt->get_lnames()) {
-          const size_t d = edit_distance(name, candidate);
-          if (d < best_distance && (d <= 1 || 2 * d < name.size()))
-            best = candidate, best_distance = d;
-        }
+        for (const std::string& candidate : opt->get_lnames()) options.push_back(candidate);
+      const std::string best = nearest_name(name, options);
       if (!best.empty()) return " (did you mean --" + best + "?)";
     }
   }
@@ -60,15 +41,15 @@ std::string did_you_mean(const CLI::App& app) {
 // edits) and the list; "" when it is an option or a command.
 std::string unknown_command(const CLI::App& app, const std::string& word) {
   if (word.empty() || word[0] == '-') return "";
-  std::string names, best;
-  size_t best_distance = 3;
+  std::string names;
+  std::vector<std::string> commands;
   for (const CLI::App* sub : app.get_subcommands({})) {
     if (sub->get_name() == word) return "";
     if (!names.empty()) names += ", ";
     names += sub->get_name();
-    const size_t d = edit_distance(word, sub->get_name());
-    if (d < best_distance) best = sub->get_name(), best_distance = d;
+    commands.push_back(sub->get_name());
   }
+  const std::string best = nearest_name(word, commands);
   std::string line = "unknown command '" + word + "'";
   if (!best.empty()) line += " (did you mean " + best + "?)";
   return line + "; the commands: " + names + ", help";

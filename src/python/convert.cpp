@@ -1,7 +1,6 @@
 // Conversions for the Python module: JSON and images to Python, keyword arguments to a
 // RunConfig. Only Python types are checked here; every value is checked by build_run, so
 // that a bad value gives the CLI's one-line message.
-#include <algorithm>
 #include <climits>
 #include <cstring>
 #include <functional>
@@ -10,6 +9,7 @@
 
 #include "python/bindings.h"
 #include "study/stats_json.h"
+#include "util/nearest.h"
 
 namespace multiray::python {
 
@@ -140,30 +140,11 @@ T int_value(const char* caller, const std::string& name, const py::handle& v) {
   return out;
 }
 
-// " (did you mean 'spp'?)" for the table's key nearest `name` (within two edits, and
-// fewer than half its length), or "".
+// " (did you mean 'spp'?)" for the table's key nearest `name`, or "".
 std::string nearest_keyword(const std::string& name, const std::map<std::string, Field>& table) {
-  auto distance = [](const std::string& a, const std::string& b) {  // Levenshtein
-    std::vector<size_t> row(b.size() + 1);
-    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-    for (size_t i = 1; i <= a.size(); ++i) {
-      size_t diagonal = row[0];
-      row[0] = i;
-      for (size_t j = 1; j <= b.size(); ++j) {
-        const size_t up = row[j];
-        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-        diagonal = up;
-      }
-    }
-    return row[b.size()];
-  };
-  std::string best;
-  size_t best_distance = 3;
-  for (const auto& entry : table) {
-    const size_t d = distance(name, entry.first);
-    if (d < best_distance && (d <= 1 || 2 * d < name.size()))
-      best = entry.first, best_distance = d;
-  }
+  std::vector<std::string> keys;
+  for (const auto& entry : table) keys.push_back(entry.first);
+  const std::string best = nearest_name(name, keys);
   return best.empty() ? "" : " (did you mean '" + best + "'?)";
 }
 
