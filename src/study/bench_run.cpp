@@ -72,20 +72,20 @@ RunConfig bench_defaults() {
 
 namespace {
 
-// Block `block` of `repeats`: every lane over the run's frames into `out`, with a progress
-// line on a terminal. Returns 0, or 128 + the signal that interrupted it (`out` then holds
-// the frames every lane finished; the caller keeps them), or 130 when hooks.before_frame
+// Block `block` of `repeats`: every lane over the run's frames into `out`, with progress and
+// an ETA from `start` (the run's). Returns 0, or 128 + the signal that interrupted it (`out` then
+// holds the frames every lane finished; the caller keeps them), or 130 when hooks.before_frame
 // stopped it (the caller writes nothing).
 int run_block(Session& session, const Run& s, const std::vector<double>& initial,
               const BenchConfig& config, int block, int repeats, const BenchHooks& hooks,
-              BenchResult& out, std::string& signal_name) {
+              BenchResult& out, std::string& signal_name,
+              std::chrono::steady_clock::time_point start) {
   const bool terminal = stderr_is_tty(), progress = !hooks.quiet;
   std::optional<InterruptWatch> watch;
   if (!hooks.before_frame) watch.emplace(session);
   bool stopped = false;
-  // The ETA from the run's pace so far (every block renders the same frames); off a
-  // terminal, a line every 10 s.
-  static const auto start = std::chrono::steady_clock::now();
+  // The ETA from the run's pace since `start` (every block renders the same frames); off
+  // a terminal, a line every 10 s.
   auto last_line = std::chrono::steady_clock::time_point{};
   out = run_bench(
       session, s.device_ptrs(), initial, s.perturbations, session.settings(), config, [&](int f) {
@@ -214,6 +214,7 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
   balance::NoiseReadings noise;
   noise.probe_before = b.probe_ms > 0 ? contention_probe(b.probe_ms) : NAN;
   const CpuTimes cpu_before = read_cpu_times();
+  const auto started = std::chrono::steady_clock::now();
   const int repeats_asked = b.repeats;
   int interrupted = 0, blocks_done = b.repeats;
   std::string signal;  // the signal's name when one interrupted the run
@@ -226,7 +227,8 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
     if (reversed) std::reverse(order.begin(), order.end());
     if (block > 0) session = s.make_session(order, "--balancers");
     BenchResult r;
-    const int code = run_block(*session, s, initial, config, block, b.repeats, hooks, r, signal);
+    const int code =
+        run_block(*session, s, initial, config, block, b.repeats, hooks, r, signal, started);
     if (code == 130 && signal.empty()) {  // hooks.before_frame: the caller wants nothing
       BenchOutcome stopped = outcome(code);
       stopped.interrupted = true;
