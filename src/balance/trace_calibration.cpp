@@ -41,8 +41,10 @@ std::vector<std::pair<int, double>> bins_of(const ItemReport& r, const FrameShap
 
 // Items of frames `from` on, with the devices at work at each one's start: a device's
 // items run back to back after its frame overhead (time − Σ items), and a device is at
-// work until its frame time (as SimDevice::contention counts).
-std::vector<Item> items_of(const Trace& trace, size_t from) {
+// work until its frame time (as SimDevice::contention counts). A device's launch cost
+// `launch[d]` is taken out of its items in proportion to their times (as the OpenCL
+// device apportions a launch), one launch per frame.
+std::vector<Item> items_of(const Trace& trace, size_t from, const std::vector<double>& launch) {
   std::vector<Item> out;
   for (size_t f = from; f < trace.frames.size(); ++f) {
     const FrameStats& fs = trace.frames[f];
@@ -50,12 +52,13 @@ std::vector<Item> items_of(const Trace& trace, size_t from) {
       const DeviceFrameStats& dev = fs.devices[d];
       double sum = 0;
       for (const ItemReport& r : dev.items) sum += r.time_ms;
+      const double keep = launch[d] > 0 && sum > 0 ? std::max(sum - launch[d], 0.0) / sum : 1.0;
       double start = std::max(dev.time_ms - sum, 0.0);
       for (const ItemReport& r : dev.items) {
         int busy = 0;
         for (const DeviceFrameStats& other : fs.devices)
           busy += other.alive && !other.items.empty() && other.time_ms > start;
-        out.push_back({d, f, r.time_ms, std::max(busy, 1), bins_of(r, fs.shape)});
+        out.push_back({d, f, r.time_ms * keep, std::max(busy, 1), bins_of(r, fs.shape)});
         start += r.time_ms;
       }
     }
@@ -68,6 +71,39 @@ double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const size_t m = v.size() / 2;
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+// Device d's frame times (frames `from` on that it rendered in) and the gaps between
+// them and its items (its fixed cost per frame outside any item).
+void frame_times(const Trace& trace, size_t from, size_t d, std::vector<double>& times,
+                 std::vector<double>& gaps) {
+  for (size_t f = from; f < trace.frames.size(); ++f) {
+    const DeviceFrameStats& fd = trace.frames[f].devices[d];
+    if (fd.items.empty()) continue;
+    double sum = 0;
+    for (const ItemReport& r : fd.items) sum += r.time_ms;
+    times.push_back(fd.time_ms);
+    gaps.push_back(std::max(fd.time_ms - sum, 0.0));
+  }
+}
+
+// The launch cost inside device d's items, from the balancer's last determined model of
+// it (frames `from` on): its fixed cost per frame F when F is clear of noise (over two
+// standard errors), at least kLaunchShare of the device's median frame, and not in the
+// gaps between its items (median gap under F / 2); F less that gap. Else 0.
+constexpr double kLaunchShare = 0.05;
+double launch_of(const Trace& trace, size_t from, size_t d) {
+  const DeviceCostModel* last = nullptr;
+  for (size_t f = from; f < trace.models.size(); ++f)
+    if (d < trace.models[f].size() && trace.models[f][d].determined) last = &trace.models[f][d];
+  if (!last || !(last->fixed_ms > 2 * last->fixed_sigma) || !(last->fixed_ms > 0)) return 0;
+  std::vector<double> times, gaps;
+  frame_times(trace, from, d, times, gaps);
+  const double gap = median(gaps);
+  if (times.empty() || !(last->fixed_ms >= kLaunchShare * median(times)) ||
+      !(gap < last->fixed_ms / 2))
+    return 0;
+  return last->fixed_ms - gap;
 }
 
 using Matrix = std::vector<std::vector<double>>;
@@ -288,7 +324,9 @@ TraceCalibration calibrate(const Trace& trace, int warmup, double contention) {
   TraceCalibration cal;
   cal.devices.resize(n);
   cal.frames = int(frames - from);
-  const std::vector<Item> items = items_of(trace, from);
+  std::vector<double> launch(n, 0.0);
+  for (size_t d = 0; d < n; ++d) launch[d] = launch_of(trace, from, d);
+  const std::vector<Item> items = items_of(trace, from, launch);
   State s{std::vector<double>(n, 1.0), std::vector<double>(n, 0.0),
           contention >= 0 ? contention : 0.0, std::vector<bool>(n, false)};
   std::vector<double> model;
@@ -312,15 +350,10 @@ TraceCalibration calibrate(const Trace& trace, int warmup, double contention) {
     dev.speed = s.speed[d];
     dev.item_overhead_ms = s.overhead[d];
     dev.overhead_fitted = s.fitted[d];
-    std::vector<double> gaps;
-    for (size_t f = from; f < frames; ++f) {
-      const DeviceFrameStats& fd = trace.frames[f].devices[d];
-      if (fd.items.empty()) continue;
-      double sum = 0;
-      for (const ItemReport& r : fd.items) sum += r.time_ms;
-      gaps.push_back(std::max(fd.time_ms - sum, 0.0));
-      dev.items += int(fd.items.size());
-    }
+    dev.launch_ms = launch[d];
+    std::vector<double> times, gaps;
+    frame_times(trace, from, d, times, gaps);
+    for (const Item& it : items) dev.items += it.device == d;
     dev.frame_overhead_ms = median(gaps);
   }
   return cal;
@@ -333,6 +366,7 @@ std::vector<SimDevice> calibrated_devices(const TraceCalibration& cal, double no
     s.speed = d.speed;
     s.item_overhead_ms = d.item_overhead_ms;
     s.frame_overhead_ms = d.frame_overhead_ms;
+    s.launch_ms = d.launch_ms;
     s.contention = cal.contention;
     s.frame_noise = noise;
     out.push_back(s);
@@ -344,8 +378,12 @@ Trace net_trace(const Trace& trace, const TraceCalibration& cal) {
   Trace out = trace;
   for (size_t d = 0; d < out.devices.size(); ++d) out.devices[d].speed = cal.devices[d].speed;
   State s{std::vector<double>(cal.devices.size(), 1.0), {}, cal.contention, {}};
-  for (const CalibratedDevice& d : cal.devices) s.overhead.push_back(d.item_overhead_ms);
-  const std::vector<Item> items = items_of(trace, 0);
+  std::vector<double> launch;
+  for (const CalibratedDevice& d : cal.devices) {
+    s.overhead.push_back(d.item_overhead_ms);
+    launch.push_back(d.launch_ms);
+  }
+  const std::vector<Item> items = items_of(trace, 0, launch);
   size_t next = 0;  // items_of lists the items in the trace's order
   for (FrameStats& f : out.frames)
     for (DeviceFrameStats& dev : f.devices)

@@ -17,7 +17,13 @@ struct CalibratedDevice {
   double item_overhead_ms = 0;   // fixed cost per item, o_i (0 when not fitted)
   double frame_overhead_ms = 0;  // fixed cost per frame, f_i: median of time − Σ items
   bool overhead_fitted = false;  // false: too few items, or sizes too alike, to fit o_i
-  int items = 0;                 // items the fit saw
+  // Fixed cost per launch inside the device's items (a batching OpenCL device spreads its
+  // launch over the items it took together; SimDevice::launch_ms). The item fit cannot
+  // see it when the device rendered few items; it is taken from the balancer's own model
+  // of the device (the trace's `model` records, participation.h) when that model
+  // determined a fixed cost per frame, clear of noise, that the frame's gaps do not hold.
+  double launch_ms = 0;
+  int items = 0;  // items the fit saw
 };
 
 struct TraceCalibration {

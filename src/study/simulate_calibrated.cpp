@@ -51,6 +51,7 @@ struct Row {
   bool has_real = false;
   double real = 0, simulated = 0, error = 0, bias = 0;  // means over frames >= warm-up
   double plain = 0, plain_error = 0;                    // without calibration
+  std::vector<double> real_ms, simulated_ms;            // per frame >= warm-up
 };
 
 // Mean of `sim`, and its mean |error| per frame against `real` (frame times, ms).
@@ -91,7 +92,9 @@ Row row(const balance::Trace& trace, const balance::Trace& net,
     r.has_real = !truth.empty();
     r.real = r.has_real ? sum / double(truth.size()) : 0;
   }
-  compare(truth, replayed(net, spec, &devices, warmup, o.seed), r.simulated, r.error);
+  r.real_ms = truth;
+  r.simulated_ms = replayed(net, spec, &devices, warmup, o.seed);
+  compare(truth, r.simulated_ms, r.simulated, r.error);
   compare(truth, replayed(trace, spec, nullptr, warmup, o.seed), r.plain, r.plain_error);
   r.bias = r.real > 0 ? r.simulated / r.real - 1 : 0;
   return r;
@@ -101,13 +104,15 @@ void print_calibration(const balance::Trace& trace, const balance::TraceCalibrat
                        const CalibratedRun& o) {
   print_out("calibration on {} ({} frames after warm-up, recorded with {}):\n", o.trace_path,
             cal.frames, trace.balancer);
-  print_out("{:>6} {:>8} {:>14} {:>15} {:>6}  {}\n", "device", "speed", "item cost ms",
-            "frame cost ms", "items", "name");
+  print_out("{:>6} {:>8} {:>14} {:>15} {:>10} {:>6}  {}\n", "device", "speed", "item cost ms",
+            "frame cost ms", "launch ms", "items", "name");
   for (size_t d = 0; d < cal.devices.size(); ++d) {
     const balance::CalibratedDevice& c = cal.devices[d];
-    print_out("{:>6} {:>8.4f} {:>14} {:>15.4f} {:>6}  {}\n", d, c.speed,
+    print_out("{:>6} {:>8.4f} {:>14} {:>15.4f} {:>10} {:>6}  {}\n", d, c.speed,
               c.overhead_fitted ? fmt::format("{:.4f}", c.item_overhead_ms) : "- (no fit)",
-              c.frame_overhead_ms, c.items, trace.devices[d].name);
+              c.frame_overhead_ms,
+              c.launch_ms > 0 ? fmt::format("{:.3f}", c.launch_ms) : std::string("-"), c.items,
+              trace.devices[d].name);
   }
   print_out(
       "contention {:.4f} ({}; {:.1f}% of the cost rendered alone), frame noise {:.4f} "
@@ -126,6 +131,7 @@ nlohmann::json to_json(const balance::TraceCalibration& cal) {
                        {"item_overhead_ms", d.item_overhead_ms},
                        {"item_overhead_fitted", d.overhead_fitted},
                        {"frame_overhead_ms", d.frame_overhead_ms},
+                       {"launch_ms", d.launch_ms},
                        {"items", d.items}});
   return {{"devices", devices},
           {"contention", cal.contention},
@@ -187,13 +193,16 @@ nlohmann::json calibrated_study(const balance::Trace& trace, const CalibratedRun
   if (print) print_rows(rows, warmup, frames);
   nlohmann::json list = nlohmann::json::array();
   for (const Row& r : rows) {
-    nlohmann::json j{
-        {"balancer", r.balancer}, {"simulated_mean_ms", r.simulated}, {"plain_mean_ms", r.plain}};
+    nlohmann::json j{{"balancer", r.balancer},
+                     {"simulated_mean_ms", r.simulated},
+                     {"plain_mean_ms", r.plain},
+                     {"simulated_ms", r.simulated_ms}};
     if (r.has_real) {
       j["real_mean_ms"] = r.real;
       j["mean_abs_error"] = r.error;
       j["bias"] = r.bias;
       j["plain_mean_abs_error"] = r.plain_error;
+      j["real_ms"] = r.real_ms;
     }
     list.push_back(j);
   }

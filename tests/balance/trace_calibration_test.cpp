@@ -25,9 +25,10 @@ CostFn banded_cost() {
   });
 }
 
-// A run of `spec` on `devices`, written by the trace writer and read back.
+// A run of `spec` on `devices`, written by the trace writer and read back (with the
+// balancer's `model` records when `models`).
 Trace record(const std::string& spec, const std::vector<SimDevice>& devices, const CostFn& cost,
-             int frames, uint64_t seed = 0) {
+             int frames, uint64_t seed = 0, bool models = false) {
   auto balancer = make_balancer(spec, int(devices.size()));
   const auto run = simulate_run(
       *balancer, kShape, [&](int) { return devices; }, cost, frames, seed);
@@ -36,7 +37,8 @@ Trace record(const std::string& spec, const std::vector<SimDevice>& devices, con
   for (size_t d = 0; d < devices.size(); ++d)
     list.push_back({"sim " + std::to_string(d), devices[d].speed});
   TraceWriter writer(out, balancer->spec(), list);
-  for (const SimFrame& f : run) writer.frame(f.stats);
+  for (const SimFrame& f : run)
+    writer.frame(f.stats, models ? f.plan.models : std::vector<DeviceCostModel>{});
   std::istringstream in(out.str());
   return read_trace(in);
 }
@@ -103,6 +105,26 @@ TEST(TraceCalibration, NetTraceHoldsTheWorkAlone) {
       for (const ItemReport& r : net.frames[f].devices[d].items)
         EXPECT_NEAR(r.time_ms * net.devices[d].speed, 1e-3 * r.samples,
                     2e-3 + 1e-2 * 1e-3 * r.samples);
+}
+
+TEST(TraceCalibration, TakesALaunchCostFromTheBalancersModel) {
+  // A batching device (one launch per frame of its own list, the launch spread over its
+  // items: rusticl's 45-75 ms, scaled) beside a core. Its items never show the launch as
+  // a gap, and hybrid's chunks are too few to fit it per item; hybrid's model of the
+  // device, in the trace, has it.
+  SimDevice batching = device(0.5, 0, 0);
+  batching.launch_ms = 1.5;
+  const std::vector<SimDevice> devices{device(1.0, 0, 0), batching};
+  const Trace t = record("hybrid", devices, testing::flat_cost(kShape), 30, 0, true);
+  const TraceCalibration cal = calibrate(t, 3);
+  EXPECT_NEAR(cal.devices[1].launch_ms, 1.5, 0.3);
+  EXPECT_NEAR(cal.devices[1].speed, 0.5, 0.05);
+  EXPECT_EQ(cal.devices[0].launch_ms, 0.0);
+  EXPECT_EQ(calibrated_devices(cal)[1].launch_ms, cal.devices[1].launch_ms);
+  // Without the model records the launch is seen as a slower device.
+  const Trace bare = record("hybrid", devices, testing::flat_cost(kShape), 30);
+  EXPECT_EQ(calibrate(bare, 3).devices[1].launch_ms, 0.0);
+  EXPECT_LT(calibrate(bare, 3).devices[1].speed, 0.45);
 }
 
 // Mean |error| per frame of `predicted` against `real`, frames from `warmup` on.
