@@ -1,6 +1,6 @@
 // `dlb`: the workload-ratio dynamic load balancer of Leria, Mäkitalo, Ikkala &
 // Jääskeläinen, "Dynamic load balancing for real-time multiview path tracing on multi-GPU
-// architectures" (Virtual Reality & Intelligent Hardware, 2022/2025).
+// architectures", Virtual Reality & Intelligent Hardware 7(4), 393-405, 2025.
 //
 // Every view is cut into shuffled strips (van Antwerpen et al.) and device i renders the
 // fraction w_i of every view's strips, all views in the same frame. Device i's rate is

@@ -71,6 +71,11 @@ TEST(Attribution, WrongCreditsOfIssue54AreGone) {
            "Seo et al\\.'s (mobile cluster|8-bit)|Seo's phones sent 8-bit|Wi-Fi cluster, Seo")},
       // The 20-byte nodes are our BVH's.
       {"20-byte nodes credited to Seo", std::regex("Seo et al\\. §3:[^)]*20-byte")},
+      // Leria et al.'s article: Virtual Reality & Intelligent Hardware 7(4), 2025, in one
+      // form (its DOI carries 2022, the year it was accepted).
+      {"Leria et al. dated two ways", std::regex("2022/2025|Leria et al\\.,? 2022")},
+      // Two triangle references per inner node are Seo, Kim & Ihm's form, not Choi et al.'s.
+      {"the kd-tree form credited to Choi", std::regex("Choi et al\\.'s (form|kd-tree)")},
   };
   for (const auto& [what, pattern] : wrong)
     EXPECT_THAT(lines_matching(pattern), ::testing::IsEmpty()) << what;
