@@ -47,9 +47,11 @@ void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
                  "upsampled) or hybrid (both)")
       ->capture_default_str();
   cmd.add_option("--cost-model", o.cost_model,
-                 "Volumes: the KRLS cost model's settings: paper (Bruder et al.: gamma "
-                 "0.00025, tolerance 0.006) or ours (gamma 0.5, tolerance 0.001, at most 200 "
-                 "support vectors); :tf=0 leaves out the transfer function's feature")
+                 "Volumes: the KRLS cost model: paper (Bruder et al. 5.1: gamma 0.00025, "
+                 "tolerance 0.006, up to 10M support vectors, the features as measured, the "
+                 "cost per sample itself learnt) or ours (gamma 0.5, tolerance 0.001, at most "
+                 "200 support vectors, features scaled to a unit, log cost learnt, and the "
+                 "transfer function's feature); :tf=1 adds that feature, :tf=0 leaves it out")
       ->capture_default_str();
   cmd.add_option("--prepass-stride", o.prepass_stride,
                  "Volumes: one prediction pre-pass ray per NxN pixels (0: no prediction; "

@@ -1,5 +1,6 @@
 #include "engine/cost_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -14,7 +15,8 @@ using Rbf = dlib::radial_basis_kernel<Sample>;
 // ours(): features vary over about one unit each (cost_model.h), so γ 0.5 makes frames a
 // unit apart in one feature still inform each other, and tolerance 0.001 keeps about a
 // hundred frames' worth of support vectors (PLATFORM.md measured ~40 us per training step
-// at that size). The paper's γ 0.00025 was set for its own, unscaled features.
+// at that size). The paper's γ 0.00025 is for its own, unscaled features: a kernel width
+// of ~63 units, which the pre-pass time (ms) and the ray span (voxels) vary over.
 }  // namespace
 
 CostModelConfig parse_cost_model(const std::string& text) {
@@ -24,7 +26,8 @@ CostModelConfig parse_cost_model(const std::string& text) {
   if (name == "paper")
     c = CostModelConfig::paper();
   else if (name != "ours")
-    throw std::invalid_argument("cost model '" + text + "' must be ours or paper[:tf=0|1]");
+    throw std::invalid_argument("cost model '" + text +
+                                "' must be ours[:tf=0|1] or paper[:tf=0|1]");
   if (colon == std::string::npos) return c;
   const std::string option = text.substr(colon + 1);
   if (option != "tf=0" && option != "tf=1")
@@ -48,10 +51,20 @@ CostModel::CostModel(CostModel&&) noexcept = default;
 CostModel& CostModel::operator=(CostModel&&) noexcept = default;
 
 namespace {
-Sample sample_of(const CostFeatures& x, bool transfer_feature) {
+double log2_clamped(double x) { return std::log2(std::max(x, 1e-9)); }
+
+// The features as the model takes them (cost_model.h): scaled to about a unit each for
+// ours, as measured for the paper's; the transfer function's held at 0 when left out.
+Sample sample_of(const CostFeatures& x, const CostModelConfig& c) {
   Sample s;
   for (long i = 0; i < kFeatures; ++i) s(i) = x[size_t(i)];
-  if (!transfer_feature) s(long(kTransferFeature)) = 0;
+  if (c.scaled_features) {
+    s(2) = log2_clamped(x[2]);
+    s(3) = log2_clamped(x[3]);
+    s(4) = log2_clamped(1 + x[4]);
+    s(5) = x[5] / 256;
+  }
+  if (!c.transfer_feature) s(long(kTransferFeature)) = 0;
   return s;
 }
 }  // namespace
@@ -60,18 +73,26 @@ void CostModel::train(const CostFeatures& x, double sigma) {
   if (!(std::isfinite(sigma) && sigma > 0)) return;
   for (double f : x)
     if (!std::isfinite(f)) return;
-  // The model learns log(sigma) relative to the first observation: costs span orders of
+  const Sample s = sample_of(x, config_);
+  ++observations_;
+  if (!config_.log_cost) {
+    impl_->krls.train(s, sigma);
+    return;
+  }
+  // Ours learns log(sigma) relative to the first observation: costs span orders of
   // magnitude across devices, and an RBF regressor tends to 0 far from its data, which
   // then means "the cost first seen" rather than "free".
   const double y = std::log(sigma);
-  if (observations_++ == 0) mean_log_ = y;
-  impl_->krls.train(sample_of(x, config_.transfer_feature), y - mean_log_);
+  if (observations_ == 1) mean_log_ = y;
+  impl_->krls.train(s, y - mean_log_);
 }
 
 double CostModel::predict(const CostFeatures& x) const {
   if (observations_ == 0) return 0;
-  const double y = impl_->krls(sample_of(x, config_.transfer_feature)) + mean_log_;
-  return std::isfinite(y) ? std::exp(y) : 0;
+  const double y = impl_->krls(sample_of(x, config_));
+  if (!config_.log_cost) return std::isfinite(y) && y > 0 ? y : 0;
+  const double sigma = std::exp(y + mean_log_);
+  return std::isfinite(sigma) ? sigma : 0;
 }
 
 }  // namespace multiray

@@ -16,7 +16,6 @@ namespace {
 // still took 6% of the full-step time).
 constexpr double kRaySamples = 1.0, kBlockSamples = 0.5;
 
-double log2_clamped(double x) { return std::log2(std::max(x, 1e-9)); }
 }  // namespace
 
 double shaded_share(double weighted, double marched) {
@@ -47,10 +46,10 @@ CostFeatures VolumeAdvisor::features(double step_scale) const {
       distance * 2 * std::tan(0.5 * c.fov_y_deg * kPi / 180) / std::max(view.height, 1);
   return {std::atan2(double(d.x), double(d.z)),
           std::asin(std::clamp(double(d.y), -1.0, 1.0)),
-          log2_clamped(pixel / voxel),
-          log2_clamped(style_->step * step_scale),
-          log2_clamped(1 + prepass_ms_),
-          max_depth_ / voxel / 256,
+          pixel / voxel,
+          style_->step * step_scale,
+          prepass_ms_,
+          max_depth_ / voxel,
           shaded_share_};
 }
 

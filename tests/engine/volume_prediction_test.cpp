@@ -98,18 +98,19 @@ TEST(VolumePrepass, TerminationEstimateShortensOpaqueRays) {
 TEST(CostModel, KrlsLearnsASmoothCost) {
   CostModel m;
   EXPECT_EQ(m.predict({0, 0, 0, 0, 0, 0, 0}), 0);  // nothing learnt yet
-  // sigma = 0.01 * 2^(step feature) * (1 + 0.2 sin(azimuth)): cost per sample rises with
-  // a longer step (fixed costs per ray spread over fewer samples) and with the view.
+  // sigma = 0.01 * step * (1 + 0.2 sin(azimuth)), the step in voxel lengths (ours takes
+  // its log2): cost per sample rises with a longer step (fixed costs per ray spread over
+  // fewer samples) and with the view. Footprint 1 voxel a pixel.
   auto sigma = [](double az, double step) {
     return 0.01 * std::exp2(step) * (1 + 0.2 * std::sin(az));
   };
   for (int i = 0; i < 400; ++i) {
     const double az = -3 + 6 * ((i * 37) % 100) / 100.0, step = -1 + 3 * ((i * 53) % 100) / 100.0;
-    m.train({az, 0, 0, step, 0, 0, 0}, sigma(az, step));
+    m.train({az, 0, 1, std::exp2(step), 0, 0, 0}, sigma(az, step));
   }
   for (double az : {-2.0, 0.5, 2.5})
     for (double step : {-0.5, 0.7, 1.6})
-      EXPECT_NEAR(m.predict({az, 0, 0, step, 0, 0, 0}) / sigma(az, step), 1.0, 0.05)
+      EXPECT_NEAR(m.predict({az, 0, 1, std::exp2(step), 0, 0, 0}) / sigma(az, step), 1.0, 0.05)
           << az << " " << step;
   m.train({0, 0, 0, 0, 0, 0, 0}, NAN);  // ignored
   m.train({0, 0, 0, 0, 0, 0, 0}, -1);
