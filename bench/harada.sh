@@ -2,14 +2,16 @@
 # Harada's semi-static experiments re-run (issue 13; docs/benchmarks.md, "Semi-static as
 # in Harada"), each with the paper's form (semi-static) and multiray's
 # (semi-static:split=rows:cdf=frame), on Sponza with the default camera orbit:
-#   1. adaptive AO at 1280x720 on two CPU devices (paper: 1.2% average deviation);
+#   1. adaptive AO at 1280x720 on two CPU devices (paper: 1.2% average deviation, on two
+#      GPUs of different models, Fig. 4.1; ours are two identical threads: not comparable);
 #   2. adaptive path tracing on one CPU thread + PoCL (the paper's Fig. 4.3: 0.9-2.9% over
 #      its five panels, three device combinations; our OpenCL kernel has no AO, so the path
 #      tracer stands in);
 #   3. four emulated devices of speeds 0.8, 0.6, 0.4 and 0.2 (0.8 + 0.2 share core 0,
 #      0.6 + 0.4 core 1, so no core is oversubscribed; no paper figure is like it: Harada &
 #      Fujita's Fig. 1, 3.3-3.7%, is four identical GPUs with the irregular pattern, run 5);
-#   4. foveated direct illumination with alpha = 0.2 (Harada, Fig. 4.4);
+#   4. foveated direct illumination with alpha = 0.2 (Harada, Fig. 4.4, which runs it on 4
+#      devices; this runs 2);
 #   5. Harada & Fujita's setting: four identical devices, the irregular (foveated) pattern,
 #      732x800 (their 3.3% and 3.7%): four CPU devices at emulated speed 0.5, two a core,
 #      foveated direct illumination (the paper's shading differs: named in the docs).
