@@ -11,7 +11,11 @@
 #      reprojection from the centre view (`--sampling reproject`), path-tracing time with
 #      and without dlb (12 frames).
 # PARTS (default 1234) picks the parts, GRIDS (default "2x1 3x3 5x5 9x9") part 2's grids,
-# LANES (default below) the balancers.
+# LANES (default below) the balancers. PAIR replaces parts 1-2's emulated pair and PAIR4
+# part 4's homogeneous one, e.g. with a pair whose ratio we do not choose:
+#   POCL_DEVICES=basic PAIR4=cpu:threads=1:cores=0,opencl:0:cores=1 PARTS=4 bench/leria.sh
+# where Leria et al.'s ±10% check can fire (issue 54, item 1); FRAMES4 (default 12) sets
+# part 4's frames (the paper's tables: 100).
 # The baseline is Leria et al.'s: equal ratios over the same shuffled strips
 # (`uniform:layout=strips`, which cuts exactly dlb's strips); `uniform` (two row bands, no
 # per-strip cost) runs beside it as an extra lane. Every run repeats REPEATS blocks (3)
@@ -35,9 +39,11 @@ path=$root/bench/sequences/sponza_flythrough.json
 [ -f "$scene" ] || { echo "leria.sh: skipped: $scene not found"; exit 0; }
 out=$root/bench-out/leria
 mkdir -p "$out"
-pair=cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.5
+pair=${PAIR:-cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.5}
 common="--res $res --spp 1 --bounces 8 --view-spacing 0.2 --camera-path $path --repeats $repeats"
 homogeneous=cpu:threads=1:cores=0,cpu:threads=1:cores=1
+pair4=${PAIR4:-$homogeneous}
+frames4=${FRAMES4:-12}
 part() { case "$parts" in *"$1"*) return 0 ;; esac; return 1; }
 part 1 && "$bin" bench "$scene" $common --views 3x3 --frames "$fly_frames" --devices "$pair" \
   --balancers $lanes --json "$out/flythrough.json" --report "$out/flythrough"
@@ -49,7 +55,7 @@ part 2 && for grid in $grids; do
 done
 part 3 && "$bin" bench "$scene" $common --views 3x3 --frames 60 \
   --devices $homogeneous --balancers $lanes --json "$out/homogeneous.json"
-part 4 && "$bin" bench "$scene" $common --views 9x9 --sampling reproject --frames 12 \
-  --ideal-frames 4 --devices $homogeneous --balancers uniform:layout=strips,dlb \
+part 4 && "$bin" bench "$scene" $common --views 9x9 --sampling reproject --frames "$frames4" \
+  --ideal-frames 4 --devices "$pair4" --balancers uniform:layout=strips,dlb \
   --json "$out/tables_1_2.json"
 echo "leria.sh: wrote $out"
