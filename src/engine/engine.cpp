@@ -217,7 +217,7 @@ void Engine::recover_failures(const FrameJob& job, DispatchSource& source,
     alive_[i] = false;
     balancer_->drop_device(int(i));
     rec.messages.push_back("device " + std::to_string(i) + " (" + devices_[i]->info().name +
-                           ") failed and was dropped: " + reports[i].error);
+                           ") failed and was dropped, its work re-assigned: " + reports[i].error);
     // What it started but did not report, and what was still waiting in its list.
     std::vector<bool> done(dispatch.items().size(), false);
     for (const ItemReport& r : reports[i].items) done[r.id] = true;
@@ -226,9 +226,16 @@ void Engine::recover_failures(const FrameJob& job, DispatchSource& source,
       if (dispatch.taken_by(id) == int(i) && !done[id]) redo.push_back(id);
     for (uint32_t id : dispatch.take_remaining(int(i))) redo.push_back(id);
 
-    const auto helper = std::find(alive_.begin(), alive_.end(), true);
-    if (helper == alive_.end()) throw DeviceError("every device has failed: " + reports[i].error);
-    const size_t h = size_t(helper - alive_.begin());
+    // A helper is a device that did not fail this frame too (all ranks go silent at once
+    // when the master's own link is cut: each is named, not only the last one seen).
+    size_t h = 0;
+    while (h < devices_.size() && !(alive_[h] && !reports[h].failed)) ++h;
+    if (h == devices_.size()) {
+      std::string why;
+      for (const DeviceReport& r : reports)
+        if (r.failed) why += (why.empty() ? "" : "; ") + r.error;
+      throw DeviceError("every device has failed: " + why);
+    }
     std::vector<WorkItem> items;
     for (uint32_t id : redo) items.push_back(dispatch.items()[id]);
     ListWorkSource list(items, redo);
@@ -236,6 +243,11 @@ void Engine::recover_failures(const FrameJob& job, DispatchSource& source,
     std::vector<std::function<void()>> redo_job(devices_.size());
     redo_job[h] = [&] { extra = devices_[h]->render(job, list, int(h)); };
     threads_.run(redo_job);
+    // Its items would be lost without a word: fail loudly instead.
+    if (extra.failed)
+      throw DeviceError("device " + std::to_string(h) +
+                        " failed while re-rendering the items of device " + std::to_string(i) +
+                        ": " + extra.error);
     DeviceReport& r = reports[h];
     r.items.insert(r.items.end(), extra.items.begin(), extra.items.end());
     r.samples += extra.samples, r.pixels += extra.pixels, r.rays += extra.rays;

@@ -10,6 +10,7 @@
 
 #include "balance/balancer.h"
 #include "core/clock.h"
+#include "core/error.h"
 #include "device/cpu/cpu_device.h"
 #include "engine/engine.h"
 #include "scene/builders.h"
@@ -162,6 +163,27 @@ TEST(Engine, FailedDeviceIsDroppedAndItsWorkRedone) {
   const FrameRecord next =
       engine.render_frame(1, views(scene, 1), RenderSettings{.spp = 1, .max_bounces = 4});
   EXPECT_EQ(next.devices[0].pixels, uint64_t(kW) * kH);
+}
+
+// When every device fails in one frame, the error names each failure, not only the last
+// one looked at: a master whose own link is cut loses every rank at once, and a line naming
+// one rank sent its reader after the wrong machine (tests/mpi/netfault.sh master).
+TEST(Engine, WhenEveryDeviceFailsEachFailureIsNamed) {
+  const Scene scene = make_cornell_box();
+  SceneCache rs(scene);
+  FailingDevice a(rs), b(rs);
+  Engine engine({&a, &b}, balance::make_balancer("uniform", 2));
+  try {
+    engine.render_frame(0, views(scene, 0), RenderSettings{.spp = 1, .max_bounces = 4});
+    ADD_FAILURE() << "no error when every device failed";
+  } catch (const DeviceError& e) {
+    const std::string what = e.what();
+    size_t named = 0;
+    for (size_t at = what.find("injected failure"); at != std::string::npos;
+         at = what.find("injected failure", at + 1))
+      ++named;
+    EXPECT_EQ(named, 2u) << what;
+  }
 }
 
 }  // namespace engine_test
