@@ -227,32 +227,45 @@ void Engine::recover_failures(const FrameJob& job, DispatchSource& source,
     for (uint32_t id : dispatch.take_remaining(int(i))) redo.push_back(id);
 
     // A helper is a device that did not fail this frame too (all ranks go silent at once
-    // when the master's own link is cut: each is named, not only the last one seen).
-    size_t h = 0;
-    while (h < devices_.size() && !(alive_[h] && !reports[h].failed)) ++h;
-    if (h == devices_.size()) {
-      std::string why;
-      for (const DeviceReport& r : reports)
-        if (r.failed) why += (why.empty() ? "" : "; ") + r.error;
-      throw DeviceError("every device has failed: " + why);
+    // when the master's own link is cut: each is named, not only the last one seen). One
+    // that fails while re-rendering is dropped in turn and what it left goes on to the
+    // next: a second fault in one frame lost those items without a word before.
+    std::vector<uint32_t> left = std::move(redo);
+    for (;;) {
+      size_t h = 0;
+      while (h < devices_.size() && !(alive_[h] && !reports[h].failed)) ++h;
+      if (h == devices_.size()) {
+        std::string why;
+        for (const DeviceReport& r : reports)
+          if (r.failed) why += (why.empty() ? "" : "; ") + r.error;
+        throw DeviceError("every device has failed: " + why);
+      }
+      std::vector<WorkItem> items;
+      for (uint32_t id : left) items.push_back(dispatch.items()[id]);
+      ListWorkSource list(items, left);
+      DeviceReport extra;
+      std::vector<std::function<void()>> redo_job(devices_.size());
+      redo_job[h] = [&] { extra = devices_[h]->render(job, list, int(h)); };
+      threads_.run(redo_job);
+      DeviceReport& r = reports[h];
+      r.items.insert(r.items.end(), extra.items.begin(), extra.items.end());
+      r.samples += extra.samples, r.pixels += extra.pixels, r.rays += extra.rays;
+      r.busy_ms += extra.busy_ms, r.time_ms += extra.time_ms;
+      r.stolen_ms += extra.stolen_ms;
+      if (!extra.failed) break;
+      std::vector<bool> redone(dispatch.items().size(), false);
+      for (const ItemReport& it : extra.items) redone[it.id] = true;
+      left.erase(std::remove_if(left.begin(), left.end(), [&](uint32_t id) { return redone[id]; }),
+                 left.end());
+      alive_[h] = false;
+      balancer_->drop_device(int(h));
+      r.failed = true;
+      r.error = extra.error;
+      rec.messages.push_back("device " + std::to_string(h) + " (" + devices_[h]->info().name +
+                             ") failed while re-rendering the items of device " +
+                             std::to_string(i) +
+                             " and was dropped, its work re-assigned: " + extra.error);
     }
-    std::vector<WorkItem> items;
-    for (uint32_t id : redo) items.push_back(dispatch.items()[id]);
-    ListWorkSource list(items, redo);
-    DeviceReport extra;
-    std::vector<std::function<void()>> redo_job(devices_.size());
-    redo_job[h] = [&] { extra = devices_[h]->render(job, list, int(h)); };
-    threads_.run(redo_job);
-    // Its items would be lost without a word: fail loudly instead.
-    if (extra.failed)
-      throw DeviceError("device " + std::to_string(h) +
-                        " failed while re-rendering the items of device " + std::to_string(i) +
-                        ": " + extra.error);
-    DeviceReport& r = reports[h];
-    r.items.insert(r.items.end(), extra.items.begin(), extra.items.end());
-    r.samples += extra.samples, r.pixels += extra.pixels, r.rays += extra.rays;
-    r.busy_ms += extra.busy_ms, r.time_ms += extra.time_ms;
-    r.stolen_ms += extra.stolen_ms;
   }
 }
 
