@@ -32,11 +32,12 @@
 #
 # Exit 0: passed; 1: failed (what failed is printed); 77: skipped, with the reason (not
 # root, no `ip`/`unshare`/`tc`, or no namespace can be made here). Every step has a
-# deadline: a passing run takes 10-20 s, a failing one ends within about 75 s. Only the processes inside these namespaces
-# (all started here) are killed, by PID, and the namespaces (and with them their veths)
-# are deleted on every exit, a failed or interrupted one too.
+# deadline: a passing run takes 10-20 s, a failing one ends within about 75 s. Only the
+# processes inside these namespaces (all started here) are killed, by PID, and the
+# namespaces (and with them their veths) are deleted on every exit, a failed or
+# interrupted one too; a failed run keeps its logs and says where.
 set -u
-[ $# -eq 3 ] || { sed -n '2,37p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -eq 3 ] || { sed -n '2,38p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 multiray=$1
 mpiexec=$2
 scenario=$3
