@@ -159,7 +159,7 @@ DeviceReport RemoteDevice::render(const FrameJob& job, WorkSource& source, int i
         transport_.give_up(rank_);
         return fail("no answer for " +
                     std::to_string(options_.timeout.count() / 1000.0).substr(0, 4) +
-                    " s; its work was re-assigned");
+                    " s (not even a heartbeat): given up on");
       }
       continue;
     }

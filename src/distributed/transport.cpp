@@ -15,6 +15,12 @@ struct Transport::InFlight {
   std::shared_ptr<const std::vector<uint8_t>> bytes;  // kept until the send completes
 };
 
+struct Transport::Arriving {
+  MPI_Request request = MPI_REQUEST_NULL;
+  Message message;  // its bytes are the receive buffer
+  bool done = false;
+};
+
 namespace {
 // How long the transport's thread sleeps when nothing moved (MPI has no wake-up for an
 // arriving message, so arrivals are polled): 20 us after any traffic, doubling while
@@ -51,6 +57,10 @@ Transport::~Transport() {
   }
   arrived_.notify_all();
   thread_.join();
+  // A receive that never completed (from a peer whose link went down mid-message) keeps
+  // its buffer: MPI may still write into it should the bytes come after all.
+  for (auto& a : arriving_)
+    if (!a->done) static_cast<void>(a.release());
   if (!gave_up_on_anyone() && !forgo_finalize_) MPI_Finalize();
 }
 
@@ -190,6 +200,7 @@ bool Transport::pump() {
     it = done ? in_flight_.erase(it) : it + 1;
   }
   while (probe_one()) moved = true;
+  if (finish_receives()) moved = true;
   // The emulated link delivers what is due.
   std::lock_guard<std::mutex> lock(mutex_);
   bool delivered = false;
@@ -206,27 +217,61 @@ bool Transport::pump() {
 
 bool Transport::probe_one() {
   int flag = 0;
+  MPI_Message handle = MPI_MESSAGE_NULL;
   MPI_Status status;
-  MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
+  MPI_Improbe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &handle, &status);
   if (!flag) return false;
   int count = 0;
   MPI_Get_count(&status, MPI_BYTE, &count);
-  Message m;
-  m.from = status.MPI_SOURCE;
-  m.tag = status.MPI_TAG;
-  m.bytes.resize(size_t(std::max(count, 0)));
-  // The message is already arriving (probed), so this returns once its bytes are in.
-  MPI_Recv(m.bytes.data(), count, MPI_BYTE, m.from, m.tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  auto a = std::make_unique<Arriving>();
+  a->message.from = status.MPI_SOURCE;
+  a->message.tag = status.MPI_TAG;
+  a->message.bytes.resize(size_t(std::max(count, 0)));
+  // Matched, not waited for: the rest of a large message (beyond the first fragment that
+  // made it match) may never come when the sender's link went down as it crossed, and a
+  // blocking MPI_Recv here stalled every peer's messages and heartbeats with it.
+  MPI_Imrecv(a->message.bytes.data(), count, MPI_BYTE, &handle, &a->request);
+  {
+    // Its first bytes arrived: the peer was alive then.
+    std::lock_guard<std::mutex> lock(mutex_);
+    const int from = a->message.from;
+    if (from >= 0 && from < size_ && !given_up_[size_t(from)]) heard_[size_t(from)] = Clock::now();
+  }
+  arriving_.push_back(std::move(a));
+  return true;
+}
+
+bool Transport::finish_receives() {
+  for (auto& a : arriving_)
+    if (!a->done) {
+      int done = 0;
+      MPI_Test(&a->request, &done, MPI_STATUS_IGNORE);
+      a->done = done != 0;
+    }
+  bool moved = false;
+  std::vector<bool> waiting(size_t(size_), false);  // an earlier message of this peer is not in
   const Clock::time_point now = Clock::now();
   std::lock_guard<std::mutex> lock(mutex_);
-  if (m.from < 0 || m.from >= size_ || given_up_[size_t(m.from)]) return true;
-  heard_[size_t(m.from)] = now;
-  if (m.tag == kHeartbeatTag) return true;
-  stats_.messages_received++, stats_.bytes_received += m.bytes.size();
-  const Clock::time_point at =
-      rank_ == 0 && m.from > 0 ? link_.deliver_at(m.from - 1, m.bytes.size(), now) : now;
-  delayed_.push_back(Delayed{at, std::move(m)});
-  return true;
+  for (auto it = arriving_.begin(); it != arriving_.end();) {
+    const int from = (*it)->message.from;
+    const bool known = from >= 0 && from < size_;
+    if (!(*it)->done || (known && waiting[size_t(from)])) {
+      if (known) waiting[size_t(from)] = true;  // each peer's messages in the order they matched
+      ++it;
+      continue;
+    }
+    Message m = std::move((*it)->message);
+    it = arriving_.erase(it);
+    moved = true;
+    if (!known || given_up_[size_t(from)]) continue;
+    heard_[size_t(from)] = now;
+    if (m.tag == kHeartbeatTag) continue;
+    stats_.messages_received++, stats_.bytes_received += m.bytes.size();
+    const Clock::time_point at =
+        rank_ == 0 && m.from > 0 ? link_.deliver_at(m.from - 1, m.bytes.size(), now) : now;
+    delayed_.push_back(Delayed{at, std::move(m)});
+  }
+  return moved;
 }
 
 }  // namespace multiray::remote

@@ -1,8 +1,11 @@
 // Messages between the ranks of one mpirun job, over MPI (Open MPI). One thread per
 // process — the transport's — makes every MPI call (MPI_THREAD_SERIALIZED), with
-// non-blocking sends and probes only: a rank that died never answers and, with Open MPI
-// 4.1, no MPI error ever reports it, so a blocking call to it would hang forever. The
-// other threads hand messages to send() and wait in receive() with a deadline.
+// non-blocking sends, probes and receives only: a rank that died never answers and, with
+// Open MPI 4.1, no MPI error ever reports it, so a blocking call to it would hang forever.
+// That holds for a message already half received too: a link cut while a large message
+// crosses it (tests/mpi/netfault.sh) leaves the rest of its bytes away for good, so a
+// matched message is received with MPI_Imrecv and tested, never waited for. The other
+// threads hand messages to send() and wait in receive() with a deadline.
 //
 // Sending overlaps rendering: send() returns at once and the transport's thread moves
 // the bytes while the caller renders the next item (Seo et al. 2022 use a sender thread
@@ -91,10 +94,14 @@ class Transport {
     Message message;
   };
   struct InFlight;
+  struct Arriving;
   void loop();
   // One pass of the transport's thread; true when it moved anything.
   bool pump();
   bool probe_one();
+  // Moves completed receives to delivery, each peer's in the order they matched; true
+  // when it moved anything.
+  bool finish_receives();
   void send_heartbeats();
 
   int rank_ = 0, size_ = 1;
@@ -109,6 +116,10 @@ class Transport {
   std::vector<Clock::time_point> heard_;
   std::vector<bool> given_up_;
   std::vector<std::unique_ptr<InFlight>> in_flight_;  // transport thread only
+  // Messages matched and being received, in the order they matched (transport thread
+  // only). A receive from a peer given up on may never complete (its link is down): it is
+  // left here, its buffer kept, since MPI may still write into it.
+  std::deque<std::unique_ptr<Arriving>> arriving_;
   TransportStats stats_;
   bool stop_ = false;
   std::atomic<bool> forgo_finalize_{false};

@@ -217,7 +217,7 @@ void Engine::recover_failures(const FrameJob& job, DispatchSource& source,
     alive_[i] = false;
     balancer_->drop_device(int(i));
     rec.messages.push_back("device " + std::to_string(i) + " (" + devices_[i]->info().name +
-                           ") failed and was dropped: " + reports[i].error);
+                           ") failed and was dropped, its work re-assigned: " + reports[i].error);
     // What it started but did not report, and what was still waiting in its list.
     std::vector<bool> done(dispatch.items().size(), false);
     for (const ItemReport& r : reports[i].items) done[r.id] = true;
@@ -226,21 +226,46 @@ void Engine::recover_failures(const FrameJob& job, DispatchSource& source,
       if (dispatch.taken_by(id) == int(i) && !done[id]) redo.push_back(id);
     for (uint32_t id : dispatch.take_remaining(int(i))) redo.push_back(id);
 
-    const auto helper = std::find(alive_.begin(), alive_.end(), true);
-    if (helper == alive_.end()) throw DeviceError("every device has failed: " + reports[i].error);
-    const size_t h = size_t(helper - alive_.begin());
-    std::vector<WorkItem> items;
-    for (uint32_t id : redo) items.push_back(dispatch.items()[id]);
-    ListWorkSource list(items, redo);
-    DeviceReport extra;
-    std::vector<std::function<void()>> redo_job(devices_.size());
-    redo_job[h] = [&] { extra = devices_[h]->render(job, list, int(h)); };
-    threads_.run(redo_job);
-    DeviceReport& r = reports[h];
-    r.items.insert(r.items.end(), extra.items.begin(), extra.items.end());
-    r.samples += extra.samples, r.pixels += extra.pixels, r.rays += extra.rays;
-    r.busy_ms += extra.busy_ms, r.time_ms += extra.time_ms;
-    r.stolen_ms += extra.stolen_ms;
+    // A helper is a device that did not fail this frame too (all ranks go silent at once
+    // when the master's own link is cut: each is named, not only the last one seen). One
+    // that fails while re-rendering is dropped in turn and what it left goes on to the
+    // next: a second fault in one frame lost those items without a word before.
+    std::vector<uint32_t> left = std::move(redo);
+    for (;;) {
+      size_t h = 0;
+      while (h < devices_.size() && !(alive_[h] && !reports[h].failed)) ++h;
+      if (h == devices_.size()) {
+        std::string why;
+        for (const DeviceReport& r : reports)
+          if (r.failed) why += (why.empty() ? "" : "; ") + r.error;
+        throw DeviceError("every device has failed: " + why);
+      }
+      std::vector<WorkItem> items;
+      for (uint32_t id : left) items.push_back(dispatch.items()[id]);
+      ListWorkSource list(items, left);
+      DeviceReport extra;
+      std::vector<std::function<void()>> redo_job(devices_.size());
+      redo_job[h] = [&] { extra = devices_[h]->render(job, list, int(h)); };
+      threads_.run(redo_job);
+      DeviceReport& r = reports[h];
+      r.items.insert(r.items.end(), extra.items.begin(), extra.items.end());
+      r.samples += extra.samples, r.pixels += extra.pixels, r.rays += extra.rays;
+      r.busy_ms += extra.busy_ms, r.time_ms += extra.time_ms;
+      r.stolen_ms += extra.stolen_ms;
+      if (!extra.failed) break;
+      std::vector<bool> redone(dispatch.items().size(), false);
+      for (const ItemReport& it : extra.items) redone[it.id] = true;
+      left.erase(std::remove_if(left.begin(), left.end(), [&](uint32_t id) { return redone[id]; }),
+                 left.end());
+      alive_[h] = false;
+      balancer_->drop_device(int(h));
+      r.failed = true;
+      r.error = extra.error;
+      rec.messages.push_back("device " + std::to_string(h) + " (" + devices_[h]->info().name +
+                             ") failed while re-rendering the items of device " +
+                             std::to_string(i) +
+                             " and was dropped, its work re-assigned: " + extra.error);
+    }
   }
 }
 

@@ -10,6 +10,7 @@
 
 #include "balance/balancer.h"
 #include "core/clock.h"
+#include "core/error.h"
 #include "device/cpu/cpu_device.h"
 #include "engine/engine.h"
 #include "scene/builders.h"
@@ -162,6 +163,76 @@ TEST(Engine, FailedDeviceIsDroppedAndItsWorkRedone) {
   const FrameRecord next =
       engine.render_frame(1, views(scene, 1), RenderSettings{.spp = 1, .max_bounces = 4});
   EXPECT_EQ(next.devices[0].pixels, uint64_t(kW) * kH);
+}
+
+// Renders its own items, then fails on the next call of the frame (the engine asking it to
+// re-render another device's items) after taking one of them.
+class FailsWhenHelping : public Device {
+ public:
+  explicit FailsWhenHelping(SceneCache& rs) : inner_(rs, {}, "cpu") {
+    info_ = inner_.info();
+    info_.name = "fails when helping";
+  }
+  const DeviceInfo& info() const override { return info_; }
+  void set_emulated_speed(double) override {}
+  DeviceReport render(const FrameJob& job, WorkSource& source, int index) override {
+    if (calls_++ == 0) return inner_.render(job, source, index);
+    DeviceReport r;
+    uint32_t id;
+    r.failed = source.next(index, id);  // takes one item and "loses" it
+    r.error = "failed while helping";
+    return r;
+  }
+
+ private:
+  CpuDevice inner_;
+  DeviceInfo info_;
+  int calls_ = 0;
+};
+
+// Two faults in one frame: the device that re-renders a failed one's items fails too. Its
+// share goes on to the third device and the image is whole; it used to be left out, the
+// frame returned with those pixels never rendered and no word said.
+TEST(Engine, ADeviceFailingWhileReRenderingPassesItsShareOn) {
+  const Scene scene = make_cornell_box();
+  SceneCache rs(scene);
+  const auto reference = render_with(rs, "uniform", 1, 1);
+  FailingDevice bad(rs);
+  FailsWhenHelping flaky(rs);
+  CpuDevice good(rs, {}, "cpu");
+  Engine engine({&bad, &flaky, &good}, balance::make_balancer("uniform", 3));
+  const FrameRecord rec =
+      engine.render_frame(0, views(scene, 0), RenderSettings{.spp = 1, .max_bounces = 4});
+  EXPECT_FALSE(engine.alive(0));
+  EXPECT_FALSE(engine.alive(1));
+  ASSERT_EQ(rec.messages.size(), 2u);
+  EXPECT_NE(rec.messages[1].find("failed while re-rendering the items of device 0"),
+            std::string::npos)
+      << rec.messages[1];
+  EXPECT_EQ(std::memcmp(engine.images()[0].pixels.data(), reference.data(),
+                        reference.size() * sizeof(Vec3)),
+            0);
+}
+
+// When every device fails in one frame, the error names each failure, not only the last
+// one looked at: a master whose own link is cut loses every rank at once, and a line naming
+// one rank sent its reader after the wrong machine (tests/mpi/netfault.sh master).
+TEST(Engine, WhenEveryDeviceFailsEachFailureIsNamed) {
+  const Scene scene = make_cornell_box();
+  SceneCache rs(scene);
+  FailingDevice a(rs), b(rs);
+  Engine engine({&a, &b}, balance::make_balancer("uniform", 2));
+  try {
+    engine.render_frame(0, views(scene, 0), RenderSettings{.spp = 1, .max_bounces = 4});
+    ADD_FAILURE() << "no error when every device failed";
+  } catch (const DeviceError& e) {
+    const std::string what = e.what();
+    size_t named = 0;
+    for (size_t at = what.find("injected failure"); at != std::string::npos;
+         at = what.find("injected failure", at + 1))
+      ++named;
+    EXPECT_EQ(named, 2u) << what;
+  }
 }
 
 }  // namespace engine_test
