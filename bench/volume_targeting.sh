@@ -3,7 +3,8 @@
 # docs/volumes.md says what each baseline is and what still differs from the paper):
 # frame-time targeting modes on a 300-frame sequence with two transfer-function switches,
 # prediction-based balancing against the paper's static baseline, and the image quality
-# of the three adaptation spaces against a fine reference (the paper's Table 4).
+# of the adaptation spaces (the paper's three and our auto) against a fine reference
+# (the paper's Table 4).
 #   bench/volume_targeting.sh BUILD OUT [FRAMES] [PARTS]
 #   PARTS: any of "targeting costmodel calibrate balance quality" (default: all)
 # Needs ../shared/data/volumes. Three devices, as the paper: by default two CPU devices of
@@ -35,7 +36,7 @@ for vol in aneurism cranium; do
   # and ours beside them (predict:q=0.9; two-pass:probe=fixed, a quarter of full quality).
   if has targeting; then
     "$mr" bench "$file" --res 256x192 --frames "$frames" --warmup 10 --ideal-frames 10 \
-      --sequence "$seqs/$vol.json" --target-ms 100 \
+      --sequence "$seqs/$vol.json" --target-ms 100 --adapt-space ray \
       --adapt none,last-frame,two-pass,two-pass:probe=fixed,predict,predict:q=0.9 \
       --balancers $ours --devices "$devices" \
       --json "$out/$vol-targeting.json" --report "$out/$vol-targeting" > "$out/$vol-targeting.txt"
@@ -47,6 +48,7 @@ for vol in aneurism cranium; do
     for cm in paper paper:tf=0 ours ours:tf=0; do
       "$mr" bench "$file" --res 256x192 --frames "$frames" --warmup 10 --ideal-frames 10 \
         --sequence "$seqs/$vol.json" --target-ms 100 --adapt predict --cost-model "$cm" \
+        --adapt-space ray \
         --balancers $ours --devices "$devices" \
         --json "$out/$vol-costmodel-$cm.json" > "$out/$vol-costmodel-$cm.txt"
     done
@@ -88,7 +90,7 @@ fi
 # Table 4: each adaptation space at the same target against every frame rendered at step
 # 0.1 voxel (the paper's reference), aneurism, the first 60 frames, target 30 ms.
 if has quality; then
-  for space in image ray hybrid; do
+  for space in image ray hybrid auto; do
     "$mr" bench "$(file_of aneurism)" --res 256x192 --frames 60 --warmup 10 --ideal-frames 1 \
       --sequence "$seqs/aneurism.json" --target-ms 30 --adapt none,predict --adapt-space $space \
       --reference-step 0.1 --balancers $ours --devices "$devices" \

@@ -43,8 +43,9 @@ void add_volume_options(CLI::App& cmd, VolumeOptions& o) {
          "every balancer once per mode")
       ->capture_default_str();
   cmd.add_option("--adapt-space", o.adapt_space,
-                 "Volumes: what --adapt changes: ray (the step), image (the resolution, "
-                 "upsampled) or hybrid (both)")
+                 "Volumes: what --adapt changes: auto (the resolution down to half per side, "
+                 "then the step up to x2, no further), ray (the step), image (the resolution, "
+                 "upsampled) or hybrid (both); ray, image and hybrid go down to 1/64 of the work")
       ->capture_default_str();
   cmd.add_option("--cost-model", o.cost_model,
                  "Volumes: the KRLS cost model: paper (Bruder et al. 5.1: gamma 0.00025, "

@@ -15,6 +15,7 @@
 #include "app/progress.h"
 #include "app/render_output.h"
 #include "balance/registry.h"
+#include "balance/targeting.h"
 #include "core/console.h"
 #include "core/error.h"
 #include "core/file_io.h"
@@ -205,7 +206,11 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                 *out_dir, target.dir);
     RenderOutput output(target, fixed_exposure, *quiet, s.views->rig().columns, display,
                         trace.get());
-    output.set_target_ms(o->volume.target_ms);
+    if (o->volume.target_ms > 0) {
+      balance::TargetingConfig targeting;  // the bounds build_run checked
+      targeting.space = balance::parse_adapt_space(o->volume.adapt_space);
+      output.set_targeting(o->volume.target_ms, balance::lowest_cost(targeting));
+    }
     std::vector<std::string> names;
     for (const auto& d : s.devices) names.push_back(d->info().spec);
     output.set_device_names(std::move(names));

@@ -145,9 +145,11 @@ void RenderOutput::on_frame(const std::shared_ptr<const FrameResult>& r) {
   for (const auto& m : rec.messages) print_err("multiray: warning: {}\n", m);
   if (!quiet_)
     for (const auto& m : rec.notes) print_err("multiray: note: frame {}: {}\n", rec.frame, m);
+  if (target_ms_ > 0)
+    targeted_frames_.push_back({rec.quality.step_scale, rec.quality.image_scale, rec.frame_ms});
   if (target_ms_ > 0 && !warned_quality_) {
-    const std::string w = study::degraded_quality_warning(
-        rec.quality.step_scale, rec.quality.image_scale, rec.frame_ms, target_ms_);
+    const std::string w =
+        study::degraded_quality_warning(targeted_frames_, target_ms_, lowest_cost_);
     if (!w.empty()) print_err("multiray: warning: {}\n", w);
     warned_quality_ = !w.empty();
   }

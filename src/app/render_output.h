@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -16,6 +17,7 @@
 #include "core/composite.h"
 #include "core/image.h"
 #include "engine/session.h"
+#include "study/adapt_summary.h"
 #include "study/trace_file.h"
 
 namespace multiray::app {
@@ -36,9 +38,13 @@ class RenderOutput : public FrameObserver {
                const Display& display, study::TraceFile* trace);
 
   void on_frame(const std::shared_ptr<const FrameResult>& r) override;
-  // With frame-time targeting: warn once when a frame's quality drops past what shows
-  // (study/adapt_summary.h degraded_quality_warning).
-  void set_target_ms(double target_ms) { target_ms_ = target_ms; }
+  // With frame-time targeting: warn once when a frame's quality drops past what shows, with
+  // the target that would keep it, fitted to the frames so far (study/adapt_summary.h
+  // degraded_quality_warning); `lowest_cost` is the coarsest cost factor targeting may
+  // choose (balance::lowest_cost).
+  void set_targeting(double target_ms, double lowest_cost) {
+    target_ms_ = target_ms, lowest_cost_ = lowest_cost;
+  }
   // Augmented reality: images with an alpha channel are written as an RGBA layer
   // (<name>_rgba.png, and .exr with --exr) and, as the main image, composited over these
   // real images (core/composite.h); without them, over black.
@@ -73,7 +79,8 @@ class RenderOutput : public FrameObserver {
   FrameSpool records_;
   RenderCounters counters_;
   bool fixed_exposure_, metered_ = false, quiet_, warned_quality_ = false;
-  double target_ms_ = 0;
+  double target_ms_ = 0, lowest_cost_ = 0;
+  std::vector<study::QualityTime> targeted_frames_;  // every frame's quality and time so far
   int columns_;
   Display display_;
   study::TraceFile* trace_;

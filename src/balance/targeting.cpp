@@ -55,7 +55,9 @@ AdaptSpace parse_adapt_space(const std::string& text) {
   if (text == "ray") return AdaptSpace::ray;
   if (text == "image") return AdaptSpace::image;
   if (text == "hybrid") return AdaptSpace::hybrid;
-  throw std::invalid_argument("adaptation space '" + text + "' must be ray, image or hybrid");
+  if (text == "auto") return AdaptSpace::automatic;
+  throw std::invalid_argument("adaptation space '" + text +
+                              "' must be auto, ray, image or hybrid");
 }
 
 const char* adapt_mode_name(AdaptMode m) {
@@ -73,7 +75,17 @@ const char* adapt_mode_name(AdaptMode m) {
 }
 
 const char* adapt_space_name(AdaptSpace s) {
-  return s == AdaptSpace::ray ? "ray" : s == AdaptSpace::image ? "image" : "hybrid";
+  switch (s) {
+    case AdaptSpace::ray:
+      return "ray";
+    case AdaptSpace::image:
+      return "image";
+    case AdaptSpace::hybrid:
+      return "hybrid";
+    case AdaptSpace::automatic:
+      return "auto";
+  }
+  return "?";
 }
 
 Quality quality_of(double cost, AdaptSpace space) {
@@ -82,7 +94,23 @@ Quality quality_of(double cost, AdaptSpace space) {
   if (space == AdaptSpace::image) q.image_scale = std::sqrt(cost);
   if (space == AdaptSpace::hybrid)
     q.image_scale = std::pow(cost, 0.25), q.step_scale = 1 / std::sqrt(cost);
+  if (space == AdaptSpace::automatic) {
+    // Fewer pixels first (they shrink every part of a ray's work), then a longer step,
+    // bounded: past kAutoStepCeiling the lattice of samples shows as slabs and rings.
+    constexpr double knee = kAutoImageFloor * kAutoImageFloor;  // the image's share at its floor
+    if (cost >= knee) {
+      q.image_scale = std::sqrt(cost);
+    } else {
+      q.image_scale = kAutoImageFloor;
+      q.step_scale = std::min(knee / cost, kAutoStepCeiling);
+    }
+  }
   return q;
+}
+
+double lowest_cost(const TargetingConfig& config) {
+  return config.space == AdaptSpace::automatic ? std::max(config.min_cost, kAutoLowestCost)
+                                               : config.min_cost;
 }
 
 FrameTimeTargeting::FrameTimeTargeting(const TargetingConfig& config) : config_(config) {
@@ -96,6 +124,8 @@ FrameTimeTargeting::FrameTimeTargeting(const TargetingConfig& config) : config_(
     throw std::invalid_argument("the first pass's cost factor must be in [lowest, 1]");
   if (!(config.margin_quantile >= 0 && config.margin_quantile < 1))
     throw std::invalid_argument("the prediction margin quantile must be in [0, 1)");
+  config_.min_cost = lowest_cost(config);
+  if (config_.probe_cost < config_.min_cost) config_.probe_cost = config_.min_cost;
 }
 
 double FrameTimeTargeting::clamp_next(double wanted) const {

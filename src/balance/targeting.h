@@ -2,8 +2,14 @@
 // that it takes a user's target time. Quality is one number, the cost factor c in
 // [min_cost, 1] (1 = full quality): the share of the full-quality work the frame does,
 // spent in ray space (a longer step: step_scale = 1/c), image space (fewer pixels:
-// image_scale = sqrt(c)) or both (hybrid: image_scale = c^(1/4), step_scale = c^(-1/2)).
-// Pure policy over numbers, like the balancers.
+// image_scale = sqrt(c)), both (hybrid: image_scale = c^(1/4), step_scale = c^(-1/2)), or,
+// the default (auto, ours), the reduction that degrades least first: image space down to
+// half the resolution per side, then a longer step up to x2, and no further (c >= 1/8).
+// A volume sampled at a step several times the user's shows slabs and rings (the lattice
+// t_entry + k·Δ of every ray is visible), and a step does not shrink the per-ray and
+// per-block work, so a coarse step buys little time for much damage; fewer pixels shrink
+// every part of a ray's work and blur evenly. The paper's spaces (ray, image, hybrid) keep
+// their reach down to 1/64. Pure policy over numbers, like the balancers.
 //
 // Modes (all in one run of `multiray bench` to compare, as the paper's Fig. 5a):
 //  - none: always full quality;
@@ -37,14 +43,22 @@
 namespace multiray::balance {
 
 enum class AdaptMode { none, last_frame, predict, two_pass };
-enum class AdaptSpace { ray, image, hybrid };
+enum class AdaptSpace { ray, image, hybrid, automatic };
+
+// The auto space's bounds: the image shrinks to kAutoImageFloor per side before the step
+// grows, and the step grows to kAutoStepCeiling at most, so its cost factor stops at
+// kAutoImageFloor^2 / kAutoStepCeiling = kAutoLowestCost.
+constexpr double kAutoImageFloor = 0.5, kAutoStepCeiling = 2.0;
+constexpr double kAutoLowestCost = kAutoImageFloor * kAutoImageFloor / kAutoStepCeiling;
 
 struct TargetingConfig {
   double target_ms = 0;  // > 0
   AdaptMode mode = AdaptMode::none;
   AdaptSpace space = AdaptSpace::ray;
-  double min_cost = 1.0 / 64;  // lowest cost factor (coarsest quality), in (0, 1]
-  double max_raise = 0.8;      // c_next <= c / max_raise, in (0, 1]
+  // Lowest cost factor (coarsest quality), in (0, 1]; in the auto space at least
+  // kAutoLowestCost whatever is set here (lowest_cost()).
+  double min_cost = 1.0 / 64;
+  double max_raise = 0.8;  // c_next <= c / max_raise, in (0, 1]
   int bisection_steps = 12;
   // two-pass: the first pass's cost factor relative to the last frame's (the paper), or,
   // with probe_fixed (ours), relative to full quality; in [min_cost, 1].
@@ -66,17 +80,22 @@ void parse_adapt(const std::string& text, TargetingConfig& config);
 // The spec of config's mode as parse_adapt reads it ("predict:q=0.9", "last-frame",
 // "two-pass:probe=fixed").
 std::string adapt_name(const TargetingConfig& config);
+// "ray" | "image" | "hybrid" | "auto"; std::invalid_argument (one line) otherwise.
 AdaptSpace parse_adapt_space(const std::string& text);
 const char* adapt_mode_name(AdaptMode m);
 const char* adapt_space_name(AdaptSpace s);
 
-// The quality of cost factor c in `space`.
+// The quality of cost factor c in `space` (in auto, c below kAutoLowestCost gets the
+// quality of kAutoLowestCost: the step stays bounded).
 Quality quality_of(double cost, AdaptSpace space);
+// The lowest cost factor `config` lets targeting choose: its min_cost, raised to
+// kAutoLowestCost in the auto space.
+double lowest_cost(const TargetingConfig& config);
 
 class FrameTimeTargeting {
  public:
   // Throws std::invalid_argument for a target that is not finite and > 0, or bounds out
-  // of range.
+  // of range. The cost factor stays within [lowest_cost(config), 1].
   explicit FrameTimeTargeting(const TargetingConfig& config);
 
   // The cost factor of the next frame. `predict_ms(c)`, when the mode is predict, gives

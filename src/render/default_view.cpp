@@ -223,4 +223,28 @@ Camera default_volume_camera(const Scene& scene, float aspect, Vec3 up, Vec3 fro
   return scene.default_camera(aspect, up, turn + kDefaultAzimuthDeg, kDefaultElevationDeg);
 }
 
+float share_outside_frame(const Scene& scene, const Camera& camera, float aspect,
+                          size_t max_points) {
+  const size_t n = scene.positions.size();
+  if (n == 0 || max_points == 0) return 0;
+  const Bounds3 b = scene.bounds();
+  const Vec3 e = camera.eye;
+  if (!b.empty() && e.x >= b.lo.x && e.x <= b.hi.x && e.y >= b.lo.y && e.y <= b.hi.y &&
+      e.z >= b.lo.z && e.z <= b.hi.z)
+    return 0;
+  const Vec3 f = normalize(camera.target - camera.eye);
+  const Vec3 r = normalize(cross(f, camera.up));
+  const Vec3 u = cross(r, f);
+  const float tan_y = std::tan(0.5f * camera.fov_y_deg * float(kPi) / 180.0f);
+  const float tan_x = tan_y * aspect;
+  const size_t stride = std::max<size_t>(1, n / max_points);
+  size_t seen = 0, outside = 0;
+  for (size_t i = 0; i < n; i += stride, ++seen) {
+    const Vec3 d = scene.positions[i] - e;
+    const float z = dot(d, f);
+    if (!(z > 0) || std::abs(dot(d, r)) > tan_x * z || std::abs(dot(d, u)) > tan_y * z) ++outside;
+  }
+  return float(outside) / float(seen);
+}
+
 }  // namespace multiray

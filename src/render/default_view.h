@@ -86,4 +86,16 @@ DefaultView choose_default_view(const RenderScene& rs, float aspect, Vec3 up);
 // (view_direction's front is used).
 Camera default_volume_camera(const Scene& scene, float aspect, Vec3 up, Vec3 front);
 
+// The share of the scene's vertices that `camera` does not show in an image of width /
+// height `aspect` (behind it or outside the frame), over at most `max_points` of them taken
+// evenly; 0 without vertices or when the eye is inside the scene's bounds (a view from
+// inside sees a part by design). A file's own camera that leaves part of an object outside
+// crops it (glTF's 2CylinderEngine: yfov 18° at aspect 1, cut at the right and bottom),
+// which the run then says (kCroppedShare).
+float share_outside_frame(const Scene& scene, const Camera& camera, float aspect,
+                          size_t max_points = 65536);
+// The share of vertices outside the frame past which a file's camera is said to crop
+// (0.1%: 2CylinderEngine's camera leaves 0.4% out at 16:9, its bottom cut off).
+constexpr float kCroppedShare = 0.001f;
+
 }  // namespace multiray

@@ -340,9 +340,15 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   DefaultView chosen{Camera{}, cli_camera ? "--camera" : "scene"};
   if (cli_camera)
     chosen.camera = *cli_camera;
-  else if (!s.scene->cameras.empty() && !framing_default)
+  else if (!s.scene->cameras.empty() && !framing_default) {
     chosen.camera = s.scene->cameras.front();
-  else if (volume_input)
+    const float outside = share_outside_frame(*s.scene, chosen.camera, aspect);
+    if (outside > kCroppedShare)
+      s.notes.push_back(fmt::format(
+          "the file's own camera leaves {:.1f}% of the scene's vertices outside the frame (it "
+          "crops the scene); --camera default frames all of it",
+          100.0 * outside));
+  } else if (volume_input)
     chosen = {default_volume_camera(*s.scene, aspect, s.up, s.scene->volume->orientation.anterior),
               "default"};
   else

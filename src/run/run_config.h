@@ -21,7 +21,7 @@ struct VolumeOptions {
   std::string raw;             // "NXxNYxNZ:TYPE[...]" for a headerless .raw file
   double target_ms = 0;        // frame-time target; 0: none
   std::string adapt = "auto";  // none | last-frame | predict[:q=Q] | two-pass, a list for bench
-  std::string adapt_space = "ray";   // ray | image | hybrid
+  std::string adapt_space = "auto";  // auto | ray | image | hybrid (balance/targeting.h)
   int prepass_stride = 4;            // pixels per pre-pass ray each way; 0: no prediction
   std::string cost_model = "paper";  // paper | ours [:tf=0|1] (engine/cost_model.h)
   // bench: render each frame at this step (voxel lengths) as the image-error reference

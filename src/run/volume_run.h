@@ -51,7 +51,7 @@ class VolumeRun {
   VolumeOptions o_;
   Vec3 background_;
   std::vector<balance::TargetingConfig> modes_;
-  balance::AdaptSpace space_ = balance::AdaptSpace::ray;
+  balance::AdaptSpace space_ = balance::AdaptSpace::automatic;
   InteractionSequence sequence_;
   bool has_sequence_ = false;
   std::map<std::string, std::shared_ptr<const VolumeStyle>> styles_;

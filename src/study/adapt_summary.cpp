@@ -177,17 +177,59 @@ void write_prediction_svg(const std::string& path, const std::string& title,
   chart.write(path);
 }
 
-std::string degraded_quality_warning(double step_scale, double image_scale, double frame_ms,
-                                     double target_ms) {
-  const double cost = image_scale * image_scale / step_scale;
-  if (!(cost < kVisibleCost) || !(frame_ms > 0) || !(target_ms > 0)) return "";
-  const double keep_ms = std::max(target_ms, frame_ms) * kVisibleCost / cost;
-  return fmt::format(
+FrameTimeFit fit_frame_time(const std::vector<QualityTime>& frames) {
+  FrameTimeFit f;
+  double n = 0, sc = 0, st = 0, scc = 0, sct = 0;
+  for (const QualityTime& q : frames) {
+    const double c = q.cost();
+    if (!(q.frame_ms > 0) || !std::isfinite(q.frame_ms) || !(c > 0) || !std::isfinite(c)) continue;
+    n += 1, sc += c, st += q.frame_ms, scc += c * c, sct += c * q.frame_ms;
+  }
+  const double var = n * scc - sc * sc;  // n² times the variance of c
+  if (n < 2 || !(var > 1e-12 * n * n)) return f;
+  f.work_ms = (n * sct - sc * st) / var;
+  f.fixed_ms = (st - f.work_ms * sc) / n;
+  if (!(f.work_ms > 0)) return f;
+  // A negative intercept (noise) would promise the impossible at coarse quality: take the
+  // line through the origin's side instead, no fixed part.
+  if (f.fixed_ms < 0) f.fixed_ms = 0, f.work_ms = sct / scc;
+  f.ok = true;
+  return f;
+}
+
+std::string degraded_quality_warning(const std::vector<QualityTime>& frames, double target_ms,
+                                     double lowest_cost) {
+  if (frames.empty() || !(target_ms > 0)) return "";
+  const QualityTime& last = frames.back();
+  const double cost = last.cost();
+  if (!(cost < kVisibleCost) || !(last.frame_ms > 0)) return "";
+  const FrameTimeFit fit = fit_frame_time(frames);
+  double full_ms = 0;  // the slowest full-quality frame measured
+  for (const QualityTime& q : frames)
+    if (q.cost() >= 1) full_ms = std::max(full_ms, q.frame_ms);
+  double keep_ms = std::max(target_ms, last.frame_ms) * kVisibleCost / cost;
+  std::string how = "time taken as proportional to the work";
+  if (fit.ok) {
+    keep_ms = fit.at(kVisibleCost);
+    how = fmt::format("fitted to this run's frames: {:.0f} ms fixed + {:.0f} ms at full work",
+                      fit.fixed_ms, fit.work_ms);
+  }
+  if (full_ms > 0) {
+    keep_ms = std::min(keep_ms, full_ms);
+    how += fmt::format("; a full-quality frame took {:.0f} ms", full_ms);
+  }
+  std::string line = fmt::format(
       "--target-ms {:g} made a frame do {:.0f}x less than the full work (step x{:.2f}, image "
       "x{:.2f}); past {:.0f}x it shows as slabs and blur. About --target-ms {:.0f} keeps it "
-      "within {:.0f}x (time taken as proportional to the work), or add devices",
-      target_ms, 1.0 / cost, step_scale, image_scale, 1.0 / kVisibleCost, std::ceil(keep_ms),
-      1.0 / kVisibleCost);
+      "within {:.0f}x ({}), or add devices",
+      target_ms, 1.0 / cost, last.step_scale, last.image_scale, 1.0 / kVisibleCost,
+      std::ceil(keep_ms), 1.0 / kVisibleCost, how);
+  if (fit.ok && lowest_cost > 0 && fit.at(lowest_cost) > target_ms)
+    line += fmt::format(
+        ". Even the coarsest quality allowed ({:.0f}x less work) takes about {:.0f} ms here: "
+        "--target-ms {:g} cannot be met",
+        1.0 / lowest_cost, fit.at(lowest_cost), target_ms);
+  return line;
 }
 
 }  // namespace multiray::study

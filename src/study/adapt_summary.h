@@ -41,11 +41,35 @@ nlohmann::json targeting_to_json(const TargetingSummary& t);
 // image_scale^2 / step_scale, balance/targeting.h) shows: a step 4x the user's slices a
 // volume into visible slabs, half the pixels per side blurs it.
 constexpr double kVisibleCost = 0.25;
-// When a frame rendered at quality `q` (taking `frame_ms`) did less than kVisibleCost of
-// the full work to hold `target_ms`: one line saying so and the target that would keep the
-// quality within kVisibleCost, taking the frame time as proportional to the work. Else "".
-std::string degraded_quality_warning(double step_scale, double image_scale, double frame_ms,
-                                     double target_ms);
+
+// One measured frame of a targeted run: the quality it was rendered at and its time.
+struct QualityTime {
+  double step_scale = 1, image_scale = 1, frame_ms = 0;
+  double cost() const { return image_scale * image_scale / step_scale; }
+};
+
+// The frame time of a run as a function of the cost factor c, fitted to its measured
+// frames as a fixed part plus a part proportional to the work: t(c) = fixed_ms + work_ms·c
+// (least squares). Per-ray set-up, block walks, the pre-pass and the frame's host work do
+// not shrink with the work, so "time proportional to c" promises far more than a coarser
+// frame gives (the cranium on two cores: 147 ms at full quality, 55 ms at 1/64).
+struct FrameTimeFit {
+  bool ok = false;  // two or more distinct cost factors, and time growing with c
+  double fixed_ms = 0, work_ms = 0;
+  double at(double c) const { return fixed_ms + work_ms * c; }
+};
+FrameTimeFit fit_frame_time(const std::vector<QualityTime>& frames);
+
+// When the last of `frames` did less than kVisibleCost of the full work to hold
+// `target_ms`: one line saying so and the target that would keep the quality within
+// kVisibleCost. That target comes from the fit of the run's own frames (fit_frame_time),
+// so it lies between the frames measured at full and at coarse quality (never above a
+// full-quality frame's time); without a fit, from the last frame's time taken as
+// proportional to the work. When even the coarsest quality allowed (`lowest_cost`, the
+// cost factor targeting stops at) is fitted slower than the target, it says the target
+// cannot be met here. "" otherwise.
+std::string degraded_quality_warning(const std::vector<QualityTime>& frames, double target_ms,
+                                     double lowest_cost);
 void print_targeting(const std::vector<std::string>& lanes,
                      const std::vector<TargetingSummary>& summaries, double target_ms);
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 #include "balance/targeting.h"
 
@@ -202,6 +203,70 @@ TEST(Targeting, BadConfigurationsAndNamesAreRefused) {
   EXPECT_THROW(parse_adapt_space("object"), std::invalid_argument);
   EXPECT_EQ(parse_adapt_mode("last-frame"), AdaptMode::last_frame);
   EXPECT_EQ(parse_adapt_space("hybrid"), AdaptSpace::hybrid);
+  EXPECT_EQ(parse_adapt_space("auto"), AdaptSpace::automatic);
+  EXPECT_STREQ(adapt_space_name(AdaptSpace::automatic), "auto");
+}
+
+// The auto space (ours, the default; issue 51 item 4): the reduction that degrades least
+// first. Fewer pixels down to half per side, only then a longer step, and that at most x2.
+TEST(TargetingAuto, ImageSpaceFirstThenABoundedStep) {
+  for (double c : {1.0, 0.8, 0.5, 0.3, 0.25}) {
+    const Quality q = quality_of(c, AdaptSpace::automatic);
+    EXPECT_EQ(q.step_scale, 1) << c;  // the step untouched while the image can shrink
+    EXPECT_NEAR(q.image_scale * q.image_scale, c, 1e-12) << c;
+  }
+  const Quality eighth = quality_of(0.125, AdaptSpace::automatic);
+  EXPECT_EQ(eighth.image_scale, kAutoImageFloor);
+  EXPECT_DOUBLE_EQ(eighth.step_scale, 2);
+  for (double c : {0.1, 1.0 / 64, 1e-6}) {  // below its floor: the floor's quality
+    const Quality q = quality_of(c, AdaptSpace::automatic);
+    EXPECT_EQ(q.image_scale, kAutoImageFloor) << c;
+    EXPECT_LE(q.step_scale, kAutoStepCeiling) << c;
+  }
+  TargetingConfig c = config(AdaptMode::predict);
+  EXPECT_EQ(lowest_cost(c), 1.0 / 64);  // the paper's spaces keep their reach
+  c.space = AdaptSpace::automatic;
+  EXPECT_EQ(lowest_cost(c), 0.125);
+}
+
+// The issue's cranium on two cores, as a recorded cost: 147 ms a frame at full quality,
+// about 54 ms of it work that no coarser quality removes. A 50 ms target cannot be met;
+// the ray space went down to step x64 (slabs and rings) for nothing, auto stops at x2.
+double cranium_ms(double c) { return 53.5 + 93.5 * c; }
+
+TEST(TargetingAuto, AnUnreachableTargetStopsAtTheBoundInsteadOfSlicingTheVolume) {
+  for (AdaptMode mode : {AdaptMode::predict, AdaptMode::last_frame, AdaptMode::two_pass}) {
+    TargetingConfig cfg = config(mode, 50);
+    cfg.space = AdaptSpace::automatic;
+    FrameTimeTargeting t(cfg);
+    for (int f = 0; f < 30; ++f) {
+      const double c = t.next(cranium_ms);
+      EXPECT_GE(c, kAutoLowestCost - 1e-12) << adapt_mode_name(mode) << " frame " << f;
+      EXPECT_LE(quality_of(c, AdaptSpace::automatic).step_scale, kAutoStepCeiling);
+      const std::optional<double> second = t.second_pass(cranium_ms(c) * 0.25);
+      if (second) {
+        EXPECT_GE(*second, kAutoLowestCost - 1e-12);
+      }
+      t.measured(cranium_ms(t.cost()));
+    }
+  }
+  // The ray space, for comparison: it goes to its floor, step x64.
+  FrameTimeTargeting ray(config(AdaptMode::predict, 50));
+  double c = 1;
+  for (int f = 0; f < 30; ++f) c = ray.next(cranium_ms), ray.measured(cranium_ms(c));
+  EXPECT_EQ(quality_of(c, AdaptSpace::ray).step_scale, 64);
+}
+
+TEST(TargetingAuto, AReachableTargetIsMetByImageSpaceAlone) {
+  TargetingConfig cfg = config(AdaptMode::predict, 100);
+  cfg.space = AdaptSpace::automatic;
+  FrameTimeTargeting t(cfg);
+  double c = 1;
+  for (int f = 0; f < 20; ++f) c = t.next(cranium_ms), t.measured(cranium_ms(c));
+  EXPECT_NEAR(cranium_ms(c), 100, 0.5);
+  const Quality q = quality_of(c, AdaptSpace::automatic);
+  EXPECT_EQ(q.step_scale, 1);  // no step change: no slabs
+  EXPECT_GT(q.image_scale, 0.7);
 }
 
 }  // namespace targeting_test

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -95,8 +96,11 @@ TEST(Readme, EveryExampleRunsAsWrittenAndWritesWhatItSays) {
       readme_commands(std::string(MULTIRAY_SOURCE_DIR) + "/README.md");
   ASSERT_GE(commands.size(), 10u) << "the README's examples were not found";
   // A fresh clone after `make run`: build/ and examples/ in it, ../shared beside it.
-  const std::string root = ::testing::TempDir() + "/readme_examples";
-  fs::remove_all(root);
+  // A folder of its own: a fixed /tmp/readme_examples was shared by every worktree's run,
+  // and one run's remove_all deleted another's clone mid-command (issue 51).
+  std::string pattern = (fs::temp_directory_path() / "readme_examples.XXXXXX").string();
+  ASSERT_NE(mkdtemp(pattern.data()), nullptr) << pattern;
+  const std::string root = pattern;
   const std::string clone = root + "/multiray";
   fs::create_directories(clone);
   fs::create_directory_symlink(MULTIRAY_BUILD_DIR, clone + "/build");
@@ -147,6 +151,10 @@ TEST(Readme, EveryExampleRunsAsWrittenAndWritesWhatItSays) {
         EXPECT_TRUE(fs::exists(clone + "/" + (*it)[1].str())) << command << "\n  no " << (*it)[1];
     }
   }
+  if (::testing::Test::HasFailure())
+    std::printf("outputs kept in %s\n", root.c_str());
+  else
+    fs::remove_all(root);
 }
 
 }  // namespace readme_examples_test

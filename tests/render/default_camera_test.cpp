@@ -317,5 +317,26 @@ TEST(DefaultCamera, VolumesAreSeenFromTheirFront) {
   EXPECT_LT(c.eye.y, 0.0f);
 }
 
+// A file's own camera that crops the scene is told (issue 51 item 8: the 2CylinderEngine's
+// camera cut it at the right and bottom with no word).
+TEST(DefaultCamera, ShareOfTheSceneOutsideACamerasFrame) {
+  const Scene s = box_scene({-1, -1, -1}, {1, 1, 1});
+  const Camera framing = s.default_camera(16.0f / 9);
+  EXPECT_EQ(share_outside_frame(s, framing, 16.0f / 9), 0.0f);
+  // Aimed past the box's right edge: the corners on the left are out of a narrow view.
+  Camera off = framing;
+  off.fov_y_deg = 10;
+  off.target = framing.target + Vec3(3, 0, 0);
+  EXPECT_GT(share_outside_frame(s, off, 1.0f), kCroppedShare);
+  // Looking away: everything is behind it.
+  Camera away = framing;
+  away.target = framing.eye + (framing.eye - framing.target);
+  EXPECT_EQ(share_outside_frame(s, away, 1.0f), 1.0f);
+  // From inside the bounds (an interior view): not a crop.
+  Camera inside = framing;
+  inside.eye = Vec3(0, 0, 0), inside.target = Vec3(0, 0, -1);
+  EXPECT_EQ(share_outside_frame(s, inside, 1.0f), 0.0f);
+}
+
 }  // namespace default_camera_test
 }  // namespace multiray
