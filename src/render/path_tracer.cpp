@@ -35,10 +35,20 @@ void PathTracer::step(WavefrontPath& p, const Hit* hit, const SceneData& sd,
 
 namespace {
 
-// Writes pixel (x, y)'s feature buffers from its samples, summed into `px`.
-void write_features(const AovPixel& px, Framebuffer& out, int x, int y) {
+// Writes pixel (x, y)'s feature buffers from its `spp` samples, paths[0..spp), each with
+// its radiance as the beauty averages it (render/shared/aov.h). A pass of its own beside
+// the beauty's, so that a frame without feature buffers runs the loop it always ran.
+void write_features(const WavefrontPath* paths, int spp, const RenderSettings& settings,
+                    Framebuffer& out, int x, int y) {
   if (out.features.width != out.width || out.features.height != out.height)
     throw std::logic_error("feature buffers asked for, and the framebuffer has none");
+  AovPixel px;
+  aov_pixel_init(&px);
+  for (int s = 0; s < spp; ++s) {
+    const Vec3 L = paths[s].L;
+    aov_pixel_add(&px, &paths[s].aov,
+                  clamp_sample(is_finite(L) ? L : Vec3(0.0f), settings.sample_clamp));
+  }
   float v[MR_AOV_FLOATS];
   aov_pixel_result(&px, v);
   out.features.set_packed(size_t(y) * size_t(out.width) + size_t(x), v);
@@ -168,17 +178,13 @@ KernelStats PathTracer::render_rect_logged(const ViewSetup& view, const RenderSe
         next += size_t(spp);
         continue;
       }
+      if (settings.feature_buffers) write_features(paths.data() + next, spp, settings, out, x, y);
       Vec3 sum(0.0f);
-      AovPixel features{};  // used only with feature buffers
-      if (settings.feature_buffers) aov_pixel_init(&features);
       for (int s = 0; s < spp; ++s, ++next) {
         const Vec3 L = paths[next].L;
-        const Vec3 c = clamp_sample(is_finite(L) ? L : Vec3(0.0f), settings.sample_clamp);
-        sum += c;
-        if (settings.feature_buffers) aov_pixel_add(&features, &paths[next].aov, c);
+        sum += clamp_sample(is_finite(L) ? L : Vec3(0.0f), settings.sample_clamp);
       }
       out.at(x, y) = spp > 0 ? sum * (1.0f / float(spp)) : Vec3(0.0f);
-      if (settings.feature_buffers) write_features(features, out, x, y);
     }
     stats.samples += paths.size();
     first = last;
