@@ -137,7 +137,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                   "subset of albedo, normal, depth, variance, as layers of one multi-layer "
                   "OpenEXR with the beauty (albedo.R/G/B, normal.X/Y/Z, depth.Z, variance.Y): the "
                   "frame's .exr, or <image>_aov.exr beside a PNG; for Open Image Denoise or "
-                  "Blender's compositor (docs/noise.md)");
+                  "Blender's compositor (docs/aov.md)");
   auto overlay = std::make_shared<bool>(false);
   cmd->add_flag("--overlay", *overlay,
                 "Also write a picture of how each frame was split: <image>_split.png, the frame "

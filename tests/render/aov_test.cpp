@@ -45,6 +45,20 @@ TEST(Aov, PlaneSeenFromAbove) {
   }
 }
 
+// A path ends at its last bounce after recording: with --bounces 0 (emission only) the
+// plane's features are still there, and the beauty is black.
+TEST(Aov, RecordedAtTheLastBounce) {
+  const Scene scene = make_lit_plane(0.5f, 1.0f);
+  RenderSettings s = with_features(2);
+  s.max_bounces = 0;
+  const Framebuffer fb = render(scene, 8, 8, s);
+  for (size_t i = 0; i < fb.features.depth.size(); ++i) {
+    EXPECT_EQ(fb.features.albedo[3 * i + 1], 0.5f) << i;
+    EXPECT_NEAR(fb.features.depth[i], 1.0f, 1e-4f) << i;
+    EXPECT_EQ(fb.pixels[i].y, 0.0f) << i;
+  }
+}
+
 // Looking at the horizon: the rows above it see only sky (albedo and normal 0, depth
 // +inf, and the sky's constant radiance has no variance); the rows below see the plane at
 // the planar depth 1 / tan(angle below the axis).
