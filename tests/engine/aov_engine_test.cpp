@@ -1,8 +1,10 @@
 // Feature buffers through the engine: bit-identical for every balancer and device count
 // (as the image is, engine_test.cpp), sized with the images only when a frame asks for
-// them, and gone again when the next one does not.
+// them, and gone again when the next one does not; the viewer's refinement of
+// progressive frames gives them as one render of all the frames' samples would.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,6 +12,8 @@
 #include "balance/balancer.h"
 #include "device/cpu/cpu_device.h"
 #include "engine/engine.h"
+#include "engine/refinement.h"
+#include "engine/session.h"
 #include "scene/builders.h"
 
 namespace multiray {
@@ -72,6 +76,50 @@ TEST(AovEngine, BuffersOnlyForTheFramesThatAskForThem) {
   engine.render_frame(2, views(scene, 2), plain);
   EXPECT_TRUE(engine.images()[0].features.empty());
   EXPECT_TRUE(engine.images()[0].features.albedo.empty());
+}
+
+struct Keeper : FrameObserver {
+  std::vector<std::shared_ptr<const FrameResult>> results;
+  void on_frame(const std::shared_ptr<const FrameResult>& r) override { results.push_back(r); }
+};
+
+// Four progressive frames of 2 samples, refined (engine/refinement.h), against one render
+// of 8: the albedo is the same mean, the variance pooled exactly (to rounding), and depth
+// and normal agree wherever the frames' samples all met a surface (most pixels).
+TEST(AovEngine, RefinedProgressiveFramesAreOneRenderOfAllTheirSamples) {
+  const Scene scene = make_cornell_box();
+  SceneCache cache(scene);
+  CpuDevice cpu(cache, CpuDeviceOptions{}, "cpu");
+  const auto frames = [&](int spp, int count) {
+    RenderSettings settings{.spp = spp, .max_bounces = 4};
+    settings.feature_buffers = true;
+    std::vector<std::unique_ptr<balance::Balancer>> lanes;
+    lanes.push_back(balance::make_balancer("uniform", 1));
+    Session session({&cpu}, std::move(lanes), FrameViews(CameraRig::single(), kW, kH, {}),
+                    CameraPath::fixed(scene.cameras[0]), settings);
+    session.set_progressive(true);
+    Keeper keep;
+    session.run(0, count, keep);
+    return keep.results;
+  };
+  const FeatureBuffers one = frames(8, 1).at(0)->images.at(0).features;
+  Refinement refine(2, 8);
+  const Framebuffer* shown = nullptr;
+  for (const auto& f : frames(2, 4)) shown = &refine.add(f->images.at(0), RefineKey{});
+  ASSERT_EQ(refine.samples(), 8);
+  const FeatureBuffers& got = shown->features;
+  ASSERT_EQ(got.depth.size(), one.depth.size());
+  size_t same_depth = 0, varied = 0;
+  for (size_t i = 0; i < one.depth.size(); ++i) {
+    for (size_t c = 0; c < 3; ++c)
+      EXPECT_NEAR(got.albedo[3 * i + c], one.albedo[3 * i + c], 1e-6f);
+    EXPECT_NEAR(got.variance[i], one.variance[i], 1e-3f * one.variance[i] + 1e-7f) << i;
+    varied += one.variance[i] > 1e-5f;
+    same_depth += (std::isinf(one.depth[i]) && std::isinf(got.depth[i])) ||
+                  std::abs(got.depth[i] - one.depth[i]) < 1e-4f * one.depth[i];
+  }
+  EXPECT_GT(varied, one.depth.size() / 2);
+  EXPECT_GT(same_depth, one.depth.size() * 9 / 10);
 }
 
 }  // namespace aov_engine_test
