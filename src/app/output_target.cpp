@@ -57,6 +57,8 @@ bool OutputTarget::owns(const std::string& name) const {
   std::string rest = name.substr(0, end);
   if (rest.size() >= 6 && rest.compare(rest.size() - 6, 6, "_split") == 0)
     rest.resize(rest.size() - 6);  // --overlay's picture of the split
+  if (rest.size() >= 4 && rest.compare(rest.size() - 4, 4, "_aov") == 0)
+    rest.resize(rest.size() - 4);  // --aov's layers beside a PNG (docs/usage.md)
   if (rest.size() >= 5 && rest.compare(rest.size() - 5, 5, "_rgba") == 0)
     rest.resize(rest.size() - 5);  // an augmented-reality layer (docs/ar.md)
   if (rest.size() >= 6 && rest.compare(rest.size() - 6, 6, "_quilt") == 0)

@@ -7,7 +7,8 @@
 //                    stats go to shot.stats.json
 //  -o shot_##.exr    the same with linear OpenEXR files only (no PNG)
 // Several views add _viewNN before the extension and a quilt (_quilt); a shadow catcher's
-// RGBA layer adds _rgba (docs/ar.md); --overlay's picture of the split adds _split. A name ends in
+// RGBA layer adds _rgba (docs/ar.md); --overlay's picture of the split adds _split; --aov's
+// multi-layer EXR beside a PNG adds _aov. A name ends in
 // an image extension (.png, .exr, any case) exactly when it is a file pattern; anything else is a
 // folder.
 #pragma once
@@ -27,7 +28,7 @@ struct OutputTarget {
   bool pattern = false;  // a file pattern (false: a folder of frame_NNNN files)
 
   // The path of frame `frame`'s image without its extension; `tag` is "", "_viewNN",
-  // "_quilt", "_rgba", or any of them followed by "_split".
+  // "_quilt", "_rgba", or any of them followed by "_split" or "_aov".
   std::string image_base(int frame, const std::string& tag = "") const;
   std::string stats_path() const { return dir + "/" + stats; }
   // Whether `name`, a file name in `dir`, is one this target writes (for any frame), i.e.

@@ -18,6 +18,7 @@
 #include "balance/targeting.h"
 #include "core/console.h"
 #include "core/error.h"
+#include "core/feature_buffers.h"
 #include "core/file_io.h"
 #include "core/output_folder.h"
 #include "run/ar_setup.h"
@@ -131,6 +132,13 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                   "(frames/bg_####.png); PNG, JPEG or EXR, resized to --res when the aspect "
                   "ratio agrees. The PNGs then default to --exposure 0 --tone clamp, so the "
                   "real image comes out as it went in (docs/ar.md)");
+  auto aov = std::make_shared<std::string>();
+  cmd->add_option("--aov", *aov,
+                  "Also write feature buffers (AOVs) of the path tracer, a comma-separated "
+                  "subset of albedo, normal, depth, variance, as layers of one multi-layer "
+                  "OpenEXR with the beauty (albedo.R/G/B, normal.X/Y/Z, depth.Z, variance.Y): the "
+                  "frame's .exr, or <image>_aov.exr beside a PNG; for Open Image Denoise or "
+                  "Blender's compositor (docs/aov.md)");
   auto overlay = std::make_shared<bool>(false);
   cmd->add_flag("--overlay", *overlay,
                 "Also write a picture of how each frame was split: <image>_split.png, the frame "
@@ -145,6 +153,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
       if (const int n = load_sequence(o->volume.sequence).frames; n > 0) o->frames = n;
     // So do poses: one frame each.
     if (!frames_option->count() && !o->poses.empty()) o->frames = pose_count(o->poses);
+    if (!aov->empty()) o->aovs = parse_aov_list(*aov, "--aov");
     if (!background->empty() && o->ground.empty())
       throw InputError("--background needs --ground (the plane standing for the real ground)");
     Display display;
@@ -215,6 +224,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     for (const auto& d : s.devices) names.push_back(d->info().spec);
     output.set_device_names(std::move(names));
     if (*overlay) output.set_overlay();
+    output.set_aovs(o->aovs);
     output.set_background(backgrounds);
     int done = 0;
     int interrupted = 0;

@@ -5,6 +5,7 @@
 #include <fmt/core.h>
 
 #include "app/commands.h"
+#include "core/aov_exr.h"
 #include "core/console.h"
 #include "core/exposure.h"
 #include "study/adapt_summary.h"
@@ -41,7 +42,12 @@ void RenderOutput::write_images(const FrameResult& r) {
       }
     }
     if (target_.png) write_png(name + ".png", *image, display_);
-    if (target_.exr) write_exr(name + ".exr", *image);
+    if (!aovs_.empty())  // the beauty and its AOVs as layers of one EXR (core/aov_exr.h)
+      write_exr_with_aovs(
+          target_.exr ? name + ".exr" : target_.image_base(r.frame, tag + "_aov") + ".exr", *image,
+          aovs_);
+    else if (target_.exr)
+      write_exr(name + ".exr", *image);
     if (overlay_) write_overlay(r, v, *image, tag);
   }
   if (views) {

@@ -50,6 +50,11 @@ class RenderOutput : public FrameObserver {
   // real images (core/composite.h); without them, over black.
   void set_background(std::shared_ptr<const BackgroundImages> b) { background_ = std::move(b); }
 
+  // --aov: these feature buffers (core/feature_buffers.h aov_names()) are written as layers
+  // of the frame's EXR, or without --exr of <name>_aov.exr beside the PNG. The frames must
+  // carry them (RenderSettings::feature_buffers).
+  void set_aovs(std::vector<std::string> aovs) { aovs_ = std::move(aovs); }
+
   // The devices' names, in order (for the overlay's legend and the summary).
   void set_device_names(std::vector<std::string> names) { device_names_ = std::move(names); }
   // --overlay: beside each image, <name>_split.png, the frame with each device's pieces
@@ -86,6 +91,7 @@ class RenderOutput : public FrameObserver {
   study::TraceFile* trace_;
   std::shared_ptr<const BackgroundImages> background_;
   bool overlay_ = false;
+  std::vector<std::string> aovs_;
   std::vector<std::string> device_names_;
   // The summary's sums over frames: per device samples, busy ms and frames taken part in.
   std::vector<double> sum_samples_, sum_busy_;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/feature_buffers.h"
 #include "core/math.h"
 
 namespace multiray {
@@ -16,6 +17,9 @@ struct Framebuffer {
   // Coverage in [0, 1] per pixel, row-major, or empty: an RGBA layer whose `pixels` are
   // premultiplied by it (the shadow catcher's output, render/shadow_catcher.h).
   std::vector<float> alpha;
+  // The path tracer's feature buffers (AOVs) of the same pixels, or empty: only when the
+  // frame's RenderSettings::feature_buffers asked for them (core/feature_buffers.h).
+  FeatureBuffers features;
 
   Framebuffer() = default;
   Framebuffer(int w, int h) : width(w), height(h), pixels(size_t(w) * size_t(h)) {}

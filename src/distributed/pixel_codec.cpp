@@ -21,11 +21,9 @@ namespace {
 // keeps that well under the time the bytes would take on a thin link.
 constexpr int kZstdLevel = 1;
 
-// The values of `pixels` as they travel before compression: 3 floats or 3 halves each.
-std::vector<uint8_t> raw_values(const std::vector<Vec3>& pixels, bool half) {
-  const size_t n = pixels.size() * 3;
+// `n` floats as they travel before compression: 4 bytes or a half's 2 each.
+std::vector<uint8_t> raw_values(const float* v, size_t n, bool half) {
   std::vector<uint8_t> out(n * (half ? 2 : 4));
-  const float* v = &pixels.data()->x;
   if (!half) {
     if (n) std::memcpy(out.data(), v, out.size());
     return out;
@@ -37,19 +35,17 @@ std::vector<uint8_t> raw_values(const std::vector<Vec3>& pixels, bool half) {
   return out;
 }
 
-std::vector<Vec3> from_values(const uint8_t* bytes, size_t count, bool half) {
-  std::vector<Vec3> out(count);
-  float* v = &out.data()->x;
+// `count` floats from raw_values' bytes into `v`.
+void from_values(const uint8_t* bytes, size_t count, bool half, float* v) {
   if (!half) {
-    if (count) std::memcpy(v, bytes, count * 12);
-    return out;
+    if (count) std::memcpy(v, bytes, count * 4);
+    return;
   }
-  for (size_t i = 0; i < count * 3; ++i) {
+  for (size_t i = 0; i < count; ++i) {
     uint16_t h;
     std::memcpy(&h, bytes + 2 * i, 2);
     v[i] = half_value(h);
   }
-  return out;
 }
 
 // `bytes` read as a rows x cols matrix, transposed. Values of `size` bytes become byte
@@ -127,10 +123,10 @@ float half_value(uint16_t bits) {
   return float(h);
 }
 
-void put_pixels(ByteWriter& w, const std::vector<Vec3>& pixels, ResultEncoding e) {
+void put_values(ByteWriter& w, const float* v, size_t n, ResultEncoding e) {
   check_result_encoding(e);
   const bool half = is_lossy(e);
-  std::vector<uint8_t> payload = raw_values(pixels, half);
+  std::vector<uint8_t> payload = raw_values(v, n, half);
 #ifdef MULTIRAY_HAS_ZSTD
   if (uses_zstd(e))
     payload = compress(transpose(payload, payload.size() / (half ? 2 : 4), half ? 2 : 4));
@@ -139,22 +135,32 @@ void put_pixels(ByteWriter& w, const std::vector<Vec3>& pixels, ResultEncoding e
   w.put_bytes(payload.data(), payload.size());
 }
 
-std::vector<Vec3> get_pixels(ByteReader& r, ResultEncoding e, size_t count) {
+void get_values(ByteReader& r, ResultEncoding e, size_t count, float* v) {
   const bool half = is_lossy(e);
-  const size_t expected = count * size_t(raw_bytes_per_pixel(e));
+  const size_t expected = count * (half ? 2 : 4);
   const size_t n = size_t(r.count(1));
   const uint8_t* payload = r.get_bytes(n);
   if (!uses_zstd(e)) {
     if (n != expected) throw WireError("result pixels do not match the item's rect");
-    return from_values(payload, count, half);
+    return from_values(payload, count, half, v);
   }
 #ifdef MULTIRAY_HAS_ZSTD
   const std::vector<uint8_t> planes = decompress(payload, n, expected);
-  return from_values(transpose(planes, half ? 2 : 4, planes.size() / (half ? 2 : 4)).data(), count,
-                     half);
+  from_values(transpose(planes, half ? 2 : 4, planes.size() / (half ? 2 : 4)).data(), count, half,
+              v);
 #else
   throw WireError("result pixels compressed with zstd, and this multiray has no zstd");
 #endif
+}
+
+void put_pixels(ByteWriter& w, const std::vector<Vec3>& pixels, ResultEncoding e) {
+  put_values(w, pixels.empty() ? nullptr : &pixels.data()->x, pixels.size() * 3, e);
+}
+
+std::vector<Vec3> get_pixels(ByteReader& r, ResultEncoding e, size_t count) {
+  std::vector<Vec3> out(count);
+  get_values(r, e, count * 3, count ? &out.data()->x : nullptr);
+  return out;
 }
 
 }  // namespace multiray::remote

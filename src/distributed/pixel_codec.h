@@ -29,6 +29,13 @@ float half_value(uint16_t bits);
 // half_value(half_bits(v)): what a lossy encoding makes of `v`.
 inline float round_to_half(float v) { return half_value(half_bits(v)); }
 
+// Appends v[0..n) as `e`: the payload's byte count, then the payload. (Feature buffers
+// travel so, core/feature_buffers.h's packed floats; the beauty through put_pixels.)
+void put_values(ByteWriter& w, const float* v, size_t n, ResultEncoding e);
+// Reads `count` floats written by put_values with `e` into v[0..count), with get_pixels'
+// checks.
+void get_values(ByteReader& r, ResultEncoding e, size_t count, float* v);
+
 // Appends `pixels` as `e`: the payload's byte count, then the payload.
 void put_pixels(ByteWriter& w, const std::vector<Vec3>& pixels, ResultEncoding e);
 // Reads `count` pixels written by put_pixels with `e`. Throws WireError for a payload that

@@ -201,6 +201,8 @@ std::vector<uint8_t> encode(const ResultMessage& m) {
     w.put(it.report.id), put_item(w, it.report.item);
     w.put(it.report.time_ms), w.put(it.report.busy_ms), w.put(it.report.samples), w.put(it.rays);
     put_pixels(w, it.pixels, m.encoding);
+    w.put(uint8_t(it.features.empty() ? 0 : 1));
+    if (!it.features.empty()) put_values(w, it.features.data(), it.features.size(), m.encoding);
   }
   w.put_array(m.local);
   w.put(m.idle_ms);
@@ -225,6 +227,12 @@ ResultMessage decode_result(const std::vector<uint8_t>& bytes, const ResultBound
     budget -= item.rect.area();
     if (budget < 0) throw WireError("results of more pixels than the frame has");
     it.pixels = get_pixels(r, m.encoding, size_t(item.rect.area()));
+    if (const uint8_t features = r.get<uint8_t>(); features > 1) {
+      throw WireError("result: feature buffers flag out of range");
+    } else if (features) {
+      it.features.resize(size_t(item.rect.area()) * FeatureBuffers::kFloats);
+      get_values(r, m.encoding, it.features.size(), it.features.data());
+    }
     m.items.push_back(std::move(it));
   }
   m.local = r.get_array<LocalDeviceTime>();

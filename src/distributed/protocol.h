@@ -73,6 +73,10 @@ struct ItemResult {
   ItemReport report;  // measured on the worker; time_ms = its wall time there
   uint64_t rays = 0;
   std::vector<Vec3> pixels;  // the item's rect, row-major
+  // The same pixels' feature buffers, FeatureBuffers::kFloats packed floats each, when the
+  // frame asks for them (RenderSettings::feature_buffers); empty otherwise. They travel in
+  // the frame's result encoding, as the pixels do.
+  std::vector<float> features;
 };
 
 struct ResultMessage {

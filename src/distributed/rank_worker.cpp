@@ -132,6 +132,7 @@ ItemResult RankWorker::render_item(uint32_t id, const WorkItem& item) {
   for (int y = item.rect.y0; y < item.rect.y1; ++y)
     r.pixels.insert(r.pixels.end(), &fb.at(item.rect.x0, y),
                     &fb.at(item.rect.x0, y) + item.rect.width());
+  if (settings_.feature_buffers) r.features = packed_features(fb.features, item.rect);
   return r;
 }
 

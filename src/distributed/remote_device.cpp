@@ -106,6 +106,10 @@ size_t RemoteDevice::take_results(const Message& m, const FrameJob& job, DeviceR
     const Vec3* src = it.pixels.data();
     for (int y = item.rect.y0; y < item.rect.y1; ++y, src += item.rect.width())
       std::copy(src, src + item.rect.width(), &fb.at(item.rect.x0, y));
+    if (job.settings.feature_buffers) {
+      if (it.features.empty()) throw WireError("result without the feature buffers asked for");
+      unpack_features(it.features, item.rect, fb.features);
+    }
     report.add(it.report, it.rays);
   }
   if (!r.local.empty()) local_times_ = r.local;

@@ -38,13 +38,18 @@ std::vector<float> pixel_weights(const std::vector<ViewSetup>& views,
 }
 
 // One framebuffer per view of width x height (reused when the size is right), with an
-// alpha channel when the settings have a shadow catcher (render/shadow_catcher.h).
+// alpha channel when the settings have a shadow catcher (render/shadow_catcher.h) and
+// feature buffers when they ask for them (none otherwise: nothing allocated).
 void size_images(std::vector<Framebuffer>& images, size_t views, int width, int height,
                  const RenderSettings& settings) {
   images.resize(views);
   for (auto& img : images) {
     if (img.width != width || img.height != height) img = Framebuffer(width, height);
     img.alpha.resize(settings.catcher_axis >= 0 ? img.pixels.size() : 0);
+    if (settings.feature_buffers)
+      img.features.resize(width, height);
+    else if (!img.features.empty())
+      img.features.clear();
   }
 }
 
@@ -127,8 +132,10 @@ void Engine::render_pass(int frame, const std::vector<ViewSetup>& views,
   const double scale = last_plan_.quality.image_scale;
   const bool scaled = scale != 1.0;
   for (const ViewSetup& v : views)
-    if (scaled && (v.spp_map || v.foveation))
-      throw InputError("a reduced image scale does not work with adaptive or foveated sampling");
+    if (scaled && (v.spp_map || v.foveation || settings.feature_buffers))
+      throw InputError(
+          "a reduced image scale does not work with adaptive or foveated sampling or feature "
+          "buffers (AOVs)");
   const balance::FrameShape rendered = balance::scaled_shape(shape, scale);
   FrameJob job{views, settings, scaled ? &scaled_images_ : &images};
   job.settings.step_scale = float(settings.step_scale * last_plan_.quality.step_scale);

@@ -19,7 +19,8 @@ Refinement::Refinement(int frame_spp, int target_spp)
 
 const Framebuffer& Refinement::add(const Framebuffer& image, const RefineKey& key) {
   const bool restart = frames_ == 0 || !(key == key_) || image.width != mean_.width ||
-                       image.height != mean_.height || image.alpha.size() != alpha_sum_.size();
+                       image.height != mean_.height || image.alpha.size() != alpha_sum_.size() ||
+                       image.features.empty() != mean_.features.empty();
   if (!restart && samples() + frame_spp_ > target_spp_) return mean_;  // converged
   if (restart) {
     key_ = key;
@@ -28,6 +29,10 @@ const Framebuffer& Refinement::add(const Framebuffer& image, const RefineKey& ke
     alpha_sum_.assign(image.alpha.size(), 0.0f);
     mean_ = Framebuffer(image.width, image.height);
     mean_.alpha.resize(image.alpha.size());
+    if (!image.features.empty()) {
+      mean_.features.resize(image.width, image.height);
+      features_.restart(image.pixels.size());
+    }
   }
   ++frames_;
   const float inv = 1.0f / float(frames_);
@@ -40,6 +45,7 @@ const Framebuffer& Refinement::add(const Framebuffer& image, const RefineKey& ke
     alpha_sum_[i] += image.alpha[i];
     mean_.alpha[i] = alpha_sum_[i] * inv;
   }
+  if (!image.features.empty()) features_.add(image, frame_spp_, mean_.features);
   return mean_;
 }
 

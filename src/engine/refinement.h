@@ -12,6 +12,7 @@
 #pragma once
 
 #include "core/image.h"
+#include "engine/refine_features.h"
 #include "scene/scene.h"
 
 namespace multiray {
@@ -35,7 +36,8 @@ class Refinement {
   // The image to show after a frame rendered under `key`: the mean of this frame and the
   // earlier ones under the same key, as long as their samples stay within target_spp;
   // once it is reached, the converged image (later frames under that key add nothing).
-  // A different key starts again from this frame.
+  // A different key starts again from this frame. Frames with feature buffers give the
+  // image theirs too (engine/refine_features.h); a change to or from them starts again.
   const Framebuffer& add(const Framebuffer& image, const RefineKey& key);
 
   // Samples per pixel of the image add() returned last.
@@ -48,6 +50,7 @@ class Refinement {
   int frames_ = 0;
   std::vector<Vec3> sum_;         // the frames' radiance summed, per pixel
   std::vector<float> alpha_sum_;  // and their alpha, when they have it
+  FeatureRefinement features_;    // and their feature buffers, when they have them
   Framebuffer mean_;
 };
 

@@ -1,6 +1,7 @@
 // Conversions for the Python module: JSON and images to Python, keyword arguments to a
 // RunConfig. Only Python types are checked here; every value is checked by build_run, so
 // that a bad value gives the CLI's one-line message.
+#include <algorithm>
 #include <climits>
 #include <cstring>
 #include <functional>
@@ -100,7 +101,8 @@ std::map<std::string, Field> fields(RenderArgs& a) {
           {"fovea_radius", &o.foveation.fovea_radius},
           {"periphery_spp", &o.foveation.periphery_spp},
           {"allow_outside_paths", &o.allow_outside_paths},
-          {"max_memory", &o.max_memory}};
+          {"max_memory", &o.max_memory},
+          {"aov", &o.aovs}};
 }
 
 // Text options also take numbers (seed=7, step-like values) and paths (os.PathLike); the
@@ -196,7 +198,37 @@ std::map<std::string, Field> render_fields(RenderArgs& args) { return fields(arg
 RenderArgs parse_render_kwargs(const py::kwargs& kwargs, const char* caller) {
   RenderArgs args;
   assign_kwargs(kwargs, fields(args), caller);
+  // aov="albedo,normal" as --aov takes it (build_run checks the names).
+  std::vector<std::string>& aovs = args.config.aovs;
+  if (aovs.size() == 1 && aovs[0].find(',') != std::string::npos) {
+    const std::string list = aovs[0];
+    aovs.clear();
+    for (size_t start = 0; start <= list.size();) {
+      const size_t comma = std::min(list.find(',', start), list.size());
+      aovs.push_back(list.substr(start, comma - start));
+      start = comma + 1;
+    }
+  }
   return args;
+}
+
+py::dict aovs_to_numpy(const FeatureBuffers& f, const std::vector<std::string>& names) {
+  py::dict out;
+  for (const std::string& name : names) {
+    const bool rgb = name == "albedo" || name == "normal";
+    const std::vector<float>& v = name == "albedo"   ? f.albedo
+                                  : name == "normal" ? f.normal
+                                  : name == "depth"  ? f.depth
+                                                     : f.variance;
+    std::vector<py::ssize_t> shape{py::ssize_t(f.height), py::ssize_t(f.width)};
+    if (rgb) shape.push_back(3);
+    py::array_t<float> a(shape);
+    if (v.size() != size_t(a.size()))
+      throw std::logic_error("feature buffer " + name + " does not match the frame");
+    std::memcpy(a.mutable_data(), v.data(), v.size() * sizeof(float));
+    out[py::str(name)] = a;
+  }
+  return out;
 }
 
 std::string render_kwarg_names() {

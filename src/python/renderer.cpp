@@ -84,6 +84,9 @@ class Renderer {
       frame["image"] = views[0];
       frame["views"] = views;
       frame["stats"] = to_python(study::frame_result_to_json(*r));
+      // aov=[...]: view 0's feature buffers by name (absent without aov).
+      if (!config_.aovs.empty() && !r->images.empty())
+        frame["aov"] = aovs_to_numpy(r->images[0].features, config_.aovs);
       out.append(frame);
     }
     return out;
@@ -145,7 +148,9 @@ class Renderer {
   // must fit max_memory as the CLI's frames do (a refusal beats an out-of-memory kill).
   void check_memory(int n) const {
     const int views = run_->views->rig().view_count();
-    const double per_frame = double(views) * run_->res.width * run_->res.height * 3 * 4 + 4096;
+    const double floats = config_.aovs.empty() ? 3 : 3 + 8;  // radiance, feature buffers
+    const double per_frame =
+        double(views) * run_->res.width * run_->res.height * floats * 4 + 4096;
     const MemoryEstimate run =
         estimate_memory(config_, views, run_->res.width, run_->res.height, 1);
     const double need = run.total() + n * per_frame,
@@ -178,7 +183,10 @@ void bind_renderer(py::module_& m) {
       .def(py::init<const py::kwargs&>())
       .def("render", &Renderer::render, py::arg("frames") = py::none(),
            "Render `frames` more frames (default: the `frames` argument); a list of dicts "
-           "{'frame', 'image' (H×W×3 float32, linear), 'views', 'stats'}.")
+           "{'frame', 'image' (H×W×3 float32, linear), 'views', 'stats'}, and with "
+           "aov=['albedo', 'normal', 'depth', 'variance'] (any subset) 'aov': view 0's "
+           "feature buffers by name (albedo and normal H×W×3, depth and variance H×W; "
+           "docs/noise.md).")
       .def("set_camera", &Renderer::set_camera, py::arg("camera"),
            "The camera of the next frames, 'ex,ey,ez,tx,ty,tz,ux,uy,uz,fov', or None for the "
            "camera path.")
@@ -204,7 +212,8 @@ void bind_renderer(py::module_& m) {
       },
       ("Render as `multiray render` does and return the frames: a list of dicts {'frame', "
        "'image' (H×W×3 float32, linear radiance), 'views' (every view), 'stats' (stats.json's "
-       "record of the frame)}. Keyword arguments: " +
+       "record of the frame)}, and with aov=[...] 'aov' (feature buffers by name, "
+       "Renderer.render). Keyword arguments: " +
        names + ".")
           .c_str());
 }

@@ -17,6 +17,9 @@ struct WavefrontPath : PathState {
   // radiance as if the virtual objects were not there (render/shadow_catcher.h).
   SampleKind kind = SampleKind::background;
   Vec3 L_without{0.0f};
+  // Feature buffers (render/shared/aov.h): set by aov_init only when the settings ask for
+  // them, untouched (and never read) otherwise.
+  AovSample aov;
 };
 
 }  // namespace multiray

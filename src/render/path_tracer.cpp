@@ -1,6 +1,7 @@
 #include "render/path_tracer.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "render/path_state.h"
 
@@ -28,10 +29,30 @@ void PathTracer::step(WavefrontPath& p, const Hit* hit, const SceneData& sd,
   if (!hit) return path_escape(&sd, &p);
   if (hit->prim == kCatcherPrim) return catcher_step(p, *hit, sd, settings);
   if (p.depth == 0) p.kind = SampleKind::object;
-  path_shade(&sd, &p, hit, PathSettings{settings.max_bounces, settings.rr_start}, base_footprint);
+  path_shade(&sd, &p, hit, PathSettings{settings.max_bounces, settings.rr_start}, base_footprint,
+             settings.feature_buffers ? &p.aov : nullptr);
 }
 
 namespace {
+
+// Writes pixel (x, y)'s feature buffers from its `spp` samples, paths[0..spp), each with
+// its radiance as the beauty averages it (render/shared/aov.h). A pass of its own beside
+// the beauty's, so that a frame without feature buffers runs the loop it always ran.
+void write_features(const WavefrontPath* paths, int spp, const RenderSettings& settings,
+                    Framebuffer& out, int x, int y) {
+  if (out.features.width != out.width || out.features.height != out.height)
+    throw std::logic_error("feature buffers asked for, and the framebuffer has none");
+  AovPixel px;
+  aov_pixel_init(&px);
+  for (int s = 0; s < spp; ++s) {
+    const Vec3 L = paths[s].L;
+    aov_pixel_add(&px, &paths[s].aov,
+                  clamp_sample(is_finite(L) ? L : Vec3(0.0f), settings.sample_clamp));
+  }
+  float v[MR_AOV_FLOATS];
+  aov_pixel_result(&px, v);
+  out.features.set_packed(size_t(y) * size_t(out.width) + size_t(x), v);
+}
 
 // A batch's per-path scratch, one per thread, reused from batch to batch (no allocation
 // once the first batch is done).
@@ -144,6 +165,7 @@ KernelStats PathTracer::render_rect_logged(const ViewSetup& view, const RenderSe
             pixel, view.first_sample + uint32_t(s), view.seed_frame(), view.view, settings.seed));
         const Vec2 j = sample_2d(&p.u);
         p.ray = camera.ray(float(x) + j.x, float(y) + j.y);
+        if (settings.feature_buffers) aov_init(&p.aov, p.ray.dir, camera.forward);
       }
     }
     trace_batch(paths, settings, stats, log);
@@ -156,6 +178,7 @@ KernelStats PathTracer::render_rect_logged(const ViewSetup& view, const RenderSe
         next += size_t(spp);
         continue;
       }
+      if (settings.feature_buffers) write_features(paths.data() + next, spp, settings, out, x, y);
       Vec3 sum(0.0f);
       for (int s = 0; s < spp; ++s, ++next) {
         const Vec3 L = paths[next].L;
@@ -184,6 +207,9 @@ KernelStats PathTracer::render_samples(const ViewSetup& view, const RenderSettin
       WavefrontPath& p = paths.emplace_back(
           sample_stream_for_path(s.key, 0, view.frame, view.view, settings.seed));
       p.ray = camera.ray(s.x, s.y);
+      // Point samples record no feature buffers (run/ refuses them with foveated
+      // sampling); the state is set so that path_shade reads defined values.
+      if (settings.feature_buffers) aov_init(&p.aov, p.ray.dir, camera.forward);
     }
     trace_batch(paths, settings, stats, nullptr);
     for (size_t i = first; i < last; ++i) {

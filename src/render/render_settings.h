@@ -47,6 +47,11 @@ struct RenderSettings {
   int catcher_axis = -1;
   float catcher_height = 0.0f;
   float catcher_albedo = 0.5f;
+  // Feature buffers (AOVs: albedo, normal, depth, variance; render/shared/aov.h), recorded
+  // beside the beauty into Framebuffer::features, all four together. Path kernel only (CPU
+  // and OpenCL), rectangles only (not foveated point samples). Off: no buffer, no store,
+  // and the beauty is the same to the bit.
+  bool feature_buffers = false;
   // The volume kernel's transfer function, block opacities and step (null for meshes);
   // shared, immutable, replaced when the transfer function changes.
   std::shared_ptr<const VolumeStyle> volume_style = {};
@@ -64,9 +69,9 @@ void for_each_sent_setting(Settings& s, F&& f) {
   f("ao_distance", s.ao_distance), f("step_scale", s.step_scale);
   f("sample_environment", s.sample_environment), f("sample_clamp", s.sample_clamp);
   f("catcher_axis", s.catcher_axis), f("catcher_height", s.catcher_height);
-  f("catcher_albedo", s.catcher_albedo);
+  f("catcher_albedo", s.catcher_albedo), f("feature_buffers", s.feature_buffers);
 }
-inline constexpr size_t kSentSettings = 13;
+inline constexpr size_t kSentSettings = 14;
 // Built by each rank from its own data: the volume style (from the transfer function).
 inline constexpr const char* kRankLocalSettings[] = {"volume_style"};
 

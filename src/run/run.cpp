@@ -17,6 +17,7 @@
 #include "balance/hierarchy.h"
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/feature_buffers.h"
 #include "device/device_factory.h"
 #include "render/default_view.h"
 #include "render/environment.h"
@@ -97,7 +98,9 @@ MemoryEstimate estimate_memory(const RunConfig& o, int views, int width, int hei
   const double per_pixel = sizeof(Vec3) * (2.0 * lanes + 2)        // results, engine, quilt
                            + (o.sampling == "adaptive" ? 32 : 0)   // G-buffer, maps
                            + (o.sampling == "reproject" ? 24 : 0)  // G-buffer, maps, depths
-                           + (o.sampling == "foveated" ? 80 : 0);  // neighbours, weights
+                           + (o.sampling == "foveated" ? 80 : 0)   // neighbours, weights
+                           // --aov: 8 floats per pixel in each result and the engine's image
+                           + (o.aovs.empty() ? 0 : 32 * (2.0 * lanes + 1));
   m.frame_bytes = pixels * per_pixel;
   m.record_bytes = double(o.frames) * o.kept_bytes_per_frame;
   return m;
@@ -120,6 +123,22 @@ LoadOptions memory_guarded_load(double need, double limit,
 }
 
 namespace {
+// Whether the run records feature buffers (--aov, RunConfig::aovs), refusing what cannot
+// record them: other integrators, the shadow catcher's layer, samples not rendered per
+// pixel (foveated, reprojected views).
+bool check_feature_buffers(const RunConfig& o, const RenderSettings& s, Sampling sampling) {
+  if (o.aovs.empty()) return false;
+  check_aov_names(o.aovs, "--aov");
+  if (s.kernel != "path")
+    throw InputError("--aov records the path integrator's features, not --integrator " + s.kernel +
+                     "'s");
+  if (s.catcher_axis >= 0) throw InputError("--aov does not work with --ground yet");
+  if (sampling == Sampling::Foveated || sampling == Sampling::Reprojected)
+    throw InputError("--aov works with uniform or adaptive sampling, not --sampling " +
+                     o.sampling);
+  return true;
+}
+
 // The kernel the options ask for (by default the one the scene type needs), checked
 // against the scene type before anything loads.
 std::string check_kernel(const RunConfig& o, bool volume_input) {
@@ -262,6 +281,7 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
     sampling.reference_spacing = o.reference_spacing;
   }
   s.settings.seed = parse_seed(o.seed);
+  s.settings.feature_buffers = check_feature_buffers(o, s.settings, sampling.mode);
   std::optional<Camera> cli_camera;
   // --camera default: the framing default even where the file has a camera of its own.
   const bool framing_default = o.camera == "default";

@@ -76,6 +76,10 @@ struct RunConfig {
   // records; render keeps none: its records go to disk as frames finish).
   double kept_bytes_per_frame = 0;
   DistributedOptions distributed;  // --distributed and its options (distributed/cluster.h)
+  // --aov: the feature buffers to record (core/feature_buffers.h aov_names(), checked by
+  // check_aov_names); empty: none. Any name records all four (RenderSettings::
+  // feature_buffers); the list says which the outputs keep.
+  std::vector<std::string> aovs;
 };
 
 }  // namespace multiray

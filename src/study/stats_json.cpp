@@ -123,6 +123,12 @@ nlohmann::json frame_result_to_json(const FrameResult& r) {
   uint64_t hash = 0xcbf29ce484222325ull;
   for (const Framebuffer& img : r.images) hash = image_hash(img, hash);
   record["image_hash"] = fmt::format("{:016x}", hash);
+  // --aov: the feature buffers' fingerprint too (as split-independent as the image's).
+  if (!r.images.empty() && !r.images[0].features.empty()) {
+    uint64_t features = 0xcbf29ce484222325ull;
+    for (const Framebuffer& img : r.images) features = feature_hash(img.features, features);
+    record["feature_hash"] = fmt::format("{:016x}", features);
+  }
   return record;
 }
 

@@ -32,7 +32,10 @@ TEST(OutputTarget, OneFileForOneFrame) {
   EXPECT_EQ(t.stats_path(), "./render.stats.json");
   EXPECT_TRUE(t.png && !t.exr);
   EXPECT_TRUE(t.owns("render.png") && t.owns("render_quilt.png") && t.owns("render_view02.png"));
+  // --aov's layers beside the PNG (of a view too).
+  EXPECT_TRUE(t.owns("render_aov.exr") && t.owns("render_view02_aov.exr"));
   EXPECT_FALSE(t.owns("render2.png") || t.owns("render.jpg") || t.owns("stats.json"));
+  EXPECT_FALSE(t.owns("render_aov.png.txt") || t.owns("render2_aov.exr"));
   // Several frames cannot go to one file: the error shows the pattern to use.
   try {
     parse_output_target("shots/render.png", 6, false);

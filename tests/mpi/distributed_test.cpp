@@ -265,6 +265,34 @@ TEST(Distributed, ResultEncodingsOverTheWire) {
   EXPECT_THAT(mixed.out, ::testing::HasSubstr("--master-renders"));
 }
 
+// --aov: the feature buffers come back from the workers with the pixels, in the frame's
+// result encoding, and are the single process's to the bit (stats.json's feature_hash),
+// whether they travel as floats or zstd-packed, in rows or tiles, from three ranks or
+// four with Harada's hierarchy (each worker splitting its band over two devices).
+TEST(Distributed, FeatureBuffersArriveFromWorkersAsASingleProcessMakesThem) {
+  const std::string args =
+      "render -q --res 48x32 --spp 2 --bounces 2 --devices cpu:threads=1 --aov albedo,depth ";
+  const auto feature_hash = [](const std::string& dir) {
+    const nlohmann::json s = stats(dir);
+    return s.at("frames").at(0).at("feature_hash").get<std::string>();
+  };
+  const std::string ref = out_dir("ref");
+  ASSERT_EQ(single(args + "--out " + ref).code, 0);
+  for (const auto& [ranks, extra] : std::vector<std::pair<int, std::string>>{
+           {3, "--balancer uniform --result-encoding float"},
+           {3, "--balancer queue:tile=16 --result-encoding float+zstd"},
+           {4,
+            "--balancer semi-static --rank-balancer hybrid --rank-devices "
+            "1=cpu:threads=1,cpu:threads=1:speed=0.5"}}) {
+    const std::string dir = out_dir("run");
+    const CliResult r = distributed(ranks, args + extra + " --out " + dir);
+    ASSERT_EQ(r.code, 0) << extra << ": " << r.out;
+    EXPECT_EQ(feature_hash(dir), feature_hash(ref)) << extra;
+    EXPECT_EQ(hashes(dir), hashes(ref)) << extra;
+    EXPECT_TRUE(std::filesystem::exists(dir + "/frame_0000_aov.exr")) << extra;
+  }
+}
+
 // --scene-from master: the workers are given a scene path that does not exist (mpirun's
 // MPMD form gives ranks different command lines) and still render the master's scene
 // bit for bit; without it, the worker that cannot load says so through the master.

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "distributed/link.h"
+#include "distributed/pixel_codec.h"
 #include "distributed/protocol.h"
 #include "distributed/wire.h"
 
@@ -100,6 +101,30 @@ TEST(Protocol, MessagesSurviveARoundTrip) {
   EXPECT_DOUBLE_EQ(decode_speed(encode_speed(0.25)), 0.25);
   EXPECT_TRUE(decode_quit(encode_quit(true)));
   EXPECT_FALSE(decode_quit(encode_quit(false)));
+}
+
+// Feature buffers (--aov) ride with the pixels, in every result encoding: the lossless
+// ones give back the very floats (an infinite depth too), half rounds as the pixels do;
+// a result without them stays without, and a payload of the wrong size is refused.
+TEST(Protocol, FeatureBuffersTravelWithThePixels) {
+  ResultMessage m = sample_result();
+  m.items[0].features = {0.5f, 0.25f, 0.125f, 0, 1, 0, INFINITY, 1e-3f,
+                         0.1f, 0.2f,  0.3f,   1, 0, 0, 2.5f,     0.0f};
+  for (const ResultEncoding e : {ResultEncoding::float32, ResultEncoding::float_zstd,
+                                 ResultEncoding::half, ResultEncoding::half_zstd}) {
+    if (uses_zstd(e) && !zstd_available()) continue;
+    m.encoding = e;
+    const std::vector<float> got = decode_result(encode(m), kBounds).items.at(0).features;
+    ASSERT_EQ(got.size(), m.items[0].features.size());
+    for (size_t i = 0; i < got.size(); ++i)
+      EXPECT_EQ(got[i],
+                is_lossy(e) ? round_to_half(m.items[0].features[i]) : m.items[0].features[i])
+          << i << " " << result_encoding_name(e);
+  }
+  EXPECT_TRUE(decode_result(encode(sample_result()), kBounds).items[0].features.empty());
+  m.encoding = ResultEncoding::float32;
+  m.items[0].features.pop_back();
+  EXPECT_THROW(decode_result(encode(m), kBounds), WireError);
 }
 
 // The master's comparison with a worker's fingerprint (issue 53): equal lists pass; a file

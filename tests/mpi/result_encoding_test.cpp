@@ -210,6 +210,7 @@ std::vector<uint8_t> result_with_payload(ResultEncoding e, const std::vector<uin
   w.put(1.0), w.put(1.0), w.put(4.0), w.put(uint64_t(4));
   w.put(uint64_t(payload.size()));
   w.put_bytes(payload.data(), payload.size());
+  w.put(uint8_t(0));               // no feature buffers
   w.put(uint64_t(0)), w.put(0.0);  // no local times, no idle time
   return w.take();
 }

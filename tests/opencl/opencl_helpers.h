@@ -56,6 +56,7 @@ inline Framebuffer render_on(const std::vector<Device*>& devices, const ViewSetu
   for (const Rect& r : regions) units.push_back(WorkItem{r, 0});
   ListWorkSource source(units);
   std::vector<Framebuffer> out{Framebuffer(view.width, view.height)};
+  if (settings.feature_buffers) out[0].features.resize(view.width, view.height);  // as the engine
   FrameJob job{{view}, settings, &out};
   std::vector<DeviceReport> reports(devices.size());
   std::vector<std::thread> threads;

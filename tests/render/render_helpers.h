@@ -26,6 +26,7 @@ inline Framebuffer render_regions(const Scene& scene, int w, int h, const Render
   ListWorkSource source(units);
   std::vector<Framebuffer> out{Framebuffer(w, h)};
   if (settings.catcher_axis >= 0) out[0].alpha.resize(out[0].pixels.size());  // as the engine does
+  if (settings.feature_buffers) out[0].features.resize(w, h);
   ViewSetup view;
   view.camera = scene.cameras.at(0);
   view.width = w, view.height = h, view.frame = uint32_t(frame);

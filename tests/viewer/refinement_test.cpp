@@ -52,6 +52,33 @@ TEST(Refinement, AlphaIsAveragedWithTheColour) {
   EXPECT_EQ(mean.pixels[3].x, 2.0f);
 }
 
+// Feature buffers: albedo averaged, and the variance pooled as all the samples' would be:
+// frames of 2 samples with luminance {1, 3} and {5, 7} (means 2 and 6, each a variance of
+// its mean of 1) are the samples {1, 3, 5, 7}: sum of squared deviations 20, variance of
+// the mean 20 / (3 x 4).
+TEST(Refinement, FeatureBuffersArePooled) {
+  Refinement r(2, 4);
+  const RefineKey key{Camera{}, 0, 0};
+  const auto frame = [](float y, float albedo) {
+    Framebuffer fb(4, 2);
+    for (Vec3& p : fb.pixels) p = Vec3(y, y, y);
+    fb.features.resize(4, 2);
+    for (size_t i = 0; i < fb.pixels.size(); ++i) {
+      const float v[8] = {albedo, albedo, albedo, 0, 0, 1, 2.0f, 1.0f};
+      fb.features.set_packed(i, v);
+    }
+    return fb;
+  };
+  r.add(flat(9), key);  // a frame without them: the next one starts again
+  EXPECT_FLOAT_EQ(r.add(frame(2, 0.25f), key).features.variance[0], 1.0f);
+  const Framebuffer& mean = r.add(frame(6, 0.75f), key);
+  EXPECT_EQ(r.samples(), 4);
+  EXPECT_NEAR(mean.features.variance[7], 20.0f / 12.0f, 1e-5f);
+  EXPECT_EQ(mean.features.albedo[3], 0.5f);
+  EXPECT_EQ(mean.features.normal[5], 1.0f);
+  EXPECT_EQ(mean.features.depth[0], 2.0f);
+}
+
 TEST(Refinement, AnyChangeStartsAgainFromOneFrame) {
   Refinement r(1, 16);
   RefineKey key{Camera{}, 0, 0};

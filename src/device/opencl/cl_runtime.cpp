@@ -1,6 +1,7 @@
 #include "device/opencl/cl_runtime.h"
 
 #include <cstddef>
+#include <stdexcept>
 
 #include "core/error.h"
 #include "device/opencl/cl_program.h"
@@ -102,6 +103,15 @@ ClLaunchBuffers::ClLaunchBuffers(const ClRuntime& rt) {
   radiance = cl::Buffer(rt.context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
   counts = cl::Buffer(rt.context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_uint));
   spp_map = cl::Buffer(rt.context, CL_MEM_READ_ONLY, pixels * sizeof(cl_uchar));
+  features = cl::Buffer(rt.context, CL_MEM_WRITE_ONLY, sizeof(cl_float4));  // a placeholder
+}
+
+bool ClLaunchBuffers::allocate_features(const ClRuntime& rt) {
+  if (!host_features.empty()) return false;
+  const size_t values = 2 * size_t(rt.tile) * size_t(rt.tile);
+  features = cl::Buffer(rt.context, CL_MEM_WRITE_ONLY, values * sizeof(cl_float4));
+  host_features.resize(values);
+  return true;
 }
 
 void ClLaunchBuffers::write(const ClRuntime& rt, const ViewSetup& view, const RenderSettings& st,
@@ -136,13 +146,38 @@ void ClLaunchBuffers::write(const ClRuntime& rt, const ViewSetup& view, const Re
   if (view.spp_map) rt.queue.enqueueWriteBuffer(spp_map, CL_FALSE, 0, n, host_spp.data());
 }
 
+void ClLaunchBuffers::read_features(std::span<const ClLaunchRect> pieces, Framebuffer& out) const {
+  size_t first = 0;  // of the piece, in the batch
+  for (const ClLaunchRect& r : pieces) {
+    for (size_t i = 0; i < r.pixels(); ++i) {
+      // Two float4 per pixel: (albedo, depth), (normal, variance); kernels/path_tracer.cl.
+      const cl_float4& a = host_features[2 * (first + i)];
+      const cl_float4& b = host_features[2 * (first + i) + 1];
+      const float v[FeatureBuffers::kFloats] = {a.s[0], a.s[1], a.s[2], b.s[0],
+                                                b.s[1], b.s[2], a.s[3], b.s[3]};
+      const size_t x = size_t(r.x) + i % size_t(r.w), y = size_t(r.y) + i / size_t(r.w);
+      out.features.set_packed(y * size_t(out.width) + x, v);
+    }
+    first += r.pixels();
+  }
+}
+
 void ClLaunchBuffers::read(const ClRuntime& rt, std::span<const ClLaunchRect> pieces,
-                           Framebuffer& out, std::vector<ClRectCounts>& out_counts) {
+                           Framebuffer& out, std::vector<ClRectCounts>& out_counts,
+                           bool with_features) {
   size_t n = 0;
   for (const ClLaunchRect& r : pieces) n += r.pixels();
   rt.queue.enqueueReadBuffer(radiance, CL_FALSE, 0, n * sizeof(cl_float4), host_radiance.data());
   rt.queue.enqueueReadBuffer(counts, CL_FALSE, 0, n * sizeof(cl_uint), host_counts.data());
+  if (with_features) {
+    if (host_features.size() < 2 * n || out.features.width != out.width ||
+        out.features.height != out.height)
+      throw std::logic_error("feature buffers asked for, and nothing to hold them");
+    rt.queue.enqueueReadBuffer(features, CL_FALSE, 0, 2 * n * sizeof(cl_float4),
+                               host_features.data());
+  }
   rt.queue.finish();
+  if (with_features) read_features(pieces, out);
   size_t first = 0;  // of the piece, in the batch
   for (const ClLaunchRect& r : pieces) {
     uint64_t total = 0;

@@ -100,7 +100,8 @@ struct ClRectCounts {
 };
 
 // The per-launch buffers every kernel here shares: the batch's rect list (batch_rects.h),
-// its output (radiance as float4 and one count per pixel) and its slice of the view's
+// its output (radiance as float4 and one count per pixel, and for the path tracer, when
+// asked, two float4 of feature buffers per pixel) and its slice of the view's
 // samples-per-pixel map, with host copies.
 struct ClLaunchBuffers {
   explicit ClLaunchBuffers(const ClRuntime& rt);
@@ -116,23 +117,30 @@ struct ClLaunchBuffers {
     for (const std::vector<ClLaunchRect>& launch : plan_launches(rects, rt.tile)) {
       write(rt, view, st, launch, counts);
       enqueue_kernel();
-      read(rt, launch, out, counts);
+      read(rt, launch, out, counts, st.feature_buffers);
     }
     return counts;
   }
+  // Allocates the feature buffers' device and host memory on the first call (until then
+  // `features` is a 16-byte placeholder: frames without them cost nothing). True when it
+  // allocated: the caller then sets the kernel argument to the new buffer.
+  bool allocate_features(const ClRuntime& rt);
   // Enqueues (non-blocking) the rect list of `pieces` and, when the view has a sample map,
   // its slice for them; adds each piece's samples (settings.spp per pixel without a map)
   // to its rect's entry of `counts`.
   void write(const ClRuntime& rt, const ViewSetup& view, const RenderSettings& st,
              std::span<const ClLaunchRect> pieces, std::vector<ClRectCounts>& counts);
   // Enqueues the reads of the outputs of `pieces`, waits for the queue, writes the
-  // radiance into `out` and adds the per-pixel counts to their rects' entries.
+  // radiance (and with `features`, the feature buffers) into `out` and adds the per-pixel
+  // counts to their rects' entries.
   void read(const ClRuntime& rt, std::span<const ClLaunchRect> pieces, Framebuffer& out,
-            std::vector<ClRectCounts>& counts);
+            std::vector<ClRectCounts>& counts, bool features = false);
+  // The feature buffers of `pieces`, read back into host_features, into `out`.
+  void read_features(std::span<const ClLaunchRect> pieces, Framebuffer& out) const;
 
-  cl::Buffer batch, radiance, counts, spp_map;
+  cl::Buffer batch, radiance, counts, spp_map, features;
   BatchRects host_batch{};
-  std::vector<cl_float4> host_radiance;
+  std::vector<cl_float4> host_radiance, host_features;
   std::vector<cl_uint> host_counts;
   std::vector<cl_uchar> host_spp;
 };

@@ -62,6 +62,7 @@ class ClPathTracer : public ClKernelRunner {
     args[MR_ARG_radiance] = out_.radiance;
     args[MR_ARG_rays] = out_.counts;
     args[MR_ARG_spp_map] = out_.spp_map;
+    args[MR_ARG_features] = out_.features;  // a placeholder until a frame asks for them
     for (cl_uint i = 0; i < MR_ARG_COUNT; ++i) {
       if (!args[i]())
         throw std::logic_error(std::string("OpenCL: no buffer for render_rect argument ") +
@@ -83,6 +84,9 @@ class ClPathTracer : public ClKernelRunner {
     params_.seed = cl_ulong(st.seed);
     params_.use_spp_map = view.spp_map ? 1 : 0;
     params_.sample_clamp = st.sample_clamp;
+    params_.feature_buffers = st.feature_buffers ? 1u : 0u;
+    if (st.feature_buffers && out_.allocate_features(rt_))
+      built_.kernel.setArg(MR_ARG_features, out_.features);
     // As PathTracer::step's p_env.
     const float p_env = st.sample_environment ? sky_choice_ : 0.0f;
     params_.env_choice_eps = cl_f4(Vec3(p_env, 0.0f, 0.0f), ray_eps_);

@@ -23,6 +23,7 @@
 
 #ifdef __cplusplus
 #include "render/accel.h"
+#include "render/shared/aov.h"
 #include "render/shared/bsdf.h"
 #include "render/shared/lights.h"
 #include "render/shared/sky.h"
@@ -173,8 +174,9 @@ MR_DEVICE void path_scatter(const SceneData* sc, PathState* p, const BsdfParams*
 
 // One bounce at `hit`, the closest hit of p->ray on a scene triangle. `base`, when given,
 // is the footprint of the hit material's base colour texture (the caller looked it up).
+// `aov`, when given, records the sample's feature buffers (aov.h); null: none asked for.
 MR_DEVICE void path_shade(const SceneData* sc, PathState* p, const Hit* hit, PathSettings settings,
-                          const TexFootprint* base) {
+                          const TexFootprint* base, AovSample* aov) {
   const ShadingRecord d = scene_shading(sc, hit->prim);
   const float w = 1.0f - hit->u - hit->v;
   const mr_float3 pos = p->ray.org + p->ray.dir * hit->t;
@@ -198,7 +200,9 @@ MR_DEVICE void path_shade(const SceneData* sc, PathState* p, const Hit* hit, Pat
       p->L = p->L + p->beta * le * power_heuristic(p->prev_pdf, pdf_light);
     }
   }
-  if (p->depth >= settings.max_bounces) {
+  // A path at its last bounce still records its features when they are waiting for it.
+  const bool record = aov && !aov->done;
+  if (p->depth >= settings.max_bounces && !record) {
     p->alive = false;
     return;
   }
@@ -213,6 +217,13 @@ MR_DEVICE void path_shade(const SceneData* sc, PathState* p, const Hit* hit, Pat
   if (opaque && !front) {
     ng = -ng;
     ns = -ns;
+  }
+  if (record) {
+    aov_at_hit(aov, hit->t, sp.base_color, ns, !opaque);
+    if (p->depth >= settings.max_bounces) {
+      p->alive = false;
+      return;
+    }
   }
   Frame frame = frame_from_normal(ns);
   mr_float3 wo = to_local(&frame, wo_world);

@@ -58,8 +58,10 @@ typedef struct {
   float sample_clamp;    // 160: RenderSettings::sample_clamp (0: off)
   // 164: ViewSetup::first_sample (progressive sampling); `frame` is then the seed frame
   mr_uint first_sample;
-  mr_uint pad[2];  // 168: unused, keeps the size a multiple of 16
-} LaunchParams;    // 176
+  // 168: 1: record the feature buffers (RenderSettings::feature_buffers) into `features`
+  mr_uint feature_buffers;
+  mr_uint pad;   // 172: unused, keeps the size a multiple of 16
+} LaunchParams;  // 176
 
 #ifdef MR_OPENCL_C
 typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 176 ? 1 : -1];
@@ -94,7 +96,8 @@ typedef char mr_launch_params_size_check[sizeof(LaunchParams) == 176 ? 1 : -1];
   X(params, __constant LaunchParams*) SEP()           \
   X(spp_map, const __global uchar*) SEP()             \
   X(radiance, __global float4*) SEP()                 \
-  X(rays, __global uint*)
+  X(rays, __global uint*) SEP()                       \
+  X(features, __global float4*)
 // clang-format on
 
 #define MR_ARG_COMMA() ,
@@ -128,6 +131,7 @@ static_assert(offsetof(LaunchParams, has_tangents) == 152);
 static_assert(offsetof(LaunchParams, cutouts) == 156);
 static_assert(offsetof(LaunchParams, sample_clamp) == 160);
 static_assert(offsetof(LaunchParams, first_sample) == 164);
+static_assert(offsetof(LaunchParams, feature_buffers) == 168);
 #endif
 
 #ifdef __cplusplus

@@ -4,7 +4,9 @@
 // this program's tree (traverse.cl or traverse_compact.cl).
 
 // One camera path to its end; returns its radiance and adds the rays it traced to *rays.
-float3 trace_path(const SceneData* sc, PathState* p, PathSettings settings, uint* rays) {
+// `aov`: the sample's feature buffers to record (render/shared/aov.h), or 0.
+float3 trace_path(const SceneData* sc, PathState* p, PathSettings settings, AovSample* aov,
+                  uint* rays) {
   while (p->alive) {
     Hit hit, unused;
     ++*rays;
@@ -12,7 +14,7 @@ float3 trace_path(const SceneData* sc, PathState* p, PathSettings settings, uint
       path_escape(sc, p);
       break;
     }
-    path_shade(sc, p, &hit, settings, 0);
+    path_shade(sc, p, &hit, settings, 0, aov);
     if (p->has_shadow) {
       ++*rays;
       path_shadow_done(p, bvh_walk(sc, &p->shadow, true, &unused));
@@ -26,7 +28,9 @@ float3 trace_path(const SceneData* sc, PathState* p, PathSettings settings, uint
 // launch_params.h, which also lists the arguments); work-item i does its pixel with `spp`
 // samples, or spp_map[i] when use_spp_map (irregular sampling), and writes its mean
 // radiance to radiance[i] (w unused; 0 for a pixel without samples) and its ray count to
-// rays[i]. Built with -DMR_GROUP_ITEMS (the work-group size every launch uses).
+// rays[i]; with feature_buffers, its feature buffers in packed order (aov.h) to
+// features[2i] (albedo, depth) and features[2i + 1] (normal, variance), else nothing
+// there. Built with -DMR_GROUP_ITEMS (the work-group size every launch uses).
 __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void render_rect(
     MR_RENDER_RECT_ARGS(MR_ARG_PARAM, MR_ARG_COMMA)) {
   const LaunchParams p = *params;
@@ -51,6 +55,9 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void render
   float3 sum = (float3)(0.0f);
   uint count = 0;
   const int samples = p.use_spp_map ? (int)spp_map[i] : p.spp;
+  const bool record = p.feature_buffers != 0u;
+  AovPixel px;
+  if (record) aov_pixel_init(&px);
   for (int s = 0; s < samples; ++s) {
     PathState path;
     path_init(&path, sample_stream_for_path(pixel, p.first_sample + (uint)s, p.frame, p.view,
@@ -58,9 +65,19 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void render
     const float2 j = sample_2d(&path.u);
     path.ray = make_ray(p.camera.eye.xyz, camera_dir(&p.camera, (float)x + j.x, (float)y + j.y),
                         INFINITY);
-    const float3 L = trace_path(&sc, &path, settings, &count);
-    sum += clamp_sample(finite3(L) ? L : (float3)(0.0f), p.sample_clamp);
+    AovSample aov;
+    if (record) aov_init(&aov, path.ray.dir, p.camera.forward.xyz);
+    const float3 L = trace_path(&sc, &path, settings, record ? &aov : 0, &count);
+    const float3 c = clamp_sample(finite3(L) ? L : (float3)(0.0f), p.sample_clamp);
+    sum += c;
+    if (record) aov_pixel_add(&px, &aov, c);
   }
   radiance[i] = samples > 0 ? (float4)(sum * (1.0f / (float)samples), 0.0f) : (float4)(0.0f);
   rays[i] = count;
+  if (record) {
+    float v[MR_AOV_FLOATS];
+    aov_pixel_result(&px, v);
+    features[2 * i] = (float4)(v[0], v[1], v[2], v[6]);
+    features[2 * i + 1] = (float4)(v[3], v[4], v[5], v[7]);
+  }
 }

@@ -1,0 +1,82 @@
+#include "core/aov_exr.h"
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+
+#include "core/error.h"
+#include "core/file_io.h"
+
+namespace multiray {
+
+namespace {
+
+// One buffer of `stride` floats per pixel: the channel at `offset` of each.
+struct Plane {
+  std::string channel;
+  const float* base;
+  size_t stride;
+};
+
+std::vector<Plane> aov_planes(const std::string& name, const FeatureBuffers& f) {
+  const std::vector<std::string> ch = aov_channels(name);
+  if (name == "albedo")
+    return {{ch[0], f.albedo.data(), 3},
+            {ch[1], f.albedo.data() + 1, 3},
+            {ch[2], f.albedo.data() + 2, 3}};
+  if (name == "normal")
+    return {{ch[0], f.normal.data(), 3},
+            {ch[1], f.normal.data() + 1, 3},
+            {ch[2], f.normal.data() + 2, 3}};
+  if (name == "depth") return {{ch[0], f.depth.data(), 1}};
+  return {{ch[0], f.variance.data(), 1}};
+}
+
+}  // namespace
+
+std::vector<std::string> aov_channels(const std::string& name) {
+  if (name == "albedo") return {"albedo.R", "albedo.G", "albedo.B"};
+  if (name == "normal") return {"normal.X", "normal.Y", "normal.Z"};
+  if (name == "depth") return {"depth.Z"};
+  if (name == "variance") return {"variance.Y"};
+  throw InputError("no AOV called '" + name + "'");
+}
+
+void write_exr_with_aovs(const std::string& path, const Framebuffer& fb,
+                         const std::vector<std::string>& aovs) {
+  const FeatureBuffers& f = fb.features;
+  if (!aovs.empty() && (f.empty() || f.width != fb.width || f.height != fb.height))
+    throw InputError("cannot write EXR '" + path + "': the frame has no feature buffers");
+  // A of 1 where the image has no coverage of its own: the beauty is opaque.
+  const std::vector<float> opaque(fb.alpha.empty() ? fb.pixels.size() : 0, 1.0f);
+  const std::vector<float>& alpha = fb.alpha.empty() ? opaque : fb.alpha;
+  std::vector<Plane> planes;
+  const float* rgb = &fb.pixels.data()->x;
+  planes.push_back({"R", rgb, 3}), planes.push_back({"G", rgb + 1, 3});
+  planes.push_back({"B", rgb + 2, 3}), planes.push_back({"A", alpha.data(), 1});
+  for (const std::string& name : aovs)
+    for (const Plane& p : aov_planes(name, f)) planes.push_back(p);
+  try {
+    replace_file_atomically(path, [&](const std::string& temp) {
+      Imf::Header header(fb.width, fb.height);
+      header.compression() = Imf::ZIP_COMPRESSION;
+      Imf::FrameBuffer slices;
+      for (const Plane& p : planes) {
+        header.channels().insert(p.channel, Imf::Channel(Imf::FLOAT));
+        char* base = const_cast<char*>(reinterpret_cast<const char*>(p.base));
+        const size_t xs = p.stride * sizeof(float);
+        slices.insert(p.channel, Imf::Slice(Imf::FLOAT, base, xs, xs * size_t(fb.width)));
+      }
+      Imf::OutputFile file(temp.c_str(), header);
+      file.setFrameBuffer(slices);
+      file.writePixels(fb.height);
+    });
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError("cannot write EXR '" + path + "': " + e.what());
+  }
+}
+
+}  // namespace multiray
