@@ -1,0 +1,42 @@
+// The denoiser's à-trous filter (render/denoise.h, DenoiseMethod::atrous) on an OpenCL
+// device: the same per-pixel steps (render/shared/denoise*.h) as the CPU's driver, one
+// kernel (kernels/denoise.cl) launched once per pass over the full frame. The result
+// equals the CPU's within float tolerance (the libraries' exp and pow may differ in the
+// last ulp) and is the same on one device whatever the launch shape.
+//
+// Not done here: SVGF's temporal step (the CPU's driver runs it; its shared code compiles
+// into this program already, see CMakeLists.txt), and filtering tiles with halos on the
+// devices that rendered them (the filter runs on the full frame after the gather).
+// No OpenCL types in this header, so the engine can include it.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+
+#include "render/denoise.h"
+
+namespace multiray {
+
+class OpenClDenoiser {
+ public:
+  // Sets up opencl:`device_index` (the global index of `multiray devices`) and builds the
+  // program (from the disk cache when it can, cl_program.h), with work groups of at most
+  // `work_group`, fitted to what the compiled kernel allows. Throws InputError when there
+  // is no such device and DeviceError when it cannot be set up.
+  explicit OpenClDenoiser(int device_index, int work_group = 64);
+  ~OpenClDenoiser();
+
+  // As denoise(in, DenoiseMethod::atrous, nullptr, out_rgb, params) on the CPU. Throws
+  // std::invalid_argument on bad input (as denoise) and DeviceError on an OpenCL error.
+  void atrous(const DenoiseInput& in, float* out_rgb, const DenoiseParams& params = {});
+
+  // The work-group size the launches use (fitted), and each launch's work-items.
+  size_t work_group_size() const;
+  size_t launch_items() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace multiray
