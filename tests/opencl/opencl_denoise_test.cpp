@@ -1,7 +1,7 @@
 // The denoiser's à-trous filter on an OpenCL device (device/opencl/opencl_denoise.h)
 // against the CPU's (render/denoise.h): the same shared per-pixel steps, so the same
 // image within float tolerance (the libraries' exp and pow may differ in the last ulp),
-// and the same bits whatever the work-group size.
+// and the same bits whatever the work-group size and launch size.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -29,14 +29,14 @@ float max_relative_difference(const std::vector<float>& a, const std::vector<flo
 
 TEST(OpenClDenoise, MatchesTheCpu) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
-  OpenClDenoiser gpu(0);
+  // Launches of 32 x 32 work-items: the frame takes three, the last one partly outside
+  // it, and rows do not divide them.
+  OpenClDenoiser gpu(0, 64, 32);
   for (EdgeKind kind : {EdgeKind::normal, EdgeKind::depth, EdgeKind::albedo})
     for (bool with_variance : {false, true}) {
-      // 300 x 250: more pixels than one launch covers (256 x 256), and rows that do not
-      // divide it, so the launches' offsets are exercised.
-      DenoiseFrame f = testing::edge_frame(kind, 300, 250);
-      for (int x = 0; x < 40; ++x)  // some sky: misses
-        for (int y = 0; y < 30; ++y) f.depth[f.index(x, y)] = INFINITY;
+      DenoiseFrame f = testing::edge_frame(kind, 60, 45);
+      for (int x = 0; x < 12; ++x)  // some sky: misses
+        for (int y = 0; y < 9; ++y) f.depth[f.index(x, y)] = INFINITY;
       f.add_noise(0.3f, 17, with_variance);
       std::vector<float> cpu(f.beauty.size()), cl(f.beauty.size(), -1.0f);
       denoise(f.input(), DenoiseMethod::atrous, nullptr, cpu.data());
@@ -46,13 +46,13 @@ TEST(OpenClDenoise, MatchesTheCpu) {
     }
 }
 
-TEST(OpenClDenoise, SameBitsForAnyWorkGroupSize) {
+TEST(OpenClDenoise, SameBitsForAnyLaunchShape) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   DenoiseFrame f = testing::edge_frame(EdgeKind::depth, 70, 50);
   f.add_noise(0.3f, 5, false);
   std::vector<float> a(f.beauty.size()), b(f.beauty.size());
-  OpenClDenoiser(0, 1).atrous(f.input(), a.data());
-  OpenClDenoiser(0, 64).atrous(f.input(), b.data());
+  OpenClDenoiser(0, 1, 16).atrous(f.input(), a.data());
+  OpenClDenoiser(0, 64, 256).atrous(f.input(), b.data());
   EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0);
 }
 
@@ -65,6 +65,7 @@ TEST(OpenClDenoise, BadInputIsRefused) {
   std::vector<float> out(f.beauty.size());
   EXPECT_THROW(OpenClDenoiser(0).atrous(in, out.data()), std::invalid_argument);
   EXPECT_THROW(OpenClDenoiser(1 << 20), InputError);
+  EXPECT_THROW(OpenClDenoiser(0, 64, 0), InputError);
 }
 
 }  // namespace opencl_denoise_test

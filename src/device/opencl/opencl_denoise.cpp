@@ -14,14 +14,13 @@ namespace {
 // kernels/denoise.cl's passes and argument count.
 enum DenoisePass : cl_int { kDemodulate = 0, kVariance = 1, kAtrous = 2, kRemodulate = 3 };
 constexpr cl_uint kDenoiseArgs = 19;
-// Launches cover 256 x 256 pixels of the frame at a time (one global size for every launch
-// of the program, see ClRuntime::build_kernel).
-constexpr int kDenoiseTile = 256;
 }  // namespace
 
 struct OpenClDenoiser::Impl {
-  Impl(const cl::Device& device, int index, int work_group)
-      : rt(device, index, kDenoiseTile, work_group),
+  // Every launch has tile x tile work-items (one global size for every launch of the
+  // program, see ClRuntime::build_kernel).
+  Impl(const cl::Device& device, int index, int work_group, int tile)
+      : rt(device, index, tile, work_group),
         built(rt.build_kernel(kDenoiseSource, "denoise_pass", kDenoiseArgs, "")) {}
 
   cl::Buffer scratch(size_t floats) const {
@@ -98,13 +97,15 @@ void OpenClDenoiser::Impl::atrous(const DenoiseInput& in, float* out_rgb, const 
   rt.queue.enqueueReadBuffer(out, CL_TRUE, 0, 3 * n * sizeof(float), out_rgb);
 }
 
-OpenClDenoiser::OpenClDenoiser(int device_index, int work_group) {
+OpenClDenoiser::OpenClDenoiser(int device_index, int work_group, int tile) {
+  if (work_group < 1 || work_group > 4096 || tile < 1 || tile > 4096)
+    throw InputError("opencl denoiser: work group and tile must be in 1..4096");
   const std::vector<cl::Device> all = cl_util::all_devices();
   if (device_index < 0 || size_t(device_index) >= all.size())
     throw InputError("opencl denoiser: there is no OpenCL device " + std::to_string(device_index) +
                      " (found " + std::to_string(all.size()) + "; see `multiray devices`)");
   try {
-    impl_ = std::make_unique<Impl>(all[size_t(device_index)], device_index, work_group);
+    impl_ = std::make_unique<Impl>(all[size_t(device_index)], device_index, work_group, tile);
   } catch (const cl::Error& e) {
     throw DeviceError("opencl denoiser on device " + std::to_string(device_index) +
                       ": setting up failed: " + cl_util::describe(e));

@@ -21,9 +21,11 @@ class OpenClDenoiser {
  public:
   // Sets up opencl:`device_index` (the global index of `multiray devices`) and builds the
   // program (from the disk cache when it can, cl_program.h), with work groups of at most
-  // `work_group`, fitted to what the compiled kernel allows. Throws InputError when there
-  // is no such device and DeviceError when it cannot be set up.
-  explicit OpenClDenoiser(int device_index, int work_group = 64);
+  // `work_group`, fitted to what the compiled kernel allows, and launches of
+  // tile x tile work-items (every launch the same size; the last covers the frame's end).
+  // Neither changes a pixel. Throws InputError when there is no such device or a size is
+  // out of range (1..4096) and DeviceError when it cannot be set up.
+  explicit OpenClDenoiser(int device_index, int work_group = 64, int tile = 256);
   ~OpenClDenoiser();
 
   // As denoise(in, DenoiseMethod::atrous, nullptr, out_rgb, params) on the CPU. Throws

@@ -47,8 +47,8 @@ MR_DEVICE float denoise_luminance(mr_float3 c) {
 
 // B3-spline taps (1, 4, 6, 4, 1) / 16 at offsets -2..2.
 MR_DEVICE float denoise_b3(int k) {
-  const int a = k < 0 ? -k : k;
-  return a == 0 ? 0.375f : (a == 1 ? 0.25f : 0.0625f);
+  // Compared, not abs(k): clang turns that into llvm.abs, which Oclgrind cannot run.
+  return k == 0 ? 0.375f : (k == 1 || k == -1 ? 0.25f : 0.0625f);
 }
 
 MR_DEVICE bool denoise_is_miss(const MR_GLOBAL float* depth, int i) {
