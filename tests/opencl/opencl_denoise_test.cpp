@@ -46,6 +46,29 @@ TEST(OpenClDenoise, MatchesTheCpu) {
     }
 }
 
+// svgf over six frames of a moving camera, with and without the renderer's variance:
+// the same images as the CPU's within float tolerance and the same history lengths, and
+// a history either driver continues.
+TEST(OpenClDenoise, SvgfMatchesTheCpu) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  OpenClDenoiser gpu(0, 64, 32);
+  for (bool with_variance : {false, true}) {
+    DenoiseState on_cpu, on_cl;
+    for (unsigned k = 0; k < 6; ++k) {
+      DenoiseFrame f = testing::walls(testing::camera_at(0.03f * float(k)), 40 + k);
+      f.with_variance = with_variance;
+      std::vector<float> cpu(f.beauty.size()), cl(f.beauty.size(), -1.0f);
+      denoise(f.input(), DenoiseMethod::svgf, &on_cpu, cpu.data());
+      gpu.svgf(f.input(), on_cl, cl.data());
+      EXPECT_LT(max_relative_difference(cpu, cl), 1e-4f)
+          << "frame " << k << ", variance " << with_variance;
+      ASSERT_EQ(on_cl.history.size(), on_cpu.history.size());
+      for (size_t i = 0; i < on_cpu.history.size(); i += 2)
+        ASSERT_EQ(on_cl.history[i], on_cpu.history[i]) << "frame " << k << ", pixel " << i / 2;
+    }
+  }
+}
+
 TEST(OpenClDenoise, SameBitsForAnyLaunchShape) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   DenoiseFrame f = testing::edge_frame(EdgeKind::depth, 70, 50);
@@ -64,6 +87,8 @@ TEST(OpenClDenoise, BadInputIsRefused) {
   in.depth = nullptr;
   std::vector<float> out(f.beauty.size());
   EXPECT_THROW(OpenClDenoiser(0).atrous(in, out.data()), std::invalid_argument);
+  DenoiseState state;
+  EXPECT_THROW(OpenClDenoiser(0).svgf(in, state, out.data()), std::invalid_argument);
   EXPECT_THROW(OpenClDenoiser(1 << 20), InputError);
   EXPECT_THROW(OpenClDenoiser(0, 64, 0), InputError);
 }

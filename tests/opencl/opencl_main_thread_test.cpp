@@ -65,7 +65,7 @@ TEST(OpenClMainThread, EveryKernelRendersATinyFrame) {
 }
 
 // The denoiser's passes on an 8 x 8 frame with sky in a corner, with the variance
-// estimated and given, in one launch of 64 work-items.
+// estimated and given, in one launch of 64 work-items, and svgf's temporal step.
 TEST(OpenClMainThread, TheDenoiserFiltersATinyFrame) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   testing::DenoiseFrame f = testing::edge_frame(testing::EdgeKind::depth, kW, kH);
@@ -75,6 +75,14 @@ TEST(OpenClMainThread, TheDenoiserFiltersATinyFrame) {
     f.add_noise(0.3f, 1, with_variance);
     std::vector<float> out(f.beauty.size(), -1.0f);
     denoiser.atrous(f.input(), out.data());
+    for (float v : out) EXPECT_GE(v, 0.0f);
+  }
+  // svgf's temporal kernel: a first frame, then one with a history.
+  f.camera = testing::camera_at(0);
+  DenoiseState state;
+  for (int frame = 0; frame < 2; ++frame) {
+    std::vector<float> out(f.beauty.size(), -1.0f);
+    denoiser.svgf(f.input(), state, out.data());
     for (float v : out) EXPECT_GE(v, 0.0f);
   }
 }

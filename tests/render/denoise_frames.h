@@ -40,7 +40,8 @@ struct DenoiseFrame {
     return Vec3(clean[3 * i], clean[3 * i + 1], clean[3 * i + 2]);
   }
   // The beauty: the clean one times (1 + N(0, sigma)), the same factor in every channel,
-  // with the variance of the luminance that gives (given to the filter when `pass`).
+  // with the variance of the luminance that gives (given to the filter with
+  // `pass_variance`).
   void add_noise(float sigma, unsigned seed, bool pass_variance) {
     std::mt19937 rng(seed);
     std::normal_distribution<float> noise(0.0f, sigma);
@@ -106,6 +107,32 @@ inline DenoiseFrame edge_frame(EdgeKind kind, int w = 64, int h = 48) {
         f.set(x, y, Vec3(0.2f), Vec3(0.25f), nz, 2.0f);
       }
     }
+  return f;
+}
+
+// A near wall (world x < 0, z = -2, bright) in front of a far wall (z = -4, dark) seen
+// by `cam` in a kWallsWidth x kWallsHeight image, noise `sigma` from `seed`, the variance
+// given: an analytic scene for SVGF's reprojection.
+constexpr int kWallsWidth = 64, kWallsHeight = 48;
+
+inline Camera camera_at(float x) {
+  return Camera{Vec3(x, 0, 0), Vec3(x, 0, -1), Vec3(0, 1, 0), 60.0f};
+}
+
+inline DenoiseFrame walls(const Camera& cam, unsigned seed, float sigma = 0.3f) {
+  const int w = kWallsWidth, h = kWallsHeight;
+  DenoiseFrame f(w, h);
+  f.camera = cam;
+  const PinholeCamera pc(cam, w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const Ray r = pc.ray(float(x) + 0.5f, float(y) + 0.5f);
+      const float t_near = (-2.0f - r.org.z) / r.dir.z;
+      const bool near = r.org.x + t_near * r.dir.x < 0.0f;
+      const float t = near ? t_near : (-4.0f - r.org.z) / r.dir.z;
+      f.set(x, y, Vec3(0.8f), Vec3(near ? 1.0f : 0.1f), Vec3(0, 0, 1), t * dot(r.dir, pc.forward));
+    }
+  f.add_noise(sigma, seed, true);
   return f;
 }
 

@@ -1,6 +1,6 @@
 // SVGF's temporal accumulation (render/denoise.h, svgf) over frames of an analytic scene
-// seen through a real camera: a near wall (world x < 0, z = -2, bright) in front of a far
-// wall (z = -4, dark), each frame with fresh noise from its own seed.
+// seen through a real camera (denoise_frames.h's walls), each frame with fresh noise from
+// its own seed.
 #include <gtest/gtest.h>
 
 #include "render/denoise_frames.h"
@@ -10,26 +10,9 @@ namespace denoise_temporal_test {
 
 using testing::DenoiseFrame;
 
-constexpr int kW = 64, kH = 48;
-
-Camera camera_at(float x) { return Camera{Vec3(x, 0, 0), Vec3(x, 0, -1), Vec3(0, 1, 0), 60.0f}; }
-
-// The two walls through `cam`, noise `sigma` from `seed`, the variance given.
-DenoiseFrame walls(const Camera& cam, unsigned seed, float sigma = 0.3f) {
-  DenoiseFrame f(kW, kH);
-  f.camera = cam;
-  const PinholeCamera pc(cam, kW, kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      const Ray r = pc.ray(float(x) + 0.5f, float(y) + 0.5f);
-      const float t_near = (-2.0f - r.org.z) / r.dir.z;
-      const bool near = r.org.x + t_near * r.dir.x < 0.0f;
-      const float t = near ? t_near : (-4.0f - r.org.z) / r.dir.z;
-      f.set(x, y, Vec3(0.8f), Vec3(near ? 1.0f : 0.1f), Vec3(0, 0, 1), t * dot(r.dir, pc.forward));
-    }
-  f.add_noise(sigma, seed, true);
-  return f;
-}
+using testing::camera_at;
+using testing::walls;
+constexpr int kW = testing::kWallsWidth, kH = testing::kWallsHeight;
 
 double mean_of(const std::vector<float>& v, size_t stride, size_t k) {
   double s = 0;

@@ -7,13 +7,38 @@
 #include "core/error.h"
 #include "device/opencl/cl_runtime.h"
 #include "device/opencl/denoise_kernel_source.h"
+#include "render/path_tracer.h"
 
 namespace multiray {
 
 namespace {
 // kernels/denoise.cl's passes and argument count.
 enum DenoisePass : cl_int { kDemodulate = 0, kVariance = 1, kAtrous = 2, kRemodulate = 3 };
-constexpr cl_uint kDenoiseArgs = 19;
+constexpr cl_uint kDenoiseArgs = 19, kTemporalArgs = 23;
+// The device buffers, kept from frame to frame (reallocated when the size changes).
+enum Slot {
+  kBeauty,
+  kAlbedo,
+  kNormal,
+  kDepth,
+  kGivenVariance,
+  kColor0,
+  kColor1,
+  kVariance0,
+  kVariance1,
+  kOut,
+  kCameras,
+  kPrevColor,
+  kPrevMoments,
+  kPrevHistory,
+  kPrevDepth,
+  kPrevNormal,
+  kAccColor,
+  kAccMoments,
+  kAccHistory,
+  kAccVariance,
+  kSlots
+};
 }  // namespace
 
 struct OpenClDenoiser::Impl {
@@ -21,26 +46,50 @@ struct OpenClDenoiser::Impl {
   // program, see ClRuntime::build_kernel).
   Impl(const cl::Device& device, int index, int work_group, int tile)
       : rt(device, index, tile, work_group),
-        built(rt.build_kernel(kDenoiseSource, "denoise_pass", kDenoiseArgs, "")) {}
+        built(rt.build_kernel(kDenoiseSource, "denoise_pass", kDenoiseArgs, "")),
+        temporal(rt.build_kernel(kDenoiseSource, "denoise_temporal", kTemporalArgs, "")) {}
 
-  cl::Buffer scratch(size_t floats) const {
-    return cl::Buffer(rt.context, CL_MEM_READ_WRITE, std::max<size_t>(1, floats) * sizeof(float));
+  // The buffer of `slot`, holding at least one and exactly max(1, floats) floats; kept
+  // between calls, so a frame of the size of the last allocates nothing. (Buffers freed
+  // while a kernel object still names them also upset Oclgrind's --uninitialized check.)
+  const cl::Buffer& buffer(Slot slot, size_t floats) {
+    floats = std::max<size_t>(1, floats);
+    if (sizes[slot] != floats) {
+      if (floats * sizeof(float) > rt.max_alloc)
+        throw DeviceError(
+            "OpenCL: the denoiser needs a " + std::to_string((floats * sizeof(float)) >> 20) +
+            " MB buffer, the device allows " + std::to_string(rt.max_alloc >> 20) + " MB");
+      buffers[slot] = cl::Buffer(rt.context, CL_MEM_READ_WRITE, floats * sizeof(float));
+      sizes[slot] = floats;
+    }
+    return buffers[slot];
+  }
+  // The buffer of `slot` holding `floats` floats of `data` (written before the call returns).
+  const cl::Buffer& upload(Slot slot, const void* data, size_t floats) {
+    const cl::Buffer& b = buffer(slot, floats);
+    if (floats > 0) rt.queue.enqueueWriteBuffer(b, CL_TRUE, 0, floats * sizeof(float), data);
+    return b;
   }
 
-  // Enqueues `pass` over every pixel of a width x height frame, in launches of
-  // built.launch_items work-items. Arguments 10 and up are set by the caller.
+  // Enqueues `k` over every pixel of a `pixels`-pixel frame, in launches of
+  // k.launch_items work-items, setting argument `offset_arg` to each launch's first pixel.
+  void launch(ClBuiltKernel& k, cl_uint offset_arg, size_t pixels) {
+    for (size_t offset = 0; offset < pixels; offset += k.launch_items) {
+      k.kernel.setArg(offset_arg, cl_int(offset));
+      rt.queue.enqueueNDRangeKernel(k.kernel, cl::NullRange, cl::NDRange(k.launch_items),
+                                    cl::NDRange(k.local));
+    }
+  }
+
+  // Enqueues denoise_pass's `pass` over a width x height frame. Arguments 5 and up are
+  // set by the caller.
   void run(cl_int pass, int width, int height, int step) {
     cl::Kernel& k = built.kernel;
     k.setArg(0, pass);
     k.setArg(2, cl_int(width));
     k.setArg(3, cl_int(height));
     k.setArg(4, cl_int(step));
-    const size_t pixels = size_t(width) * size_t(height);
-    for (size_t offset = 0; offset < pixels; offset += built.launch_items) {
-      k.setArg(1, cl_int(offset));
-      rt.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(built.launch_items),
-                                    cl::NDRange(built.local));
-    }
+    launch(built, 1, size_t(width) * size_t(height));
   }
 
   // Binds the buffers a pass reads and writes.
@@ -52,23 +101,32 @@ struct OpenClDenoiser::Impl {
     built.kernel.setArg(18, variance_out);
   }
 
-  void atrous(const DenoiseInput& in, float* out_rgb, const DenoiseParams& p);
+  void denoise(const DenoiseInput& in, DenoiseState* state, float* out_rgb,
+               const DenoiseParams& p);
+  // SVGF's temporal step: accumulates `color` (demodulated) with `variance` into `s`
+  // and leaves the accumulated colour and its variance in `color` and `variance`.
+  void accumulate(const DenoiseInput& in, const DenoiseParams& p, const cl::Buffer& depth,
+                  const cl::Buffer& normal, cl::Buffer& color, cl::Buffer& variance,
+                  DenoiseState& s);
 
   ClRuntime rt;
-  ClBuiltKernel built;
+  ClBuiltKernel built, temporal;
+  cl::Buffer buffers[kSlots];
+  size_t sizes[kSlots] = {};
 };
 
-void OpenClDenoiser::Impl::atrous(const DenoiseInput& in, float* out_rgb, const DenoiseParams& p) {
+void OpenClDenoiser::Impl::denoise(const DenoiseInput& in, DenoiseState* state, float* out_rgb,
+                                   const DenoiseParams& p) {
   const size_t n = size_t(in.width) * size_t(in.height);
-  const cl::Buffer beauty = rt.upload(in.beauty, 3 * n * sizeof(float), "the beauty");
-  const cl::Buffer albedo = rt.upload(in.albedo, 3 * n * sizeof(float), "the albedo");
-  const cl::Buffer normal = rt.upload(in.normal, 3 * n * sizeof(float), "the normals");
-  const cl::Buffer depth = rt.upload(in.depth, n * sizeof(float), "the depth");
+  const cl::Buffer beauty = upload(kBeauty, in.beauty, 3 * n);
+  const cl::Buffer albedo = upload(kAlbedo, in.albedo, 3 * n);
+  const cl::Buffer normal = upload(kNormal, in.normal, 3 * n);
+  const cl::Buffer depth = upload(kDepth, in.depth, n);
   const cl::Buffer variance =
-      in.variance ? rt.upload(in.variance, n * sizeof(float), "the variance") : scratch(1);
+      in.variance ? upload(kGivenVariance, in.variance, n) : buffer(kGivenVariance, 1);
   // Two colours and two variances, ping-pong: each pass reads one and writes the other.
-  cl::Buffer color[2] = {scratch(3 * n), scratch(3 * n)};
-  cl::Buffer var[2] = {scratch(n), scratch(n)};
+  cl::Buffer color[2] = {buffer(kColor0, 3 * n), buffer(kColor1, 3 * n)};
+  cl::Buffer var[2] = {buffer(kVariance0, n), buffer(kVariance1, n)};
   cl::Kernel& k = built.kernel;
   k.setArg(5, cl_int(in.variance != nullptr));
   k.setArg(6, p.sigma_luminance);
@@ -86,15 +144,57 @@ void OpenClDenoiser::Impl::atrous(const DenoiseInput& in, float* out_rgb, const 
     bind(color[0], var[1], color[1], var[0]);  // writes var[0] only
     run(kVariance, in.width, in.height, 0);
   }
+  if (state) accumulate(in, p, depth, normal, color[0], var[0], *state);
   int cur = 0;
   for (int it = 0; it < p.iterations; ++it, cur ^= 1) {
     bind(color[cur], var[cur], color[cur ^ 1], var[cur ^ 1]);
     run(kAtrous, in.width, in.height, 1 << it);
   }
-  const cl::Buffer out = scratch(3 * n);
+  const cl::Buffer out = buffer(kOut, 3 * n);
   bind(color[cur], var[cur], out, var[cur ^ 1]);  // writes `out` only
   run(kRemodulate, in.width, in.height, 0);
   rt.queue.enqueueReadBuffer(out, CL_TRUE, 0, 3 * n * sizeof(float), out_rgb);
+}
+
+void OpenClDenoiser::Impl::accumulate(const DenoiseInput& in, const DenoiseParams& p,
+                                      const cl::Buffer& depth, const cl::Buffer& normal,
+                                      cl::Buffer& color, cl::Buffer& variance, DenoiseState& s) {
+  const size_t n = size_t(in.width) * size_t(in.height);
+  if (s.width != in.width || s.height != in.height) s.reset();
+  CameraBlock cams[2]{};
+  if (in.camera) cams[0] = PinholeCamera(*in.camera, in.width, in.height).block();
+  cams[1] = s.camera;
+  const bool has_previous = !s.empty() && in.camera;
+  const auto previous = [&](Slot slot, const std::vector<float>& v) {
+    return has_previous ? upload(slot, v.data(), v.size()) : buffer(slot, 1);
+  };
+  const cl::Buffer cameras = upload(kCameras, cams, 2 * sizeof(CameraBlock) / sizeof(float));
+  const cl::Buffer prev[5] = {previous(kPrevColor, s.color), previous(kPrevMoments, s.moments),
+                              previous(kPrevHistory, s.history), previous(kPrevDepth, s.depth),
+                              previous(kPrevNormal, s.normal)};
+  const cl::Buffer acc = buffer(kAccColor, 3 * n), moments = buffer(kAccMoments, 2 * n);
+  const cl::Buffer history = buffer(kAccHistory, 2 * n), acc_variance = buffer(kAccVariance, n);
+  cl::Kernel& k = temporal.kernel;
+  const cl_float scalars[4] = {p.alpha, p.moments_alpha, p.depth_tolerance, p.normal_tolerance};
+  k.setArg(1, cl_int(in.width));
+  k.setArg(2, cl_int(in.height));
+  k.setArg(3, cl_int(has_previous));
+  k.setArg(4, cl_int(in.variance != nullptr));
+  for (cl_uint a = 0; a < 4; ++a) k.setArg(5 + a, scalars[a]);
+  const cl::Buffer* buffers[] = {&cameras, &color,   &variance, &depth,       &normal,
+                                 &prev[0], &prev[1], &prev[2],  &prev[3],     &prev[4],
+                                 &acc,     &moments, &history,  &acc_variance};
+  for (cl_uint a = 0; a < 14; ++a) k.setArg(9 + a, *buffers[a]);
+  launch(temporal, 0, n);
+  s.width = in.width, s.height = in.height, s.camera = cams[0];
+  s.color.resize(3 * n), s.moments.resize(2 * n), s.history.resize(2 * n);
+  rt.queue.enqueueReadBuffer(acc, CL_FALSE, 0, 3 * n * sizeof(float), s.color.data());
+  rt.queue.enqueueReadBuffer(moments, CL_FALSE, 0, 2 * n * sizeof(float), s.moments.data());
+  rt.queue.enqueueReadBuffer(history, CL_TRUE, 0, 2 * n * sizeof(float), s.history.data());
+  s.depth.assign(in.depth, in.depth + n);
+  s.normal.assign(in.normal, in.normal + 3 * n);
+  color = acc;
+  variance = acc_variance;
 }
 
 OpenClDenoiser::OpenClDenoiser(int device_index, int work_group, int tile) {
@@ -117,7 +217,18 @@ OpenClDenoiser::~OpenClDenoiser() = default;
 void OpenClDenoiser::atrous(const DenoiseInput& in, float* out_rgb, const DenoiseParams& params) {
   check_denoise_input(in, DenoiseMethod::atrous, nullptr, out_rgb);
   try {
-    impl_->atrous(in, out_rgb, params);
+    impl_->denoise(in, nullptr, out_rgb, params);
+  } catch (const cl::Error& e) {
+    throw DeviceError("opencl denoiser on device " + std::to_string(impl_->rt.index) + ": " +
+                      cl_util::describe(e));
+  }
+}
+
+void OpenClDenoiser::svgf(const DenoiseInput& in, DenoiseState& state, float* out_rgb,
+                          const DenoiseParams& params) {
+  check_denoise_input(in, DenoiseMethod::svgf, &state, out_rgb);
+  try {
+    impl_->denoise(in, &state, out_rgb, params);
   } catch (const cl::Error& e) {
     throw DeviceError("opencl denoiser on device " + std::to_string(impl_->rt.index) + ": " +
                       cl_util::describe(e));

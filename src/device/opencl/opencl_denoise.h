@@ -1,12 +1,13 @@
-// The denoiser's à-trous filter (render/denoise.h, DenoiseMethod::atrous) on an OpenCL
-// device: the same per-pixel steps (render/shared/denoise*.h) as the CPU's driver, one
-// kernel (kernels/denoise.cl) launched once per pass over the full frame. The result
+// The denoiser (render/denoise.h: atrous, and svgf's temporal step before it) on an
+// OpenCL device: the same per-pixel steps (render/shared/denoise*.h) as the CPU's driver,
+// two kernels (kernels/denoise.cl) launched once per pass over the full frame. The result
 // equals the CPU's within float tolerance (the libraries' exp and pow may differ in the
 // last ulp) and is the same on one device whatever the launch shape.
 //
-// Not done here: SVGF's temporal step (the CPU's driver runs it; its shared code compiles
-// into this program already, see CMakeLists.txt), and filtering tiles with halos on the
-// devices that rendered them (the filter runs on the full frame after the gather).
+// Not done here: keeping svgf's history on the device between frames (it is uploaded and
+// read back every frame, so a DenoiseState moves freely between the CPU and OpenCL), and
+// filtering tiles with halos on the devices that rendered them (the filter runs on the
+// full frame after the gather).
 // No OpenCL types in this header, so the engine can include it.
 #pragma once
 
@@ -31,6 +32,10 @@ class OpenClDenoiser {
   // As denoise(in, DenoiseMethod::atrous, nullptr, out_rgb, params) on the CPU. Throws
   // std::invalid_argument on bad input (as denoise) and DeviceError on an OpenCL error.
   void atrous(const DenoiseInput& in, float* out_rgb, const DenoiseParams& params = {});
+  // As denoise(in, DenoiseMethod::svgf, &state, out_rgb, params) on the CPU; `state` has
+  // the CPU's layout and meaning (either driver may continue the other's history).
+  void svgf(const DenoiseInput& in, DenoiseState& state, float* out_rgb,
+            const DenoiseParams& params = {});
 
   // The work-group size the launches use (fitted), and each launch's work-items.
   size_t work_group_size() const;

@@ -66,8 +66,8 @@ MR_DEVICE mr_float3 denoise_factor(const MR_GLOBAL float* albedo, const MR_GLOBA
          MR_FLOAT3(MR_DENOISE_ALBEDO_EPS, MR_DENOISE_ALBEDO_EPS, MR_DENOISE_ALBEDO_EPS);
 }
 
-// Pixel `i` demodulated into `color_out`; a non-finite beauty is taken as black (one NaN
-// would otherwise spread over the filter's whole footprint). With `variance` (may be
+// Pixel `i` demodulated into `color_out`; a non-finite beauty channel is taken as 0 (one
+// NaN would otherwise spread over the filter's whole footprint). With `variance` (may be
 // null in C++; the OpenCL host passes has_variance 0 instead) the given variance is
 // scaled to the demodulated colour, by the factor's luminance squared (exact for a grey
 // albedo, an approximation for a coloured one).
@@ -76,11 +76,12 @@ MR_DEVICE void denoise_demodulate(const MR_GLOBAL float* beauty, const MR_GLOBAL
                                   int has_variance, MR_GLOBAL float* color_out,
                                   MR_GLOBAL float* variance_out, int i) {
   const mr_float3 f = denoise_factor(albedo, depth, i);
-  mr_float3 c = load3(beauty + 3 * i);
-  if (!finite3(c)) c = MR_FLOAT3(0.0f, 0.0f, 0.0f);
-  color_out[3 * i] = c.x / f.x;
-  color_out[3 * i + 1] = c.y / f.y;
-  color_out[3 * i + 2] = c.z / f.z;
+  const mr_float3 c = load3(beauty + 3 * i);
+  // Channel by channel: clang turns finite3's && into a select guarded by an LLVM
+  // `freeze`, which Oclgrind's --uninitialized check cannot interpret.
+  color_out[3 * i] = (mr_isfinite(c.x) ? c.x : 0.0f) / f.x;
+  color_out[3 * i + 1] = (mr_isfinite(c.y) ? c.y : 0.0f) / f.y;
+  color_out[3 * i + 2] = (mr_isfinite(c.z) ? c.z : 0.0f) / f.z;
   if (has_variance) {
     const float l = denoise_luminance(f);
     const float v = variance[i];
