@@ -6,9 +6,11 @@
 // device it is a quick smoke test of each kernel (their images are checked elsewhere).
 #include <gtest/gtest.h>
 
+#include "device/opencl/opencl_denoise.h"
 #include "engine/frame_views.h"
 #include "opencl_helpers.h"
 #include "opencl_volume_helpers.h"
+#include "render/denoise_frames.h"
 #include "scene/builders.h"
 
 namespace multiray {
@@ -60,6 +62,29 @@ TEST(OpenClMainThread, EveryKernelRendersATinyFrame) {
   const std::unique_ptr<testing::VolumeCase> c = testing::ball_case();
   OpenClDevice volume(*c->cache, {.tile = 8}, "opencl:0:tile=8");
   render_here(volume, {testing::view_of(c->scene, kW, kH)}, testing::volume_settings(*c));
+}
+
+// The denoiser's passes on an 8 x 8 frame with sky in a corner, with the variance
+// estimated and given, in one launch of 64 work-items, and svgf's temporal step.
+TEST(OpenClMainThread, TheDenoiserFiltersATinyFrame) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  testing::DenoiseFrame f = testing::edge_frame(testing::EdgeKind::depth, kW, kH);
+  f.depth[0] = f.depth[1] = INFINITY;
+  OpenClDenoiser denoiser(0, 64, 8);
+  for (bool with_variance : {false, true}) {
+    f.add_noise(0.3f, 1, with_variance);
+    std::vector<float> out(f.beauty.size(), -1.0f);
+    denoiser.atrous(f.input(), out.data());
+    for (float v : out) EXPECT_GE(v, 0.0f);
+  }
+  // svgf's temporal kernel: a first frame, then one with a history.
+  f.camera = testing::camera_at(0);
+  DenoiseState state;
+  for (int frame = 0; frame < 2; ++frame) {
+    std::vector<float> out(f.beauty.size(), -1.0f);
+    denoiser.svgf(f.input(), state, out.data());
+    for (float v : out) EXPECT_GE(v, 0.0f);
+  }
 }
 
 }  // namespace opencl_main_thread_test

@@ -17,6 +17,7 @@
 
 #include <unistd.h>
 
+#include "device/opencl/denoise_kernel_source.h"
 #include "device/opencl/kernel_source.h"
 #include "device/opencl/volume_kernel_source.h"
 
@@ -50,7 +51,8 @@ struct Program {
 };
 const Program kPrograms[] = {{"path tracer", kPathTracerSource, ""},
                              {"path tracer, compact scene", kPathTracerSource, "-DMR_COMPACT=1"},
-                             {"volume raycaster", kVolumeSource, ""}};
+                             {"volume raycaster", kVolumeSource, ""},
+                             {"denoiser", kDenoiseSource, ""}};
 
 TEST(OpenClStrict, EveryProgramIsStandardOpenClC12) {
   if (!have_clang()) GTEST_SKIP() << "clang-15 not found (the test dependencies install it)";

@@ -20,9 +20,10 @@
 //   the same order of operations for OpenCL C; load3 reads three floats of a record;
 //   mr_fmax is std::max in C++ and fmax in OpenCL C (equal unless an argument is NaN,
 //   which no caller passes).
-// - mr_fabs, mr_pow, mr_atan2, mr_acos, mr_expm1, mr_clamp, mr_floor, mr_ceil, mr_min_int
-//   and mr_max_int are std::abs, pow, atan2, acos, expm1, clamp, floor, ceil, min and max
-//   in C++ and the built-ins of the same names in OpenCL C: each side keeps the functions
+// - mr_fabs, mr_pow, mr_atan2, mr_acos, mr_expm1, mr_exp, mr_clamp, mr_floor, mr_ceil,
+//   mr_min_int and mr_max_int are std::abs, pow, atan2, acos, expm1, exp, clamp, floor,
+//   ceil, min and max in C++ and the built-ins of the same names in OpenCL C (mr_isfinite
+//   too, in conditions only: OpenCL C's returns an int): each side keeps the functions
 //   it used before the code was shared (the two libraries' results may differ in the last
 //   ulp; an image is bit-identical to itself on one backend, not across backends).
 //   clamp_std (transfer.h) is std::clamp's definition on both sides.
@@ -80,6 +81,8 @@ typedef int4 mr_int4;
 #define mr_atan2 atan2
 #define mr_acos acos
 #define mr_expm1 expm1
+#define mr_exp exp
+#define mr_isfinite isfinite
 #define mr_clamp clamp
 #define mr_floor floor
 #define mr_ceil ceil
@@ -195,6 +198,8 @@ inline Vec3 to_world(const Frame* f, Vec3 v) { return f->to_world(v); }
 #define mr_atan2 std::atan2
 #define mr_acos std::acos
 #define mr_expm1 std::expm1
+#define mr_exp std::exp
+#define mr_isfinite std::isfinite
 #define mr_clamp std::clamp
 #define mr_floor std::floor
 #define mr_ceil std::ceil

@@ -1,0 +1,107 @@
+// The denoiser: an edge-avoiding à-trous wavelet filter guided by the feature buffers
+// (Dammertz et al. 2010) on the beauty demodulated by albedo, and, for animations and the
+// viewer, SVGF's temporal accumulation with reprojection before it (Schied et al. 2017).
+// The per-pixel steps are render/shared/denoise*.h, which the OpenCL driver
+// (device/opencl/opencl_denoise.h) runs too; docs/noise.md describes the method.
+//
+// The filter is a pure function of full-frame buffers: run after the gather on the
+// master, its image does not depend on how the frame was split (every pixel is computed
+// from the whole frame's inputs alone, in any order, on any number of threads).
+//
+// Seam for the engine (issue 52, after the AOV branch merges): render/aov.h's
+// FeatureBuffers hold exactly the layout DenoiseInput points into (no copies), so after
+// the gather the master calls
+//   DenoiseInput in{w, h, beauty, aov.albedo.data(), aov.normal.data(), aov.depth.data(),
+//                   aov.variance.empty() ? nullptr : aov.variance.data(), &view.camera};
+//   denoise(in, resolve_denoise(choice, context), &state_of_view, out.data());
+// with one DenoiseState per view kept across frames (reset when the scene changes), then
+// hands `out` to the observers in place of the beauty (never to the raw EXR beauty).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "render/shared/camera.h"
+#include "scene/scene.h"
+
+namespace multiray {
+
+enum class DenoiseMethod { none, atrous, svgf };
+// What `--denoise` takes: a method, or `auto` (resolve_denoise).
+enum class DenoiseChoice { none, atrous, svgf, automatic };
+
+// One frame's buffers, row-major, width x height (render/shared/denoise.h's layout), not
+// owned. beauty, albedo, normal, depth are required; variance may be null (the filter
+// then estimates it from the image); camera is needed by svgf only (null: no
+// reprojection, every frame starts a new history).
+struct DenoiseInput {
+  int width = 0, height = 0;
+  const float* beauty = nullptr;    // 3 a pixel, linear RGB
+  const float* albedo = nullptr;    // 3 a pixel, linear RGB
+  const float* normal = nullptr;    // 3 a pixel, unit, world space, 0 on a miss
+  const float* depth = nullptr;     // 1 a pixel, along the camera axis, +inf on a miss
+  const float* variance = nullptr;  // 1 a pixel, of the pixel mean's luminance
+  const Camera* camera = nullptr;
+};
+
+// The filter's parameters (defaults: SVGF's sigma_luminance and sigma_normal; ours for
+// the rest, see docs/noise.md).
+struct DenoiseParams {
+  int iterations = 5;            // à-trous iterations, taps 1, 2, 4, ... 2^(n-1) apart
+  float sigma_luminance = 4.0f;  // luminance difference, in standard deviations of noise
+  float sigma_normal = 128.0f;   // exponent of the normals' cosine
+  float sigma_depth = 0.02f;     // relative error of the planar prediction of 1/depth
+  float sigma_albedo = 0.2f;     // largest albedo channel difference
+  // svgf: least weight of the current frame, and what a reprojected history must match.
+  float alpha = 0.2f, moments_alpha = 0.2f;
+  float depth_tolerance = 0.05f;  // relative
+  float normal_tolerance = 0.9f;  // cosine
+};
+
+// svgf's history, kept by the caller between frames of one view. Empty: no history.
+struct DenoiseState {
+  int width = 0, height = 0;
+  CameraBlock camera{};
+  std::vector<float> color;          // accumulated demodulated colour, 3 a pixel
+  std::vector<float> moments;        // luminance m1, m2 of the accumulated colour, 2 a pixel
+  std::vector<float> history;        // frames accumulated n, variance of the colour, 2 a pixel
+  std::vector<float> depth, normal;  // the frame's guides, to test the next one against
+  bool empty() const { return color.empty(); }
+  void reset() { *this = DenoiseState(); }
+};
+
+// Writes the denoised image of `in` to `out_rgb` (3 floats a pixel, may not alias the
+// inputs). none copies the beauty; atrous filters the frame alone; svgf accumulates into
+// `temporal` first (required for svgf; reset when its size differs from the frame's) and
+// filters the result. Throws std::invalid_argument on a missing buffer or a bad size.
+// Rows are spread over the calling thread's TBB arena; the result does not depend on it.
+void denoise(const DenoiseInput& in, DenoiseMethod method, DenoiseState* temporal, float* out_rgb,
+             const DenoiseParams& params = {});
+
+// Throws std::invalid_argument unless `in`, `temporal` and `out` are what denoise needs
+// for `method` (the OpenCL driver checks its input with it too).
+void check_denoise_input(const DenoiseInput& in, DenoiseMethod method,
+                         const DenoiseState* temporal, const float* out);
+
+// A registry entry: a `--denoise` value and its help line.
+struct DenoiseMethodInfo {
+  const char* name;
+  DenoiseChoice choice;
+  const char* help;
+};
+// none, atrous, svgf, auto: the values of `--denoise`, in the order help lists them.
+const std::vector<DenoiseMethodInfo>& denoise_methods();
+// The choice named `name`; false when there is none (`out` untouched).
+bool parse_denoise(const std::string& name, DenoiseChoice& out);
+
+// What `auto` means for a run (issue 52): svgf in the viewer while the camera moves,
+// atrous for PNG output under 256 samples per pixel, none otherwise (the raw EXR beauty
+// is never touched unless asked). A named method is itself.
+struct DenoiseContext {
+  bool viewer = false, camera_moving = false;
+  bool png_output = false;
+  int spp = 1;
+};
+DenoiseMethod resolve_denoise(DenoiseChoice choice, const DenoiseContext& context);
+
+}  // namespace multiray

@@ -1,0 +1,126 @@
+// SVGF's temporal accumulation (render/denoise.h, svgf) over frames of an analytic scene
+// seen through a real camera (denoise_frames.h's walls), each frame with fresh noise from
+// its own seed.
+#include <gtest/gtest.h>
+
+#include "render/denoise_frames.h"
+
+namespace multiray {
+namespace denoise_temporal_test {
+
+using testing::DenoiseFrame;
+
+using testing::camera_at;
+using testing::walls;
+constexpr int kW = testing::kWallsWidth, kH = testing::kWallsHeight;
+
+double mean_of(const std::vector<float>& v, size_t stride, size_t k) {
+  double s = 0;
+  for (size_t i = k; i < v.size(); i += stride) s += v[i];
+  return s / double(v.size() / stride);
+}
+
+// A still camera: the accumulated colour's variance falls frame after frame (as 1 / n,
+// then towards alpha / (2 - alpha) of a frame's), and after 8 frames the image is closer
+// to the clean one than the spatial filter alone makes that frame.
+TEST(DenoiseTemporal, StillCameraAccumulates) {
+  DenoiseState state;
+  std::vector<float> out(3 * kW * kH), alone(out.size());
+  double last = INFINITY;
+  DenoiseFrame f = walls(camera_at(0), 0);
+  for (unsigned k = 0; k < 8; ++k) {
+    f = walls(camera_at(0), 100 + k);
+    denoise(f.input(), DenoiseMethod::svgf, &state, out.data());
+    const double v = mean_of(state.history, 2, 1);
+    EXPECT_LT(v, last) << "frame " << k;
+    last = v;
+    EXPECT_EQ(mean_of(state.history, 2, 0), std::min(k + 1.0, 1024.0)) << "frame " << k;
+  }
+  denoise(f.input(), DenoiseMethod::atrous, nullptr, alone.data());
+  const auto all = [](int, int) { return true; };
+  EXPECT_LT(testing::rmse(f, out, all), 0.7 * testing::rmse(f, alone, all));
+}
+
+// Without the renderer's variance the first three frames use the spatial estimate, then
+// the moments: the variance still ends well below the first frame's.
+TEST(DenoiseTemporal, StillCameraAccumulatesWithEstimatedVariance) {
+  DenoiseState state;
+  std::vector<float> out(3 * kW * kH);
+  double first = 0, v = 0;
+  for (unsigned k = 0; k < 8; ++k) {
+    DenoiseFrame f = walls(camera_at(0), 200 + k);
+    f.with_variance = false;
+    denoise(f.input(), DenoiseMethod::svgf, &state, out.data());
+    v = mean_of(state.history, 2, 1);
+    if (k == 0) first = v;
+  }
+  EXPECT_LT(v, first / 3);
+}
+
+// Something appears in front of the near wall (depth 1 where it was 2 or 4): those pixels
+// start a new history; the others keep theirs.
+TEST(DenoiseTemporal, DisocclusionResetsTheHistory) {
+  DenoiseState state;
+  std::vector<float> out(3 * kW * kH);
+  for (unsigned k = 0; k < 3; ++k)
+    denoise(walls(camera_at(0), k).input(), DenoiseMethod::svgf, &state, out.data());
+  DenoiseFrame f = walls(camera_at(0), 9);
+  const auto inside = [](int x, int y) { return x >= 20 && x < 40 && y >= 10 && y < 30; };
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      if (inside(x, y)) f.depth[f.index(x, y)] = 1.0f;
+  denoise(f.input(), DenoiseMethod::svgf, &state, out.data());
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      ASSERT_EQ(state.history[2 * f.index(x, y)], inside(x, y) ? 1.0f : 4.0f) << x << "," << y;
+}
+
+// The camera moves right by 0.04 a frame: the near wall's edge moves across the image and
+// uncovers the far wall. Pixels within two of the edge keep their own wall's value (no
+// bright history smeared onto the dark wall): mean error under 5% of the contrast, none
+// over 20%.
+TEST(DenoiseTemporal, MovingCameraDoesNotSmearAnEdge) {
+  DenoiseState state;
+  std::vector<float> out(3 * kW * kH);
+  DenoiseFrame f = walls(camera_at(0), 0);
+  for (unsigned k = 0; k < 10; ++k) {
+    f = walls(camera_at(0.04f * float(k)), 300 + k, 0.2f);
+    denoise(f.input(), DenoiseMethod::svgf, &state, out.data());
+  }
+  const float contrast = 0.8f - 0.08f;
+  double sum = 0;
+  int count = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 1; x < kW; ++x) {
+      const bool edge_here = (f.depth[f.index(x - 1, y)] < 3) != (f.depth[f.index(x, y)] < 3);
+      if (!edge_here) continue;
+      for (int dx = -2; dx < 2; ++dx) {
+        const int px = x + dx;
+        const float err = std::abs(out[3 * f.index(px, y) + 1] - f.clean_at(px, y).y);
+        EXPECT_LT(err, 0.2f * contrast) << "pixel " << px << "," << y;
+        sum += err;
+        ++count;
+      }
+    }
+  ASSERT_GT(count, 0);
+  EXPECT_LT(sum / count, 0.05 * contrast);
+}
+
+// A new size starts a new history.
+TEST(DenoiseTemporal, ANewSizeStartsOver) {
+  DenoiseState state;
+  std::vector<float> out(3 * kW * kH);
+  for (unsigned k = 0; k < 2; ++k)
+    denoise(walls(camera_at(0), k).input(), DenoiseMethod::svgf, &state, out.data());
+  DenoiseFrame small(8, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) small.set(x, y, Vec3(0.5f), Vec3(1.0f), Vec3(0, 0, 1), 2.0f);
+  small.add_noise(0.1f, 1, true);
+  small.camera = camera_at(0);
+  denoise(small.input(), DenoiseMethod::svgf, &state, out.data());
+  EXPECT_EQ(state.width, 8);
+  EXPECT_EQ(mean_of(state.history, 2, 0), 1.0);
+}
+
+}  // namespace denoise_temporal_test
+}  // namespace multiray
