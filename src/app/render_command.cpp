@@ -21,6 +21,7 @@
 #include "core/feature_buffers.h"
 #include "core/file_io.h"
 #include "core/output_folder.h"
+#include "render/denoise.h"
 #include "run/ar_setup.h"
 #include "run/interrupt.h"
 #include "run/parse_options.h"
@@ -139,6 +140,19 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
                   "OpenEXR with the beauty (albedo.R/G/B, normal.X/Y/Z, depth.Z, variance.Y): the "
                   "frame's .exr, or <image>_aov.exr beside a PNG; for Open Image Denoise or "
                   "Blender's compositor (docs/aov.md)");
+  auto denoise = std::make_shared<std::string>("auto");
+  {
+    std::string help =
+        "Filter the image with its feature buffers after each frame (docs/noise.md, "
+        "\"The denoiser\"):";
+    for (const DenoiseMethodInfo& m : denoise_methods())
+      help += std::string(" ") + m.name + ": " + m.help + ";";
+    help.back() = '.';
+    help +=
+        " PNGs show the denoised image; an EXR keeps the raw beauty unless a method is "
+        "named";
+    cmd->add_option("--denoise", *denoise, help)->capture_default_str();
+  }
   auto overlay = std::make_shared<bool>(false);
   cmd->add_flag("--overlay", *overlay,
                 "Also write a picture of how each frame was split: <image>_split.png, the frame "
@@ -169,6 +183,8 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     display.tone = parse_tone(*tone == "auto" && ar ? "clamp" : *tone, volume_input);
     const OutputTarget target = parse_output_target(
         out_option->count() ? *out_dir : first_free_folder(*out_dir), o->frames, *exr);
+    o->denoise = *denoise;
+    o->png_output = target.png;
     Run s;
     int worker_exit = 0;
     std::vector<std::string> specs{*balancer};            // --mapping applied by start_run
@@ -225,6 +241,8 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
     output.set_device_names(std::move(names));
     if (*overlay) output.set_overlay();
     output.set_aovs(o->aovs);
+    // The raw beauty stays in the EXR unless a method was named (not auto).
+    output.set_denoised_exr(*denoise != "auto" && s.denoise != DenoiseMethod::none);
     output.set_background(backgrounds);
     int done = 0;
     int interrupted = 0;

@@ -41,14 +41,22 @@ void RenderOutput::write_images(const FrameResult& r) {
         image = &composite;
       }
     }
-    if (target_.png) write_png(name + ".png", *image, display_);
+    // The denoised image (Session::set_denoise), with the raw one's feature buffers.
+    Framebuffer denoised;
+    if (v < r.denoised.size()) {
+      denoised = r.denoised[v];
+      if (!aovs_.empty() && denoised_exr_) denoised.features = image->features;
+    }
+    const Framebuffer& shown = v < r.denoised.size() ? denoised : *image;
+    const Framebuffer& kept = denoised_exr_ ? shown : *image;
+    if (target_.png) write_png(name + ".png", shown, display_);
     if (!aovs_.empty())  // the beauty and its AOVs as layers of one EXR (core/aov_exr.h)
       write_exr_with_aovs(
-          target_.exr ? name + ".exr" : target_.image_base(r.frame, tag + "_aov") + ".exr", *image,
+          target_.exr ? name + ".exr" : target_.image_base(r.frame, tag + "_aov") + ".exr", kept,
           aovs_);
     else if (target_.exr)
-      write_exr(name + ".exr", *image);
-    if (overlay_) write_overlay(r, v, *image, tag);
+      write_exr(name + ".exr", kept);
+    if (overlay_) write_overlay(r, v, shown, tag);
   }
   if (views) {
     const Framebuffer quilt = make_quilt(images, columns_);

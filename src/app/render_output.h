@@ -54,6 +54,9 @@ class RenderOutput : public FrameObserver {
   // of the frame's EXR, or without --exr of <name>_aov.exr beside the PNG. The frames must
   // carry them (RenderSettings::feature_buffers).
   void set_aovs(std::vector<std::string> aovs) { aovs_ = std::move(aovs); }
+  // Frames with a denoised image (FrameResult::denoised) show it in their PNGs; their EXRs
+  // hold it only when `on` (else the raw beauty, as rendered).
+  void set_denoised_exr(bool on) { denoised_exr_ = on; }
 
   // The devices' names, in order (for the overlay's legend and the summary).
   void set_device_names(std::vector<std::string> names) { device_names_ = std::move(names); }
@@ -92,6 +95,7 @@ class RenderOutput : public FrameObserver {
   std::shared_ptr<const BackgroundImages> background_;
   bool overlay_ = false;
   std::vector<std::string> aovs_;
+  bool denoised_exr_ = false;
   std::vector<std::string> device_names_;
   // The summary's sums over frames: per device samples, busy ms and frames taken part in.
   std::vector<double> sum_samples_, sum_busy_;

@@ -25,6 +25,9 @@ struct FrameRecord {
   double advise_ms = 0;     // the frame advisor's prediction, if any (pre-pass etc.)
   double predicted_ms = 0;  // the advisor's predicted frame time (0: none)
   double learn_ms = 0;      // the advisor learning from the frame (after it)
+  // The denoiser on the master after the frame (Session::set_denoise; 0: none), outside
+  // frame_ms: the frame's images were complete before it ran.
+  double denoise_ms = 0;
   // Per device, the advisor's cost per unit of work predicted before the frame and measured
   // after it (volumes: ms per sample; 0 where unknown). Empty without an advisor.
   std::vector<double> predicted_cost, measured_cost;

@@ -96,6 +96,11 @@ std::shared_ptr<FrameResult> Session::free_buffer(size_t lane) {
   return buffers_[lane].back();
 }
 
+void Session::set_denoise(DenoiseMethod method) {
+  denoisers_.clear();
+  if (method != DenoiseMethod::none) denoisers_.assign(engines_.size(), FrameDenoiser(method));
+}
+
 int Session::run(int first, int count, FrameObserver& observer) {
   // A stop requested before this call (a Ctrl-C right after the viewer printed its address)
   // must hold: the flag is cleared when run() returns, never when it starts.
@@ -119,6 +124,9 @@ int Session::run(int first, int count, FrameObserver& observer) {
         last_full_quality_ =
             out->record.quality.image_scale == 1.0 && out->record.quality.step_scale == 1.0;
       input.finish(out->images);
+      out->denoised.clear();
+      if (!denoisers_.empty())
+        out->record.denoise_ms = denoisers_[lane].apply(input.views, out->images, out->denoised);
       out->plan = engine.last_plan();
       out->rendered = engine.last_rendered();
       out->stats = engine.last_stats();

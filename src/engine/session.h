@@ -20,6 +20,7 @@
 
 #include "balance/balancer.h"
 #include "engine/engine.h"
+#include "engine/frame_denoiser.h"
 #include "engine/frame_views.h"
 #include "scene/camera_path.h"
 
@@ -31,7 +32,10 @@ struct FrameResult {
   int frame = 0;
   FrameRecord record;
   std::vector<Framebuffer> images;  // every view at the output size
-  balance::Plan plan;               // what the balancer planned
+  // With a denoiser (Session::set_denoise), every view denoised (render/denoise.h), its
+  // time in record.denoise_ms; empty otherwise. `images` stay the raw beauty.
+  std::vector<Framebuffer> denoised;
+  balance::Plan plan;  // what the balancer planned
   // What each device actually rendered (after pulls and steals), per device.
   std::vector<std::vector<balance::WorkItem>> rendered;
   balance::FrameStats stats;  // per-item measurements, as the balancer was told
@@ -87,6 +91,10 @@ class Session {
   // and reprojected frames begin their own sequence). Off by default: then every frame
   // begins its own. Call before run().
   void set_progressive(bool on) { progressive_ = on; }
+  // Denoises every lane's frames after the gather (FrameResult::denoised), each lane with
+  // a history of its own; DenoiseMethod::none: no denoiser. The frames must record feature
+  // buffers (RenderSettings::feature_buffers), or they are passed through. Call before run().
+  void set_denoise(DenoiseMethod method);
 
   // Asks run() to return after the frame being rendered; asked between runs, the next
   // run() returns before its first frame. Each request stops one run. Thread-safe (signal
@@ -129,7 +137,8 @@ class Session {
     std::vector<std::string> settings;
     uint32_t next = 0;
   } sequence_;
-  bool last_full_quality_ = true;  // the frame before was rendered at full quality
+  bool last_full_quality_ = true;         // the frame before was rendered at full quality
+  std::vector<FrameDenoiser> denoisers_;  // per lane, or none
 };
 
 }  // namespace multiray

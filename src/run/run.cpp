@@ -20,6 +20,7 @@
 #include "core/feature_buffers.h"
 #include "device/device_factory.h"
 #include "render/default_view.h"
+#include "render/denoise.h"
 #include "render/environment.h"
 #include "render/kernel.h"
 #include "render/volume_raycaster.h"
@@ -30,6 +31,7 @@
 #include "scene/builders.h"
 #include "scene/camera_check.h"
 #include "scene/loaders.h"
+#include "util/nearest.h"
 #include "util/result_encoding.h"
 #include "util/spec.h"
 #include "volume/volume.h"
@@ -68,6 +70,7 @@ std::unique_ptr<Session> Run::make_session(const std::vector<std::string>& specs
   auto session =
       std::make_unique<Session>(device_ptrs(), std::move(lanes), *views, path, settings);
   session->set_perturbations(perturbations);
+  session->set_denoise(denoise);
   if (volume) {
     const int n = int(devices.size());
     session->set_advisors([&, modes, n](size_t lane) { return volume->advisor(lane % modes, n); });
@@ -100,7 +103,9 @@ MemoryEstimate estimate_memory(const RunConfig& o, int views, int width, int hei
                            + (o.sampling == "reproject" ? 24 : 0)  // G-buffer, maps, depths
                            + (o.sampling == "foveated" ? 80 : 0)   // neighbours, weights
                            // --aov: 8 floats per pixel in each result and the engine's image
-                           + (o.aovs.empty() ? 0 : 32 * (2.0 * lanes + 1));
+                           + (o.aovs.empty() && o.denoise == "none"
+                                  ? 0
+                                  : 32 * (2.0 * lanes + 1) + 12 * 6.0 * lanes);  // + denoiser
   m.frame_bytes = pixels * per_pixel;
   m.record_bytes = double(o.frames) * o.kept_bytes_per_frame;
   return m;
@@ -123,20 +128,46 @@ LoadOptions memory_guarded_load(double need, double limit,
 }
 
 namespace {
-// Whether the run records feature buffers (--aov, RunConfig::aovs), refusing what cannot
-// record them: other integrators, the shadow catcher's layer, samples not rendered per
-// pixel (foveated, reprojected views).
+// Why `option` cannot have the run record feature buffers ("" when it can): other
+// integrators, the shadow catcher's layer, samples not rendered per pixel (foveated,
+// reprojected views).
+std::string features_refused(const RunConfig& o, const RenderSettings& s, Sampling sampling,
+                             const std::string& option) {
+  if (s.kernel != "path")
+    return option + " needs the path integrator's features, not --integrator " + s.kernel + "'s";
+  if (s.catcher_axis >= 0) return option + " does not work with --ground yet";
+  if (sampling == Sampling::Foveated || sampling == Sampling::Reprojected)
+    return option + " works with uniform or adaptive sampling, not --sampling " + o.sampling;
+  return "";
+}
+
+// Whether the run records feature buffers (--aov, RunConfig::aovs), refusing what cannot.
 bool check_feature_buffers(const RunConfig& o, const RenderSettings& s, Sampling sampling) {
   if (o.aovs.empty()) return false;
   check_aov_names(o.aovs, "--aov");
-  if (s.kernel != "path")
-    throw InputError("--aov records the path integrator's features, not --integrator " + s.kernel +
-                     "'s");
-  if (s.catcher_axis >= 0) throw InputError("--aov does not work with --ground yet");
-  if (sampling == Sampling::Foveated || sampling == Sampling::Reprojected)
-    throw InputError("--aov works with uniform or adaptive sampling, not --sampling " +
-                     o.sampling);
+  if (const std::string why = features_refused(o, s, sampling, "--aov"); !why.empty())
+    throw InputError(why);
   return true;
+}
+
+// --denoise for this run (RunConfig::denoise): a method named where it cannot run is
+// refused; auto is none there.
+DenoiseMethod check_denoise(const RunConfig& o, const RenderSettings& s, Sampling sampling) {
+  DenoiseChoice choice;
+  if (!parse_denoise(o.denoise, choice)) {
+    std::vector<std::string> names;
+    for (const DenoiseMethodInfo& m : denoise_methods()) names.push_back(m.name);
+    const std::string best = nearest_name(o.denoise, names);
+    throw InputError("--denoise '" + o.denoise + "' must be none, atrous, svgf or auto" +
+                     (best.empty() ? std::string() : " (did you mean " + best + "?)"));
+  }
+  const DenoiseMethod m = resolve_denoise(choice, {o.viewer, o.viewer, o.png_output, s.spp});
+  if (m == DenoiseMethod::none) return m;
+  if (const std::string why = features_refused(o, s, sampling, "--denoise"); !why.empty()) {
+    if (choice == DenoiseChoice::automatic) return DenoiseMethod::none;
+    throw InputError(why);
+  }
+  return m;
 }
 
 // The kernel the options ask for (by default the one the scene type needs), checked
@@ -282,6 +313,8 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   }
   s.settings.seed = parse_seed(o.seed);
   s.settings.feature_buffers = check_feature_buffers(o, s.settings, sampling.mode);
+  s.denoise = check_denoise(o, s.settings, sampling.mode);
+  s.settings.feature_buffers |= s.denoise != DenoiseMethod::none;
   std::optional<Camera> cli_camera;
   // --camera default: the framing default even where the file has a camera of its own.
   const bool framing_default = o.camera == "default";

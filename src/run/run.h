@@ -46,8 +46,10 @@ struct Run {
   // "--camera", "scene" (its first camera), "default" (framed from outside) or
   // "default-interior" (inside an enclosed scene; render/default_view.h).
   std::string camera_source;
-  Vec3 up{0, 1, 0};                   // the up axis --up resolved to
-  float view_spacing = 0;             // between grid views, scene units (0: one view)
+  Vec3 up{0, 1, 0};        // the up axis --up resolved to
+  float view_spacing = 0;  // between grid views, scene units (0: one view)
+  // --denoise as resolved for this run (none: no denoiser); make_session passes it on.
+  DenoiseMethod denoise = DenoiseMethod::none;
   std::shared_ptr<VolumeRun> volume;  // volumes only: styles, adaptation, sequence
   // What `--balancer auto` decides from (build_run: the devices, the link, the workload),
   // and --mapping, applied to what it picks.

@@ -80,6 +80,12 @@ struct RunConfig {
   // check_aov_names); empty: none. Any name records all four (RenderSettings::
   // feature_buffers); the list says which the outputs keep.
   std::vector<std::string> aovs;
+  // --denoise: none | atrous | svgf | auto (render/denoise.h denoise_methods()); auto
+  // resolves with `png_output` and `viewer` (resolve_denoise) and means none where the
+  // run cannot record feature buffers. Commands set the two flags for what they write.
+  std::string denoise = "none";
+  bool png_output = false;  // the run writes PNG images (render without --exr only, ...)
+  bool viewer = false;      // the live viewer
 };
 
 }  // namespace multiray

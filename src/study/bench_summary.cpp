@@ -48,7 +48,8 @@ double mean_ideal_ms(const std::vector<IdealSample>& ideal, int from, int to) {
 }
 
 double host_ms(const FrameRecord& r) {
-  return r.plan_ms + r.gather_ms + r.update_ms + r.advise_ms + r.learn_ms + r.first_pass_ms;
+  return r.plan_ms + r.gather_ms + r.update_ms + r.advise_ms + r.learn_ms + r.first_pass_ms +
+         r.denoise_ms;
 }
 
 double frame_total_ms(const FrameRecord& r) { return r.frame_ms + host_ms(r) - r.first_pass_ms; }

@@ -185,6 +185,7 @@ nlohmann::json frame_to_json(const FrameRecord& rec) {
           {"leaf_deviation", leaf_deviation},
           {"plan_ms", rec.plan_ms},
           {"gather_ms", rec.gather_ms},
+          {"denoise_ms", rec.denoise_ms},
           {"update_ms", rec.update_ms},
           {"stolen_items", rec.stolen},
           {"messages", rec.messages},

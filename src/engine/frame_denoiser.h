@@ -1,0 +1,34 @@
+// The denoiser in the frame loop (issue 52): after the gather, on the master, each view's
+// beauty is filtered with its feature buffers (render/denoise.h). The filter is a pure
+// function of the whole frame, so the denoised image does not depend on how the frame was
+// split. svgf keeps a history per view between frames; a view without feature buffers (a
+// frame that could not record them) is passed through and its history dropped.
+#pragma once
+
+#include <vector>
+
+#include "core/image.h"
+#include "render/denoise.h"
+#include "render/render_settings.h"
+
+namespace multiray {
+
+class FrameDenoiser {
+ public:
+  explicit FrameDenoiser(DenoiseMethod method) : method_(method) {}
+  DenoiseMethod method() const { return method_; }
+
+  // Writes one image per view to `out` (each the size of its beauty; no alpha, no
+  // features) and returns the filter's wall time, ms. `views` give svgf its cameras.
+  double apply(const std::vector<ViewSetup>& views, const std::vector<Framebuffer>& images,
+               std::vector<Framebuffer>& out);
+  // Forgets every view's history (a new scene, a cut in the camera path).
+  void reset() { states_.clear(); }
+
+ private:
+  DenoiseMethod method_;
+  std::vector<DenoiseState> states_;  // per view
+  std::vector<float> beauty_, result_;
+};
+
+}  // namespace multiray
