@@ -17,7 +17,9 @@ res=${RES:-320x240}
 spp=${SPP:-32}
 frames=${FRAMES:-8}
 light="--env 0.3 --sun 40,35"
-common="--poses $here/poses.json --frames $frames --res $res --spp $spp $light -q --overwrite"
+# Raw samples throughout (--denoise none): the composite cannot be denoised (--ground
+# records no feature buffers), so the images it is compared with are not either.
+common="--poses $here/poses.json --frames $frames --res $res --spp $spp $light -q --overwrite --denoise none"
 mkdir -p "$out"
 # The real images: the ground, as a camera would record it (display values as they are).
 $multiray render "$here/ground.obj" $common --exposure 0 --tone clamp -o "$out/bg_####.png"

@@ -28,7 +28,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& groups() {
        {"--tf", "--step", "--target-ms", "--adapt", "--adapt-space", "--prepass-stride",
         "--cost-model", "--reference-step"}},
       {"Output",
-       {"--out", "--overwrite", "--exr", "--aov", "--exposure", "--tone", "--overlay", "--trace",
+       {"--out", "--overwrite", "--exr", "--aov", "--denoise", "--exposure", "--tone", "--overlay", "--trace",
         "--quiet", "--json", "--report"}},
       {"Augmented reality", {"--ground", "--poses", "--background", "--ar"}},
       {"Benchmark", {"--warmup", "--ideal-frames", "--repeats", "--probe-ms"}},

@@ -68,7 +68,7 @@ TEST(ArCli, CompositeAgreesWithAFullRenderUpToNoise) {
   const CliResult r =
       run("render '" + kExample + "/ground_and_objects.obj' --poses '" + kExample +
           "/poses.json' --frames 3 --res 160x120 --spp 16 --env 0.3 --sun 40,35 -q --seed 2 "
-          "--exposure 0 --tone clamp -o '" +
+          "--exposure 0 --tone clamp --denoise none -o '" +
           again + "/ref_####.png'");
   ASSERT_EQ(r.code, 0) << r.out;
   for (const char* f : {"0000", "0002"}) {
