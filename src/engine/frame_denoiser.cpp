@@ -7,7 +7,8 @@
 namespace multiray {
 
 double FrameDenoiser::apply(const std::vector<ViewSetup>& views,
-                            const std::vector<Framebuffer>& images, std::vector<Framebuffer>& out) {
+                            const std::vector<Framebuffer>& images,
+                            std::vector<Framebuffer>& out) {
   Stopwatch clock;
   out.resize(images.size());
   states_.resize(images.size());
