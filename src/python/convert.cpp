@@ -102,7 +102,8 @@ std::map<std::string, Field> fields(RenderArgs& a) {
           {"periphery_spp", &o.foveation.periphery_spp},
           {"allow_outside_paths", &o.allow_outside_paths},
           {"max_memory", &o.max_memory},
-          {"aov", &o.aovs}};
+          {"aov", &o.aovs},
+          {"denoise", &o.denoise}};
 }
 
 // Text options also take numbers (seed=7, step-like values) and paths (os.PathLike); the

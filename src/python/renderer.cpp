@@ -87,6 +87,8 @@ class Renderer {
       // aov=[...]: view 0's feature buffers by name (absent without aov).
       if (!config_.aovs.empty() && !r->images.empty())
         frame["aov"] = aovs_to_numpy(r->images[0].features, config_.aovs);
+      // denoise="atrous"|"svgf": view 0 denoised ("image" stays the raw beauty).
+      if (!r->denoised.empty()) frame["denoised"] = to_numpy(r->denoised[0]);
       out.append(frame);
     }
     return out;
@@ -148,7 +150,9 @@ class Renderer {
   // must fit max_memory as the CLI's frames do (a refusal beats an out-of-memory kill).
   void check_memory(int n) const {
     const int views = run_->views->rig().view_count();
-    const double floats = config_.aovs.empty() ? 3 : 3 + 8;  // radiance, feature buffers
+    const double floats = config_.aovs.empty() && config_.denoise == "none"
+                              ? 3
+                              : 3 + 8 + 3;  // radiance, feature buffers, denoised
     const double per_frame =
         double(views) * run_->res.width * run_->res.height * floats * 4 + 4096;
     const MemoryEstimate run =
