@@ -17,6 +17,10 @@ Runner add_bench_command(CLI::App& app) {
                   "`render --help` lists them with their options)")
       ->capture_default_str();
   cmd->add_option("--json", b->json_path, "Write all measurements as JSON to this file");
+  cmd->add_option("--denoise", o->denoise,
+                  "Denoise every frame after the gather: none, atrous or svgf (docs/noise.md); "
+                  "its time is in the host column of \"where the time goes\"")
+      ->capture_default_str();
   cmd->add_flag("--regret", b->regret,
                 "The default balancer (auto) against every subset of --devices: each device "
                 "alone, ..., all of them (subset lanes, instead of --balancers); prints the "

@@ -36,6 +36,8 @@ IdealSample measure_ideal(const std::vector<Device*>& devices, const std::vector
                           const FrameInput& in, const RenderSettings& settings, int frame) {
   const int w = in.views.at(0).width, h = in.views.at(0).height;
   std::vector<Framebuffer> out(in.views.size(), Framebuffer(w, h));
+  if (settings.feature_buffers)  // recorded as in the frame: the same work
+    for (Framebuffer& f : out) f.features.resize(w, h);
   const FrameJob job{in.views, settings, &out};
   IdealSample sample;
   sample.frame = frame;
@@ -60,6 +62,7 @@ Framebuffer render_reference(Device& device, const FrameInput& in,
                              const RenderSettings& settings) {
   const int w = in.views.at(0).width, h = in.views.at(0).height;
   std::vector<Framebuffer> out(1, Framebuffer(w, h));
+  if (settings.feature_buffers) out[0].features.resize(w, h);
   const std::vector<ViewSetup> view0(1, in.views.at(0));
   const FrameJob job{view0, settings, &out};
   ListWorkSource source({WorkItem{Rect{0, 0, w, h}, 0}});
