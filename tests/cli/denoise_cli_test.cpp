@@ -39,12 +39,13 @@ TEST(DenoiseCli, ThePngIsDenoisedTheSameWhateverTheSplit) {
   const std::string d = folder("split");
   ASSERT_EQ(run(kSmall + "--denoise none -o " + d + "/raw.png").code, 0);
   ASSERT_EQ(run(kSmall + "--devices cpu:threads=1 -o " + d + "/one.png").code, 0);
-  ASSERT_EQ(run(kSmall + "--devices cpu:threads=1,cpu:threads=1 --balancer queue -o " + d +
-                "/two.png")
-                .code,
-            0);
-  ASSERT_EQ(run(kSmall + "--devices cpu:threads=1,cpu:threads=1,cpu:threads=1 --balancer "
-                         "dlb -o " +
+  ASSERT_EQ(
+      run(kSmall + "--devices cpu:threads=1,cpu:threads=1 --balancer queue -o " + d + "/two.png")
+          .code,
+      0);
+  ASSERT_EQ(run(kSmall +
+                "--devices cpu:threads=1,cpu:threads=1,cpu:threads=1 --balancer "
+                "dlb -o " +
                 d + "/three.png")
                 .code,
             0);
@@ -58,13 +59,14 @@ TEST(DenoiseCli, ThePngIsDenoisedTheSameWhateverTheSplit) {
 
 TEST(DenoiseCli, SvgfsHistoryIsTheSameWhateverTheSplit) {
   const std::string d = folder("svgf");
-  const std::string orbit = "render --res 48x27 --spp 2 -q --frames 3 --camera-path orbit:12 "
-                            "--denoise svgf ";
+  const std::string orbit =
+      "render --res 48x27 --spp 2 -q --frames 3 --camera-path orbit:12 "
+      "--denoise svgf ";
   ASSERT_EQ(run(orbit + "--devices cpu:threads=1 -o " + d + "/one_#.png").code, 0);
-  ASSERT_EQ(run(orbit + "--devices cpu:threads=1,cpu:threads=1 --balancer hybrid -o " + d +
-                "/two_#.png")
-                .code,
-            0);
+  ASSERT_EQ(
+      run(orbit + "--devices cpu:threads=1,cpu:threads=1 --balancer hybrid -o " + d + "/two_#.png")
+          .code,
+      0);
   for (const char* f : {"0", "2"})
     EXPECT_EQ(bytes(d + "/one_" + f + ".png"), bytes(d + "/two_" + f + ".png")) << f;
 }
