@@ -118,15 +118,19 @@ MR_DEVICE float denoise_slope(const MR_GLOBAL float* depth, int i, int stride, i
   return before ? db : da;
 }
 
-// The weight the guides give tap q when filtering pixel p: 0 or 1 when one or both are
-// misses (misses mix only with misses); otherwise the normal's, depth's and albedo's
-// weights multiplied. (dx, dy): q - p in pixels; (sx, sy): p's slopes of 1/depth.
-MR_DEVICE float denoise_guide_weight(const MR_GLOBAL float* albedo, const MR_GLOBAL float* normal,
-                                     const MR_GLOBAL float* depth, int p, int q, int dx, int dy,
-                                     float sx, float sy, const DenoiseWeights* w) {
+// The weight the guides give tap q when filtering pixel p, as factor · exp(*exponent): 0
+// or 1 (exponent 0) when one or both are misses (misses mix only with misses); otherwise
+// the normal's weight times exp of the depth's and albedo's exponents. A caller with more
+// exponents of its own adds them before one exp (denoise_atrous_pixel). (dx, dy): q - p in
+// pixels; (sx, sy): p's slopes of 1/depth.
+MR_DEVICE float denoise_guide_terms(const MR_GLOBAL float* albedo, const MR_GLOBAL float* normal,
+                                    const MR_GLOBAL float* depth, int p, int q, int dx, int dy,
+                                    float sx, float sy, const DenoiseWeights* w, float* exponent) {
+  *exponent = 0.0f;
   const bool miss_p = denoise_is_miss(depth, p), miss_q = denoise_is_miss(depth, q);
   if (miss_p || miss_q) return miss_p && miss_q ? 1.0f : 0.0f;
   const float cosine = mr_fmax(0.0f, dot3(load3(normal + 3 * p), load3(normal + 3 * q)));
+  if (!(cosine > 0.0f)) return 0.0f;
   const float w_normal = mr_pow(cosine, w->sigma_normal);
   // How far q's 1/depth lies off p's plane, relative to p's 1/depth.
   const float zp = denoise_inv_depth(depth, p);
@@ -134,7 +138,18 @@ MR_DEVICE float denoise_guide_weight(const MR_GLOBAL float* albedo, const MR_GLO
   const float off = mr_fabs(denoise_inv_depth(depth, q) - predicted) / (zp * w->sigma_depth);
   const mr_float3 da = load3(albedo + 3 * p) - load3(albedo + 3 * q);
   const float a = mr_fmax(mr_fabs(da.x), mr_fmax(mr_fabs(da.y), mr_fabs(da.z))) / w->sigma_albedo;
-  return w_normal * mr_exp(-(off * off) - a * a);
+  *exponent = -(off * off) - a * a;
+  return w_normal;
+}
+
+// The guides' weight of tap q for pixel p (denoise_guide_terms, exp taken).
+MR_DEVICE float denoise_guide_weight(const MR_GLOBAL float* albedo, const MR_GLOBAL float* normal,
+                                     const MR_GLOBAL float* depth, int p, int q, int dx, int dy,
+                                     float sx, float sy, const DenoiseWeights* w) {
+  float exponent;
+  const float factor =
+      denoise_guide_terms(albedo, normal, depth, p, q, dx, dy, sx, sy, w, &exponent);
+  return factor > 0.0f ? factor * mr_exp(exponent) : 0.0f;
 }
 
 // p's slopes of 1/depth, x and y (denoise_slope).

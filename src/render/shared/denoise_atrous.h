@@ -88,11 +88,14 @@ MR_DEVICE void denoise_atrous_pixel(const MR_GLOBAL float* color_in,
       const int qx = x + i * step;
       if (qx < 0 || qx >= width) continue;
       const int q = qy * width + qx;
+      float exponent;
+      const float g = denoise_guide_terms(albedo, normal, depth, p, q, i * step, j * step, s.x,
+                                          s.y, w, &exponent);
+      if (!(g > 0.0f)) continue;  // weight 0: the tap adds nothing
       const mr_float3 cq = load3(color_in + 3 * q);
-      const float g =
-          denoise_guide_weight(albedo, normal, depth, p, q, i * step, j * step, s.x, s.y, w);
-      const float k =
-          denoise_b3(i) * denoise_b3(j) * g * mr_exp(-mr_fabs(denoise_luminance(cq) - lp) / scale);
+      // One exp for the guides' and the luminance's exponents together.
+      const float k = denoise_b3(i) * denoise_b3(j) * g *
+                      mr_exp(exponent - mr_fabs(denoise_luminance(cq) - lp) / scale);
       sum += k;
       c = c + cq * k;
       var += k * k * variance_in[q];
