@@ -1,25 +1,13 @@
 #include "core/aov_exr.h"
 
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
-#include <ImfOutputFile.h>
-
 #include "core/error.h"
-#include "core/file_io.h"
+#include "core/exr_planes.h"
 
 namespace multiray {
 
 namespace {
 
-// One buffer of `stride` floats per pixel: the channel at `offset` of each.
-struct Plane {
-  std::string channel;
-  const float* base;
-  size_t stride;
-};
-
-std::vector<Plane> aov_planes(const std::string& name, const FeatureBuffers& f) {
+std::vector<ExrPlane> aov_planes(const std::string& name, const FeatureBuffers& f) {
   const std::vector<std::string> ch = aov_channels(name);
   if (name == "albedo")
     return {{ch[0], f.albedo.data(), 3},
@@ -51,32 +39,13 @@ void write_exr_with_aovs(const std::string& path, const Framebuffer& fb,
   // A of 1 where the image has no coverage of its own: the beauty is opaque.
   const std::vector<float> opaque(fb.alpha.empty() ? fb.pixels.size() : 0, 1.0f);
   const std::vector<float>& alpha = fb.alpha.empty() ? opaque : fb.alpha;
-  std::vector<Plane> planes;
+  std::vector<ExrPlane> planes;
   const float* rgb = &fb.pixels.data()->x;
   planes.push_back({"R", rgb, 3}), planes.push_back({"G", rgb + 1, 3});
   planes.push_back({"B", rgb + 2, 3}), planes.push_back({"A", alpha.data(), 1});
   for (const std::string& name : aovs)
-    for (const Plane& p : aov_planes(name, f)) planes.push_back(p);
-  try {
-    replace_file_atomically(path, [&](const std::string& temp) {
-      Imf::Header header(fb.width, fb.height);
-      header.compression() = Imf::ZIP_COMPRESSION;
-      Imf::FrameBuffer slices;
-      for (const Plane& p : planes) {
-        header.channels().insert(p.channel, Imf::Channel(Imf::FLOAT));
-        char* base = const_cast<char*>(reinterpret_cast<const char*>(p.base));
-        const size_t xs = p.stride * sizeof(float);
-        slices.insert(p.channel, Imf::Slice(Imf::FLOAT, base, xs, xs * size_t(fb.width)));
-      }
-      Imf::OutputFile file(temp.c_str(), header);
-      file.setFrameBuffer(slices);
-      file.writePixels(fb.height);
-    });
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw InputError("cannot write EXR '" + path + "': " + e.what());
-  }
+    for (const ExrPlane& p : aov_planes(name, f)) planes.push_back(p);
+  write_exr_planes(path, fb.width, fb.height, planes);
 }
 
 }  // namespace multiray

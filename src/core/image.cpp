@@ -1,5 +1,7 @@
 #include "core/image.h"
 
+#include "core/exr_planes.h"
+
 #include <stb_image_write.h>
 
 #include <ImfChannelList.h>
@@ -107,35 +109,39 @@ void write_png(const std::string& path, const Framebuffer& fb, const Display& d)
   write_png_rgb8(path, fb.width, fb.height, to_srgb8(fb, d));
 }
 
-void write_exr(const std::string& path, const Framebuffer& fb) {
+void write_exr_planes(const std::string& path, int width, int height,
+                      const std::vector<ExrPlane>& planes) {
   try {
     replace_file_atomically(path, [&](const std::string& temp) {
-      Imf::Header header(fb.width, fb.height);
+      Imf::Header header(width, height);
       header.compression() = Imf::ZIP_COMPRESSION;
       Imf::FrameBuffer slices;
-      // Pixels are Vec3 of floats, row-major: one slice per channel over the same array.
-      char* base = const_cast<char*>(reinterpret_cast<const char*>(fb.pixels.data()));
-      const size_t xs = sizeof(Vec3), ys = sizeof(Vec3) * size_t(fb.width);
-      const char* names[3] = {"R", "G", "B"};
-      for (int c = 0; c < 3; ++c) {
-        header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
-        slices.insert(names[c], Imf::Slice(Imf::FLOAT, base + size_t(c) * sizeof(float), xs, ys));
-      }
-      if (fb.alpha.size() == fb.pixels.size() && !fb.alpha.empty()) {
-        header.channels().insert("A", Imf::Channel(Imf::FLOAT));
-        char* alpha = const_cast<char*>(reinterpret_cast<const char*>(fb.alpha.data()));
-        slices.insert(
-            "A", Imf::Slice(Imf::FLOAT, alpha, sizeof(float), sizeof(float) * size_t(fb.width)));
+      for (const ExrPlane& p : planes) {
+        header.channels().insert(p.channel, Imf::Channel(Imf::FLOAT));
+        char* base = const_cast<char*>(reinterpret_cast<const char*>(p.base));
+        const size_t xs = p.stride * sizeof(float);
+        slices.insert(p.channel, Imf::Slice(Imf::FLOAT, base, xs, xs * size_t(width)));
       }
       Imf::OutputFile file(temp.c_str(), header);
       file.setFrameBuffer(slices);
-      file.writePixels(fb.height);
+      file.writePixels(height);
     });
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
     throw InputError("cannot write EXR '" + path + "': " + e.what());
   }
+}
+
+static_assert(sizeof(Vec3) == 3 * sizeof(float), "write_exr reads pixels as float triples");
+
+void write_exr(const std::string& path, const Framebuffer& fb) {
+  // Pixels are Vec3 of floats, row-major: one plane per channel over the same array.
+  const float* rgb = &fb.pixels.data()->x;
+  std::vector<ExrPlane> planes{{"R", rgb, 3}, {"G", rgb + 1, 3}, {"B", rgb + 2, 3}};
+  if (fb.alpha.size() == fb.pixels.size() && !fb.alpha.empty())
+    planes.push_back({"A", fb.alpha.data(), 1});
+  write_exr_planes(path, fb.width, fb.height, planes);
 }
 
 Framebuffer read_exr(const std::string& path) {
