@@ -4,17 +4,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
-#include <ImfInputFile.h>
-
 #include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "support/cli_expect.h"
+#include "support/exr_channels.h"
 
 namespace aov_cli_test {
 
@@ -28,26 +24,8 @@ std::string folder(const std::string& name) {
   return dir;
 }
 
-std::vector<std::string> channels(const std::string& path) {
-  Imf::InputFile file(path.c_str());
-  std::vector<std::string> out;
-  for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it)
-    out.push_back(it.name());
-  return out;
-}
-
-std::vector<float> read_channel(const std::string& path, const std::string& name) {
-  Imf::InputFile file(path.c_str());
-  const Imath::Box2i box = file.header().dataWindow();
-  const int w = box.max.x - box.min.x + 1, h = box.max.y - box.min.y + 1;
-  std::vector<float> v(size_t(w) * size_t(h));
-  Imf::FrameBuffer fb;
-  fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(v.data()), sizeof(float),
-                             sizeof(float) * size_t(w)));
-  file.setFrameBuffer(fb);
-  file.readPixels(box.min.y, box.max.y);
-  return v;
-}
+using multiray::testing::exr_channel;
+using multiray::testing::exr_channels;
 
 const std::string kSmall = "render --res 32x18 --spp 2 --threads 1 -q ";
 
@@ -61,12 +39,12 @@ TEST(AovCli, PngGetsALayeredExrBesideIt) {
   EXPECT_TRUE(std::filesystem::exists(dir + "/x.png"));
   const std::string exr = dir + "/x_aov.exr";
   ASSERT_TRUE(std::filesystem::exists(exr));
-  EXPECT_THAT(channels(exr),
+  EXPECT_THAT(exr_channels(exr),
               ::testing::ElementsAre("A", "B", "G", "R", "albedo.B", "albedo.G", "albedo.R",
                                      "depth.Z", "normal.X", "normal.Y", "normal.Z", "variance.Y"));
-  const std::vector<float> x = read_channel(exr, "normal.X"), y = read_channel(exr, "normal.Y"),
-                           z = read_channel(exr, "normal.Z"), d = read_channel(exr, "depth.Z"),
-                           a = read_channel(exr, "albedo.G"), v = read_channel(exr, "variance.Y");
+  const std::vector<float> x = exr_channel(exr, "normal.X"), y = exr_channel(exr, "normal.Y"),
+                           z = exr_channel(exr, "normal.Z"), d = exr_channel(exr, "depth.Z"),
+                           a = exr_channel(exr, "albedo.G"), v = exr_channel(exr, "variance.Y");
   size_t hits = 0;
   for (size_t i = 0; i < d.size(); ++i) {
     const float n2 = x[i] * x[i] + y[i] * y[i] + z[i] * z[i];
@@ -89,7 +67,7 @@ TEST(AovCli, ExrHoldsTheLayersAskedFor) {
   const std::string dir = folder("exr");
   const Result r = run(kSmall + "--exr --aov depth --out " + dir);
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_THAT(channels(dir + "/frame_0000.exr"),
+  EXPECT_THAT(exr_channels(dir + "/frame_0000.exr"),
               ::testing::ElementsAre("A", "B", "G", "R", "depth.Z"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/frame_0000_aov.exr"));
 }

@@ -4,11 +4,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
-#include <ImfInputFile.h>
-
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -16,32 +11,13 @@
 
 #include "core/aov_exr.h"
 #include "core/error.h"
+#include "support/exr_channels.h"
 
 namespace multiray {
 namespace aov_exr_test {
 
-// The channel names of `path`, in the file's (alphabetical) order.
-std::vector<std::string> channels(const std::string& path) {
-  Imf::InputFile file(path.c_str());
-  std::vector<std::string> out;
-  for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it)
-    out.push_back(it.name());
-  return out;
-}
-
-// Channel `name` of `path` as floats, row-major.
-std::vector<float> read_channel(const std::string& path, const std::string& name) {
-  Imf::InputFile file(path.c_str());
-  const Imath::Box2i box = file.header().dataWindow();
-  const int w = box.max.x - box.min.x + 1, h = box.max.y - box.min.y + 1;
-  std::vector<float> v(size_t(w) * size_t(h));
-  Imf::FrameBuffer fb;
-  fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(v.data()), sizeof(float),
-                             sizeof(float) * size_t(w)));
-  file.setFrameBuffer(fb);
-  file.readPixels(box.min.y, box.max.y);
-  return v;
-}
+using multiray::testing::exr_channel;
+using multiray::testing::exr_channels;
 
 Framebuffer sample_frame() {
   Framebuffer fb(5, 3);
@@ -60,14 +36,14 @@ TEST(AovExr, EveryLayerReadsBackWithItsName) {
   const std::string path = ::testing::TempDir() + "/aov_exr_every.exr";
   const Framebuffer fb = sample_frame();
   write_exr_with_aovs(path, fb, aov_names());
-  EXPECT_THAT(channels(path),
+  EXPECT_THAT(exr_channels(path),
               ::testing::ElementsAre("A", "B", "G", "R", "albedo.B", "albedo.G", "albedo.R",
                                      "depth.Z", "normal.X", "normal.Y", "normal.Z", "variance.Y"));
-  const std::vector<float> r = read_channel(path, "R"), a = read_channel(path, "A");
-  const std::vector<float> albedo = read_channel(path, "albedo.R");
-  const std::vector<float> ny = read_channel(path, "normal.Y");
-  const std::vector<float> depth = read_channel(path, "depth.Z");
-  const std::vector<float> var = read_channel(path, "variance.Y");
+  const std::vector<float> r = exr_channel(path, "R"), a = exr_channel(path, "A");
+  const std::vector<float> albedo = exr_channel(path, "albedo.R");
+  const std::vector<float> ny = exr_channel(path, "normal.Y");
+  const std::vector<float> depth = exr_channel(path, "depth.Z");
+  const std::vector<float> var = exr_channel(path, "variance.Y");
   for (size_t i = 0; i < fb.pixels.size(); ++i) {
     EXPECT_EQ(r[i], fb.pixels[i].x);
     EXPECT_EQ(a[i], 1.0f);
@@ -84,7 +60,7 @@ TEST(AovExr, EveryLayerReadsBackWithItsName) {
 TEST(AovExr, OnlyTheLayersAskedFor) {
   const std::string path = ::testing::TempDir() + "/aov_exr_depth.exr";
   write_exr_with_aovs(path, sample_frame(), {"depth"});
-  EXPECT_THAT(channels(path), ::testing::ElementsAre("A", "B", "G", "R", "depth.Z"));
+  EXPECT_THAT(exr_channels(path), ::testing::ElementsAre("A", "B", "G", "R", "depth.Z"));
 }
 
 TEST(AovExr, RefusesAFrameWithoutFeatureBuffers) {
