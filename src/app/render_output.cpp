@@ -42,13 +42,17 @@ void RenderOutput::write_images(const FrameResult& r) {
       }
     }
     // The denoised image (Session::set_denoise), with the raw one's feature buffers.
-    Framebuffer denoised;
-    if (v < r.denoised.size()) {
-      denoised = r.denoised[v];
-      if (!aovs_.empty() && denoised_exr_) denoised.features = image->features;
+    const Framebuffer& shown = v < r.denoised.size() ? r.denoised[v] : *image;
+    // The EXR's layers need the raw image's feature buffers beside a denoised beauty: only
+    // then is the denoised image copied.
+    Framebuffer with_features;
+    if (denoised_exr_ && !aovs_.empty() && &shown != image) {
+      with_features = shown;
+      with_features.features = image->features;
     }
-    const Framebuffer& shown = v < r.denoised.size() ? denoised : *image;
-    const Framebuffer& kept = denoised_exr_ ? shown : *image;
+    const Framebuffer& kept = !denoised_exr_            ? *image
+                              : with_features.width > 0 ? with_features
+                                                        : shown;
     if (target_.png) write_png(name + ".png", shown, display_);
     if (!aovs_.empty())  // the beauty and its AOVs as layers of one EXR (core/aov_exr.h)
       write_exr_with_aovs(
