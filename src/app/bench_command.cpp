@@ -25,6 +25,12 @@ Runner add_bench_command(CLI::App& app) {
                 "The default balancer (auto) against every subset of --devices: each device "
                 "alone, ..., all of them (subset lanes, instead of --balancers); prints the "
                 "regret, the default's frame time over the best subset's, with its interval");
+  cmd->add_option("--lane-order", b->lane_order,
+                  "rotate: frame f starts with the f-th balancer and goes round, so each renders "
+                  "first equally often (the first of a frame runs 1-5% slower on colder caches); "
+                  "fixed: the order of --balancers in every frame, as benches before 2026-12-04 "
+                  "ran (--regret keeps an order of its own)")
+      ->capture_default_str();
   cmd->add_option(
       "--report", b->report_dir,
       "Folder for plots: comparison.svg (efficiency, imbalance and frame time of every "

@@ -31,7 +31,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& groups() {
        {"--out", "--overwrite", "--exr", "--aov", "--denoise", "--exposure", "--tone", "--overlay",
         "--trace", "--quiet", "--json", "--report"}},
       {"Augmented reality", {"--ground", "--poses", "--background", "--ar"}},
-      {"Benchmark", {"--warmup", "--ideal-frames", "--repeats", "--probe-ms"}},
+      {"Benchmark", {"--warmup", "--ideal-frames", "--repeats", "--lane-order", "--probe-ms"}},
       {"Viewer",
        {"--port", "--bind", "--max-clients", "--max-frames", "--frame-spp", "--move-scale"}},
       {"Several machines (MPI)",

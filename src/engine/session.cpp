@@ -101,6 +101,28 @@ void Session::set_denoise(DenoiseMethod method) {
   if (method != DenoiseMethod::none) denoisers_.assign(engines_.size(), FrameDenoiser(method));
 }
 
+std::shared_ptr<FrameResult> Session::render_lane(size_t lane, int frame, FrameInput& input) {
+  active_lane_ = lane;
+  Engine& engine = *engines_[lane];
+  std::shared_ptr<FrameResult> out = free_buffer(lane);
+  out->lane = lane;
+  out->frame = frame;
+  out->sampling_ms = input.sampling_ms;
+  out->reprojection = input.reprojection;
+  out->record = engine.render_frame(frame, input.views, settings_, out->images);
+  if (lane == 0)
+    last_full_quality_ =
+        out->record.quality.image_scale == 1.0 && out->record.quality.step_scale == 1.0;
+  input.finish(out->images);
+  out->denoised.clear();
+  if (!denoisers_.empty())
+    out->record.denoise_ms = denoisers_[lane].apply(input.views, out->images, out->denoised);
+  out->plan = engine.last_plan();
+  out->rendered = engine.last_rendered();
+  out->stats = engine.last_stats();
+  return out;
+}
+
 int Session::run(int first, int count, FrameObserver& observer) {
   // A stop requested before this call (a Ctrl-C right after the viewer printed its address)
   // must hold: the flag is cleared when run() returns, never when it starts.
@@ -111,27 +133,19 @@ int Session::run(int first, int count, FrameObserver& observer) {
     if (schedule_) schedule_(frame, settings_);
     if (progressive_) continue_sequence(frame, camera, input);
     observer.before_frame(frame, input);
-    for (size_t lane = 0; lane < engines_.size(); ++lane) {
-      active_lane_ = lane;
-      Engine& engine = *engines_[lane];
-      std::shared_ptr<FrameResult> out = free_buffer(lane);
-      out->lane = lane;
-      out->frame = frame;
-      out->sampling_ms = input.sampling_ms;
-      out->reprojection = input.reprojection;
-      out->record = engine.render_frame(frame, input.views, settings_, out->images);
-      if (lane == 0)
-        last_full_quality_ =
-            out->record.quality.image_scale == 1.0 && out->record.quality.step_scale == 1.0;
-      input.finish(out->images);
-      out->denoised.clear();
-      if (!denoisers_.empty())
-        out->record.denoise_ms = denoisers_[lane].apply(input.views, out->images, out->denoised);
-      out->plan = engine.last_plan();
-      out->rendered = engine.last_rendered();
-      out->stats = engine.last_stats();
-      observer.on_frame(out);
+    const size_t lanes = engines_.size();
+    const size_t start =
+        rotate_lanes_ && frame >= 0 ? (size_t(frame) + rotate_offset_) % lanes : 0;
+    std::vector<std::shared_ptr<FrameResult>> held(rotate_lanes_ ? lanes : 0);
+    for (size_t k = 0; k < lanes; ++k) {
+      const size_t lane = (start + k) % lanes;
+      std::shared_ptr<FrameResult> out = render_lane(lane, frame, input);
+      if (rotate_lanes_)
+        held[lane] = std::move(out);
+      else
+        observer.on_frame(out);
     }
+    for (const auto& out : held) observer.on_frame(out);
   }
   stop_ = false;  // consumed: the next run() renders again
   return done;

@@ -95,6 +95,18 @@ class Session {
   // a history of its own; DenoiseMethod::none: no denoiser. The frames must record feature
   // buffers (RenderSettings::feature_buffers), or they are passed through. Call before run().
   void set_denoise(DenoiseMethod method);
+  // Which lane renders first in each frame. Off (the default): lane 0, 1, ... in every
+  // frame. On: frame f starts at lane (f + offset) mod L and goes round, so every lane
+  // renders first, second, ... equally often (a bench gives each repeat block another
+  // offset, so that one frame does not put the same lane first in every block); the
+  // observer is still handed the frame's results in lane order, after the last lane. Why: the
+  // first lane of a frame runs on colder caches, by 1-5% on the real pairs here
+  // (docs/benchmarks.md, "Lane order"), which in a fixed order is always the same balancer's loss.
+  // Call before run().
+  void set_rotate_lanes(bool on, size_t offset = 0) {
+    rotate_lanes_ = on;
+    rotate_offset_ = offset;
+  }
 
   // Asks run() to return after the frame being rendered; asked between runs, the next
   // run() returns before its first frame. Each request stops one run. Thread-safe (signal
@@ -114,6 +126,8 @@ class Session {
 
  private:
   std::shared_ptr<FrameResult> free_buffer(size_t lane);
+  // Lane `lane`'s rendering of `frame` (its record, images, denoised images and plan).
+  std::shared_ptr<FrameResult> render_lane(size_t lane, int frame, FrameInput& input);
   Camera camera_at(int frame) const;
   void continue_sequence(int frame, const Camera& camera, FrameInput& input);
 
@@ -131,6 +145,8 @@ class Session {
   // The sample sequence progressive frames continue: begun at `frame` (-1: none yet) under
   // `camera` and the settings whose sent values are `settings`; `next` its next sample.
   bool progressive_ = false;
+  bool rotate_lanes_ = false;
+  size_t rotate_offset_ = 0;
   struct Sequence {
     int frame = -1;
     Camera camera;

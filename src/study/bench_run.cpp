@@ -158,6 +158,8 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
       list += (list.empty() ? "" : ",") + lane;
     b.balancers = list;
   }
+  if (b.lane_order != "rotate" && b.lane_order != "fixed")
+    throw InputError("--lane-order must be rotate or fixed, not '" + b.lane_order + "'");
   const auto specs = split_spec_list(b.balancers);
   if (specs.empty()) throw InputError("--balancers is empty");
   check_frame_count(o.frames);  // before --warmup, whose range it sets
@@ -226,6 +228,7 @@ BenchOutcome run_bench_study(RunConfig& o, BenchOptions& b, const BenchHooks& ho
     std::vector<std::string> order = mapped;
     if (reversed) std::reverse(order.begin(), order.end());
     if (block > 0) session = s.make_session(order, "--balancers");
+    session->set_rotate_lanes(b.lane_order == "rotate" && !b.regret, size_t(block));
     BenchResult r;
     const int code =
         run_block(*session, s, initial, config, block, b.repeats, hooks, r, signal, started);

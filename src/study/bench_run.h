@@ -32,6 +32,10 @@ struct BenchOptions {
   // --regret: the default (`auto`) against every subset of the devices (each alone, all
   // together without the participation rule: `subset` lanes) instead of --balancers.
   bool regret = false;
+  // --lane-order: "rotate" starts frame f at lane f mod L (Session::set_rotate_lanes);
+  // "fixed" renders the lanes in the order given, as every bench before 2026-12-04 did.
+  // --regret keeps its own order (regret_lanes).
+  std::string lane_order = "rotate";
   // One device after --devices is resolved (the command line's default, auto, on a
   // machine with nothing but its cores) is refused in one line: nothing to compare.
   bool refuse_one_device = false;

@@ -54,6 +54,7 @@ TEST(Hostile, NumbersThatOverflowAfterConversionAreRefused) {
   expect_refused("render --devices cpu:speed=1e-300" + out, "speed");
   expect_refused("render --perturb 1e20:0:0.5" + out, "--perturb");
   expect_refused("render --seed -1" + out, "--seed");
+  expect_refused("bench --probe-ms 0 --devices cpu,cpu --lane-order random", "--lane-order");
   expect_refused("render --camera-path orbit:1e-50" + out, "--camera-path");
   expect_refused("render --sampling foveated --gaze-path orbit:1e-50" + out, "--gaze-path");
 }

@@ -313,5 +313,65 @@ TEST(Session, TheMeanOfProgressiveFramesIsOneRenderOfAllTheirSamples) {
   EXPECT_NE(refined_hash(frames(false, 1, 4)), one_render);
 }
 
+// Plans like `uniform` and notes its lane's number in `log` at each plan, i.e. in the
+// order the lanes render.
+class OrderLog : public balance::Balancer {
+ public:
+  OrderLog(size_t lane, std::vector<size_t>& log)
+      : lane_(lane), log_(log), inner_(balance::make_balancer("uniform", 2)) {}
+  std::string name() const override { return "order-log"; }
+  balance::Plan plan(const balance::FrameShape& shape, int frame) override {
+    log_.push_back(lane_);
+    return inner_->plan(shape, frame);
+  }
+  void update(const balance::FrameStats& s) override { inner_->update(s); }
+  void drop_device(int i) override { inner_->drop_device(i); }
+
+ private:
+  size_t lane_;
+  std::vector<size_t>& log_;
+  std::unique_ptr<balance::Balancer> inner_;
+};
+
+// With rotation every lane renders first equally often (the first lane of a frame runs on
+// colder caches), and the observer still gets each frame's lanes in lane order; without
+// it, lane 0 is always first.
+TEST(Session, RotatedLanesTakeTurnsToRenderFirstAndAreHandedOverInLaneOrder) {
+  const Scene scene = make_lit_plane(0.5f, 1.0f);
+  SceneCache cache(scene);
+  CpuDevice a(cache, {}, "cpu"), b(cache, {}, "cpu");
+  RenderSettings settings;
+  settings.kernel = "depth";
+  for (const bool rotate : {false, true}) {
+    std::vector<size_t> log;
+    std::vector<std::unique_ptr<balance::Balancer>> three;
+    for (size_t k = 0; k < 3; ++k) three.push_back(std::make_unique<OrderLog>(k, log));
+    Session session({&a, &b}, std::move(three), FrameViews(CameraRig::single(), kW, kH, {}),
+                    CameraPath::fixed(scene.cameras[0]), settings);
+    session.set_rotate_lanes(rotate, 1);
+    Keeper keep;
+    ASSERT_EQ(session.run(0, 6, keep), 6);
+    ASSERT_EQ(log.size(), 18u);
+    ASSERT_EQ(keep.results.size(), 18u);
+    std::vector<int> first(3, 0);
+    for (size_t f = 0; f < 6; ++f) {
+      ++first[log[3 * f]];
+      for (size_t k = 0; k < 3; ++k) {
+        EXPECT_EQ(keep.results[3 * f + k]->lane, k) << "frame " << f;
+        EXPECT_EQ(keep.results[3 * f + k]->frame, int(f));
+        if (rotate) {
+          EXPECT_EQ(log[3 * f + k], (f + 1 + k) % 3) << "frame " << f;
+        }
+      }
+      // The images do not depend on the order (the same depth everywhere).
+      EXPECT_EQ(image_hash(keep.results[3 * f]->images[0]),
+                image_hash(keep.results[3 * f + 2]->images[0]));
+    }
+    const std::vector<int> expected =
+        rotate ? std::vector<int>{2, 2, 2} : std::vector<int>{6, 0, 0};
+    EXPECT_EQ(first, expected);
+  }
+}
+
 }  // namespace session_test
 }  // namespace multiray
