@@ -5,7 +5,8 @@
 #
 # Usage: bench/distributed.sh BUILD_DIR [OUT_DIR]   (results in docs/benchmarks.md)
 #        PARTS=BC bench/distributed.sh BUILD_DIR [OUT_DIR]   (only parts B and C)
-#        LINKS, STRATEGIES, WORKERS, TABLE8_WORKERS: subsets of B and C; REPEATS (1): each
+#        LINKS, STRATEGIES, WORKERS, TABLE8_WORKERS, TABLE8_STRATEGIES: subsets of B and C
+#        (TABLE8_STRATEGIES: static dynamic deep by default); REPEATS (1): each
 #        cell of B, C and D run that many times (a fresh mpirun each), every run printed
 #
 #  A. Loopback goal: master + 2 workers of one pinned thread each, 1024x1024, 1 spp,
@@ -104,7 +105,7 @@ if part C; then
 echo "== C. Seo Table 8: 1024x1024, emulated wifi, frame ms by tile size" | tee "$out/seo_table8.txt"
 for s in $table8_workers; do
   for r in $(seq "$repeats"); do
-  for strategy in static dynamic deep; do
+  for strategy in ${TABLE8_STRATEGIES:-static dynamic deep}; do
     printf "S=%-3s %-8s" "$s" "$strategy"
     for tile in 32 64 128 256; do
       seo_strategy $strategy $tile
