@@ -116,6 +116,14 @@ Runner add_simulate_command(CLI::App& app) {
                   "frames, comma-separated: calibrate on TRACE and compare each run's frame "
                   "times with its balancer replayed on the calibrated devices (implies "
                   "--calibrate)");
+  cmd->add_option(
+         "--calibration", o->calibration,
+         "With --predict: what to calibrate on. single: TRACE alone; pooled: TRACE and every "
+         "--predict trace together (the lanes of one bench run: each device's speed and "
+         "fixed costs fitted on all their items, each frame's cost from all of them); "
+         "leave-one-out: each --predict trace predicted by a calibration on TRACE and the "
+         "other --predict traces, without it (docs/traces.md)")
+      ->capture_default_str();
   cmd->add_option("--contention", o->contention,
                   "With --calibrate: each device's slowdown per other device at work, in "
                   "[0, 10], instead of the one learnt (when the trace cannot show it)");
@@ -129,7 +137,8 @@ Runner add_simulate_command(CLI::App& app) {
     if (!o->plot_path.empty()) check_output_file(o->plot_path, "--plot");
     const balance::Trace trace = study::load_trace(o->trace_path);
     if (o->validate) return validate(trace);
-    if (o->calibrate || !o->predict.empty()) return calibrated(*o, trace);
+    if (o->calibrate || !o->predict.empty() || o->calibration != "single")
+      return calibrated(*o, trace);
     study::SimulationPlan plan = study::plan_simulation(*o, trace, !o->json_path.empty());
     const std::vector<int>& counts = plan.counts;
     const std::vector<std::string>& specs = plan.specs;

@@ -73,13 +73,15 @@ py::object simulate(const py::object& trace_path, const py::kwargs& kwargs) {
                  {"max_memory", &o.max_memory},
                  {"calibrate", &o.calibrate},
                  {"predict", &o.predict},
-                 {"contention", &o.contention}},
+                 {"contention", &o.contention},
+                 {"calibration", &o.calibration}},
                 "simulate");
   nlohmann::json doc;
   try {
     py::gil_scoped_release release;
     const balance::Trace trace = study::load_trace(o.trace_path);
-    if (o.calibrate || !o.predict.empty()) {  // as --calibrate [--predict]: its document
+    if (o.calibrate || !o.predict.empty() ||
+        o.calibration != "single") {  // as --calibrate [--predict]: its document
       doc = study::calibrated_study(trace, study::calibrated_run(o), false);
     } else {
       study::SimulationPlan plan = study::plan_simulation(o, trace, true);
@@ -144,7 +146,8 @@ void bind_studies(py::module_& m) {
         "balancers (str or list of str), frames, warmup, seed, max_memory. With "
         "calibrate=True (or predict=[real traces]) the simulator is first calibrated on the "
         "trace and the document is that of `simulate TRACE --calibrate [--predict ...] "
-        "--json F` ('calibration', 'rows'; contention, noise, warmup and seed apply). Bad "
+        "--json F` ('calibration', 'rows'; contention, noise, warmup, seed and calibration "
+        "('single', 'pooled' or 'leave-one-out', as --calibration) apply). Bad "
         "values raise ValueError with the CLI's message.");
   m.def(
       "bench", &bench, py::arg("scene") = py::none(),

@@ -1,5 +1,6 @@
 #include "study/simulate_calibrated.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -11,6 +12,7 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "run/parse_options.h"
+#include "study/calibration_report.h"
 #include "study/stats_json.h"
 
 namespace multiray::study {
@@ -100,47 +102,6 @@ Row row(const balance::Trace& trace, const balance::Trace& net,
   return r;
 }
 
-void print_calibration(const balance::Trace& trace, const balance::TraceCalibration& cal,
-                       const CalibratedRun& o) {
-  print_out("calibration on {} ({} frames after warm-up, recorded with {}):\n", o.trace_path,
-            cal.frames, trace.balancer);
-  print_out("{:>6} {:>8} {:>14} {:>15} {:>10} {:>6}  {}\n", "device", "speed", "item cost ms",
-            "frame cost ms", "launch ms", "items", "name");
-  for (size_t d = 0; d < cal.devices.size(); ++d) {
-    const balance::CalibratedDevice& c = cal.devices[d];
-    print_out("{:>6} {:>8.4f} {:>14} {:>15.4f} {:>10} {:>6}  {}\n", d, c.speed,
-              c.overhead_fitted ? fmt::format("{:.4f}", c.item_overhead_ms) : "- (no fit)",
-              c.frame_overhead_ms,
-              c.launch_ms > 0 ? fmt::format("{:.3f}", c.launch_ms) : std::string("-"), c.items,
-              trace.devices[d].name);
-  }
-  print_out(
-      "contention {:.4f} ({}; {:.1f}% of the cost rendered alone), frame noise {:.4f} "
-      "(learnt; simulated with {:g})\n",
-      cal.contention,
-      o.contention >= 0           ? "given by --contention"
-      : cal.contention_identified ? "learnt"
-                                  : "not identifiable from this trace: 0, see --contention",
-      100 * cal.alone_share, cal.frame_noise, o.noise);
-}
-
-nlohmann::json to_json(const balance::TraceCalibration& cal) {
-  nlohmann::json devices = nlohmann::json::array();
-  for (const auto& d : cal.devices)
-    devices.push_back({{"speed", d.speed},
-                       {"item_overhead_ms", d.item_overhead_ms},
-                       {"item_overhead_fitted", d.overhead_fitted},
-                       {"frame_overhead_ms", d.frame_overhead_ms},
-                       {"launch_ms", d.launch_ms},
-                       {"items", d.items}});
-  return {{"devices", devices},
-          {"contention", cal.contention},
-          {"contention_identified", cal.contention_identified},
-          {"alone_share", cal.alone_share},
-          {"frame_noise", cal.frame_noise},
-          {"frames", cal.frames}};
-}
-
 void print_rows(const std::vector<Row>& rows, int warmup, int frames) {
   print_out(
       "frames {}-{} (largest device time per frame; real: measured, simulated: virtual "
@@ -165,12 +126,77 @@ int simulate_calibrated(const balance::Trace& trace, const CalibratedRun& o) {
   return 0;
 }
 
+namespace {
+
+// One calibration and the cost it replays: on `on` (paths) together, or on TRACE alone.
+struct Calibrated {
+  std::vector<std::string> on;
+  balance::TraceCalibration cal;
+  balance::Trace base;
+  std::vector<balance::SimDevice> devices;
+};
+
+Calibrated calibrate_on(const std::vector<std::string>& paths,
+                        const std::vector<const balance::Trace*>& traces, const CalibratedRun& o,
+                        int warmup, bool pooled) {
+  Calibrated c;
+  c.on = paths;
+  if (pooled) {
+    c.cal = balance::calibrate_pooled(traces, warmup, o.contention);
+    c.base = balance::pooled_costs(traces, c.cal);
+  } else {
+    c.cal = balance::calibrate(*traces[0], warmup, o.contention);
+    c.base = balance::net_trace(*traces[0], c.cal);
+  }
+  c.devices = balance::calibrated_devices(c.cal, o.noise);
+  return c;
+}
+
+void print_of(const Calibrated& c, const balance::Trace& trace, const CalibratedRun& o) {
+  std::vector<std::string> names;
+  for (const auto& d : trace.devices) names.push_back(d.name);
+  print_calibration(c.cal, c.on, trace.balancer, names, o.contention >= 0, o.noise);
+}
+
+nlohmann::json row_json(const Row& r) {
+  nlohmann::json j{{"balancer", r.balancer},
+                   {"simulated_mean_ms", r.simulated},
+                   {"plain_mean_ms", r.plain},
+                   {"simulated_ms", r.simulated_ms}};
+  if (r.has_real) {
+    j["real_mean_ms"] = r.real;
+    j["mean_abs_error"] = r.error;
+    j["bias"] = r.bias;
+    j["plain_mean_abs_error"] = r.plain_error;
+    j["real_ms"] = r.real_ms;
+  }
+  return j;
+}
+
+}  // namespace
+
 nlohmann::json calibrated_study(const balance::Trace& trace, const CalibratedRun& o, bool print) {
   // Everything is checked before anything is printed: one line for bad input.
+  const bool pooled = o.mode != "single", leave_out = o.mode == "leave-one-out";
+  if (pooled && o.mode != "pooled" && !leave_out)
+    throw InputError("--calibration must be single, pooled or leave-one-out, not '" + o.mode +
+                     "'");
+  if (pooled && o.predict.empty())
+    throw InputError("--calibration " + o.mode + " needs the traces to pool in --predict");
+  if (leave_out && !o.balancers.empty())
+    throw InputError(
+        "--balancers does not go with --calibration leave-one-out (its rows are the "
+        "--predict traces, each predicted without itself)");
   std::vector<balance::Trace> reals;
   for (const std::string& path : o.predict) {
     reals.push_back(load_trace(path));
-    check_match(trace, reals.back(), path);
+    if (pooled) {
+      const std::string why =
+          balance::trace_mismatch(trace, reals.back(), "the calibration trace");
+      if (!why.empty()) throw InputError("--predict: trace '" + path + "' " + why);
+    } else {
+      check_match(trace, reals.back(), path);
+    }
     make_balancer_or_throw(reals.back().balancer, int(trace.devices.size()), path);
   }
   for (const std::string& spec : o.balancers)
@@ -178,36 +204,53 @@ nlohmann::json calibrated_study(const balance::Trace& trace, const CalibratedRun
   const int frames = int(trace.frames.size());
   const int warmup = o.warmup >= 0 ? o.warmup : frames / 10;
   if (warmup >= frames) throw InputError("--warmup leaves no frame of the trace");
-  const balance::TraceCalibration cal = balance::calibrate(trace, warmup, o.contention);
-  const balance::Trace net = balance::net_trace(trace, cal);
-  const std::vector<balance::SimDevice> devices = balance::calibrated_devices(cal, o.noise);
-  if (print) print_calibration(trace, cal, o);
+  // The pool: TRACE and each --predict trace once (a path named twice counts once).
+  std::vector<std::string> paths{o.trace_path};
+  std::vector<const balance::Trace*> pool{&trace};
+  for (size_t k = 0; k < reals.size(); ++k)
+    if (std::find(paths.begin(), paths.end(), o.predict[k]) == paths.end())
+      paths.push_back(o.predict[k]), pool.push_back(&reals[k]);
+  if (leave_out && pool.size() < 2)
+    throw InputError("--calibration leave-one-out needs a trace besides each predicted one");
 
   std::vector<Row> rows;
-  for (size_t k = 0; k < reals.size(); ++k)
-    rows.push_back(row(trace, net, devices, reals[k].balancer, &reals[k], o, warmup));
-  const std::vector<std::string> own{trace.balancer};
-  for (const std::string& spec : o.balancers.empty() && reals.empty() ? own : o.balancers)
-    rows.push_back(
-        row(trace, net, devices, spec, spec == trace.balancer ? &trace : nullptr, o, warmup));
-  if (print) print_rows(rows, warmup, frames);
   nlohmann::json list = nlohmann::json::array();
-  for (const Row& r : rows) {
-    nlohmann::json j{{"balancer", r.balancer},
-                     {"simulated_mean_ms", r.simulated},
-                     {"plain_mean_ms", r.plain},
-                     {"simulated_ms", r.simulated_ms}};
-    if (r.has_real) {
-      j["real_mean_ms"] = r.real;
-      j["mean_abs_error"] = r.error;
-      j["bias"] = r.bias;
-      j["plain_mean_abs_error"] = r.plain_error;
-      j["real_ms"] = r.real_ms;
+  nlohmann::json doc{{"trace", o.trace_path},
+                     {"predict", o.predict},
+                     {"warmup", warmup},
+                     {"frames", frames},
+                     {"calibration_mode", o.mode}};
+  if (leave_out) {
+    for (size_t k = 0; k < reals.size(); ++k) {
+      std::vector<std::string> on;
+      std::vector<const balance::Trace*> others;
+      for (size_t r = 0; r < pool.size(); ++r)
+        if (paths[r] != o.predict[k]) on.push_back(paths[r]), others.push_back(pool[r]);
+      const Calibrated c = calibrate_on(on, others, o, warmup, true);
+      if (print) print_of(c, trace, o);
+      rows.push_back(row(trace, c.base, c.devices, reals[k].balancer, &reals[k], o, warmup));
+      nlohmann::json j = row_json(rows.back());
+      j["calibrated_on"] = on;
+      j["calibration"] = calibration_json(c.cal);
+      list.push_back(j);
     }
-    list.push_back(j);
+  } else {
+    const Calibrated c = pooled ? calibrate_on(paths, pool, o, warmup, true)
+                                : calibrate_on({o.trace_path}, {&trace}, o, warmup, false);
+    if (print) print_of(c, trace, o);
+    for (size_t k = 0; k < reals.size(); ++k)
+      rows.push_back(row(trace, c.base, c.devices, reals[k].balancer, &reals[k], o, warmup));
+    const std::vector<std::string> own{trace.balancer};
+    for (const std::string& spec : o.balancers.empty() && reals.empty() ? own : o.balancers)
+      rows.push_back(row(trace, c.base, c.devices, spec, spec == trace.balancer ? &trace : nullptr,
+                         o, warmup));
+    for (const Row& r : rows) list.push_back(row_json(r));
+    doc["calibrated_on"] = c.on;
+    doc["calibration"] = calibration_json(c.cal);
   }
-  return nlohmann::json{{"trace", o.trace_path}, {"predict", o.predict},        {"warmup", warmup},
-                        {"frames", frames},      {"calibration", to_json(cal)}, {"rows", list}};
+  if (print) print_rows(rows, warmup, frames);
+  doc["rows"] = list;
+  return doc;
 }
 
 }  // namespace multiray::study

@@ -15,7 +15,11 @@ namespace multiray::study {
 
 struct CalibratedRun {
   std::string trace_path;
-  std::vector<std::string> predict;    // traces of real runs to predict (may be empty)
+  std::vector<std::string> predict;  // traces of real runs to predict (may be empty)
+  // What to calibrate on: "single" (the trace alone), "pooled" (the trace and every
+  // predict trace together) or "leave-one-out" (for each predict trace, the others and
+  // the trace, without it). --calibration.
+  std::string mode = "single";
   std::vector<std::string> balancers;  // without --predict: what to simulate
   int warmup = -1;                     // -1: a tenth of the frames
   double contention = -1;              // < 0: learnt from the trace
@@ -28,7 +32,8 @@ struct CalibratedRun {
 balance::Trace load_trace(const std::string& path);
 
 // Prints the calibration and the table (and writes --json); InputError (exit 2, one
-// line) for a real trace whose devices or frames do not match the calibration trace's.
+// line) for a real trace whose devices or frames do not match the calibration trace's
+// (pooled: whose devices' names or emulated speeds differ too).
 int simulate_calibrated(const balance::Trace& trace, const CalibratedRun& run);
 
 // The same work, its --json document returned (and printed as the CLI prints it when

@@ -145,6 +145,7 @@ CalibratedRun calibrated_run(const SimulateOptions& o) {
   CalibratedRun run;
   run.trace_path = o.trace_path;
   run.predict = split_spec_list(o.predict);
+  run.mode = o.calibration;
   run.balancers = split_spec_list(o.balancers);
   run.warmup = o.warmup;
   if (o.contention != -1 && !(o.contention >= 0 && o.contention <= 10))

@@ -34,9 +34,10 @@ struct SimulateOptions {
   std::string json_path, plot_path;
   bool validate = false;
   bool calibrate = false;
-  std::string predict;              // real traces, comma-separated (implies --calibrate)
-  double contention = -1;           // < 0: learnt by --calibrate
-  std::string max_memory = "auto";  // as render's --max-memory
+  std::string predict;                 // real traces, comma-separated (implies --calibrate)
+  double contention = -1;              // < 0: learnt by --calibrate
+  std::string calibration = "single";  // single, pooled or leave-one-out (CalibratedRun::mode)
+  std::string max_memory = "auto";     // as render's --max-memory
 };
 
 // What a plain simulation runs: every device count with every balancer spec, the studies'

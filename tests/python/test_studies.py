@@ -48,7 +48,8 @@ def test_simulate_equals_the_cli_document(cli, trace, tmp_path, kwargs):
 def test_calibrated_simulation_equals_the_cli_document(cli, trace, tmp_path):
     """calibrate=True and predict=[...] give `simulate --calibrate/--predict --json`."""
     for kwargs in (dict(calibrate=True, balancers="uniform,hybrid", warmup=1),
-                   dict(predict=[trace, trace], contention=0.2, noise=0.05, seed=4)):
+                   dict(predict=[trace, trace], contention=0.2, noise=0.05, seed=4),
+                   dict(predict=[trace], calibration="pooled", warmup=1)):
         out = tmp_path / "cal.json"
         args = ["--calibrate"] if kwargs.get("calibrate") else []
         for k, v in kwargs.items():
@@ -66,6 +67,8 @@ def test_calibrated_simulation_equals_the_cli_document(cli, trace, tmp_path):
         multiray.simulate(trace, calibrate=True, contention=11)
     with pytest.raises(TypeError):
         multiray.simulate(trace, calibrate="yes")
+    with pytest.raises(ValueError, match="--calibration"):
+        multiray.simulate(trace, predict=[trace], calibration="sideways")
 
 
 def test_simulate_takes_lists_and_paths(trace):
