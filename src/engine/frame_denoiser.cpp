@@ -36,7 +36,7 @@ double FrameDenoiser::apply(const std::vector<ViewSetup>& views,
     in.albedo = f.albedo.data(), in.normal = f.normal.data(), in.depth = f.depth.data();
     in.variance = f.variance.empty() ? nullptr : f.variance.data();
     in.camera = v < views.size() ? &views[v].camera : nullptr;
-    denoise(in, method_, &states_[v], result_.data());
+    denoise(in, method_, &states_[v], result_.data(), {}, &buffers_);
     for (size_t i = 0; i < n; ++i)
       o.pixels[i] = {result_[3 * i], result_[3 * i + 1], result_[3 * i + 2]};
   }

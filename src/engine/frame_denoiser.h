@@ -29,6 +29,7 @@ class FrameDenoiser {
   DenoiseMethod method_;
   std::vector<DenoiseState> states_;  // per view
   std::vector<float> beauty_, result_;
+  DenoiseBuffers buffers_;  // the filter's, reused by every view and frame
 };
 
 }  // namespace multiray

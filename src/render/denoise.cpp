@@ -2,6 +2,7 @@
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <xmmintrin.h>
 
 #include <algorithm>
 #include <cstring>
@@ -15,6 +16,24 @@ namespace multiray {
 
 namespace {
 
+// Flush-to-zero and denormals-are-zero on the calling thread for its lifetime (the MXCSR
+// it found is restored after). Every piece of the filter runs under it, so a pixel is
+// the same whichever thread computes it: TBB workers that once joined a CPU device's
+// arena keep that device's fast float mode (device/cpu/thread_setup.h), the calling
+// thread may not have it. It also keeps tiny weights (a cosine's 128th power, exp of a
+// large negative exponent) from taking the slow path of subnormal arithmetic.
+class FlushDenormals {
+ public:
+  FlushDenormals() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | kFlushZero | kDenormalsZero); }
+  ~FlushDenormals() { _mm_setcsr(saved_); }
+  FlushDenormals(const FlushDenormals&) = delete;
+  FlushDenormals& operator=(const FlushDenormals&) = delete;
+
+ private:
+  static constexpr unsigned kFlushZero = 0x8000, kDenormalsZero = 0x0040;
+  unsigned saved_;
+};
+
 // Calls f(x, y) for every pixel, rows spread over the calling thread's TBB arena. Each
 // pixel is written by one call that reads only buffers no call writes, so the result is
 // the same for any number of threads.
@@ -22,50 +41,59 @@ template <class F>
 void for_each_denoise_pixel(int width, int height, F f) {
   oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<int>(0, height),
                             [&](const oneapi::tbb::blocked_range<int>& rows) {
+                              const FlushDenormals mode;
                               for (int y = rows.begin(); y < rows.end(); ++y)
                                 for (int x = 0; x < width; ++x) f(x, y);
                             });
 }
 
 DenoiseWeights denoise_weights_of(const DenoiseParams& p) {
-  return DenoiseWeights{p.sigma_luminance, p.sigma_normal, p.sigma_depth, p.sigma_albedo};
+  return denoise_weights(p.sigma_luminance, p.sigma_normal, p.sigma_depth, p.sigma_albedo);
 }
 
-// The frame's buffers as the shared steps read them: demodulated colour and its variance
-// (the renderer's, scaled, or the spatial estimate).
-struct DemodulatedFrame {
-  std::vector<float> color, variance;
-};
+// Sizes `v` to `n` floats (kept when it has them: the values are overwritten).
+void size_to(std::vector<float>& v, size_t n) {
+  if (v.size() != n) v.resize(n);
+}
 
-DemodulatedFrame demodulate_frame(const DenoiseInput& in, const DenoiseWeights& w) {
+// The frame's guides, and its demodulated colour, luminance and variance (the renderer's,
+// scaled, or the spatial estimate) in slot 0 of `b`.
+void prepare_frame(const DenoiseInput& in, const DenoiseWeights& w, DenoiseBuffers& b) {
   const size_t n = size_t(in.width) * size_t(in.height);
-  DemodulatedFrame d{std::vector<float>(3 * n), std::vector<float>(n)};
+  size_to(b.guides, MR_DENOISE_GUIDE_FLOATS * n);
+  size_to(b.slopes, 2 * n);
+  for (int k = 0; k < 2; ++k) {
+    size_to(b.color[k], 3 * n);
+    size_to(b.luminance[k], n);
+    size_to(b.variance[k], n);
+  }
   for_each_denoise_pixel(in.width, in.height, [&](int x, int y) {
+    denoise_pack_guides(in.albedo, in.normal, in.depth, in.width, in.height, x, y, b.guides.data(),
+                        b.slopes.data());
     denoise_demodulate(in.beauty, in.albedo, in.depth, in.variance, in.variance != nullptr,
-                       d.color.data(), d.variance.data(), y * in.width + x);
+                       b.color[0].data(), b.luminance[0].data(), b.variance[0].data(),
+                       y * in.width + x);
   });
   if (!in.variance)
     for_each_denoise_pixel(in.width, in.height, [&](int x, int y) {
-      d.variance[size_t(y) * size_t(in.width) + size_t(x)] = denoise_spatial_variance(
-          d.color.data(), in.albedo, in.normal, in.depth, in.width, in.height, x, y, &w);
+      b.variance[0][size_t(y) * size_t(in.width) + size_t(x)] = denoise_spatial_variance(
+          b.luminance[0].data(), b.guides.data(), b.slopes.data(), in.width, in.height, x, y, &w);
     });
-  return d;
 }
 
-// The à-trous iterations on `color` and `variance` (both overwritten with the result).
-void run_atrous(const DenoiseInput& in, const DenoiseParams& p, std::vector<float>& color,
-                std::vector<float>& variance) {
+// The à-trous iterations, from slot `cur` of `b`; returns the slot holding the result.
+int run_atrous(const DenoiseInput& in, const DenoiseParams& p, DenoiseBuffers& b, int cur) {
   const DenoiseWeights w = denoise_weights_of(p);
-  std::vector<float> color2(color.size()), variance2(variance.size());
-  for (int k = 0; k < p.iterations; ++k) {
-    const int step = 1 << k;
+  for (int k = 0; k < p.iterations; ++k, cur ^= 1) {
+    const int step = 1 << k, next = cur ^ 1;
     for_each_denoise_pixel(in.width, in.height, [&](int x, int y) {
-      denoise_atrous_pixel(color.data(), variance.data(), in.albedo, in.normal, in.depth,
-                           color2.data(), variance2.data(), in.width, in.height, x, y, step, &w);
+      denoise_atrous_pixel(b.color[cur].data(), b.luminance[cur].data(), b.variance[cur].data(),
+                           b.guides.data(), b.slopes.data(), b.color[next].data(),
+                           b.luminance[next].data(), b.variance[next].data(), in.width, in.height,
+                           x, y, step, &w);
     });
-    color.swap(color2);
-    variance.swap(variance2);
   }
+  return cur;
 }
 
 void remodulate_frame(const DenoiseInput& in, const std::vector<float>& color, float* out) {
@@ -74,10 +102,11 @@ void remodulate_frame(const DenoiseInput& in, const std::vector<float>& color, f
   });
 }
 
-// svgf's temporal step: the frame's demodulated colour accumulated into `s`, whose
-// colour and variance it replaces `d`'s with; `s` then holds this frame's history.
-void accumulate_frame(const DenoiseInput& in, const DenoiseParams& p, DemodulatedFrame& d,
-                      DenoiseState& s) {
+// svgf's temporal step: the frame's demodulated colour (slot 0 of `b`) accumulated into
+// `s`, the accumulated colour, its luminance and variance written to slot 1 for the
+// filter; `s` then holds this frame's history. Returns 1, the filter's slot.
+int accumulate_frame(const DenoiseInput& in, const DenoiseParams& p, DenoiseBuffers& b,
+                     DenoiseState& s) {
   const size_t n = size_t(in.width) * size_t(in.height);
   if (s.width != in.width || s.height != in.height) s.reset();
   CameraBlock cam{};
@@ -85,24 +114,28 @@ void accumulate_frame(const DenoiseInput& in, const DenoiseParams& p, Demodulate
   const bool has_previous = !s.empty() && in.camera;
   const TemporalParams t{p.alpha, p.moments_alpha, p.depth_tolerance, p.normal_tolerance,
                          in.variance != nullptr};
-  std::vector<float> color(3 * n), moments(2 * n), history(2 * n);
-  const float* none = d.variance.data();  // never read without a previous frame
+  size_to(b.moments, 2 * n);
+  size_to(b.history, 2 * n);
+  const float* none = b.variance[0].data();  // never read without a previous frame
+  float* color = b.color[1].data();
   for_each_denoise_pixel(in.width, in.height, [&](int x, int y) {
+    const int i = y * in.width + x;
     denoise_temporal_pixel(
-        &cam, &s.camera, has_previous, d.color.data(), d.variance.data(), in.depth, in.normal,
-        has_previous ? s.color.data() : none, has_previous ? s.moments.data() : none,
+        &cam, &s.camera, has_previous, b.color[0].data(), b.variance[0].data(), in.depth,
+        in.normal, has_previous ? s.color.data() : none, has_previous ? s.moments.data() : none,
         has_previous ? s.history.data() : none, has_previous ? s.depth.data() : none,
-        has_previous ? s.normal.data() : none, color.data(), moments.data(), history.data(),
-        in.width, in.height, x, y, &t);
+        has_previous ? s.normal.data() : none, color, b.moments.data(), b.history.data(), in.width,
+        in.height, x, y, &t);
+    denoise_store_luminance(color, b.luminance[1].data(), i);
+    b.variance[1][size_t(i)] = b.history[2 * size_t(i) + 1];
   });
-  d.color = color;
-  for (size_t i = 0; i < n; ++i) d.variance[i] = history[2 * i + 1];
   s.width = in.width, s.height = in.height, s.camera = cam;
-  s.color = std::move(color);
-  s.moments = std::move(moments);
-  s.history = std::move(history);
+  s.color.assign(b.color[1].begin(), b.color[1].end());
+  s.moments.swap(b.moments);  // b's become the scratch of the next frame
+  s.history.swap(b.history);
   s.depth.assign(in.depth, in.depth + n);
   s.normal.assign(in.normal, in.normal + 3 * n);
+  return 1;
 }
 
 }  // namespace
@@ -119,17 +152,20 @@ void check_denoise_input(const DenoiseInput& in, DenoiseMethod method,
 }
 
 void denoise(const DenoiseInput& in, DenoiseMethod method, DenoiseState* temporal, float* out_rgb,
-             const DenoiseParams& params) {
+             const DenoiseParams& params, DenoiseBuffers* buffers) {
   check_denoise_input(in, method, temporal, out_rgb);
   const size_t n = size_t(in.width) * size_t(in.height);
   if (method == DenoiseMethod::none) {
     std::memcpy(out_rgb, in.beauty, 3 * n * sizeof(float));
     return;
   }
-  DemodulatedFrame d = demodulate_frame(in, denoise_weights_of(params));
-  if (method == DenoiseMethod::svgf) accumulate_frame(in, params, d, *temporal);
-  run_atrous(in, params, d.color, d.variance);
-  remodulate_frame(in, d.color, out_rgb);
+  DenoiseBuffers local;
+  DenoiseBuffers& b = buffers ? *buffers : local;
+  prepare_frame(in, denoise_weights_of(params), b);
+  int cur = 0;
+  if (method == DenoiseMethod::svgf) cur = accumulate_frame(in, params, b, *temporal);
+  cur = run_atrous(in, params, b, cur);
+  remodulate_frame(in, b.color[cur], out_rgb);
 }
 
 const std::vector<DenoiseMethodInfo>& denoise_methods() {

@@ -70,13 +70,25 @@ struct DenoiseState {
   void reset() { *this = DenoiseState(); }
 };
 
+// The CPU filter's working buffers (guides, two colours, luminances and variances to
+// ping-pong between iterations, svgf's new moments and history). A caller that denoises
+// frame after frame keeps one and passes it to every call, so that a frame of the size of
+// the last allocates nothing; what they hold between calls means nothing.
+struct DenoiseBuffers {
+  std::vector<float> guides, slopes;
+  std::vector<float> color[2], luminance[2], variance[2];
+  std::vector<float> moments, history;
+};
+
 // Writes the denoised image of `in` to `out_rgb` (3 floats a pixel, may not alias the
 // inputs). none copies the beauty; atrous filters the frame alone; svgf accumulates into
 // `temporal` first (required for svgf; reset when its size differs from the frame's) and
 // filters the result. Throws std::invalid_argument on a missing buffer or a bad size.
-// Rows are spread over the calling thread's TBB arena; the result does not depend on it.
+// Rows are spread over the calling thread's TBB arena, each piece computed with denormals
+// flushed to zero whatever the thread's own float mode; the result does not depend on the
+// arena. `buffers` (may be null: allocated for the call) are reused when given.
 void denoise(const DenoiseInput& in, DenoiseMethod method, DenoiseState* temporal, float* out_rgb,
-             const DenoiseParams& params = {});
+             const DenoiseParams& params = {}, DenoiseBuffers* buffers = nullptr);
 
 // Throws std::invalid_argument unless `in`, `temporal` and `out` are what denoise needs
 // for `method` (the OpenCL driver checks its input with it too).

@@ -4,10 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <oneapi/tbb/task_arena.h>
+#include <xmmintrin.h>
 
+#include <cmath>
 #include <cstring>
+#include <iterator>
+#include <thread>
+#include <utility>
 
 #include "render/denoise_frames.h"
+#include "render/shared/denoise.h"
 
 namespace multiray {
 namespace denoise_test {
@@ -124,6 +130,72 @@ TEST(Denoise, SameBitsOnAnyNumberOfThreads) {
   oneapi::tbb::task_arena(1).execute([&] { one = run(f); });
   ASSERT_EQ(one.size(), all.size());
   EXPECT_EQ(std::memcmp(one.data(), all.data(), one.size() * sizeof(float)), 0);
+}
+
+// The filter's result does not depend on the float mode of the thread that calls it (nor
+// of the TBB workers that help it): it flushes denormals to zero itself and gives the
+// caller's mode back. A frame whose beauty is all denormals shows the difference: flushed,
+// it is black; kept, it is not.
+TEST(Denoise, SameBitsWhateverTheCallersFloatMode) {
+  DenoiseFrame f = edge_frame(EdgeKind::depth, 40, 30);
+  f.add_noise(0.3f, 9, true);
+  for (float& v : f.beauty) v *= 1e-39f;
+  const unsigned flush = 0x8040;  // MXCSR's flush-to-zero and denormals-are-zero bits
+  const auto run_with = [&](bool flushing, std::vector<float>& out) {
+    std::thread([&] {
+      const unsigned mode = flushing ? _mm_getcsr() | flush : _mm_getcsr() & ~flush;
+      _mm_setcsr(mode);
+      oneapi::tbb::task_arena(1).execute([&] { out = run(f); });
+      EXPECT_EQ(_mm_getcsr(), mode) << "the caller's float mode was not given back";
+    }).join();
+  };
+  std::vector<float> kept, flushed;
+  run_with(false, kept);
+  run_with(true, flushed);
+  ASSERT_EQ(kept.size(), flushed.size());
+  EXPECT_EQ(std::memcmp(kept.data(), flushed.data(), kept.size() * sizeof(float)), 0);
+}
+
+// The normals' weight is the cosine to the power sigma_normal: by squarings for a power
+// of two up to 2^10 (128, the default, among them), by pow otherwise, the same value up
+// to float rounding (7 squarings: a few ulp).
+TEST(Denoise, NormalWeightIsTheCosineToTheSigma) {
+  for (float sigma : {1.0f, 2.0f, 8.0f, 128.0f, 1024.0f, 0.5f, 100.0f, 2048.0f}) {
+    const DenoiseWeights w = denoise_weights(4.0f, sigma, 0.02f, 0.2f);
+    const int k = int(std::round(std::log2(sigma)));
+    const bool squared = sigma >= 1.0f && sigma <= 1024.0f && std::exp2(float(k)) == sigma;
+    EXPECT_EQ(w.normal_squarings, squared ? k : -1) << "sigma " << sigma;
+    for (float c : {1.0f, 0.9999f, 0.999f, 0.99f, 0.9f, 0.5f}) {
+      const double want = std::pow(double(c), double(sigma));
+      EXPECT_NEAR(denoise_normal_weight(c, &w), want, 1e-5 * want + 1e-30)
+          << "sigma " << sigma << ", cosine " << c;
+    }
+  }
+}
+
+// A caller's DenoiseBuffers, kept over frames of different sizes and methods, give the
+// same images (and svgf the same history) as fresh buffers for every call.
+TEST(Denoise, KeptBuffersGiveTheSameImages) {
+  DenoiseBuffers kept;
+  DenoiseState with_kept, with_fresh;
+  const std::pair<int, DenoiseMethod> frames[] = {
+      {40, DenoiseMethod::atrous}, {24, DenoiseMethod::atrous}, {0, DenoiseMethod::svgf},
+      {0, DenoiseMethod::svgf},    {40, DenoiseMethod::atrous}, {0, DenoiseMethod::svgf}};
+  for (unsigned k = 0; k < std::size(frames); ++k) {
+    const auto [width, method] = frames[k];
+    const bool svgf = method == DenoiseMethod::svgf;
+    DenoiseFrame f = svgf ? testing::walls(testing::camera_at(0.03f * float(k)), 50 + k)
+                          : edge_frame(EdgeKind::normal, width, width * 3 / 4);
+    if (!svgf) f.add_noise(0.3f, k, false);
+    std::vector<float> a(f.beauty.size()), b(f.beauty.size());
+    denoise(f.input(), method, svgf ? &with_kept : nullptr, a.data(), {}, &kept);
+    denoise(f.input(), method, svgf ? &with_fresh : nullptr, b.data());
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0) << "frame " << k;
+    EXPECT_EQ(with_kept.history, with_fresh.history) << "frame " << k;
+    EXPECT_EQ(with_kept.moments, with_fresh.moments) << "frame " << k;
+    EXPECT_EQ(with_kept.color, with_fresh.color) << "frame " << k;
+  }
+  EXPECT_FALSE(with_kept.empty());
 }
 
 TEST(Denoise, NoneCopiesAndBadInputIsRefused) {

@@ -8,13 +8,14 @@
 #include "device/opencl/cl_runtime.h"
 #include "device/opencl/denoise_kernel_source.h"
 #include "render/path_tracer.h"
+#include "render/shared/denoise.h"
 
 namespace multiray {
 
 namespace {
 // kernels/denoise.cl's passes and argument count.
-enum DenoisePass : cl_int { kDemodulate = 0, kVariance = 1, kAtrous = 2, kRemodulate = 3 };
-constexpr cl_uint kDenoiseArgs = 19, kTemporalArgs = 23;
+enum DenoisePass : cl_int { kPrepare = 0, kVariance = 1, kAtrous = 2, kRemodulate = 3 };
+constexpr cl_uint kDenoiseArgs = 23, kTemporalArgs = 24;
 // The device buffers, kept from frame to frame (reallocated when the size changes).
 enum Slot {
   kBeauty,
@@ -26,6 +27,10 @@ enum Slot {
   kColor1,
   kVariance0,
   kVariance1,
+  kLuminance0,
+  kLuminance1,
+  kGuides,
+  kSlopes,
   kOut,
   kCameras,
   kPrevColor,
@@ -37,6 +42,7 @@ enum Slot {
   kAccMoments,
   kAccHistory,
   kAccVariance,
+  kAccLuminance,
   kSlots
 };
 }  // namespace
@@ -93,21 +99,25 @@ struct OpenClDenoiser::Impl {
   }
 
   // Binds the buffers a pass reads and writes.
-  void bind(const cl::Buffer& color_in, const cl::Buffer& variance_in, const cl::Buffer& color_out,
-            const cl::Buffer& variance_out) {
+  void bind(const cl::Buffer& color_in, const cl::Buffer& luminance_in,
+            const cl::Buffer& variance_in, const cl::Buffer& color_out,
+            const cl::Buffer& luminance_out, const cl::Buffer& variance_out) {
     built.kernel.setArg(15, color_in);
     built.kernel.setArg(16, variance_in);
     built.kernel.setArg(17, color_out);
     built.kernel.setArg(18, variance_out);
+    built.kernel.setArg(21, luminance_in);
+    built.kernel.setArg(22, luminance_out);
   }
 
   void denoise(const DenoiseInput& in, DenoiseState* state, float* out_rgb,
                const DenoiseParams& p);
   // SVGF's temporal step: accumulates `color` (demodulated) with `variance` into `s`
-  // and leaves the accumulated colour and its variance in `color` and `variance`.
+  // and leaves the accumulated colour, its luminance and its variance in `color`,
+  // `luminance` and `variance`.
   void accumulate(const DenoiseInput& in, const DenoiseParams& p, const cl::Buffer& depth,
-                  const cl::Buffer& normal, cl::Buffer& color, cl::Buffer& variance,
-                  DenoiseState& s);
+                  const cl::Buffer& normal, cl::Buffer& color, cl::Buffer& luminance,
+                  cl::Buffer& variance, DenoiseState& s);
 
   ClRuntime rt;
   ClBuiltKernel built, temporal;
@@ -124,8 +134,10 @@ void OpenClDenoiser::Impl::denoise(const DenoiseInput& in, DenoiseState* state, 
   const cl::Buffer depth = upload(kDepth, in.depth, n);
   const cl::Buffer variance =
       in.variance ? upload(kGivenVariance, in.variance, n) : buffer(kGivenVariance, 1);
-  // Two colours and two variances, ping-pong: each pass reads one and writes the other.
+  // Two colours, luminances and variances, ping-pong: each pass reads one and writes the
+  // other.
   cl::Buffer color[2] = {buffer(kColor0, 3 * n), buffer(kColor1, 3 * n)};
+  cl::Buffer lum[2] = {buffer(kLuminance0, n), buffer(kLuminance1, n)};
   cl::Buffer var[2] = {buffer(kVariance0, n), buffer(kVariance1, n)};
   cl::Kernel& k = built.kernel;
   k.setArg(5, cl_int(in.variance != nullptr));
@@ -138,27 +150,30 @@ void OpenClDenoiser::Impl::denoise(const DenoiseInput& in, DenoiseState* state, 
   k.setArg(12, normal);
   k.setArg(13, depth);
   k.setArg(14, variance);
-  bind(color[1], var[1], color[0], var[0]);
-  run(kDemodulate, in.width, in.height, 0);
+  k.setArg(19, buffer(kGuides, MR_DENOISE_GUIDE_FLOATS * n));
+  k.setArg(20, buffer(kSlopes, 2 * n));
+  bind(color[1], lum[1], var[1], color[0], lum[0], var[0]);  // and the guides
+  run(kPrepare, in.width, in.height, 0);
   if (!in.variance) {
-    bind(color[0], var[1], color[1], var[0]);  // writes var[0] only
+    bind(color[0], lum[0], var[1], color[1], lum[1], var[0]);  // writes var[0] only
     run(kVariance, in.width, in.height, 0);
   }
-  if (state) accumulate(in, p, depth, normal, color[0], var[0], *state);
+  if (state) accumulate(in, p, depth, normal, color[0], lum[0], var[0], *state);
   int cur = 0;
   for (int it = 0; it < p.iterations; ++it, cur ^= 1) {
-    bind(color[cur], var[cur], color[cur ^ 1], var[cur ^ 1]);
+    bind(color[cur], lum[cur], var[cur], color[cur ^ 1], lum[cur ^ 1], var[cur ^ 1]);
     run(kAtrous, in.width, in.height, 1 << it);
   }
   const cl::Buffer out = buffer(kOut, 3 * n);
-  bind(color[cur], var[cur], out, var[cur ^ 1]);  // writes `out` only
+  bind(color[cur], lum[cur], var[cur], out, lum[cur ^ 1], var[cur ^ 1]);  // writes `out` only
   run(kRemodulate, in.width, in.height, 0);
   rt.queue.enqueueReadBuffer(out, CL_TRUE, 0, 3 * n * sizeof(float), out_rgb);
 }
 
 void OpenClDenoiser::Impl::accumulate(const DenoiseInput& in, const DenoiseParams& p,
                                       const cl::Buffer& depth, const cl::Buffer& normal,
-                                      cl::Buffer& color, cl::Buffer& variance, DenoiseState& s) {
+                                      cl::Buffer& color, cl::Buffer& luminance,
+                                      cl::Buffer& variance, DenoiseState& s) {
   const size_t n = size_t(in.width) * size_t(in.height);
   if (s.width != in.width || s.height != in.height) s.reset();
   CameraBlock cams[2]{};
@@ -174,6 +189,7 @@ void OpenClDenoiser::Impl::accumulate(const DenoiseInput& in, const DenoiseParam
                               previous(kPrevNormal, s.normal)};
   const cl::Buffer acc = buffer(kAccColor, 3 * n), moments = buffer(kAccMoments, 2 * n);
   const cl::Buffer history = buffer(kAccHistory, 2 * n), acc_variance = buffer(kAccVariance, n);
+  const cl::Buffer acc_luminance = buffer(kAccLuminance, n);
   cl::Kernel& k = temporal.kernel;
   const cl_float scalars[4] = {p.alpha, p.moments_alpha, p.depth_tolerance, p.normal_tolerance};
   k.setArg(1, cl_int(in.width));
@@ -181,10 +197,10 @@ void OpenClDenoiser::Impl::accumulate(const DenoiseInput& in, const DenoiseParam
   k.setArg(3, cl_int(has_previous));
   k.setArg(4, cl_int(in.variance != nullptr));
   for (cl_uint a = 0; a < 4; ++a) k.setArg(5 + a, scalars[a]);
-  const cl::Buffer* buffers[] = {&cameras, &color,   &variance, &depth,       &normal,
-                                 &prev[0], &prev[1], &prev[2],  &prev[3],     &prev[4],
-                                 &acc,     &moments, &history,  &acc_variance};
-  for (cl_uint a = 0; a < 14; ++a) k.setArg(9 + a, *buffers[a]);
+  const cl::Buffer* buffers[] = {&cameras, &color,   &variance, &depth,        &normal,
+                                 &prev[0], &prev[1], &prev[2],  &prev[3],      &prev[4],
+                                 &acc,     &moments, &history,  &acc_variance, &acc_luminance};
+  for (cl_uint a = 0; a < 15; ++a) k.setArg(9 + a, *buffers[a]);
   launch(temporal, 0, n);
   s.width = in.width, s.height = in.height, s.camera = cams[0];
   s.color.resize(3 * n), s.moments.resize(2 * n), s.history.resize(2 * n);
@@ -194,6 +210,7 @@ void OpenClDenoiser::Impl::accumulate(const DenoiseInput& in, const DenoiseParam
   s.depth.assign(in.depth, in.depth + n);
   s.normal.assign(in.normal, in.normal + 3 * n);
   color = acc;
+  luminance = acc_luminance;
   variance = acc_variance;
 }
 

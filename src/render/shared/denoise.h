@@ -33,16 +33,68 @@ MR_NAMESPACE_BEGIN
 #define MR_DENOISE_VARIANCE_RADIUS 3
 
 // The edge-stopping parameters of one filter run (render/denoise.h documents the
-// defaults); plain floats, so the OpenCL host passes them as kernel arguments.
+// defaults); the OpenCL host passes the four sigmas as kernel arguments and both sides
+// fill the struct with denoise_weights.
 typedef struct {
   float sigma_luminance;  // colour: luminance difference in standard deviations of noise
   float sigma_normal;     // normal: exponent of the cosine between the normals
   float sigma_depth;      // depth: relative error of the planar prediction of 1/depth
   float sigma_albedo;     // albedo: largest channel difference
+  // sigma_normal as 2^k for k in 0..MR_DENOISE_MAX_SQUARINGS: k, the cosine's squarings
+  // that raise it to sigma_normal (SVGF's 128: 7 multiplications instead of a pow);
+  // otherwise -1 (pow).
+  int normal_squarings;
 } DenoiseWeights;
+
+#define MR_DENOISE_MAX_SQUARINGS 10
+
+MR_DEVICE DenoiseWeights denoise_weights(float sigma_luminance, float sigma_normal,
+                                         float sigma_depth, float sigma_albedo) {
+  DenoiseWeights w;
+  w.sigma_luminance = sigma_luminance;
+  w.sigma_normal = sigma_normal;
+  w.sigma_depth = sigma_depth;
+  w.sigma_albedo = sigma_albedo;
+  w.normal_squarings = -1;
+  float power = 1.0f;
+  for (int k = 0; k <= MR_DENOISE_MAX_SQUARINGS; ++k, power *= 2.0f)
+    if (sigma_normal == power) w.normal_squarings = k;
+  return w;
+}
+
+// cosine^sigma_normal, the normals' weight: by repeated squaring when the exponent is a
+// power of two (the same value as pow up to float rounding), else pow.
+MR_DEVICE float denoise_normal_weight(float cosine, const DenoiseWeights* w) {
+  float v = cosine;
+  if (w->normal_squarings == 7) {  // the default, 128, unrolled
+    v *= v;
+    v *= v;
+    v *= v;
+    v *= v;
+    v *= v;
+    v *= v;
+    return v * v;
+  }
+  if (w->normal_squarings < 0) return mr_pow(cosine, w->sigma_normal);
+  for (int k = 0; k < w->normal_squarings; ++k) v *= v;
+  return v;
+}
+
+// Below this exponent exp gives less than the smallest normal float (exp(-87.3365) is
+// 2^-126), which the CPU filter's float mode flushes to 0 (render/denoise.cpp): a tap
+// whose exponent is lower has weight 0 there and is skipped before its exp is taken. (A
+// device that keeps denormals loses a weight under 1.2e-38 of the centre's 9/64.)
+#define MR_DENOISE_EXP_ZERO -87.34f
 
 MR_DEVICE float denoise_luminance(mr_float3 c) {
   return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+}
+
+// The luminance of colour pixel `i` into `luminance_out`: each pass that writes a colour
+// the filter reads writes its luminance too, so taps read it instead of computing it.
+MR_DEVICE void denoise_store_luminance(const MR_GLOBAL float* color,
+                                       MR_GLOBAL float* luminance_out, int i) {
+  luminance_out[i] = denoise_luminance(load3(color + 3 * i));
 }
 
 // B3-spline taps (1, 4, 6, 4, 1) / 16 at offsets -2..2.
@@ -66,15 +118,17 @@ MR_DEVICE mr_float3 denoise_factor(const MR_GLOBAL float* albedo, const MR_GLOBA
          MR_FLOAT3(MR_DENOISE_ALBEDO_EPS, MR_DENOISE_ALBEDO_EPS, MR_DENOISE_ALBEDO_EPS);
 }
 
-// Pixel `i` demodulated into `color_out`; a non-finite beauty channel is taken as 0 (one
-// NaN would otherwise spread over the filter's whole footprint). With `variance` (may be
-// null in C++; the OpenCL host passes has_variance 0 instead) the given variance is
-// scaled to the demodulated colour, by the factor's luminance squared (exact for a grey
-// albedo, an approximation for a coloured one).
+// Pixel `i` demodulated into `color_out` (and its luminance into `luminance_out`); a
+// non-finite beauty channel is taken as 0 (one NaN would otherwise spread over the
+// filter's whole footprint). With `variance` (may be null in C++; the OpenCL host passes
+// has_variance 0 instead) the given variance is scaled to the demodulated colour, by the
+// factor's luminance squared (exact for a grey albedo, an approximation for a coloured
+// one).
 MR_DEVICE void denoise_demodulate(const MR_GLOBAL float* beauty, const MR_GLOBAL float* albedo,
                                   const MR_GLOBAL float* depth, const MR_GLOBAL float* variance,
                                   int has_variance, MR_GLOBAL float* color_out,
-                                  MR_GLOBAL float* variance_out, int i) {
+                                  MR_GLOBAL float* luminance_out, MR_GLOBAL float* variance_out,
+                                  int i) {
   const mr_float3 f = denoise_factor(albedo, depth, i);
   const mr_float3 c = load3(beauty + 3 * i);
   // Channel by channel: clang turns finite3's && into a select guarded by an LLVM
@@ -82,6 +136,7 @@ MR_DEVICE void denoise_demodulate(const MR_GLOBAL float* beauty, const MR_GLOBAL
   color_out[3 * i] = (mr_isfinite(c.x) ? c.x : 0.0f) / f.x;
   color_out[3 * i + 1] = (mr_isfinite(c.y) ? c.y : 0.0f) / f.y;
   color_out[3 * i + 2] = (mr_isfinite(c.z) ? c.z : 0.0f) / f.z;
+  denoise_store_luminance(color_out, luminance_out, i);
   if (has_variance) {
     const float l = denoise_luminance(f);
     const float v = variance[i];
@@ -118,46 +173,98 @@ MR_DEVICE float denoise_slope(const MR_GLOBAL float* depth, int i, int stride, i
   return before ? db : da;
 }
 
-// The weight the guides give tap q when filtering pixel p, as factor · exp(*exponent): 0
-// or 1 (exponent 0) when one or both are misses (misses mix only with misses); otherwise
-// the normal's weight times exp of the depth's and albedo's exponents. A caller with more
-// exponents of its own adds them before one exp (denoise_atrous_pixel). (dx, dy): q - p in
-// pixels; (sx, sy): p's slopes of 1/depth.
-MR_DEVICE float denoise_guide_terms(const MR_GLOBAL float* albedo, const MR_GLOBAL float* normal,
-                                    const MR_GLOBAL float* depth, int p, int q, int dx, int dy,
-                                    float sx, float sy, const DenoiseWeights* w, float* exponent) {
-  *exponent = 0.0f;
-  const bool miss_p = denoise_is_miss(depth, p), miss_q = denoise_is_miss(depth, q);
-  if (miss_p || miss_q) return miss_p && miss_q ? 1.0f : 0.0f;
-  const float cosine = mr_fmax(0.0f, dot3(load3(normal + 3 * p), load3(normal + 3 * q)));
-  if (!(cosine > 0.0f)) return 0.0f;
-  const float w_normal = mr_pow(cosine, w->sigma_normal);
-  // How far q's 1/depth lies off p's plane, relative to p's 1/depth.
-  const float zp = denoise_inv_depth(depth, p);
-  const float predicted = zp + sx * (float)dx + sy * (float)dy;
-  const float off = mr_fabs(denoise_inv_depth(depth, q) - predicted) / (zp * w->sigma_depth);
-  const mr_float3 da = load3(albedo + 3 * p) - load3(albedo + 3 * q);
-  const float a = mr_fmax(mr_fabs(da.x), mr_fmax(mr_fabs(da.y), mr_fabs(da.z))) / w->sigma_albedo;
-  *exponent = -(off * off) - a * a;
-  return w_normal;
-}
-
-// The guides' weight of tap q for pixel p (denoise_guide_terms, exp taken).
-MR_DEVICE float denoise_guide_weight(const MR_GLOBAL float* albedo, const MR_GLOBAL float* normal,
-                                     const MR_GLOBAL float* depth, int p, int q, int dx, int dy,
-                                     float sx, float sy, const DenoiseWeights* w) {
-  float exponent;
-  const float factor =
-      denoise_guide_terms(albedo, normal, depth, p, q, dx, dy, sx, sy, w, &exponent);
-  return factor > 0.0f ? factor * mr_exp(exponent) : 0.0f;
-}
-
 // p's slopes of 1/depth, x and y (denoise_slope).
 MR_DEVICE mr_float2 denoise_slopes(const MR_GLOBAL float* depth, int width, int height, int x,
                                    int y) {
   const int p = y * width + x;
   return MR_FLOAT2(denoise_slope(depth, p, 1, x > 0, x + 1 < width),
                    denoise_slope(depth, p, width, y > 0, y + 1 < height));
+}
+
+// The guides packed for the filter's taps, MR_DENOISE_GUIDE_FLOATS floats a pixel, so that
+// a tap reads one record instead of three buffers and divides nothing: normal (3), 1/depth
+// (denoise_inv_depth), albedo (3), and 1 on a miss, 0 on a hit.
+#define MR_DENOISE_GUIDE_FLOATS 8
+
+// Writes pixel (x, y)'s guide record and its slopes of 1/depth (2 floats a pixel,
+// denoise_slopes): what every iteration of the filter reads, made once a frame.
+MR_DEVICE void denoise_pack_guides(const MR_GLOBAL float* albedo, const MR_GLOBAL float* normal,
+                                   const MR_GLOBAL float* depth, int width, int height, int x,
+                                   int y, MR_GLOBAL float* guides_out,
+                                   MR_GLOBAL float* slopes_out) {
+  const int i = y * width + x;
+  MR_GLOBAL float* g = guides_out + MR_DENOISE_GUIDE_FLOATS * i;
+  g[0] = normal[3 * i];
+  g[1] = normal[3 * i + 1];
+  g[2] = normal[3 * i + 2];
+  g[3] = denoise_inv_depth(depth, i);
+  g[4] = albedo[3 * i];
+  g[5] = albedo[3 * i + 1];
+  g[6] = albedo[3 * i + 2];
+  g[7] = denoise_is_miss(depth, i) ? 1.0f : 0.0f;
+  const mr_float2 s = denoise_slopes(depth, width, height, x, y);
+  slopes_out[2 * i] = s.x;
+  slopes_out[2 * i + 1] = s.y;
+}
+
+// Pixel p's side of the guide weights of its taps, loaded once for all of them: its
+// guides, its slopes, and the depth and albedo terms' divisors as reciprocals.
+typedef struct {
+  mr_float3 normal, albedo;
+  float inv_depth, slope_x, slope_y;
+  float depth_scale;   // 1 / (p's 1/depth * sigma_depth); 0 on a miss (unused)
+  float albedo_scale;  // 1 / sigma_albedo
+  int miss;
+} DenoiseCentre;
+
+MR_DEVICE DenoiseCentre denoise_centre(const MR_GLOBAL float* guides,
+                                       const MR_GLOBAL float* slopes, int p,
+                                       const DenoiseWeights* w) {
+  const MR_GLOBAL float* g = guides + MR_DENOISE_GUIDE_FLOATS * p;
+  DenoiseCentre c;
+  c.normal = load3(g);
+  c.albedo = load3(g + 4);
+  c.inv_depth = g[3];
+  c.slope_x = slopes[2 * p];
+  c.slope_y = slopes[2 * p + 1];
+  c.miss = g[7] != 0.0f;
+  c.depth_scale = c.miss ? 0.0f : 1.0f / (c.inv_depth * w->sigma_depth);
+  c.albedo_scale = 1.0f / w->sigma_albedo;
+  return c;
+}
+
+// The guides' terms of tap q's weight when filtering the centre c: returns the cosine
+// between the normals, which denoise_normal_weight raises to the normal's weight, and
+// sets *exponent to the sum of the depth's and albedo's exponents (the weight is then
+// the normal's weight times exp(*exponent)). Misses mix only with misses: 1 and exponent
+// 0 (weight exactly 1) when both are misses, 0 (no weight) when one is. A caller with
+// exponents of its own adds them before one exp (denoise_atrous_pixel). (dx, dy): q - p
+// in pixels. Returns 0 where the normals' weight is 0 (they face apart).
+MR_DEVICE float denoise_guide_terms(const DenoiseCentre* c, const MR_GLOBAL float* guides, int q,
+                                    int dx, int dy, float* exponent) {
+  *exponent = 0.0f;
+  const MR_GLOBAL float* g = guides + MR_DENOISE_GUIDE_FLOATS * q;
+  const bool miss_q = g[7] != 0.0f;
+  if (c->miss || miss_q) return c->miss && miss_q ? 1.0f : 0.0f;
+  const float cosine = dot3(c->normal, load3(g));
+  if (!(cosine > 0.0f)) return 0.0f;
+  // How far q's 1/depth lies off p's plane, relative to p's 1/depth.
+  const float predicted = c->inv_depth + c->slope_x * (float)dx + c->slope_y * (float)dy;
+  const float off = mr_fabs(g[3] - predicted) * c->depth_scale;
+  const mr_float3 da = c->albedo - load3(g + 4);
+  const float a = mr_fmax(mr_fabs(da.x), mr_fmax(mr_fabs(da.y), mr_fabs(da.z))) * c->albedo_scale;
+  *exponent = -(off * off) - a * a;
+  return cosine;
+}
+
+// The guides' weight of tap q for the centre c (denoise_guide_terms, the normal's weight
+// and exp taken).
+MR_DEVICE float denoise_guide_weight(const DenoiseCentre* c, const MR_GLOBAL float* guides, int q,
+                                     int dx, int dy, const DenoiseWeights* w) {
+  float exponent;
+  const float cosine = denoise_guide_terms(c, guides, q, dx, dy, &exponent);
+  if (!(cosine > 0.0f) || exponent < MR_DENOISE_EXP_ZERO) return 0.0f;
+  return denoise_normal_weight(cosine, w) * mr_exp(exponent);
 }
 
 MR_NAMESPACE_END

@@ -16,13 +16,13 @@ MR_NAMESPACE_BEGIN
 // the guides (so the window keeps to the centre's surface), and their difference. The
 // window's spread of the lighting itself counts as noise: an overestimate where the
 // lighting changes, which only lets the colour weight blur a little more there.
-MR_DEVICE float denoise_spatial_variance(const MR_GLOBAL float* color,
-                                         const MR_GLOBAL float* albedo,
-                                         const MR_GLOBAL float* normal,
-                                         const MR_GLOBAL float* depth, int width, int height,
+// `luminance`: of the demodulated colour (denoise_store_luminance); `guides`, `slopes`:
+// denoise_pack_guides's.
+MR_DEVICE float denoise_spatial_variance(const MR_GLOBAL float* luminance,
+                                         const MR_GLOBAL float* guides,
+                                         const MR_GLOBAL float* slopes, int width, int height,
                                          int x, int y, const DenoiseWeights* w) {
-  const int p = y * width + x;
-  const mr_float2 s = denoise_slopes(depth, width, height, x, y);
+  const DenoiseCentre centre = denoise_centre(guides, slopes, y * width + x, w);
   float sum = 0.0f, m1 = 0.0f, m2 = 0.0f;
   for (int dy = -MR_DENOISE_VARIANCE_RADIUS; dy <= MR_DENOISE_VARIANCE_RADIUS; ++dy) {
     const int qy = y + dy;
@@ -31,8 +31,8 @@ MR_DEVICE float denoise_spatial_variance(const MR_GLOBAL float* color,
       const int qx = x + dx;
       if (qx < 0 || qx >= width) continue;
       const int q = qy * width + qx;
-      const float g = denoise_guide_weight(albedo, normal, depth, p, q, dx, dy, s.x, s.y, w);
-      const float l = denoise_luminance(load3(color + 3 * q));
+      const float g = denoise_guide_weight(&centre, guides, q, dx, dy, w);
+      const float l = luminance[q];
       sum += g;
       m1 += g * l;
       m2 += g * l * l;
@@ -63,22 +63,26 @@ MR_DEVICE float denoise_blurred_variance(const MR_GLOBAL float* variance, int wi
 // One à-trous iteration at pixel (x, y) with taps `step` pixels apart: the 5x5 B3-spline
 // taps that lie inside the image, each weighted by the guides and by how many standard
 // deviations of noise its luminance differs from the centre's, normalised by the sum of
-// the weights. Writes the filtered colour and the variance of the filtered value (the
-// variances of the taps with the squared weights, the taps taken as independent).
+// the weights. Writes the filtered colour, its luminance (for the next iteration's taps)
+// and the variance of the filtered value (the variances of the taps with the squared
+// weights, the taps taken as independent). `luminance_in`: of `color_in`
+// (denoise_store_luminance); `guides`, `slopes`: denoise_pack_guides's.
 MR_DEVICE void denoise_atrous_pixel(const MR_GLOBAL float* color_in,
+                                    const MR_GLOBAL float* luminance_in,
                                     const MR_GLOBAL float* variance_in,
-                                    const MR_GLOBAL float* albedo, const MR_GLOBAL float* normal,
-                                    const MR_GLOBAL float* depth, MR_GLOBAL float* color_out,
+                                    const MR_GLOBAL float* guides, const MR_GLOBAL float* slopes,
+                                    MR_GLOBAL float* color_out, MR_GLOBAL float* luminance_out,
                                     MR_GLOBAL float* variance_out, int width, int height, int x,
                                     int y, int step, const DenoiseWeights* w) {
   const int p = y * width + x;
-  const mr_float2 s = denoise_slopes(depth, width, height, x, y);
-  const float lp = denoise_luminance(load3(color_in + 3 * p));
+  const DenoiseCentre centre = denoise_centre(guides, slopes, p, w);
+  const float lp = luminance_in[p];
   // 1e-10: a noiseless image (variance 0) still divides by something, and its equal
-  // luminances give weight exp(0) = 1.
-  const float scale =
-      w->sigma_luminance * mr_sqrt(denoise_blurred_variance(variance_in, width, height, x, y)) +
-      1e-10f;
+  // luminances give weight exp(0) = 1. Its reciprocal, to multiply each tap by.
+  const float inv_scale =
+      1.0f /
+      (w->sigma_luminance * mr_sqrt(denoise_blurred_variance(variance_in, width, height, x, y)) +
+       1e-10f);
   float sum = 0.0f, var = 0.0f;
   mr_float3 c = MR_FLOAT3(0.0f, 0.0f, 0.0f);
   for (int j = -2; j <= 2; ++j) {
@@ -89,15 +93,15 @@ MR_DEVICE void denoise_atrous_pixel(const MR_GLOBAL float* color_in,
       if (qx < 0 || qx >= width) continue;
       const int q = qy * width + qx;
       float exponent;
-      const float g = denoise_guide_terms(albedo, normal, depth, p, q, i * step, j * step, s.x,
-                                          s.y, w, &exponent);
-      if (!(g > 0.0f)) continue;  // weight 0: the tap adds nothing
-      const mr_float3 cq = load3(color_in + 3 * q);
+      const float cosine = denoise_guide_terms(&centre, guides, q, i * step, j * step, &exponent);
+      if (!(cosine > 0.0f)) continue;  // weight 0: the tap adds nothing
       // One exp for the guides' and the luminance's exponents together.
-      const float k = denoise_b3(i) * denoise_b3(j) * g *
-                      mr_exp(exponent - mr_fabs(denoise_luminance(cq) - lp) / scale);
+      exponent -= mr_fabs(luminance_in[q] - lp) * inv_scale;
+      if (exponent < MR_DENOISE_EXP_ZERO) continue;  // weight 0 too
+      const float k =
+          denoise_b3(i) * denoise_b3(j) * denoise_normal_weight(cosine, w) * mr_exp(exponent);
       sum += k;
-      c = c + cq * k;
+      c = c + load3(color_in + 3 * q) * k;
       var += k * k * variance_in[q];
     }
   }
@@ -106,6 +110,7 @@ MR_DEVICE void denoise_atrous_pixel(const MR_GLOBAL float* color_in,
   color_out[3 * p] = c.x * inv;
   color_out[3 * p + 1] = c.y * inv;
   color_out[3 * p + 2] = c.z * inv;
+  denoise_store_luminance(color_out, luminance_out, p);
   variance_out[p] = var * inv * inv;
 }
 

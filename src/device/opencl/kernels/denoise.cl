@@ -4,36 +4,39 @@
 // (opencl_denoise.cpp). Every pass reads buffers it does not write, so pixels are
 // independent of each other and of the launch shape.
 
-#define MR_DENOISE_DEMODULATE 0  // beauty (+ variance) -> color_out, variance_out
-#define MR_DENOISE_VARIANCE 1    // color_in -> variance_out: the spatial estimate
-#define MR_DENOISE_ATROUS 2      // color_in, variance_in -> color_out, variance_out
+// The passes, what each reads -> writes:
+// beauty (+ variance) -> guides, slopes; the beauty demodulated: color, luminance, variance
+#define MR_DENOISE_PREPARE 0
+#define MR_DENOISE_VARIANCE 1    // luminance_in -> variance_out: the spatial estimate
+#define MR_DENOISE_ATROUS 2      // color, luminance, variance in -> the same out
 #define MR_DENOISE_REMODULATE 3  // color_in -> color_out: the image
 
+// `guides` and `slopes` are written by MR_DENOISE_PREPARE and read by the later passes.
 __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void denoise_pass(
     int pass, int offset, int width, int height, int step, int has_variance,
     float sigma_luminance, float sigma_normal, float sigma_depth, float sigma_albedo,
     __global const float* beauty, __global const float* albedo, __global const float* normal,
     __global const float* depth, __global const float* variance,
     __global const float* color_in, __global const float* variance_in,
-    __global float* color_out, __global float* variance_out) {
+    __global float* color_out, __global float* variance_out, __global float* guides,
+    __global float* slopes, __global const float* luminance_in, __global float* luminance_out) {
   // A division and no remainder: with both, clang pairs them through an LLVM `freeze`,
   // which Oclgrind's --uninitialized check cannot interpret.
   const int i = offset + (int)get_global_id(0);
   if (i >= width * height) return;
   const int y = i / width, x = i - y * width;
-  DenoiseWeights w;
-  w.sigma_luminance = sigma_luminance;
-  w.sigma_normal = sigma_normal;
-  w.sigma_depth = sigma_depth;
-  w.sigma_albedo = sigma_albedo;
-  if (pass == MR_DENOISE_DEMODULATE) {
-    denoise_demodulate(beauty, albedo, depth, variance, has_variance, color_out, variance_out, i);
+  const DenoiseWeights w = denoise_weights(sigma_luminance, sigma_normal, sigma_depth,
+                                           sigma_albedo);
+  if (pass == MR_DENOISE_PREPARE) {
+    denoise_pack_guides(albedo, normal, depth, width, height, x, y, guides, slopes);
+    denoise_demodulate(beauty, albedo, depth, variance, has_variance, color_out, luminance_out,
+                       variance_out, i);
   } else if (pass == MR_DENOISE_VARIANCE) {
     variance_out[i] =
-        denoise_spatial_variance(color_in, albedo, normal, depth, width, height, x, y, &w);
+        denoise_spatial_variance(luminance_in, guides, slopes, width, height, x, y, &w);
   } else if (pass == MR_DENOISE_ATROUS) {
-    denoise_atrous_pixel(color_in, variance_in, albedo, normal, depth, color_out, variance_out,
-                         width, height, x, y, step, &w);
+    denoise_atrous_pixel(color_in, luminance_in, variance_in, guides, slopes, color_out,
+                         luminance_out, variance_out, width, height, x, y, step, &w);
   } else {
     denoise_remodulate(color_in, albedo, depth, color_out, i);
   }
@@ -42,7 +45,8 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void denois
 // SVGF's temporal step (render/shared/denoise_temporal.h) for pixel offset +
 // get_global_id(0): cameras[0] is the current frame's camera, cameras[1] the previous
 // one's (read only when has_previous). Writes the accumulated colour, moments and
-// (history length, variance), and the variance alone into variance_out for the filter.
+// (history length, variance), and for the filter the variance alone into variance_out and
+// the colour's luminance into luminance_out.
 __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void denoise_temporal(
     int offset, int width, int height, int has_previous, int has_given_variance, float alpha,
     float moments_alpha, float depth_tolerance, float normal_tolerance,
@@ -52,7 +56,7 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void denois
     __global const float* prev_moments, __global const float* prev_history,
     __global const float* prev_depth, __global const float* prev_normal,
     __global float* out_color, __global float* out_moments, __global float* out_history,
-    __global float* variance_out) {
+    __global float* variance_out, __global float* luminance_out) {
   const int i = offset + (int)get_global_id(0);
   if (i >= width * height) return;
   const int y = i / width, x = i - y * width;  // no remainder: see denoise_pass
@@ -67,4 +71,5 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void denois
                          prev_color, prev_moments, prev_history, prev_depth, prev_normal,
                          out_color, out_moments, out_history, width, height, x, y, &t);
   variance_out[i] = out_history[2 * i + 1];
+  denoise_store_luminance(out_color, luminance_out, i);
 }
