@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 #include "render/path_tracer.h"
 #include "render/shared/denoise_atrous.h"
@@ -74,11 +75,13 @@ void prepare_frame(const DenoiseInput& in, const DenoiseWeights& w, DenoiseBuffe
                        b.color[0].data(), b.luminance[0].data(), b.variance[0].data(),
                        y * in.width + x);
   });
-  if (!in.variance)
-    for_each_denoise_pixel(in.width, in.height, [&](int x, int y) {
-      b.variance[0][size_t(y) * size_t(in.width) + size_t(x)] = denoise_spatial_variance(
-          b.luminance[0].data(), b.guides.data(), b.slopes.data(), in.width, in.height, x, y, &w);
-    });
+  // The variance to start from (denoise_start_variance), into slot 1, then swapped in.
+  for_each_denoise_pixel(in.width, in.height, [&](int x, int y) {
+    b.variance[1][size_t(y) * size_t(in.width) + size_t(x)] =
+        denoise_start_variance(in.variance != nullptr, b.variance[0].data(), b.luminance[0].data(),
+                               b.guides.data(), b.slopes.data(), in.width, in.height, x, y, &w);
+  });
+  std::swap(b.variance[0], b.variance[1]);
 }
 
 // The à-trous iterations, from slot `cur` of `b`; returns the slot holding the result.

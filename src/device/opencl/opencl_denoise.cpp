@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -154,10 +155,10 @@ void OpenClDenoiser::Impl::denoise(const DenoiseInput& in, DenoiseState* state, 
   k.setArg(20, buffer(kSlopes, 2 * n));
   bind(color[1], lum[1], var[1], color[0], lum[0], var[0]);  // and the guides
   run(kPrepare, in.width, in.height, 0);
-  if (!in.variance) {
-    bind(color[0], lum[0], var[1], color[1], lum[1], var[0]);  // writes var[0] only
-    run(kVariance, in.width, in.height, 0);
-  }
+  // The variance to start from (denoise_start_variance): var[0] -> var[1], swapped in.
+  bind(color[0], lum[0], var[0], color[1], lum[1], var[1]);  // writes var[1] only
+  run(kVariance, in.width, in.height, 0);
+  std::swap(var[0], var[1]);
   if (state) accumulate(in, p, depth, normal, color[0], lum[0], var[0], *state);
   int cur = 0;
   for (int it = 0; it < p.iterations; ++it, cur ^= 1) {

@@ -44,6 +44,23 @@ MR_DEVICE float denoise_spatial_variance(const MR_GLOBAL float* luminance,
   return mr_fmax(0.0f, m2 - m1 * m1);
 }
 
+// The variance the filter starts from at pixel (x, y): the renderer's (`given`, scaled by
+// denoise_demodulate) where it was given, else the spatial estimate above. Also the
+// spatial estimate for a black pixel whose given variance is 0: all its samples returned
+// nothing, which says little about its mean at a few samples per pixel, yet a variance of
+// 0 makes the luminance weight shut out every neighbour, so the pixel stayed black
+// (issue 52: the salt and pepper of the Sponza hall at 16 spp). Among black neighbours
+// the estimate is 0 too: a region that is black throughout stays black.
+MR_DEVICE float denoise_start_variance(int has_variance, const MR_GLOBAL float* given,
+                                       const MR_GLOBAL float* luminance,
+                                       const MR_GLOBAL float* guides,
+                                       const MR_GLOBAL float* slopes, int width, int height, int x,
+                                       int y, const DenoiseWeights* w) {
+  const int i = y * width + x;
+  if (has_variance && !(given[i] == 0.0f && luminance[i] == 0.0f)) return given[i];
+  return denoise_spatial_variance(luminance, guides, slopes, width, height, x, y, w);
+}
+
 // The variance at p blurred by a 3x3 Gaussian (1 2 1 / 2 4 2 / 1 2 1, over what lies
 // inside the image): SVGF's guard against a noisy variance estimate stopping the filter.
 MR_DEVICE float denoise_blurred_variance(const MR_GLOBAL float* variance, int width, int height,

@@ -7,7 +7,8 @@
 // The passes, what each reads -> writes:
 // beauty (+ variance) -> guides, slopes; the beauty demodulated: color, luminance, variance
 #define MR_DENOISE_PREPARE 0
-#define MR_DENOISE_VARIANCE 1    // luminance_in -> variance_out: the spatial estimate
+#define MR_DENOISE_VARIANCE 1    // variance_in, luminance_in -> variance_out: the start
+                                 // (denoise_start_variance)
 #define MR_DENOISE_ATROUS 2      // color, luminance, variance in -> the same out
 #define MR_DENOISE_REMODULATE 3  // color_in -> color_out: the image
 
@@ -32,8 +33,8 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void denois
     denoise_demodulate(beauty, albedo, depth, variance, has_variance, color_out, luminance_out,
                        variance_out, i);
   } else if (pass == MR_DENOISE_VARIANCE) {
-    variance_out[i] =
-        denoise_spatial_variance(luminance_in, guides, slopes, width, height, x, y, &w);
+    variance_out[i] = denoise_start_variance(has_variance, variance_in, luminance_in, guides,
+                                             slopes, width, height, x, y, &w);
   } else if (pass == MR_DENOISE_ATROUS) {
     denoise_atrous_pixel(color_in, luminance_in, variance_in, guides, slopes, color_out,
                          luminance_out, variance_out, width, height, x, y, step, &w);
