@@ -64,10 +64,11 @@ void group_options(CLI::App& cmd) {
 void hide_uncommon_options(CLI::App& cmd) {
   // What a first run and most later ones use; the rest is one flag away.
   static const std::vector<std::string> common = {
-      "--res",       "--spp",     "--frames",   "--camera",     "--camera-path", "--env",
-      "--devices",   "--threads", "--balancer", "--balancers",  "--regret",      "--out",
-      "--overwrite", "--exr",     "--exposure", "--overlay",    "--quiet",       "--json",
-      "--report",    "--repeats", "--trace",    "--integrator", "--port",        "--bind"};
+      "--res",     "--spp",        "--frames",    "--camera",   "--camera-path",
+      "--env",     "--devices",    "--threads",   "--balancer", "--balancers",
+      "--regret",  "--out",        "--overwrite", "--exr",      "--exposure",
+      "--overlay", "--quiet",      "--json",      "--report",   "--repeats",
+      "--trace",   "--integrator", "--port",      "--bind",     "--denoise"};
   // The two long entries, shortened (their full lists are in --help-all).
   if (CLI::Option* d = cmd.get_option_no_throw("--devices"))
     d->description(

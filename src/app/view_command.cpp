@@ -7,6 +7,7 @@
 #include "app/commands.h"
 #include "core/console.h"
 #include "core/error.h"
+#include "render/denoise.h"
 #include "run/interrupt.h"
 
 #ifdef MULTIRAY_HAS_VIEWER
@@ -64,6 +65,21 @@ Runner add_view_command(CLI::App& app) {
                   "this scale of the image's width and height, in [0.1, 1], and upsampled "
                   "(1: full size always)")
       ->capture_default_str();
+  auto denoise = std::make_shared<std::string>("auto");
+  {
+    std::string help =
+        "The denoiser of the streamed frames, switchable in the page (docs/noise.md, \"The "
+        "denoiser\"):";
+    for (const DenoiseMethodInfo& m : denoise_methods())
+      help += std::string(" ") + m.name + ": " + m.help + ";";
+    help.back() = '.';
+    help +=
+        " While the camera moves each frame is filtered (svgf with its history over the "
+        "moves); while it stands the refined image is filtered by the à-trous filter alone "
+        "(the refinement is the history). Meshes with the path integrator, uniform or "
+        "adaptive sampling and no --ground (auto: none elsewhere)";
+    cmd->add_option("--denoise", *denoise, help)->capture_default_str();
+  }
   cmd->add_flag("--ar", *ar,
                 "Augmented reality (docs/ar.md): the page films with the device's camera and "
                 "shows the --ground layer over it, turned with the device's orientation. A "
@@ -112,6 +128,8 @@ Runner add_view_command(CLI::App& app) {
     // not apply to sample maps); volumes have frame-time targeting instead.
     if (!volume_input && o->sampling == "uniform") vo.move_scale = *move_scale;
     vo.distributed = o->distributed.enabled;
+    o->viewer = true;  // --denoise auto: svgf where the run can record feature buffers
+    o->denoise = *denoise;
     Run s;
     int worker_exit = 0;
     std::vector<std::string> specs{*balancer};
@@ -119,6 +137,9 @@ Runner add_view_command(CLI::App& app) {
     if (!session) return worker_exit;  // a worker rank: it served the master until the end
     report_auto_choice(s, specs[0], "--balancer", false);
     vo.volume = s.volume;
+    vo.can_denoise = s.can_record_features;
+    parse_denoise(*denoise, vo.denoise);                    // checked by start_run
+    if (!vo.can_denoise) vo.denoise = DenoiseChoice::none;  // auto (others were refused)
     std::vector<std::string> names;
     for (const auto& d : s.devices) names.push_back(d->info().name);
     viewer::LiveView view(*session, OrbitCamera(s.camera, s.up), names, vo);

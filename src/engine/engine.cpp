@@ -127,15 +127,14 @@ void Engine::render_pass(int frame, const std::vector<ViewSetup>& views,
   const balance::FrameShape shape = plan_pass(frame, views, settings, advice, rec);
   size_images(images, views.size(), shape.width, shape.height, settings);
 
-  // The plan's quality: smaller views (rendered into scaled_images_, upsampled after) and
-  // a longer ray step.
+  // The plan's quality: smaller views (rendered into scaled_images_, upsampled after with
+  // their feature buffers, core/resample.h) and a longer ray step. Sample maps are per
+  // output pixel and do not scale.
   const double scale = last_plan_.quality.image_scale;
   const bool scaled = scale != 1.0;
   for (const ViewSetup& v : views)
-    if (scaled && (v.spp_map || v.foveation || settings.feature_buffers))
-      throw InputError(
-          "a reduced image scale does not work with adaptive or foveated sampling or feature "
-          "buffers (AOVs)");
+    if (scaled && (v.spp_map || v.foveation))
+      throw InputError("a reduced image scale does not work with adaptive or foveated sampling");
   const balance::FrameShape rendered = balance::scaled_shape(shape, scale);
   FrameJob job{views, settings, scaled ? &scaled_images_ : &images};
   job.settings.step_scale = float(settings.step_scale * last_plan_.quality.step_scale);

@@ -32,8 +32,9 @@ class Engine {
 
   // Renders all `views` of `frame` (same size each) into `images` (resized to one
   // output-size image per view) and returns the measurements. Applies the plan's quality:
-  // at image_scale < 1 the views are rendered smaller and upscaled bilinearly
-  // (core/resample.h); the settings' step_scale is multiplied by the plan's. Throws DeviceError
+  // at image_scale < 1 the views are rendered smaller and upscaled bilinearly, feature
+  // buffers too (core/resample.h: output-size buffers that describe the enlarged beauty);
+  // the settings' step_scale is multiplied by the plan's. Throws DeviceError
   // when every device has failed, InputError for a reduced image scale with irregular sampling.
   // With an advisor that asks for a second pass (two-pass targeting) the frame is rendered twice
   // and the record covers both (FrameRecord::first_pass_ms).

@@ -22,6 +22,8 @@ class FrameDenoiser {
   // features) and returns the filter's wall time, ms. `views` give svgf its cameras.
   double apply(const std::vector<ViewSetup>& views, const std::vector<Framebuffer>& images,
                std::vector<Framebuffer>& out);
+  // The same for one image, view `view`'s (its history); `camera`: svgf's, or null.
+  void apply_view(size_t view, const Framebuffer& image, const Camera* camera, Framebuffer& out);
   // Forgets every view's history (a new scene, a cut in the camera path).
   void reset() { states_.clear(); }
 

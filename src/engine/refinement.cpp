@@ -21,6 +21,7 @@ const Framebuffer& Refinement::add(const Framebuffer& image, const RefineKey& ke
   const bool restart = frames_ == 0 || !(key == key_) || image.width != mean_.width ||
                        image.height != mean_.height || image.alpha.size() != alpha_sum_.size() ||
                        image.features.empty() != mean_.features.empty();
+  restarted_ = restart;
   if (!restart && samples() + frame_spp_ > target_spp_) return mean_;  // converged
   if (restart) {
     key_ = key;

@@ -42,12 +42,15 @@ class Refinement {
 
   // Samples per pixel of the image add() returned last.
   int samples() const { return frames_ * frame_spp_; }
+  // Whether the last add() started again from its frame (a new key, size or layers).
+  bool restarted() const { return restarted_; }
   int target_spp() const { return target_spp_; }
 
  private:
   int frame_spp_, target_spp_;
   RefineKey key_;
   int frames_ = 0;
+  bool restarted_ = false;
   std::vector<Vec3> sum_;         // the frames' radiance summed, per pixel
   std::vector<float> alpha_sum_;  // and their alpha, when they have it
   FeatureRefinement features_;    // and their feature buffers, when they have them

@@ -96,7 +96,11 @@ std::shared_ptr<FrameResult> Session::free_buffer(size_t lane) {
   return buffers_[lane].back();
 }
 
-void Session::set_denoise(DenoiseMethod method) {
+void Session::take_up_denoise() {
+  const DenoiseMethod method = denoise_request_.load();
+  if (method == denoise_) return;  // the same method: every lane keeps its history
+  denoise_ = method;
+  // New denoisers: the histories of the method before are dropped with them.
   denoisers_.clear();
   if (method != DenoiseMethod::none) denoisers_.assign(engines_.size(), FrameDenoiser(method));
 }
@@ -115,6 +119,7 @@ std::shared_ptr<FrameResult> Session::render_lane(size_t lane, int frame, FrameI
         out->record.quality.image_scale == 1.0 && out->record.quality.step_scale == 1.0;
   input.finish(out->images);
   out->denoised.clear();
+  out->denoised_with = denoise_;
   if (!denoisers_.empty())
     out->record.denoise_ms = denoisers_[lane].apply(input.views, out->images, out->denoised);
   out->plan = engine.last_plan();
@@ -133,6 +138,7 @@ int Session::run(int first, int count, FrameObserver& observer) {
     if (schedule_) schedule_(frame, settings_);
     if (progressive_) continue_sequence(frame, camera, input);
     observer.before_frame(frame, input);
+    take_up_denoise();
     const size_t lanes = engines_.size();
     const size_t start =
         rotate_lanes_ && frame >= 0 ? (size_t(frame) + rotate_offset_) % lanes : 0;

@@ -35,7 +35,8 @@ struct FrameResult {
   // With a denoiser (Session::set_denoise), every view denoised (render/denoise.h), its
   // time in record.denoise_ms; empty otherwise. `images` stay the raw beauty.
   std::vector<Framebuffer> denoised;
-  balance::Plan plan;  // what the balancer planned
+  DenoiseMethod denoised_with = DenoiseMethod::none;  // what made `denoised`
+  balance::Plan plan;                                 // what the balancer planned
   // What each device actually rendered (after pulls and steals), per device.
   std::vector<std::vector<balance::WorkItem>> rendered;
   balance::FrameStats stats;  // per-item measurements, as the balancer was told
@@ -93,8 +94,15 @@ class Session {
   void set_progressive(bool on) { progressive_ = on; }
   // Denoises every lane's frames after the gather (FrameResult::denoised), each lane with
   // a history of its own; DenoiseMethod::none: no denoiser. The frames must record feature
-  // buffers (RenderSettings::feature_buffers), or they are passed through. Call before run().
-  void set_denoise(DenoiseMethod method);
+  // buffers (RenderSettings::feature_buffers), or they are passed through.
+  // May be called at any time from any thread (a live viewer's toggle): the method is
+  // taken up when a frame starts, after the observer's before_frame() (so a call from
+  // there applies to that frame), and holds for all its lanes. A different method starts
+  // every lane's history again (svgf's history from frames filtered otherwise, or not at
+  // all, is not this method's); the same method again keeps it.
+  void set_denoise(DenoiseMethod method) { denoise_request_ = method; }
+  // The method of the frame being rendered (or of the last one).
+  DenoiseMethod denoise() const { return denoise_; }
   // Which lane renders first in each frame. Off (the default): lane 0, 1, ... in every
   // frame. On: frame f starts at lane (f + offset) mod L and goes round, so every lane
   // renders first, second, ... equally often (a bench gives each repeat block another
@@ -129,6 +137,8 @@ class Session {
   // Lane `lane`'s rendering of `frame` (its record, images, denoised images and plan).
   std::shared_ptr<FrameResult> render_lane(size_t lane, int frame, FrameInput& input);
   Camera camera_at(int frame) const;
+  // Takes up the method set_denoise() asked for (between frames, on run()'s thread).
+  void take_up_denoise();
   void continue_sequence(int frame, const Camera& camera, FrameInput& input);
 
   std::vector<Device*> devices_;
@@ -153,8 +163,10 @@ class Session {
     std::vector<std::string> settings;
     uint32_t next = 0;
   } sequence_;
-  bool last_full_quality_ = true;         // the frame before was rendered at full quality
-  std::vector<FrameDenoiser> denoisers_;  // per lane, or none
+  bool last_full_quality_ = true;  // the frame before was rendered at full quality
+  std::atomic<DenoiseMethod> denoise_request_{DenoiseMethod::none};
+  DenoiseMethod denoise_ = DenoiseMethod::none;  // of denoisers_
+  std::vector<FrameDenoiser> denoisers_;         // per lane, or none
 };
 
 }  // namespace multiray

@@ -181,8 +181,8 @@ const std::vector<DenoiseMethodInfo>& denoise_methods() {
        "spatiotemporal variance-guided filtering (Schied et al. 2017): the frames accumulated "
        "through reprojection, then the à-trous filter guided by their variance"},
       {"auto", DenoiseChoice::automatic,
-       "svgf in the viewer while the camera moves, atrous for PNG output under 256 samples "
-       "per pixel, none otherwise"},
+       "svgf in the viewer while the camera moves and while its still image has under 256 "
+       "samples per pixel, atrous for PNG output under 256 samples per pixel, none otherwise"},
   };
   return methods;
 }
@@ -207,7 +207,7 @@ DenoiseMethod resolve_denoise(DenoiseChoice choice, const DenoiseContext& c) {
     case DenoiseChoice::automatic:
       break;
   }
-  if (c.viewer) return c.camera_moving ? DenoiseMethod::svgf : DenoiseMethod::none;
+  if (c.viewer) return c.camera_moving || c.spp < 256 ? DenoiseMethod::svgf : DenoiseMethod::none;
   return c.png_output && c.spp < 256 ? DenoiseMethod::atrous : DenoiseMethod::none;
 }
 

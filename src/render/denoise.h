@@ -106,9 +106,10 @@ const std::vector<DenoiseMethodInfo>& denoise_methods();
 // The choice named `name`; false when there is none (`out` untouched).
 bool parse_denoise(const std::string& name, DenoiseChoice& out);
 
-// What `auto` means for a run (issue 52): svgf in the viewer while the camera moves,
-// atrous for PNG output under 256 samples per pixel, none otherwise (the raw EXR beauty
-// is never touched unless asked). A named method is itself.
+// What `auto` means for a run (issue 52): svgf in the viewer while the camera moves and
+// while the image it shows has under 256 samples per pixel (`spp`: a still camera's
+// refined image), atrous for PNG output under 256 samples per pixel, none otherwise (the
+// raw EXR beauty is never touched unless asked). A named method is itself.
 struct DenoiseContext {
   bool viewer = false, camera_moving = false;
   bool png_output = false;

@@ -312,6 +312,7 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
     sampling.reference_spacing = o.reference_spacing;
   }
   s.settings.seed = parse_seed(o.seed);
+  s.can_record_features = features_refused(o, s.settings, sampling.mode, "").empty();
   s.settings.feature_buffers = check_feature_buffers(o, s.settings, sampling.mode);
   s.denoise = check_denoise(o, s.settings, sampling.mode);
   s.settings.feature_buffers |= s.denoise != DenoiseMethod::none;

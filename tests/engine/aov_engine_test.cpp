@@ -1,7 +1,9 @@
 // Feature buffers through the engine: bit-identical for every balancer and device count
 // (as the image is, engine_test.cpp), sized with the images only when a frame asks for
-// them, and gone again when the next one does not; the viewer's refinement of
-// progressive frames gives them as one render of all the frames' samples would.
+// them, and gone again when the next one does not; at a reduced image scale (the viewer's
+// frames while the camera moves) of the output's size and right on an analytic scene; the
+// viewer's refinement of progressive frames gives them as one render of all the frames'
+// samples would.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +12,7 @@
 #include <vector>
 
 #include "balance/balancer.h"
+#include "core/math.h"
 #include "device/cpu/cpu_device.h"
 #include "engine/engine.h"
 #include "engine/refinement.h"
@@ -76,6 +79,66 @@ TEST(AovEngine, BuffersOnlyForTheFramesThatAskForThem) {
   engine.render_frame(2, views(scene, 2), plain);
   EXPECT_TRUE(engine.images()[0].features.empty());
   EXPECT_TRUE(engine.images()[0].features.albedo.empty());
+}
+
+// Every frame at half the width and height, as the viewer's while the camera moves.
+struct HalfScale : FrameAdvisor {
+  FrameAdvice advise(int, const std::vector<ViewSetup>&, const RenderSettings&) override {
+    FrameAdvice a;
+    a.quality.image_scale = 0.5;
+    return a;
+  }
+  void measured(const FrameAdvice&, const FrameRecord&, const balance::FrameStats&) override {}
+};
+
+// A plane of albedo 0.5 seen level with its horizon, rendered at half size by two devices:
+// the feature buffers come out at the output's size, the sky rows a miss (albedo and
+// normal 0, depth +inf, never NaN), the plane's rows albedo 0.5, normal +y and the planar
+// depth 1/|s_y| of each output pixel's centre (s_y its ray's slope), which 1/depth's
+// interpolation reproduces (the nearest half-size pixel's depth is off by up to 9% here).
+TEST(AovEngine, FeatureBuffersAtAReducedImageScaleAreOfTheOutputsSize) {
+  Scene scene = make_lit_plane(0.5f, 1.0f);
+  scene.cameras[0] = Camera{{0, 1, 0}, {0, 1, -1}, {0, 1, 0}, 60.0f};
+  SceneCache cache(scene);
+  CpuDevice a(cache, CpuDeviceOptions{}, "cpu"), b(cache, CpuDeviceOptions{}, "cpu");
+  Engine engine({&a, &b}, balance::make_balancer("queue:tile=4", 2));
+  engine.set_advisor(std::make_unique<HalfScale>());
+  RenderSettings settings{.spp = 4, .max_bounces = 1};
+  settings.feature_buffers = true;
+  constexpr int n = 32;
+  ViewSetup v;
+  v.camera = scene.cameras[0];
+  v.width = v.height = n;
+  const FrameRecord rec = engine.render_frame(0, {v}, settings);
+  ASSERT_EQ(rec.quality.image_scale, 0.5);
+  const FeatureBuffers& f = engine.images()[0].features;
+  ASSERT_EQ(f.width, n);
+  ASSERT_EQ(f.height, n);
+  ASSERT_EQ(f.depth.size(), size_t(n * n));
+  const float tan_half = std::tan(30.0f * kPi / 180.0f);
+  int plane_rows = 0;
+  for (int y = 0; y < n; ++y) {
+    const float slope = (1.0f - (y + 0.5f) * 2.0f / n) * tan_half;  // of the pixel centre
+    // Rows whose half-size taps all see the sky (their centres above the horizon), and
+    // rows well below it (not the last: its taps are clamped to the last half-size row).
+    const bool sky = y < n / 2 - 1, plane = slope < -0.2f && y < n - 1;
+    plane_rows += plane;
+    for (int x = 0; x < n; ++x) {
+      const size_t i = size_t(y * n + x);
+      ASSERT_FALSE(std::isnan(f.depth[i]) || std::isnan(f.variance[i])) << x << "," << y;
+      if (sky) {
+        EXPECT_TRUE(std::isinf(f.depth[i])) << x << "," << y;
+        EXPECT_EQ(f.albedo[3 * i], 0.0f) << x << "," << y;
+        EXPECT_EQ(f.normal[3 * i + 1], 0.0f) << x << "," << y;
+      }
+      if (!plane) continue;
+      for (size_t c = 0; c < 3; ++c)
+        EXPECT_NEAR(f.albedo[3 * i + c], 0.5f, 1e-6f) << x << "," << y;
+      EXPECT_NEAR(f.normal[3 * i + 1], 1.0f, 1e-5f) << x << "," << y;
+      EXPECT_NEAR(f.depth[i], -1.0f / slope, 0.025f * (-1.0f / slope)) << x << "," << y;
+    }
+  }
+  EXPECT_GE(plane_rows, 8);
 }
 
 struct Keeper : FrameObserver {

@@ -257,7 +257,8 @@ TEST(Denoise, RegistryNamesEveryChoiceAndAutoFollowsTheIssue) {
   EXPECT_EQ(resolve_denoise(a, {.png_output = true, .spp = 256}), DenoiseMethod::none);
   EXPECT_EQ(resolve_denoise(a, {.png_output = false, .spp = 16}), DenoiseMethod::none);
   EXPECT_EQ(resolve_denoise(a, {.viewer = true, .camera_moving = true}), DenoiseMethod::svgf);
-  EXPECT_EQ(resolve_denoise(a, {.viewer = true}), DenoiseMethod::none);
+  EXPECT_EQ(resolve_denoise(a, {.viewer = true, .spp = 16}), DenoiseMethod::svgf);
+  EXPECT_EQ(resolve_denoise(a, {.viewer = true, .spp = 256}), DenoiseMethod::none);
   EXPECT_EQ(resolve_denoise(DenoiseChoice::svgf, {}), DenoiseMethod::svgf);
 }
 

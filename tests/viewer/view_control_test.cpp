@@ -28,6 +28,21 @@ TEST(ViewControl, GoodMessagesParse) {
   EXPECT_FLOAT_EQ(c.y, 12.5f);
 }
 
+// The page's denoise toggle: each of --denoise's values, and nothing else.
+TEST(ViewControl, DenoiseTakesTheMethodsOfDenoiseOnly) {
+  for (const DenoiseMethodInfo& m : denoise_methods()) {
+    const Command c =
+        parse_command(std::string(R"({"type":"denoise","method":")") + m.name + "\"}", 1);
+    EXPECT_EQ(c.kind, Command::Kind::Denoise) << m.name;
+    EXPECT_EQ(c.denoise, m.choice) << m.name;
+  }
+  for (const char* bad :
+       {R"({"type":"denoise"})", R"({"type":"denoise","method":1})",
+        R"({"type":"denoise","method":"oidn"})", R"({"type":"denoise","method":"SVGF"})",
+        R"({"type":"denoise","method":""})"})
+    EXPECT_THROW(parse_command(bad, 1), InputError) << bad;
+}
+
 TEST(ViewControl, BadMessagesAreRefusedInOneLine) {
   for (const char* bad : {"",
                           "{",

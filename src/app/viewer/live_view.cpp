@@ -28,7 +28,8 @@ LiveView::LiveView(Session& session, OrbitCamera camera, std::vector<std::string
     : session_(session),
       device_names_(std::move(device_names)),
       options_(std::move(options)),
-      camera_(std::move(camera)) {
+      camera_(std::move(camera)),
+      denoise_(options_.denoise) {
   if (options_.refine_spp > 0) {
     refinement_ = std::make_unique<Refinement>(options_.frame_spp, options_.refine_spp);
     session_.set_progressive(true);  // the frames averaged continue one sample sequence
@@ -48,6 +49,10 @@ LiveView::LiveView(Session& session, OrbitCamera camera, std::vector<std::string
       std::lock_guard<std::mutex> lock(volume_mutex_);
       v->apply(frame, s);
       if (style_override_) s.volume_style = style_override_;
+    });
+  else if (options_.can_denoise)  // feature buffers while a denoiser is chosen
+    session_.set_settings_schedule([this](int, RenderSettings& s) {
+      s.feature_buffers = denoise_.choice() != DenoiseChoice::none;
     });
   sender_ = std::thread([this] { send_loop(); });
 }
@@ -74,6 +79,8 @@ std::string LiveView::hello() const {
                      {"views", session_.views().rig().view_count()},
                      {"volume", options_.volume != nullptr},
                      {"ar", options_.ar},
+                     {"denoise", denoise_name(denoise_.choice())},
+                     {"can_denoise", options_.can_denoise},
                      {"presets", transfer_presets()},
                      {"target_ms", options_.volume ? options_.volume->options().target_ms : 0}},
       -1);
@@ -87,6 +94,15 @@ void LiveView::handle(int client, const std::string& text) {
       balance::make_balancer(c.spec, int(device_names_.size()));
   } catch (const std::exception& e) {  // InputError, or a bad balancer spec
     server_->send_text(client, error_json(e.what()));
+    return;
+  }
+  if (c.kind == Command::Kind::Denoise) {
+    if (!options_.can_denoise && c.denoise != DenoiseChoice::none)
+      server_->send_text(client, error_json("this run cannot record the feature buffers a "
+                                            "denoiser needs (the path integrator, uniform or "
+                                            "adaptive sampling and no --ground can)"));
+    else
+      denoise_.choose(c.denoise);
     return;
   }
   if (c.kind == Command::Kind::Tf || c.kind == Command::Kind::Target) {
@@ -151,38 +167,55 @@ std::string LiveView::volume_command(const Command& c) {
 
 void LiveView::before_frame(int frame, const FrameInput& input) {
   if (input.views.empty()) return;
+  const Camera& camera = input.views.front().camera;
+  // A frame is shown alone when the camera moved since the frame before (the refinement
+  // starts again from it) or moves now (it is rendered smaller).
+  const bool alone = !previous_camera_ ||
+                     !(RefineKey{*previous_camera_, 0, 0} == RefineKey{camera, 0, 0}) ||
+                     (motion_ && motion_->moving());
+  previous_camera_ = camera;
+  session_.set_denoise(options_.can_denoise ? denoise_.session_method(alone)
+                                            : DenoiseMethod::none);
   std::lock_guard<std::mutex> lock(mutex_);
-  frame_begun_[frame] = Begun{input.views.front().camera, input.views.front().first_sample};
+  frame_begun_[frame] = Begun{camera, input.views.front().first_sample};
 }
 
-std::shared_ptr<const Framebuffer> LiveView::shown_image(const FrameResult& r, int view,
-                                                         int* samples) {
+LiveView::Shown LiveView::shown_image(const FrameResult& r, int view, const Begun* begun) {
   const Framebuffer& img = r.images.at(size_t(view));
-  // The camera the frame was begun with (set_camera may have moved it since).
-  const auto it = frame_begun_.find(r.frame);
-  const bool known = it != frame_begun_.end();
-  const RefineKey key{known ? it->second.camera : Camera{}, view, 0};
-  frame_begun_.erase(frame_begun_.begin(), frame_begun_.upper_bound(r.frame));
-  if (!refinement_ || !known) {
-    *samples = 0;  // shown as rendered
-    return std::make_shared<const Framebuffer>(img);
+  Shown out;
+  if (begun) out.begun = *begun;
+  const Framebuffer* refined = &img;  // as rendered
+  bool restarted = true;
+  if (refinement_ && begun) {  // the camera the frame was begun with is the key
+    refined = &refinement_->add(img, RefineKey{begun->camera, view, 0});
+    out.samples = refinement_->samples();
+    restarted = refinement_->restarted();
   }
-  auto shown = std::make_shared<const Framebuffer>(refinement_->add(img, key));
-  *samples = refinement_->samples();
-  return shown;
+  out.image = denoise_.shown(r, size_t(view), *refined, out.samples, restarted, &out.denoised);
+  return out;
 }
 
 void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
   Engine& engine = session_.engine(result->lane);
+  int view = 0;
+  std::optional<Begun> begun;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    view = std::min(view_, int(result->images.size()) - 1);
+    // The camera the frame was begun with (set_camera may have moved it since).
+    const auto it = frame_begun_.find(result->frame);
+    if (it != frame_begun_.end()) begun = it->second;
+    frame_begun_.erase(frame_begun_.begin(), frame_begun_.upper_bound(result->frame));
+  }
+  // Outside the lock: refining and filtering take a while, and only this thread does them.
+  Shown shown = shown_image(*result, view, begun ? &*begun : nullptr);
   std::string request;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (pending_) ++dropped_;
     pending_ = result;
-    pending_view_ = std::min(view_, int(result->images.size()) - 1);
-    const auto began = frame_begun_.find(result->frame);  // before shown_image forgets it
-    pending_begun_ = began != frame_begun_.end() ? began->second : Begun{};
-    pending_image_ = shown_image(*result, pending_view_, &pending_samples_);
+    pending_view_ = view;
+    pending_shown_ = std::move(shown);
     pending_balancer_ = engine.balancer().spec();  // the one that planned this frame
     request.swap(balancer_request_);
     if (target_request_ > 0)
@@ -196,8 +229,8 @@ void LiveView::on_frame(const std::shared_ptr<const FrameResult>& result) {
 }
 
 std::string LiveView::frame_json(const FrameResult& r, int view, const std::string& balancer,
-                                 int samples, const Begun& begun) const {
-  const Camera& camera = begun.camera;
+                                 const Shown& shown) const {
+  const Camera& camera = shown.begun.camera;
   const FrameRecord& rec = r.record;
   nlohmann::json devices = nlohmann::json::array(), items = nlohmann::json::array();
   for (size_t d = 0; d < rec.devices.size(); ++d)
@@ -213,15 +246,20 @@ std::string LiveView::frame_json(const FrameResult& r, int view, const std::stri
         items.push_back({d, int(it.rect.x0 * scale), int(it.rect.y0 * scale),
                          int(it.rect.x1 * scale), int(it.rect.y1 * scale)});
   const Framebuffer& img = r.images.at(size_t(view));  // as rendered (the hash's image)
-  char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)image_hash(img));
+  const auto hex = [](uint64_t h) {
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", (unsigned long long)h);
+    return std::string(text);
+  };
   return study::dump_json(
       nlohmann::json{{"type", "frame"},
                      {"frame", r.frame},
                      {"view", view},
                      {"width", img.width},
                      {"height", img.height},
-                     {"image_hash", hash},
+                     {"image_hash", hex(image_hash(img))},
+                     {"shown_hash", hex(image_hash(*shown.image))},
+                     {"denoise", denoise_name(shown.denoised)},
                      {"camera",
                       {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
                        {"target", {camera.target.x, camera.target.y, camera.target.z}}}},
@@ -229,8 +267,8 @@ std::string LiveView::frame_json(const FrameResult& r, int view, const std::stri
                      {"imbalance", rec.imbalance},
                      {"balancer", balancer},
                      {"dropped", dropped_.load()},
-                     {"spp", samples},
-                     {"first_sample", begun.first_sample},
+                     {"spp", shown.samples},
+                     {"first_sample", shown.begun.first_sample},
                      {"image_scale", rec.quality.image_scale},
                      {"refine_spp", refinement_ ? refinement_->target_spp() : 0},
                      {"devices", devices},
@@ -241,23 +279,20 @@ std::string LiveView::frame_json(const FrameResult& r, int view, const std::stri
 void LiveView::send_loop() {
   for (;;) {
     std::shared_ptr<const FrameResult> frame;
-    std::shared_ptr<const Framebuffer> shown;
+    Shown shown;
     std::string balancer;
-    int view = 0, samples = 0;
-    Begun begun;
+    int view = 0;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [&] { return stop_ || pending_; });
       if (stop_) return;
       frame.swap(pending_);
-      shown.swap(pending_image_);
+      shown = std::move(pending_shown_);
       balancer = pending_balancer_;
       view = pending_view_;
-      samples = pending_samples_;
-      begun = pending_begun_;
     }
     if (server_->clients() == 0) continue;
-    const Framebuffer& img = *shown;
+    const Framebuffer& img = *shown.image;
     if (options_.meter_exposure) {  // this thread alone reads and writes options_.display
       options_.display.exposure_ev = metered_exposure_ev(img);
       options_.meter_exposure = false;
@@ -272,7 +307,7 @@ void LiveView::send_loop() {
       continue;  // an empty image; nothing to show
     }
     server_->broadcast_frame(std::make_shared<const OutFrame>(
-        OutFrame{frame_json(*frame, view, balancer, samples, begun), std::move(jpeg)}));
+        OutFrame{frame_json(*frame, view, balancer, shown), std::move(jpeg)}));
   }
 }
 

@@ -7,7 +7,8 @@
 // measurements for every client (web_server.h: each client's queue keeps the newest frame only);
 // frames that arrive while it is busy replace the one waiting (dropped, counted). Camera moves go
 // through Session::set_camera (thread-safe); a balancer switch is applied by on_frame,
-// between frames, on the session's thread.
+// between frames, on the session's thread. The denoiser (view_denoise.h) is chosen by the
+// page and set for each frame in before_frame.
 #pragma once
 
 #include <atomic>
@@ -15,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -22,6 +24,7 @@
 #include "app/viewer/listen_address.h"
 #include "app/viewer/motion.h"
 #include "app/viewer/view_control.h"
+#include "app/viewer/view_denoise.h"
 #include "app/viewer/web_server.h"
 #include "core/image.h"
 #include "engine/orbit_camera.h"
@@ -57,6 +60,12 @@ struct LiveViewOptions {
   // Augmented reality (--ar, docs/ar.md): the page shows the device's camera behind the
   // frames (RGBA, from --ground's shadow catcher) and turns the view with the device.
   bool ar = false;
+  // The denoiser to start with (--denoise; view_denoise.h), and whether the run can record
+  // the feature buffers it needs (Run::can_record_features): when it cannot, the choice
+  // must be none and the page may not turn it on. The frames record feature buffers while
+  // the choice is not none.
+  DenoiseChoice denoise = DenoiseChoice::none;
+  bool can_denoise = false;
 };
 
 class LiveView : public FrameObserver {
@@ -86,12 +95,21 @@ class LiveView : public FrameObserver {
     Camera camera;
     uint32_t first_sample = 0;
   };
-  // Sent as "camera": {"eye", "target"} and "first_sample".
-  std::string frame_json(const FrameResult& r, int view, const std::string& balancer, int samples,
-                         const Begun& begun) const;
-  // The image of `r`'s view `view` to show (refined, or as rendered) and its samples per
-  // pixel; on the session's thread, under mutex_.
-  std::shared_ptr<const Framebuffer> shown_image(const FrameResult& r, int view, int* samples);
+  // What the page is shown of a frame: the image, its samples per pixel (0: as rendered),
+  // the filter that made it, and how the frame was begun.
+  struct Shown {
+    std::shared_ptr<const Framebuffer> image;
+    int samples = 0;
+    DenoiseMethod denoised = DenoiseMethod::none;
+    Begun begun;
+  };
+  // Sent as "camera": {"eye", "target"}, "first_sample", "denoise" (the filter's name) and
+  // "shown_hash" (image_hash of the image shown; "image_hash" is the frame's as rendered).
+  std::string frame_json(const FrameResult& r, int view, const std::string& balancer,
+                         const Shown& shown) const;
+  // The image of `r`'s view `view` to show (refined, or as rendered; denoised or not), for
+  // a frame begun as `begun` (null: unknown); on the session's thread.
+  Shown shown_image(const FrameResult& r, int view, const Begun* begun);
 
   Session& session_;
   std::vector<std::string> device_names_;
@@ -101,11 +119,14 @@ class LiveView : public FrameObserver {
   std::mutex mutex_;  // guards the fields below
   std::condition_variable wake_;
   std::shared_ptr<const FrameResult> pending_;
-  std::shared_ptr<const Framebuffer> pending_image_;  // what to show of pending_
-  int pending_view_ = 0, pending_samples_ = 0;
-  Begun pending_begun_;
+  Shown pending_shown_;  // what to show of pending_
+  int pending_view_ = 0;
   std::map<int, Begun> frame_begun_;  // frames begun and not yet finished
+  // On the session's thread only: the refinement, the denoiser's state and the camera of
+  // the frame begun before.
   std::unique_ptr<Refinement> refinement_;
+  ViewDenoise denoise_;
+  std::optional<Camera> previous_camera_;
   std::shared_ptr<MotionClock> motion_;  // null: frames at full size while moving
   std::string pending_balancer_;         // the spec that planned pending_
   double target_request_ = 0;            // ms; 0: none pending

@@ -33,6 +33,7 @@ main { flex: 1; display: flex; min-height: 0; }
  <label>balancer <select id="balancer"></select></label>
  <label><input type="checkbox" id="overlayOn"> partition overlay</label>
  <label id="viewBox" hidden>view <select id="view"></select></label>
+ <label id="denoiseBox" hidden title="none: as rendered; atrous: each frame alone; svgf: with the frames before; auto: svgf while the camera moves and until the still image has 256 samples per pixel">denoise <select id="denoise"><option>none</option><option>atrous</option><option>svgf</option><option>auto</option></select></label>
  <button id="reset">reset camera</button>
  <button id="arStart" hidden>start AR camera</button>
  <span id="volBox" hidden><label>transfer function <select id="tf"></select></label>
@@ -90,6 +91,8 @@ function hello(m) {
   const vs = $("view"); vs.innerHTML = "";
   for (let i = 0; i < m.views; i++) { const o = document.createElement("option"); o.value = i; o.textContent = i; vs.appendChild(o); }
   $("viewBox").hidden = m.views < 2;
+  $("denoiseBox").hidden = !m.can_denoise;
+  $("denoise").value = m.denoise;
   $("volBox").hidden = !m.volume;
   $("arStart").hidden = !m.ar;
   if (m.ar && new URLSearchParams(location.search).get("ar")) startAr();  // ?ar=1: at once
@@ -111,7 +114,8 @@ function drawOverlay() {
 function drawStats(m) {
   const fps = frames / ((performance.now() - t0) / 1000);
   const refine = m.refine_spp > 0 ? `  ${m.spp < m.refine_spp ? "refining" : "done refining"} ${m.spp}/${m.refine_spp} spp` : "";
-  $("stats").textContent = `frame ${m.frame}  ${m.frame_ms.toFixed(1)} ms  ${fps.toFixed(1)} fps shown${refine}  imbalance ${(100 * m.imbalance).toFixed(1)}%  ${m.balancer}  dropped ${m.dropped}`;
+  const denoised = m.denoise !== "none" ? `  denoised (${m.denoise})` : "";
+  $("stats").textContent = `frame ${m.frame}  ${m.frame_ms.toFixed(1)} ms  ${fps.toFixed(1)} fps shown${refine}${denoised}  imbalance ${(100 * m.imbalance).toFixed(1)}%  ${m.balancer}  dropped ${m.dropped}`;
   if ($("balancer").value !== m.balancer.split(":")[0] && document.activeElement !== $("balancer")) $("balancer").value = m.balancer.split(":")[0];
   history.push(m.devices.map((d) => d.time_ms)); if (history.length > 100) history.shift();
   const g = plot.getContext("2d"), W = plot.width, H = plot.height - 40;
@@ -161,6 +165,7 @@ window.addEventListener("mousemove", (e) => {
 stage.addEventListener("wheel", (e) => { e.preventDefault(); acc.zoom *= Math.exp(e.deltaY * 0.001); queue(); }, { passive: false });
 $("balancer").addEventListener("change", () => send({ type: "balancer", spec: $("balancer").value }));
 $("view").addEventListener("change", () => send({ type: "view", index: Number($("view").value) }));
+$("denoise").addEventListener("change", () => send({ type: "denoise", method: $("denoise").value }));
 $("overlayOn").addEventListener("change", drawOverlay);
 $("reset").addEventListener("click", () => send({ type: "reset" }));
 $("tf").addEventListener("change", () => { if ($("tf").value) send({ type: "tf", preset: $("tf").value }); });

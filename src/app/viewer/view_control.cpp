@@ -65,6 +65,12 @@ Command parse_command(const std::string& text, int views) {
   } else if (t == "look") {
     c.kind = Command::Kind::Look;
     c.x = float(number(j, "yaw", -360, 360)), c.y = float(number(j, "pitch", -180, 180));
+  } else if (t == "denoise") {
+    c.kind = Command::Kind::Denoise;
+    const auto method = j.find("method");
+    if (method == j.end() || !method->is_string() ||
+        !parse_denoise(method->get<std::string>(), c.denoise))
+      throw InputError("'method' must be none, atrous, svgf or auto");
   } else if (t == "target") {
     c.kind = Command::Kind::Target;
     c.x = float(number(j, "ms", 1, 100000));

@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "render/denoise.h"
+
 namespace multiray::app::viewer {
 
 // One message from the page, a JSON object with "type":
@@ -20,12 +22,16 @@ namespace multiray::app::viewer {
 //   {"type":"target","ms":F}                volumes: frame-time target, F in [1, 100000]
 //   {"type":"look","yaw":DEG,"pitch":DEG}   AR: the device's turn since it started,
 //                                           |yaw| <= 360, |pitch| <= 180 (OrbitCamera::look)
+//   {"type":"denoise","method":NAME}        the denoiser: none, atrous, svgf or auto
+//                                           (render/denoise.h denoise_methods())
 struct Command {
-  enum class Kind { Orbit, Pan, Zoom, Reset, Balancer, View, Tf, Target, Look } kind = Kind::Reset;
+  enum class Kind { Orbit, Pan, Zoom, Reset, Balancer, View, Tf, Target, Look, Denoise };
+  Kind kind = Kind::Reset;
   float x = 0, y = 0;  // orbit / pan / look amounts, zoom factor or target ms in x
   std::string spec;    // balancer, or transfer-function preset
   std::string json;    // transfer function as JSON text
   int view = 0;
+  DenoiseChoice denoise = DenoiseChoice::none;
 };
 
 // Throws InputError (one line) for a message that is not such an object: bad JSON, an

@@ -1,0 +1,74 @@
+// Session::set_denoise during a run (the live viewer's toggle, issue 52): the method is
+// taken up when a frame starts, after the observer's before_frame(); a switch starts every
+// lane's history again, so the frame after it is what a new denoiser makes of it, while
+// the same method again keeps the history.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "balance/balancer.h"
+#include "device/cpu/cpu_device.h"
+#include "engine/frame_denoiser.h"
+#include "engine/session.h"
+#include "scene/builders.h"
+
+namespace multiray {
+namespace session_denoise_test {
+
+constexpr int kW = 24, kH = 16;
+
+// Asks for the method of `plan` before each frame, and keeps every frame.
+struct Switcher : FrameObserver {
+  Session* session = nullptr;
+  std::map<int, DenoiseMethod> plan;
+  std::vector<std::shared_ptr<const FrameResult>> results;
+  void before_frame(int frame, const FrameInput&) override { session->set_denoise(plan[frame]); }
+  void on_frame(const std::shared_ptr<const FrameResult>& r) override { results.push_back(r); }
+};
+
+// What a denoiser with no history makes of frame `r`.
+uint64_t fresh_denoised(DenoiseMethod method, const Camera& camera, const FrameResult& r) {
+  ViewSetup view;
+  view.camera = camera;
+  view.width = kW, view.height = kH;
+  FrameDenoiser fresh(method);
+  std::vector<Framebuffer> out;
+  fresh.apply({view}, r.images, out);
+  return image_hash(out.at(0));
+}
+
+TEST(SessionDenoise, ASwitchBetweenFramesStartsTheHistoryAgain) {
+  const Scene scene = make_cornell_box();
+  SceneCache cache(scene);
+  CpuDevice cpu(cache, CpuDeviceOptions{}, "cpu");
+  RenderSettings settings{.spp = 1, .max_bounces = 2};
+  settings.feature_buffers = true;
+  std::vector<std::unique_ptr<balance::Balancer>> lanes;
+  lanes.push_back(balance::make_balancer("uniform", 1));
+  Session session({&cpu}, std::move(lanes), FrameViews(CameraRig::single(), kW, kH, {}),
+                  CameraPath::fixed(scene.cameras[0]), settings);
+  Switcher s;
+  s.session = &session;
+  using M = DenoiseMethod;
+  s.plan = {{0, M::svgf}, {1, M::svgf}, {2, M::svgf}, {3, M::atrous}, {4, M::none}, {5, M::svgf}};
+  ASSERT_EQ(session.run(0, 6, s), 6);
+  ASSERT_EQ(s.results.size(), 6u);
+  for (int f = 0; f < 6; ++f) {
+    const FrameResult& r = *s.results[size_t(f)];
+    EXPECT_EQ(r.denoised_with, s.plan[f]) << "frame " << f;
+    EXPECT_EQ(r.denoised.empty(), s.plan[f] == M::none) << "frame " << f;
+  }
+  const Camera& camera = scene.cameras[0];
+  const auto denoised = [&](int f) { return image_hash(s.results[size_t(f)]->denoised.at(0)); };
+  // The same method again: svgf's history of frames 0 and 1 is in frame 2.
+  EXPECT_NE(denoised(2), fresh_denoised(M::svgf, camera, *s.results[2]));
+  // A switch: atrous from scratch; svgf after a frame without a denoiser starts again.
+  EXPECT_EQ(denoised(3), fresh_denoised(M::atrous, camera, *s.results[3]));
+  EXPECT_EQ(denoised(5), fresh_denoised(M::svgf, camera, *s.results[5]));
+  EXPECT_EQ(session.denoise(), M::svgf);
+}
+
+}  // namespace session_denoise_test
+}  // namespace multiray
