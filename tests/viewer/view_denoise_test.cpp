@@ -73,5 +73,35 @@ TEST(ViewDenoise, AStillImageIsFilteredOnceConvergedAndAutoStopsAt256Samples) {
   EXPECT_EQ(used, DenoiseMethod::atrous);
 }
 
+// auto filters a moving frame only while the filter costs at most 15% of a moving frame's
+// time (issue 52: the frame rate with svgf within 15% of the raw one): learnt from a
+// frame the session filtered, it then shows moving frames raw; a method named is followed.
+TEST(ViewDenoise, AutoShowsMovingFramesRawWhereTheFilterIsTooDear) {
+  for (const double denoise_ms : {1.0, 100.0}) {  // against a 10 ms frame
+    FrameResult r;
+    r.images = {noisy(1)};
+    r.denoised = {noisy(2)};
+    r.denoised_with = DenoiseMethod::svgf;
+    r.record.frame_ms = 10, r.record.denoise_ms = denoise_ms;
+    ViewDenoise d(DenoiseChoice::automatic);
+    ASSERT_EQ(d.session_method(true), DenoiseMethod::svgf) << "the first is filtered, to learn";
+    DenoiseMethod used = DenoiseMethod::none;
+    d.shown(r, 0, r.images[0], 1, true, &used);
+    const bool dear = denoise_ms > 1.5;
+    EXPECT_EQ(d.session_method(true), dear ? DenoiseMethod::none : DenoiseMethod::svgf)
+        << denoise_ms << " ms";
+    FrameResult next;  // the next moving frame, as the session then renders it
+    next.images = {noisy(3)};
+    next.record.frame_ms = 10;
+    const auto shown = d.shown(next, 0, next.images[0], 1, true, &used);
+    if (dear) {
+      EXPECT_EQ(image_hash(*shown), image_hash(next.images[0])) << "shown raw";
+      EXPECT_EQ(used, DenoiseMethod::none);
+    }
+    d.choose(DenoiseChoice::svgf);
+    EXPECT_EQ(d.session_method(true), DenoiseMethod::svgf) << "named: always followed";
+  }
+}
+
 }  // namespace view_denoise_test
 }  // namespace multiray::app::viewer
