@@ -12,9 +12,9 @@
 // The compact structures like for like (issue 11 asks for the paper's kd-tree against our
 // quantized BVH): the kd-tree of render/compact_kdtree.h is built over the same decoded
 // mesh in one or both of its forms (`--kd-form`: Wald & Havran's leaf-only tree, "leaf",
-// and Choi et al.'s with triangles in inner nodes, "choi", in Seo et al.'s setting; its
-// nodes, reference slots, leaf and inner references, bytes, depth and build time are
-// reported), then every structure answers the same closest-hit queries on one thread:
+// and Seo, Kim & Ihm's form with triangles in inner nodes (after Choi et al.), "seo", in Seo et
+// al.'s setting; its nodes, reference slots, leaf and inner references, bytes, depth and build
+// time are reported), then every structure answers the same closest-hit queries on one thread:
 // `--kd-rays` rays, half primary rays through a jittered grid of the default camera's
 // image, half cosine-distributed bounces from the primary hits in turn (found with the
 // BVH), all from fixed seeds; the median (and the least) of 3 alternate timings of the
@@ -30,15 +30,15 @@
 //
 // Usage: compact_bench [--res WxH] [--spp N] [--bounces N] [--reps N]
 //                      [--subdivide K] [--opencl] [--kd-rays N] [--kd-leaf N]
-//                      [--kd-traversal-cost C] [--kd-form leaf|choi|both]
-//                      [--kd-choi INNER,PATH,OCCU,FREQ] SCENE...
+//                      [--kd-traversal-cost C] [--kd-form leaf|seo|both]
+//                      [--kd-seo INNER,PATH,OCCU,FREQ] SCENE...
 // --subdivide K splits every triangle of the scenes into 4^K (a generated large mesh).
 // --kd-leaf N: nodes of N triangles or fewer become kd-tree leaves (default 1).
 // --kd-traversal-cost C: the SAH's cost of a kd-tree step, a triangle test costing 20
 // (default 15, Wald & Havran's; higher gives smaller, shallower trees).
 // --kd-form: which kd-trees to build and time (default both); JSON keys `kdtree` (leaf)
-// and `kdtree_choi`.
-// --kd-choi: the Choi form's inner references per node (0..2), per path, and thresholds
+// and `kdtree_seo`.
+// --kd-seo: the Seo form's inner references per node (0..2), per path, and thresholds
 // tau_occu and tau_freq (default 2,8,0.5,0.4, Seo et al.'s).
 #include <algorithm>
 #include <cmath>
@@ -106,14 +106,14 @@ struct Options {
   bool opencl = false;
   int kd_rays = 500000, kd_leaf = 1;
   float kd_traversal_cost = KdBuildOptions{}.traversal_cost;
-  bool kd_leaf_form = true, kd_choi_form = true;
-  KdBuildOptions kd_choi;  // its inner_refs_max, path_refs_max, tau_occu and tau_freq
+  bool kd_leaf_form = true, kd_seo_form = true;
+  KdBuildOptions kd_seo;  // its inner_refs_max, path_refs_max, tau_occu and tau_freq
 };
 
 // One kd-tree form: the tree, its build time, its timings and its disagreements with the
 // BVH (another distance; ties on another triangle at the same t agree).
 struct KdRun {
-  std::string form;  // "leaf" or "choi"
+  std::string form;  // "leaf" or "seo"
   KdBuildOptions options;
   CompactKdTree tree;
   double build_ms = 0;
@@ -123,15 +123,15 @@ struct KdRun {
 
 std::vector<KdRun> kd_forms(const Options& o) {
   std::vector<KdRun> runs;
-  const auto add = [&](const char* form, const KdBuildOptions& choi) {
+  const auto add = [&](const char* form, const KdBuildOptions& seo) {
     KdRun& k = runs.emplace_back();
     k.form = form;
-    k.options = choi;
+    k.options = seo;
     k.options.traversal_cost = o.kd_traversal_cost;
     k.options.leaf_triangles = o.kd_leaf;
   };
   if (o.kd_leaf_form) add("leaf", {.inner_refs_max = 0});
-  if (o.kd_choi_form) add("choi", o.kd_choi);
+  if (o.kd_seo_form) add("seo", o.kd_seo);
   return runs;
 }
 
@@ -366,7 +366,7 @@ nlohmann::json run(const std::string& path, const Options& o) {
         {"reps", o.reps}}}};
   size_t disagree = 0;  // over the forms (as before, when one form is run)
   for (const KdRun& k : kds) {
-    j[k.form == "leaf" ? "kdtree" : "kdtree_choi"] = kd_json(k, o);
+    j[k.form == "leaf" ? "kdtree" : "kdtree_seo"] = kd_json(k, o);
     disagree += k.disagree;
   }
   j["trace_rays"]["disagreements"] = disagree;
@@ -433,7 +433,7 @@ nlohmann::json run(const std::string& path, const Options& o) {
 constexpr const char* kUsage =
     "usage: compact_bench [--res WxH] [--spp N] [--bounces N] [--reps N] [--subdivide K]\n"
     "                     [--opencl] [--kd-rays N] [--kd-leaf N] [--kd-traversal-cost C]\n"
-    "                     [--kd-form leaf|choi|both] [--kd-choi INNER,PATH,OCCU,FREQ] SCENE...\n"
+    "                     [--kd-form leaf|seo|both] [--kd-seo INNER,PATH,OCCU,FREQ] SCENE...\n"
     "The compact scene against full precision and Embree: bytes, render times, PSNR and\n"
     "the traversals on the same rays (the header of bench/compact_bench.cpp says more).\n"
     "One JSON object a scene on stdout, a table on stderr.\n";
@@ -465,15 +465,15 @@ int main(int argc, char** argv) {
         o.kd_leaf = std::clamp(std::stoi(next()), 1, 1 << 20);
       } else if (a == "--kd-form") {
         const std::string f = next();
-        if (f != "leaf" && f != "choi" && f != "both")
-          throw std::invalid_argument("--kd-form wants leaf, choi or both");
-        o.kd_leaf_form = f != "choi", o.kd_choi_form = f != "leaf";
-      } else if (a == "--kd-choi") {
-        KdBuildOptions& c = o.kd_choi;
+        if (f != "leaf" && f != "seo" && f != "both")
+          throw std::invalid_argument("--kd-form wants leaf, seo or both");
+        o.kd_leaf_form = f != "seo", o.kd_seo_form = f != "leaf";
+      } else if (a == "--kd-seo") {
+        KdBuildOptions& c = o.kd_seo;
         if (std::sscanf(next().c_str(), "%d,%d,%f,%f", &c.inner_refs_max, &c.path_refs_max,
                         &c.tau_occu, &c.tau_freq) != 4 ||
             c.inner_refs_max < 0 || c.inner_refs_max > kMaxKdInnerRefs || c.path_refs_max < 0)
-          throw std::invalid_argument("--kd-choi wants INNER,PATH,OCCU,FREQ (INNER 0..2)");
+          throw std::invalid_argument("--kd-seo wants INNER,PATH,OCCU,FREQ (INNER 0..2)");
       } else if (a == "--kd-traversal-cost") {
         o.kd_traversal_cost = std::clamp(std::stof(next()), 0.0f, 1e6f);
       } else if (a == "--help" || a == "-h") {

@@ -62,14 +62,14 @@ TEST(CompactKdTreeChoi, HasFewerReferencesWithinItsBudgets) {
   const CompactMesh mesh = build_compact_mesh(scene);
   const size_t n = scene.triangle_count();
   const CompactKdTree leaf = build_compact_kdtree(mesh, {.inner_refs_max = 0});
-  const CompactKdTree choi = build_compact_kdtree(mesh);  // Seo et al.'s (2, 8, 0.5, 0.4)
+  const CompactKdTree seo = build_compact_kdtree(mesh);  // Seo et al.'s (2, 8, 0.5, 0.4)
   std::printf(
-      "leaf-only: %zu nodes, %zu refs, %zu bytes; choi: %zu nodes, %zu + %zu refs, %zu "
+      "leaf-only: %zu nodes, %zu refs, %zu bytes; seo: %zu nodes, %zu + %zu refs, %zu "
       "bytes\n",
-      leaf.tree_nodes(), leaf.refs.size(), leaf.bytes(), choi.tree_nodes(), choi.refs.size(),
-      choi.inner_refs, choi.bytes());
-  EXPECT_LT(choi.all_refs(), leaf.refs.size());
-  EXPECT_GT(choi.inner_refs, 0u);
+      leaf.tree_nodes(), leaf.refs.size(), leaf.bytes(), seo.tree_nodes(), seo.refs.size(),
+      seo.inner_refs, seo.bytes());
+  EXPECT_LT(seo.all_refs(), leaf.refs.size());
+  EXPECT_GT(seo.inner_refs, 0u);
   struct Budget {
     int node, path;
   };
