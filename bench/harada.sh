@@ -14,11 +14,16 @@
 #      devices; this runs 2);
 #   5. Harada & Fujita's setting: four identical devices, the irregular (foveated) pattern,
 #      732x800 (their 3.3% and 3.7%): four CPU devices at emulated speed 0.5, two a core,
-#      foveated direct illumination (the paper's shading differs: named in the docs).
+#      foveated direct illumination (the paper's shading differs: named in the docs);
+#   6. Harada's Fig. 4.4 as the paper runs it: foveated direct illumination, alpha = 0.2,
+#      on four devices (part 5's four identical emulated ones, two a core);
+#   7. Fig. 4.1's two *unlike* devices: adaptive AO at 1280x720 on one core at full speed
+#      and one at an emulated half speed (PAIR7; our OpenCL kernel has no AO, so no real
+#      unlike pair can run it: the ratio is ours, labelled emulated).
 # Deviation is the bench's mean_deviation: per frame max_i |t_i - mean| / mean over the
 # devices' own frame times, averaged over the frames after the warm-up.
 #   bench/harada.sh [BUILD] [FRAMES]   (default build/, 30; needs ../shared/data)
-#   PARTS (default 12345) picks the parts, REPEATS (3) the bench's repeat blocks.
+#   PARTS (default 12345; 6 and 7 on request) picks the parts, REPEATS (3) the bench's repeat blocks.
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
@@ -55,4 +60,12 @@ identical=cpu:threads=1:cores=0:speed=0.5,cpu:threads=1:cores=0:speed=0.5,cpu:th
 part 5 && "$bin" bench "$scene" --repeats "$repeats" --res 732x800 --integrator direct \
   --sampling foveated --frames "$frames" --devices "$identical" --balancers "$forms" \
   --json "$out/fujita_four_identical.json"
+part 6 && "$bin" bench "$scene" --repeats "$repeats" --res 1280x720 \
+  --integrator direct --sampling foveated --frames "$frames" \
+  --devices "$identical" --balancers semi-static:alpha=0.2,semi-static:alpha=0.2:split=rows:cdf=frame \
+  --json "$out/foveated_direct_four.json"
+pair7=${PAIR7:-cpu:threads=1:cores=0,cpu:threads=1:cores=1:speed=0.5}
+part 7 && "$bin" bench "$scene" --repeats "$repeats" --res 1280x720 \
+  --integrator ao --sampling adaptive --frames "$frames" \
+  --devices "$pair7" --balancers "$forms" --json "$out/ao_unlike_pair.json"
 echo "harada.sh: wrote $out"
