@@ -136,6 +136,7 @@ void Engine::render_pass(int frame, const std::vector<ViewSetup>& views,
     if (scaled && (v.spp_map || v.foveation))
       throw InputError("a reduced image scale does not work with adaptive or foveated sampling");
   const balance::FrameShape rendered = balance::scaled_shape(shape, scale);
+  last_scaled_ = scaled;
   FrameJob job{views, settings, scaled ? &scaled_images_ : &images};
   job.settings.step_scale = float(settings.step_scale * last_plan_.quality.step_scale);
   for (ViewSetup& v : job.views) v.width = rendered.width, v.height = rendered.height;

@@ -47,6 +47,12 @@ class Engine {
   }
 
   const std::vector<Framebuffer>& images() const { return images_; }
+  // The last frame's views as the devices rendered them, before they were enlarged to the
+  // output size (with their feature buffers: the session's denoiser filters these), or
+  // null when it was rendered at the output size (image_scale 1).
+  const std::vector<Framebuffer>* scaled_images() const {
+    return last_scaled_ ? &scaled_images_ : nullptr;
+  }
   const balance::Plan& last_plan() const { return last_plan_; }
   // The items each device actually rendered in the last frame (after pulls and steals).
   const std::vector<std::vector<balance::WorkItem>>& last_rendered() const { return rendered_; }
@@ -96,6 +102,7 @@ class Engine {
   std::unique_ptr<balance::Balancer> balancer_;
   std::unique_ptr<FrameAdvisor> advisor_;
   std::vector<Framebuffer> images_, scaled_images_;
+  bool last_scaled_ = false;  // the last pass was rendered into scaled_images_
   std::vector<bool> alive_;
   std::vector<bool> resting_;  // left out by the last plan (for note_participation)
   std::vector<Perturbation> perturbations_;

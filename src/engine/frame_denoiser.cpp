@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "core/clock.h"
+#include "core/resample.h"
 
 namespace multiray {
 
@@ -13,6 +14,19 @@ double FrameDenoiser::apply(const std::vector<ViewSetup>& views,
   out.resize(images.size());
   for (size_t v = 0; v < images.size(); ++v)
     apply_view(v, images[v], v < views.size() ? &views[v].camera : nullptr, out[v]);
+  return clock.elapsed_ms();
+}
+
+double FrameDenoiser::apply_scaled(const std::vector<ViewSetup>& views,
+                                   const std::vector<Framebuffer>& scaled, int width, int height,
+                                   std::vector<Framebuffer>& out) {
+  Stopwatch clock;
+  apply(views, scaled, small_);
+  out.resize(small_.size());
+  for (size_t v = 0; v < small_.size(); ++v) {
+    if (out[v].width != width || out[v].height != height) out[v] = Framebuffer(width, height);
+    upscale_bilinear(small_[v], out[v]);
+  }
   return clock.elapsed_ms();
 }
 

@@ -22,6 +22,13 @@ class FrameDenoiser {
   // features) and returns the filter's wall time, ms. `views` give svgf its cameras.
   double apply(const std::vector<ViewSetup>& views, const std::vector<Framebuffer>& images,
                std::vector<Framebuffer>& out);
+  // The same for views rendered smaller than the output (the plan's image scale under 1,
+  // Engine::scaled_images): each is filtered at the size it was rendered (a quarter of the
+  // taps at half scale; svgf's history then lives at that size) and the denoised image
+  // enlarged to `width` x `height` (core/resample.h upscale_bilinear), instead of the
+  // enlarged frame filtered at the output size. The time covers both.
+  double apply_scaled(const std::vector<ViewSetup>& views, const std::vector<Framebuffer>& scaled,
+                      int width, int height, std::vector<Framebuffer>& out);
   // The same for one image, view `view`'s (its history); `camera`: svgf's, or null.
   void apply_view(size_t view, const Framebuffer& image, const Camera* camera, Framebuffer& out);
   // Forgets every view's history (a new scene, a cut in the camera path).
@@ -31,7 +38,8 @@ class FrameDenoiser {
   DenoiseMethod method_;
   std::vector<DenoiseState> states_;  // per view
   std::vector<float> beauty_, result_;
-  DenoiseBuffers buffers_;  // the filter's, reused by every view and frame
+  std::vector<Framebuffer> small_;  // apply_scaled's denoised images before enlarging
+  DenoiseBuffers buffers_;          // the filter's, reused by every view and frame
 };
 
 }  // namespace multiray

@@ -105,6 +105,17 @@ void Session::take_up_denoise() {
   if (method != DenoiseMethod::none) denoisers_.assign(engines_.size(), FrameDenoiser(method));
 }
 
+double Session::denoise_lane(size_t lane, const FrameInput& input, FrameResult& out) {
+  FrameDenoiser& denoiser = denoisers_[lane];
+  // Views rendered smaller are filtered at that size, then enlarged; a reprojected frame's
+  // views are completed at the output size (FrameInput::finish), so it is filtered there.
+  const std::vector<Framebuffer>* scaled = engines_[lane]->scaled_images();
+  if (!scaled || input.reprojection || out.images.empty())
+    return denoiser.apply(input.views, out.images, out.denoised);
+  return denoiser.apply_scaled(input.views, *scaled, out.images[0].width, out.images[0].height,
+                               out.denoised);
+}
+
 std::shared_ptr<FrameResult> Session::render_lane(size_t lane, int frame, FrameInput& input) {
   active_lane_ = lane;
   Engine& engine = *engines_[lane];
@@ -120,8 +131,7 @@ std::shared_ptr<FrameResult> Session::render_lane(size_t lane, int frame, FrameI
   input.finish(out->images);
   out->denoised.clear();
   out->denoised_with = denoise_;
-  if (!denoisers_.empty())
-    out->record.denoise_ms = denoisers_[lane].apply(input.views, out->images, out->denoised);
+  if (!denoisers_.empty()) out->record.denoise_ms = denoise_lane(lane, input, *out);
   out->plan = engine.last_plan();
   out->rendered = engine.last_rendered();
   out->stats = engine.last_stats();

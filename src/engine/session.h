@@ -32,8 +32,10 @@ struct FrameResult {
   int frame = 0;
   FrameRecord record;
   std::vector<Framebuffer> images;  // every view at the output size
-  // With a denoiser (Session::set_denoise), every view denoised (render/denoise.h), its
-  // time in record.denoise_ms; empty otherwise. `images` stay the raw beauty.
+  // With a denoiser (Session::set_denoise), every view denoised (render/denoise.h), at the
+  // output size, its time in record.denoise_ms; empty otherwise. `images` stay the raw
+  // beauty. A frame rendered at a reduced image scale is filtered at the size it was
+  // rendered and then enlarged (FrameDenoiser::apply_scaled).
   std::vector<Framebuffer> denoised;
   DenoiseMethod denoised_with = DenoiseMethod::none;  // what made `denoised`
   balance::Plan plan;                                 // what the balancer planned
@@ -137,6 +139,10 @@ class Session {
   // Lane `lane`'s rendering of `frame` (its record, images, denoised images and plan).
   std::shared_ptr<FrameResult> render_lane(size_t lane, int frame, FrameInput& input);
   Camera camera_at(int frame) const;
+  // Lane `lane`'s denoiser on the frame it just rendered into `out` (out.denoised);
+  // returns its time, ms. Views rendered at a reduced image scale are filtered at that
+  // size and enlarged after (FrameDenoiser::apply_scaled).
+  double denoise_lane(size_t lane, const FrameInput& input, FrameResult& out);
   // Takes up the method set_denoise() asked for (between frames, on run()'s thread).
   void take_up_denoise();
   void continue_sequence(int frame, const Camera& camera, FrameInput& input);

@@ -1,7 +1,8 @@
 // Session::set_denoise during a run (the live viewer's toggle, issue 52): the method is
 // taken up when a frame starts, after the observer's before_frame(); a switch starts every
 // lane's history again, so the frame after it is what a new denoiser makes of it, while
-// the same method again keeps the history.
+// the same method again keeps the history. A frame rendered at a reduced image scale (the
+// viewer's moving frames) is filtered at the size it was rendered, then enlarged.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -9,7 +10,9 @@
 #include <vector>
 
 #include "balance/balancer.h"
+#include "core/resample.h"
 #include "device/cpu/cpu_device.h"
+#include "engine/frame_advisor.h"
 #include "engine/frame_denoiser.h"
 #include "engine/session.h"
 #include "scene/builders.h"
@@ -68,6 +71,94 @@ TEST(SessionDenoise, ASwitchBetweenFramesStartsTheHistoryAgain) {
   EXPECT_EQ(denoised(3), fresh_denoised(M::atrous, camera, *s.results[3]));
   EXPECT_EQ(denoised(5), fresh_denoised(M::svgf, camera, *s.results[5]));
   EXPECT_EQ(session.denoise(), M::svgf);
+}
+
+// Every frame at half the output's size, as the viewer's while the camera moves.
+struct HalfScale : FrameAdvisor {
+  FrameAdvice advise(int, const std::vector<ViewSetup>&, const RenderSettings&) override {
+    FrameAdvice a;
+    a.quality.image_scale = 0.5;
+    return a;
+  }
+  void measured(const FrameAdvice&, const FrameRecord&, const balance::FrameStats&) override {}
+};
+
+// Keeps every frame and the views as the engine rendered them, before enlarging.
+struct SmallFrames : FrameObserver {
+  Session* session = nullptr;
+  std::vector<std::shared_ptr<const FrameResult>> results;
+  std::vector<std::vector<Framebuffer>> small;
+  void on_frame(const std::shared_ptr<const FrameResult>& r) override {
+    results.push_back(r);
+    const std::vector<Framebuffer>* scaled = session->engine(0).scaled_images();
+    small.push_back(scaled ? *scaled : std::vector<Framebuffer>{});
+  }
+};
+
+// `frames` frames of the box at half scale, denoised by `method` in the session.
+SmallFrames run_half_scale(DenoiseMethod method, int frames) {
+  const Scene scene = make_cornell_box();
+  SceneCache cache(scene);
+  CpuDevice cpu(cache, CpuDeviceOptions{}, "cpu");
+  RenderSettings settings{.spp = 1, .max_bounces = 2};
+  settings.feature_buffers = true;
+  std::vector<std::unique_ptr<balance::Balancer>> lanes;
+  lanes.push_back(balance::make_balancer("uniform", 1));
+  Session session({&cpu}, std::move(lanes), FrameViews(CameraRig::single(), kW, kH, {}),
+                  CameraPath::fixed(scene.cameras[0]), settings);
+  session.set_advisors([](size_t) { return std::make_unique<HalfScale>(); });
+  session.set_denoise(method);
+  SmallFrames s;
+  s.session = &session;
+  EXPECT_EQ(session.run(0, frames, s), frames);
+  return s;
+}
+
+// `denoised` (a view at the rendered size) enlarged to the output's size.
+Framebuffer enlarged(const Framebuffer& denoised) {
+  Framebuffer out(kW, kH);
+  upscale_bilinear(denoised, out);
+  return out;
+}
+
+TEST(SessionDenoise, AFrameRenderedSmallerIsFilteredAtThatSizeThenEnlarged) {
+  const SmallFrames s = run_half_scale(DenoiseMethod::atrous, 1);
+  ASSERT_EQ(s.results.size(), 1u);
+  const FrameResult& r = *s.results[0];
+  ASSERT_EQ(r.record.quality.image_scale, 0.5);
+  ASSERT_EQ(s.small[0].size(), 1u);
+  const Framebuffer& small = s.small[0][0];
+  ASSERT_EQ(small.width, kW / 2);
+  ASSERT_FALSE(small.features.empty());
+  ASSERT_EQ(r.denoised.size(), 1u);
+  EXPECT_EQ(r.denoised[0].width, kW);
+  EXPECT_EQ(r.denoised[0].height, kH);
+  // enlarge(denoise(small frame)), bit for bit.
+  std::vector<Framebuffer> filtered;
+  FrameDenoiser(DenoiseMethod::atrous).apply({ViewSetup{}}, s.small[0], filtered);
+  EXPECT_EQ(image_hash(r.denoised[0]), image_hash(enlarged(filtered.at(0))));
+}
+
+TEST(SessionDenoise, SvgfKeepsItsHistoryOverFramesRenderedSmaller) {
+  constexpr int kFrames = 4;
+  const SmallFrames s = run_half_scale(DenoiseMethod::svgf, kFrames);
+  ASSERT_EQ(s.results.size(), size_t(kFrames));
+  // One svgf history over the small frames, each result enlarged: the session's frames.
+  const Camera camera = make_cornell_box().cameras[0];
+  ViewSetup view;
+  view.camera = camera;
+  FrameDenoiser replay(DenoiseMethod::svgf);
+  for (int f = 0; f < kFrames; ++f) {
+    ASSERT_EQ(s.small[size_t(f)].size(), 1u);
+    std::vector<Framebuffer> filtered;
+    replay.apply({view}, s.small[size_t(f)], filtered);
+    EXPECT_EQ(image_hash(s.results[size_t(f)]->denoised.at(0)), image_hash(enlarged(filtered[0])))
+        << "frame " << f;
+  }
+  // ... which is not what a fresh history makes of the last frame.
+  std::vector<Framebuffer> fresh;
+  FrameDenoiser(DenoiseMethod::svgf).apply({view}, s.small.back(), fresh);
+  EXPECT_NE(image_hash(s.results.back()->denoised.at(0)), image_hash(enlarged(fresh[0])));
 }
 
 }  // namespace session_denoise_test

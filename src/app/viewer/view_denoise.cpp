@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "balance/plan.h"
 #include "core/clock.h"
 
 namespace multiray::app::viewer {
@@ -17,6 +18,18 @@ std::string denoise_name(DenoiseMethod method) {
                       : method == DenoiseMethod::atrous ? DenoiseChoice::atrous
                                                         : DenoiseChoice::none);
 }
+
+namespace {
+
+// The pixels the session's denoiser filtered of a frame whose view is `image`: the view's
+// at the size it was rendered (the frame's image scale; FrameDenoiser::apply_scaled).
+double filtered_pixels(const FrameResult& r, const Framebuffer& image) {
+  balance::FrameShape shape;
+  shape.width = image.width, shape.height = image.height, shape.views = 1;
+  return double(balance::scaled_shape(shape, r.record.quality.image_scale).pixels());
+}
+
+}  // namespace
 
 DenoiseMethod ViewDenoise::session_method(bool alone) const {
   if (!alone) return DenoiseMethod::none;      // a still camera's image is filtered in shown()
@@ -40,11 +53,12 @@ std::shared_ptr<const Framebuffer> ViewDenoise::shown(const FrameResult& r, size
                                                       bool restarted, DenoiseMethod* used) {
   if (restarted) {  // a frame shown alone: what a moving frame costs raw
     moving_frame_ms_ = r.record.frame_ms + r.record.gather_ms;
-    pixels_ = double(refined.pixels.size());
+    pixels_ = filtered_pixels(r, refined);
   }
   // The session filtered this frame: it was begun to be shown alone.
   if (view < r.denoised.size() && r.denoised_with != DenoiseMethod::none) {
-    learn_cost(r.record.denoise_ms / double(r.denoised.size()), r.denoised[view].pixels.size());
+    learn_cost(r.record.denoise_ms / double(r.denoised.size()),
+               size_t(filtered_pixels(r, r.denoised[view])));
     held_.reset();
     *used = r.denoised_with;
     return std::make_shared<const Framebuffer>(r.denoised[view]);

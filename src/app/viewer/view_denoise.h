@@ -5,7 +5,8 @@
 // - A frame shown alone (the camera moved, so the refinement starts again from it, or it
 //   was rendered smaller while the camera moves): the session's denoiser filters it after
 //   the gather (Session::set_denoise, FrameResult::denoised), svgf with its history across
-//   the moving frames.
+//   the moving frames; a frame rendered smaller at the size it was rendered, the denoised
+//   image then enlarged (FrameDenoiser::apply_scaled).
 // - A still camera's refined image (engine/refinement.h: the mean of the frames since it
 //   stopped, with their feature buffers pooled): the à-trous filter here, spatial only,
 //   for svgf too: the refinement is the exact temporal accumulation (one camera, every
@@ -19,8 +20,9 @@
 // is filtered only while the filter costs at most kMovingShare of a moving frame's time
 // (issue 52's goal: the frame rate with svgf within 15% of the raw one). The cost is
 // learnt from every filtering here (ms per pixel) and the moving frames' engine time; the
-// first moving frame is filtered to measure it. On two CPU cores at 640x360 the filter
-// takes ~120 ms against a ~14 ms raw frame, so `auto` shows raw frames while the camera
+// first moving frame is filtered to measure it (per pixel filtered: a moving frame's are
+// those it was rendered at). On two CPU cores at 640x360 the filter took ~120 ms against
+// a ~14 ms raw frame (filtered at full size), so `auto` shows raw frames while the camera
 // moves, and filters the still image only while the filter has been idle for at least
 // (1 - kMovingShare) of the time, holding the last filtered image in between; a choice of
 // svgf or atrous by name is always followed.
@@ -70,7 +72,8 @@ class ViewDenoise {
 
   std::atomic<DenoiseChoice> choice_;
   // What auto's cost rule knows, written and read on the session's thread: the filter's
-  // ms per output pixel, a moving frame's engine time and its output size (< 0: unknown).
+  // ms per pixel filtered, a moving frame's engine time and the pixels the session filters
+  // of it, those it was rendered at (< 0: unknown).
   double ms_per_pixel_ = -1, moving_frame_ms_ = -1, pixels_ = -1;
   // When the still image was filtered last, and how long that took.
   std::chrono::steady_clock::time_point filtered_at_{};
