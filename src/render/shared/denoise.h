@@ -295,18 +295,19 @@ MR_DEVICE float denoise_guide_terms(const DenoiseCentre* c, const MR_GLOBAL floa
   return any_miss ? ((c->miss & miss_q) ? 1.0f : 0.0f) : cosine;
 }
 
-// A tap's weight: `kernel` (the filter's own weight of the tap) times the normals' weight
-// `normal_weight` (denoise_normal_weight of `cosine`) times exp(`exponent`); 0 where the
-// cosine is not positive (the normals face apart, or a miss meets a hit) or the exponent
-// is below MR_DENOISE_EXP_ZERO. Selected, not branched (see denoise_guide_terms).
-MR_DEVICE float denoise_tap_weight(float kernel, float cosine, float normal_weight,
+// A tap's weight: `kernel_weight` (the filter's own weight of the tap) times the normals'
+// weight `normal_weight` (denoise_normal_weight of `cosine`) times exp(`exponent`); 0
+// where the cosine is not positive (the normals face apart, or a miss meets a hit) or the
+// exponent is below MR_DENOISE_EXP_ZERO. Selected, not branched (see
+// denoise_guide_terms). (Not `kernel`: a keyword of OpenCL C.)
+MR_DEVICE float denoise_tap_weight(float kernel_weight, float cosine, float normal_weight,
                                    float exponent) {
   // Selects one after the other, on values: GCC vectorises these across pixels, not
   // nested conditions, nor mr_fmax (C++'s std::max returns a reference, and GCC then
   // loads from a selected address).
   const float e = cosine > 0.0f ? exponent : -INFINITY;
   const float clamped = e < MR_DENOISE_EXP_ZERO ? MR_DENOISE_EXP_ZERO : e;
-  const float k = kernel * normal_weight * denoise_exp(clamped);
+  const float k = kernel_weight * normal_weight * denoise_exp(clamped);
   return e >= MR_DENOISE_EXP_ZERO ? k : 0.0f;
 }
 
