@@ -290,9 +290,11 @@ MR_DEVICE float denoise_guide_terms(const DenoiseCentre* c, const MR_GLOBAL floa
   const float a = mr_fmax(mr_fabs(da.x), mr_fmax(mr_fabs(da.y), mr_fabs(da.z))) * c->albedo_scale;
   // | and & on ints, not || and &&: clang turns those into selects guarded by an LLVM
   // `freeze`, which Oclgrind's --uninitialized check cannot interpret.
+  // Selects one after the other, not nested: see denoise_tap_weight.
   const int any_miss = c->miss | miss_q;
+  const float misses = (c->miss & miss_q) ? 1.0f : 0.0f;
   *exponent = any_miss ? 0.0f : -(off * off) - a * a;
-  return any_miss ? ((c->miss & miss_q) ? 1.0f : 0.0f) : cosine;
+  return any_miss ? misses : cosine;
 }
 
 // A tap's weight: `kernel_weight` (the filter's own weight of the tap) times the normals'
