@@ -9,8 +9,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "render/denoise_rows.h"
 #include "render/path_tracer.h"
-#include "render/shared/denoise_atrous.h"
 #include "render/shared/denoise_temporal.h"
 
 namespace multiray {
@@ -35,17 +35,24 @@ class FlushDenormals {
   unsigned saved_;
 };
 
-// Calls f(x, y) for every pixel, rows spread over the calling thread's TBB arena. Each
-// pixel is written by one call that reads only buffers no call writes, so the result is
-// the same for any number of threads.
+// Calls f(y) for every row, rows spread over the calling thread's TBB arena. Each pixel
+// is written by one call that reads only buffers no call writes, so the result is the
+// same for any number of threads.
 template <class F>
-void for_each_denoise_pixel(int width, int height, F f) {
+void for_each_denoise_row(int height, F f) {
   oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<int>(0, height),
                             [&](const oneapi::tbb::blocked_range<int>& rows) {
                               const FlushDenormals mode;
-                              for (int y = rows.begin(); y < rows.end(); ++y)
-                                for (int x = 0; x < width; ++x) f(x, y);
+                              for (int y = rows.begin(); y < rows.end(); ++y) f(y);
                             });
+}
+
+// Calls f(x, y) for every pixel (for_each_denoise_row).
+template <class F>
+void for_each_denoise_pixel(int width, int height, F f) {
+  for_each_denoise_row(height, [&](int y) {
+    for (int x = 0; x < width; ++x) f(x, y);
+  });
 }
 
 DenoiseWeights denoise_weights_of(const DenoiseParams& p) {
@@ -76,11 +83,13 @@ void prepare_frame(const DenoiseInput& in, const DenoiseWeights& w, DenoiseBuffe
                        y * in.width + x);
   });
   // The variance to start from (denoise_start_variance), into slot 1, then swapped in.
-  for_each_denoise_pixel(in.width, in.height, [&](int x, int y) {
-    b.variance[1][size_t(y) * size_t(in.width) + size_t(x)] =
-        denoise_start_variance(in.variance != nullptr, b.variance[0].data(), b.luminance[0].data(),
-                               b.guides.data(), b.slopes.data(), in.width, in.height, x, y, &w);
-  });
+  DenoisePass pass;
+  pass.width = in.width, pass.height = in.height, pass.weights = w;
+  pass.luminance = b.luminance[0].data(), pass.variance = b.variance[0].data();
+  pass.guides = b.guides.data(), pass.slopes = b.slopes.data();
+  pass.variance_out = b.variance[1].data();
+  for_each_denoise_row(
+      in.height, [&](int y) { denoise_start_variance_row(pass, y, in.variance != nullptr); });
   std::swap(b.variance[0], b.variance[1]);
 }
 
@@ -89,12 +98,14 @@ int run_atrous(const DenoiseInput& in, const DenoiseParams& p, DenoiseBuffers& b
   const DenoiseWeights w = denoise_weights_of(p);
   for (int k = 0; k < p.iterations; ++k, cur ^= 1) {
     const int step = 1 << k, next = cur ^ 1;
-    for_each_denoise_pixel(in.width, in.height, [&](int x, int y) {
-      denoise_atrous_pixel(b.color[cur].data(), b.luminance[cur].data(), b.variance[cur].data(),
-                           b.guides.data(), b.slopes.data(), b.color[next].data(),
-                           b.luminance[next].data(), b.variance[next].data(), in.width, in.height,
-                           x, y, step, &w);
-    });
+    DenoisePass pass;
+    pass.width = in.width, pass.height = in.height, pass.weights = w;
+    pass.color = b.color[cur].data(), pass.luminance = b.luminance[cur].data();
+    pass.variance = b.variance[cur].data();
+    pass.guides = b.guides.data(), pass.slopes = b.slopes.data();
+    pass.color_out = b.color[next].data(), pass.luminance_out = b.luminance[next].data();
+    pass.variance_out = b.variance[next].data();
+    for_each_denoise_row(in.height, [&](int y) { denoise_atrous_row(pass, y, step); });
   }
   return cur;
 }

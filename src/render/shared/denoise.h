@@ -1,6 +1,7 @@
 // The denoiser's per-pixel steps, written once in render/shared/language.h's dialect: the
 // CPU's driver (render/denoise.cpp) and the OpenCL program (device/opencl/kernels/
-// denoise.cl) call the same functions, pixel by pixel, over full-frame buffers.
+// denoise.cl) call the same functions over full-frame buffers, OpenCL pixel by pixel, the
+// CPU mostly for several neighbouring pixels at once (render/denoise_rows.h).
 //
 // The filter is the edge-avoiding à-trous wavelet transform of Dammertz, Sewtz, Hanika and
 // Lensch, "Edge-Avoiding À-Trous Wavelet Transform for fast Global Illumination
@@ -82,9 +83,37 @@ MR_DEVICE float denoise_normal_weight(float cosine, const DenoiseWeights* w) {
 
 // Below this exponent exp gives less than the smallest normal float (exp(-87.3365) is
 // 2^-126), which the CPU filter's float mode flushes to 0 (render/denoise.cpp): a tap
-// whose exponent is lower has weight 0 there and is skipped before its exp is taken. (A
-// device that keeps denormals loses a weight under 1.2e-38 of the centre's 9/64.)
+// whose exponent is lower has weight 0 (denoise_tap_weight), and denoise_exp need not
+// reach below it. (A device that keeps denormals loses a weight under 1.2e-38 of the
+// centre's 9/64.)
 #define MR_DENOISE_EXP_ZERO -87.34f
+
+// exp(x) for the weights' exponents, x in [MR_DENOISE_EXP_ZERO, 0] (also right up to
+// x = 88), by a polynomial rather than the library's exp: branch-free, so the CPU computes
+// it for several neighbouring pixels at once (render/denoise_rows.cpp), and the same bits
+// on every backend, being additions and multiplications only (correctly rounded in C++
+// and OpenCL C alike; the OpenCL build contracts nothing into fma, and the CPU's code has
+// no fma). x = n ln 2 + r with n an integer and |r| <= ln 2 / 2 (ln 2 in two parts, the
+// first exact in few bits, so n times it is exact); exp(r) by the polynomial of Cephes'
+// expf (S. L. Moshier, Cephes Math Library); 2^n written into the exponent's bits. Its
+// relative error is a few float ulp (Denoise.PolynomialExpIsWithinAFewUlps). Below
+// MR_DENOISE_EXP_ZERO, n + 127 leaves the exponent field: callers clamp x first.
+MR_DEVICE float denoise_exp(float x) {
+  const float shift = 12582912.0f;  // 1.5 * 2^23: adding it rounds to an integer
+  const float t = x * 1.44269504f + shift;
+  const float n = t - shift;  // x / ln 2 rounded to the nearest integer
+  const float r = (x - n * 0.693359375f) + n * 2.12194440e-4f;
+  float p = 1.9875691500e-4f;
+  p = p * r + 1.3981999507e-3f;
+  p = p * r + 8.3334519073e-3f;
+  p = p * r + 4.1665795894e-2f;
+  p = p * r + 1.6666665459e-1f;
+  p = p * r + 5.0000001201e-1f;
+  p = p * (r * r) + r + 1.0f;
+  // n sits in t's low mantissa bits: t's bits minus shift's are n (mod 2^32).
+  const mr_uint biased = mr_float_as_uint(t) - mr_float_as_uint(shift) + 127u;
+  return p * mr_uint_as_float(biased << 23);
+}
 
 MR_DEVICE float denoise_luminance(mr_float3 c) {
   return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
@@ -182,29 +211,33 @@ MR_DEVICE mr_float2 denoise_slopes(const MR_GLOBAL float* depth, int width, int 
 }
 
 // The guides packed for the filter's taps, MR_DENOISE_GUIDE_FLOATS floats a pixel, so that
-// a tap reads one record instead of three buffers and divides nothing: normal (3), 1/depth
-// (denoise_inv_depth), albedo (3), and 1 on a miss, 0 on a hit.
+// a tap reads one place instead of three buffers and divides nothing: normal (3), 1/depth
+// (denoise_inv_depth), albedo (3), and 1 on a miss, 0 on a hit. They are planes, one
+// float a pixel each (float k of pixel i at guides[k * pixels + i]), so the guides of
+// neighbouring pixels are neighbours in memory: the CPU filters several pixels of a row
+// at once (render/denoise_rows.cpp). Slopes (denoise_slopes) likewise: x at slopes[i],
+// y at slopes[pixels + i].
 #define MR_DENOISE_GUIDE_FLOATS 8
 
-// Writes pixel (x, y)'s guide record and its slopes of 1/depth (2 floats a pixel,
+// Writes pixel (x, y)'s guides and its slopes of 1/depth (2 floats a pixel,
 // denoise_slopes): what every iteration of the filter reads, made once a frame.
 MR_DEVICE void denoise_pack_guides(const MR_GLOBAL float* albedo, const MR_GLOBAL float* normal,
                                    const MR_GLOBAL float* depth, int width, int height, int x,
                                    int y, MR_GLOBAL float* guides_out,
                                    MR_GLOBAL float* slopes_out) {
-  const int i = y * width + x;
-  MR_GLOBAL float* g = guides_out + MR_DENOISE_GUIDE_FLOATS * i;
+  const int i = y * width + x, pixels = width * height;
+  MR_GLOBAL float* g = guides_out + i;
   g[0] = normal[3 * i];
-  g[1] = normal[3 * i + 1];
-  g[2] = normal[3 * i + 2];
-  g[3] = denoise_inv_depth(depth, i);
-  g[4] = albedo[3 * i];
-  g[5] = albedo[3 * i + 1];
-  g[6] = albedo[3 * i + 2];
-  g[7] = denoise_is_miss(depth, i) ? 1.0f : 0.0f;
+  g[pixels] = normal[3 * i + 1];
+  g[2 * pixels] = normal[3 * i + 2];
+  g[3 * pixels] = denoise_inv_depth(depth, i);
+  g[4 * pixels] = albedo[3 * i];
+  g[5 * pixels] = albedo[3 * i + 1];
+  g[6 * pixels] = albedo[3 * i + 2];
+  g[7 * pixels] = denoise_is_miss(depth, i) ? 1.0f : 0.0f;
   const mr_float2 s = denoise_slopes(depth, width, height, x, y);
-  slopes_out[2 * i] = s.x;
-  slopes_out[2 * i + 1] = s.y;
+  slopes_out[i] = s.x;
+  slopes_out[pixels + i] = s.y;
 }
 
 // Pixel p's side of the guide weights of its taps, loaded once for all of them: its
@@ -217,18 +250,21 @@ typedef struct {
   int miss;
 } DenoiseCentre;
 
+// `pixels`: the frame's, width * height (the planes' size).
 MR_DEVICE DenoiseCentre denoise_centre(const MR_GLOBAL float* guides,
-                                       const MR_GLOBAL float* slopes, int p,
+                                       const MR_GLOBAL float* slopes, int pixels, int p,
                                        const DenoiseWeights* w) {
-  const MR_GLOBAL float* g = guides + MR_DENOISE_GUIDE_FLOATS * p;
+  const MR_GLOBAL float* g = guides + p;
   DenoiseCentre c;
-  c.normal = load3(g);
-  c.albedo = load3(g + 4);
-  c.inv_depth = g[3];
-  c.slope_x = slopes[2 * p];
-  c.slope_y = slopes[2 * p + 1];
-  c.miss = g[7] != 0.0f;
-  c.depth_scale = c.miss ? 0.0f : 1.0f / (c.inv_depth * w->sigma_depth);
+  c.normal = MR_FLOAT3(g[0], g[pixels], g[2 * pixels]);
+  c.albedo = MR_FLOAT3(g[4 * pixels], g[5 * pixels], g[6 * pixels]);
+  c.inv_depth = g[3 * pixels];
+  c.slope_x = slopes[p];
+  c.slope_y = slopes[pixels + p];
+  c.miss = g[7 * pixels] != 0.0f;
+  // Selected, not branched (denoise_guide_terms): a miss's 1/depth is 0, its scale inf.
+  const float depth_scale = 1.0f / (c.inv_depth * w->sigma_depth);
+  c.depth_scale = c.miss ? 0.0f : depth_scale;
   c.albedo_scale = 1.0f / w->sigma_albedo;
   return c;
 }
@@ -236,35 +272,54 @@ MR_DEVICE DenoiseCentre denoise_centre(const MR_GLOBAL float* guides,
 // The guides' terms of tap q's weight when filtering the centre c: returns the cosine
 // between the normals, which denoise_normal_weight raises to the normal's weight, and
 // sets *exponent to the sum of the depth's and albedo's exponents (the weight is then
-// the normal's weight times exp(*exponent)). Misses mix only with misses: 1 and exponent
-// 0 (weight exactly 1) when both are misses, 0 (no weight) when one is. A caller with
-// exponents of its own adds them before one exp (denoise_atrous_pixel). (dx, dy): q - p
-// in pixels. Returns 0 where the normals' weight is 0 (they face apart).
-MR_DEVICE float denoise_guide_terms(const DenoiseCentre* c, const MR_GLOBAL float* guides, int q,
-                                    int dx, int dy, float* exponent) {
-  *exponent = 0.0f;
-  const MR_GLOBAL float* g = guides + MR_DENOISE_GUIDE_FLOATS * q;
-  const bool miss_q = g[7] != 0.0f;
-  if (c->miss || miss_q) return c->miss && miss_q ? 1.0f : 0.0f;
-  const float cosine = dot3(c->normal, load3(g));
-  if (!(cosine > 0.0f)) return 0.0f;
+// the normal's weight times exp(*exponent), denoise_tap_weight). Misses mix only with
+// misses: cosine 1 and exponent 0 (weight exactly 1) when both are misses, cosine 0 (no
+// weight) when one is. A caller with exponents of its own adds them before one exp
+// (denoise_atrous_terms). (dx, dy): q - p in pixels. Branch-free (every term computed,
+// the answer selected), so that the CPU can compute neighbouring pixels together
+// (render/denoise_rows.cpp): what a pixel gets does not depend on its neighbours.
+MR_DEVICE float denoise_guide_terms(const DenoiseCentre* c, const MR_GLOBAL float* guides,
+                                    int pixels, int q, int dx, int dy, float* exponent) {
+  const MR_GLOBAL float* g = guides + q;
+  const int miss_q = g[7 * pixels] != 0.0f;
+  const float cosine = dot3(c->normal, MR_FLOAT3(g[0], g[pixels], g[2 * pixels]));
   // How far q's 1/depth lies off p's plane, relative to p's 1/depth.
   const float predicted = c->inv_depth + c->slope_x * (float)dx + c->slope_y * (float)dy;
-  const float off = mr_fabs(g[3] - predicted) * c->depth_scale;
-  const mr_float3 da = c->albedo - load3(g + 4);
+  const float off = mr_fabs(g[3 * pixels] - predicted) * c->depth_scale;
+  const mr_float3 da = c->albedo - MR_FLOAT3(g[4 * pixels], g[5 * pixels], g[6 * pixels]);
   const float a = mr_fmax(mr_fabs(da.x), mr_fmax(mr_fabs(da.y), mr_fabs(da.z))) * c->albedo_scale;
-  *exponent = -(off * off) - a * a;
-  return cosine;
+  // | and & on ints, not || and &&: clang turns those into selects guarded by an LLVM
+  // `freeze`, which Oclgrind's --uninitialized check cannot interpret.
+  // Selects one after the other, not nested: see denoise_tap_weight.
+  const int any_miss = c->miss | miss_q;
+  const float misses = (c->miss & miss_q) ? 1.0f : 0.0f;
+  *exponent = any_miss ? 0.0f : -(off * off) - a * a;
+  return any_miss ? misses : cosine;
+}
+
+// A tap's weight: `kernel_weight` (the filter's own weight of the tap) times the normals'
+// weight `normal_weight` (denoise_normal_weight of `cosine`) times exp(`exponent`); 0
+// where the cosine is not positive (the normals face apart, or a miss meets a hit) or the
+// exponent is below MR_DENOISE_EXP_ZERO. Selected, not branched (see
+// denoise_guide_terms). (Not `kernel`: a keyword of OpenCL C.)
+MR_DEVICE float denoise_tap_weight(float kernel_weight, float cosine, float normal_weight,
+                                   float exponent) {
+  // Selects one after the other, on values: GCC vectorises these across pixels, not
+  // nested conditions, nor mr_fmax (C++'s std::max returns a reference, and GCC then
+  // loads from a selected address).
+  const float e = cosine > 0.0f ? exponent : -INFINITY;
+  const float clamped = e < MR_DENOISE_EXP_ZERO ? MR_DENOISE_EXP_ZERO : e;
+  const float k = kernel_weight * normal_weight * denoise_exp(clamped);
+  return e >= MR_DENOISE_EXP_ZERO ? k : 0.0f;
 }
 
 // The guides' weight of tap q for the centre c (denoise_guide_terms, the normal's weight
 // and exp taken).
-MR_DEVICE float denoise_guide_weight(const DenoiseCentre* c, const MR_GLOBAL float* guides, int q,
-                                     int dx, int dy, const DenoiseWeights* w) {
+MR_DEVICE float denoise_guide_weight(const DenoiseCentre* c, const MR_GLOBAL float* guides,
+                                     int pixels, int q, int dx, int dy, const DenoiseWeights* w) {
   float exponent;
-  const float cosine = denoise_guide_terms(c, guides, q, dx, dy, &exponent);
-  if (!(cosine > 0.0f) || exponent < MR_DENOISE_EXP_ZERO) return 0.0f;
-  return denoise_normal_weight(cosine, w) * mr_exp(exponent);
+  const float cosine = denoise_guide_terms(c, guides, pixels, q, dx, dy, &exponent);
+  return denoise_tap_weight(1.0f, cosine, denoise_normal_weight(cosine, w), exponent);
 }
 
 MR_NAMESPACE_END

@@ -26,7 +26,8 @@
 //   too, in conditions only: OpenCL C's returns an int): each side keeps the functions
 //   it used before the code was shared (the two libraries' results may differ in the last
 //   ulp; an image is bit-identical to itself on one backend, not across backends).
-//   clamp_std (transfer.h) is std::clamp's definition on both sides.
+//   clamp_std (transfer.h) is std::clamp's definition on both sides. mr_float_as_uint and
+//   mr_uint_as_float reinterpret a float's bits (as_uint, as_float in OpenCL C).
 // - Pointers point to private memory (OpenCL C 1.2 has no generic address space), except
 //   MR_GLOBAL ones (`__global` in OpenCL C, nothing in C++): tables the host uploads.
 // - A shared header includes its shared dependencies only for C++ (#ifdef __cplusplus):
@@ -89,6 +90,7 @@ typedef int4 mr_int4;
 #define mr_min_int min
 #define mr_max_int max
 #define mr_float_as_uint as_uint
+#define mr_uint_as_float as_float
 
 // As core/math.h's dot, cross and normalize, operation for operation (not the built-ins,
 // whose order of operations is the driver's).
@@ -174,6 +176,11 @@ inline uint32_t mr_float_as_uint(float f) {
   uint32_t b;
   std::memcpy(&b, &f, sizeof b);
   return b;
+}
+inline float mr_uint_as_float(uint32_t b) {
+  float f;
+  std::memcpy(&f, &b, sizeof f);
+  return f;
 }
 inline float max3(Vec3 a) { return max_component(a); }
 inline Vec3 lerp3(Vec3 a, Vec3 b, float t) { return lerp(a, b, t); }
