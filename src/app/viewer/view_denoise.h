@@ -21,9 +21,10 @@
 // (issue 52's goal: the frame rate with svgf within 15% of the raw one). The cost is
 // learnt from every filtering here (ms per pixel) and the moving frames' engine time; the
 // first moving frame is filtered to measure it (per pixel filtered: a moving frame's are
-// those it was rendered at). On two CPU cores at 640x360 the filter took ~120 ms against
-// a ~14 ms raw frame (filtered at full size), so `auto` shows raw frames while the camera
-// moves, and filters the still image only while the filter has been idle for at least
+// those it was rendered at). On two CPU cores the filter takes ~50 ms at 640x360, ~13 ms
+// for a half-scale moving frame, against a ~14-17 ms raw frame (docs/noise.md, measured
+// 2026-12-04), so `auto` mostly shows raw frames while the camera moves, and filters the
+// still image only while the filter has been idle for at least
 // (1 - kMovingShare) of the time, holding the last filtered image in between; a choice of
 // svgf or atrous by name is always followed.
 #pragma once
