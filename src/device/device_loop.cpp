@@ -58,8 +58,10 @@ void FrameLoop::take(BatchRenderer& renderer, uint32_t first, std::vector<uint32
   // the engine re-renders it.
   const int fail_after = device_.fail_after_;
   const int done = device_.taken_.fetch_add(1);
+  // The message names fail_after, not `done`: on a device of several threads, two takes
+  // past the limit race to report first, and the count each saw differs.
   if (fail_after >= 0 && done >= fail_after)
-    throw std::runtime_error("injected failure after " + std::to_string(done) +
+    throw std::runtime_error("injected failure after " + std::to_string(fail_after) +
                              " items (fail_after, a testing aid)");
   ids.assign(1, first);
   size_t more = std::max<size_t>(1, renderer.batch_limit(source_.item(first))) - 1;
