@@ -221,6 +221,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
           }
         });
     if (!session) return worker_exit;
+    session->set_denoise_overlap(true);  // frame N filtered while frame N+1 renders
     const auto auto_choice = report_auto_choice(s, specs[0], "--balancer", *quiet);
     std::unique_ptr<study::TraceFile> trace;
     if (!trace_path->empty())

@@ -105,15 +105,38 @@ void Session::take_up_denoise() {
   if (method != DenoiseMethod::none) denoisers_.assign(engines_.size(), FrameDenoiser(method));
 }
 
-double Session::denoise_lane(size_t lane, const FrameInput& input, FrameResult& out) {
+const std::vector<Framebuffer>* Session::scaled_for_denoise(size_t lane,
+                                                            const FrameInput& input) const {
+  return input.reprojection ? nullptr : engines_[lane]->scaled_images();
+}
+
+double Session::denoise_lane(size_t lane, const std::vector<ViewSetup>& views,
+                             const std::vector<Framebuffer>* scaled, FrameResult& out) {
   FrameDenoiser& denoiser = denoisers_[lane];
-  // Views rendered smaller are filtered at that size, then enlarged; a reprojected frame's
-  // views are completed at the output size (FrameInput::finish), so it is filtered there.
-  const std::vector<Framebuffer>* scaled = engines_[lane]->scaled_images();
-  if (!scaled || input.reprojection || out.images.empty())
-    return denoiser.apply(input.views, out.images, out.denoised);
-  return denoiser.apply_scaled(input.views, *scaled, out.images[0].width, out.images[0].height,
+  if (!scaled || out.images.empty()) return denoiser.apply(views, out.images, out.denoised);
+  return denoiser.apply_scaled(views, *scaled, out.images[0].width, out.images[0].height,
                                out.denoised);
+}
+
+void Session::start_overlapped(size_t lane, const FrameInput& input,
+                               std::shared_ptr<FrameResult> out) {
+  // Copies: the next frame makes new views and renders into the engine's buffers.
+  auto views = std::make_shared<const std::vector<ViewSetup>>(input.views);
+  const std::vector<Framebuffer>* scaled = scaled_for_denoise(lane, input);
+  auto small = scaled ? std::make_shared<const std::vector<Framebuffer>>(*scaled) : nullptr;
+  FrameResult* r = out.get();
+  overlapped_ = std::move(out);
+  filter_job_.start([this, lane, views, small, r] {
+    r->record.denoise_ms = denoise_lane(lane, *views, small.get(), *r);
+  });
+}
+
+void Session::finish_overlapped(FrameObserver& observer) {
+  if (!overlapped_) return;
+  std::shared_ptr<FrameResult> out = std::move(overlapped_);
+  overlapped_.reset();
+  filter_job_.wait();
+  observer.on_frame(out);
 }
 
 std::shared_ptr<FrameResult> Session::render_lane(size_t lane, int frame, FrameInput& input) {
@@ -131,7 +154,9 @@ std::shared_ptr<FrameResult> Session::render_lane(size_t lane, int frame, FrameI
   input.finish(out->images);
   out->denoised.clear();
   out->denoised_with = denoise_;
-  if (!denoisers_.empty()) out->record.denoise_ms = denoise_lane(lane, input, *out);
+  if (!denoisers_.empty() && !overlapping())  // else run() starts it beside the next frame
+    out->record.denoise_ms =
+        denoise_lane(lane, input.views, scaled_for_denoise(lane, input), *out);
   out->plan = engine.last_plan();
   out->rendered = engine.last_rendered();
   out->stats = engine.last_stats();
@@ -142,29 +167,50 @@ int Session::run(int first, int count, FrameObserver& observer) {
   // A stop requested before this call (a Ctrl-C right after the viewer printed its address)
   // must hold: the flag is cleared when run() returns, never when it starts.
   int done = 0;
-  for (int frame = first; frame < first + count && !stop_; ++frame, ++done) {
-    const Camera camera = camera_at(frame);
-    FrameInput input = views_.make(frame, camera);
-    if (schedule_) schedule_(frame, settings_);
-    if (progressive_) continue_sequence(frame, camera, input);
-    observer.before_frame(frame, input);
-    take_up_denoise();
-    const size_t lanes = engines_.size();
-    const size_t start =
-        rotate_lanes_ && frame >= 0 ? (size_t(frame) + rotate_offset_) % lanes : 0;
-    std::vector<std::shared_ptr<FrameResult>> held(rotate_lanes_ ? lanes : 0);
-    for (size_t k = 0; k < lanes; ++k) {
-      const size_t lane = (start + k) % lanes;
-      std::shared_ptr<FrameResult> out = render_lane(lane, frame, input);
-      if (rotate_lanes_)
-        held[lane] = std::move(out);
-      else
-        observer.on_frame(out);
+  try {
+    for (int frame = first; frame < first + count && !stop_; ++frame, ++done)
+      run_frame(frame, observer);
+  } catch (...) {
+    // The frame being filtered was rendered: it is handed over before the error goes on.
+    try {
+      finish_overlapped(observer);
+    } catch (...) {
     }
-    for (const auto& out : held) observer.on_frame(out);
+    stop_ = false;
+    throw;
   }
+  finish_overlapped(observer);
   stop_ = false;  // consumed: the next run() renders again
   return done;
+}
+
+void Session::run_frame(int frame, FrameObserver& observer) {
+  const Camera camera = camera_at(frame);
+  FrameInput input = views_.make(frame, camera);
+  if (schedule_) schedule_(frame, settings_);
+  if (progressive_) continue_sequence(frame, camera, input);
+  observer.before_frame(frame, input);
+  // Another method drops the denoisers: the one still filtering must end first.
+  if (denoise_request_.load() != denoise_) finish_overlapped(observer);
+  take_up_denoise();
+  const size_t lanes = engines_.size();
+  const size_t start =
+      rotate_lanes_ && frame >= 0 ? (size_t(frame) + rotate_offset_) % lanes : 0;
+  std::vector<std::shared_ptr<FrameResult>> held(rotate_lanes_ ? lanes : 0);
+  for (size_t k = 0; k < lanes; ++k) {
+    const size_t lane = (start + k) % lanes;
+    const bool overlap = overlapping();
+    std::shared_ptr<FrameResult> out = render_lane(lane, frame, input);
+    if (overlap) {  // the frame before is handed over, this one filtered beside the next
+      finish_overlapped(observer);
+      start_overlapped(lane, input, std::move(out));
+    } else if (rotate_lanes_) {
+      held[lane] = std::move(out);
+    } else {
+      observer.on_frame(out);
+    }
+  }
+  for (const auto& out : held) observer.on_frame(out);
 }
 
 }  // namespace multiray

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "balance/balancer.h"
+#include "engine/background_job.h"
 #include "engine/engine.h"
 #include "engine/frame_denoiser.h"
 #include "engine/frame_views.h"
@@ -105,6 +106,17 @@ class Session {
   void set_denoise(DenoiseMethod method) { denoise_request_ = method; }
   // The method of the frame being rendered (or of the last one).
   DenoiseMethod denoise() const { return denoise_; }
+  // The denoiser beside the rendering: with one lane, frame N is filtered on a thread of
+  // its own while frame N+1 renders, and the observer is handed frame N once both are
+  // done (so one frame later than without; every frame still, in order, the last when
+  // run() returns). The images are the same bits either way (the filter is a pure
+  // function of its frame and its history, and the history is fed in frame order). Why:
+  // a GPU renders while the host's cores are idle, so the filter costs the frame rate
+  // nothing there; where the host's cores render too, the filter slows them while it runs,
+  // and the balancer sees that in their times like any other load. Ignored with several
+  // lanes (a bench's balancers take turns on the same devices, and one lane's filter would
+  // slow the next lane's frame). Off by default. Call before run().
+  void set_denoise_overlap(bool on) { overlap_denoise_ = on; }
   // Which lane renders first in each frame. Off (the default): lane 0, 1, ... in every
   // frame. On: frame f starts at lane (f + offset) mod L and goes round, so every lane
   // renders first, second, ... equally often (a bench gives each repeat block another
@@ -138,11 +150,26 @@ class Session {
   std::shared_ptr<FrameResult> free_buffer(size_t lane);
   // Lane `lane`'s rendering of `frame` (its record, images, denoised images and plan).
   std::shared_ptr<FrameResult> render_lane(size_t lane, int frame, FrameInput& input);
+  // One frame on every lane (run()'s loop body).
+  void run_frame(int frame, FrameObserver& observer);
   Camera camera_at(int frame) const;
-  // Lane `lane`'s denoiser on the frame it just rendered into `out` (out.denoised);
-  // returns its time, ms. Views rendered at a reduced image scale are filtered at that
-  // size and enlarged after (FrameDenoiser::apply_scaled).
-  double denoise_lane(size_t lane, const FrameInput& input, FrameResult& out);
+  // Lane `lane`'s denoiser on the frame it just rendered into `out` (out.denoised), whose
+  // views are `views`; returns its time, ms. `scaled`: the views at the reduced image scale
+  // they were rendered at (Engine::scaled_images), filtered at that size and enlarged
+  // after (FrameDenoiser::apply_scaled); null: filtered at the output size.
+  double denoise_lane(size_t lane, const std::vector<ViewSetup>& views,
+                      const std::vector<Framebuffer>* scaled, FrameResult& out);
+  // The views the denoiser of the frame lane `lane` just rendered filters at a reduced
+  // size, or null (a reprojected frame's views are completed at the output size).
+  const std::vector<Framebuffer>* scaled_for_denoise(size_t lane, const FrameInput& input) const;
+  // set_denoise_overlap is on and applies to this frame.
+  bool overlapping() const {
+    return overlap_denoise_ && engines_.size() == 1 && !denoisers_.empty();
+  }
+  // Starts the denoiser of `out`, just rendered by lane `lane`, beside the next frame.
+  void start_overlapped(size_t lane, const FrameInput& input, std::shared_ptr<FrameResult> out);
+  // Waits for the overlapped denoiser, if one runs, and hands its frame to `observer`.
+  void finish_overlapped(FrameObserver& observer);
   // Takes up the method set_denoise() asked for (between frames, on run()'s thread).
   void take_up_denoise();
   void continue_sequence(int frame, const Camera& camera, FrameInput& input);
@@ -173,6 +200,11 @@ class Session {
   std::atomic<DenoiseMethod> denoise_request_{DenoiseMethod::none};
   DenoiseMethod denoise_ = DenoiseMethod::none;  // of denoisers_
   std::vector<FrameDenoiser> denoisers_;         // per lane, or none
+  bool overlap_denoise_ = false;
+  // The frame whose denoiser runs on filter_job_ (set_denoise_overlap), until handed over.
+  std::shared_ptr<FrameResult> overlapped_;
+  // Last: destroyed first, so a job still running ends before what it uses.
+  BackgroundJob filter_job_;
 };
 
 }  // namespace multiray
