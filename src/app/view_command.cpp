@@ -134,7 +134,7 @@ Runner add_view_command(CLI::App& app) {
     int worker_exit = 0;
     std::vector<std::string> specs{*balancer};
     std::unique_ptr<Session> session = start_run(s, *o, specs, "--balancer", &worker_exit);
-    if (!session) return worker_exit;  // a worker rank: it served the master until the end
+    if (!session) return worker_exit;    // a worker rank: it served the master until the end
     session->set_denoise_overlap(true);  // a moving frame filtered while the next renders
     report_auto_choice(s, specs[0], "--balancer", false);
     vo.volume = s.volume;

@@ -194,8 +194,7 @@ void Session::run_frame(int frame, FrameObserver& observer) {
   if (denoise_request_.load() != denoise_) finish_overlapped(observer);
   take_up_denoise();
   const size_t lanes = engines_.size();
-  const size_t start =
-      rotate_lanes_ && frame >= 0 ? (size_t(frame) + rotate_offset_) % lanes : 0;
+  const size_t start = rotate_lanes_ && frame >= 0 ? (size_t(frame) + rotate_offset_) % lanes : 0;
   std::vector<std::shared_ptr<FrameResult>> held(rotate_lanes_ ? lanes : 0);
   for (size_t k = 0; k < lanes; ++k) {
     const size_t lane = (start + k) % lanes;
