@@ -153,6 +153,11 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
         "named";
     cmd->add_option("--denoise", *denoise, help)->capture_default_str();
   }
+  auto no_overlap = std::make_shared<bool>(false);
+  cmd->add_flag("--no-denoise-overlap", *no_overlap,
+                "Filter each frame before the next one renders. By default frame N is filtered "
+                "while frame N+1 renders: the same images, and the filter's time hidden where "
+                "the devices are not the host's cores (docs/noise.md, \"Beside the rendering\")");
   auto overlay = std::make_shared<bool>(false);
   cmd->add_flag("--overlay", *overlay,
                 "Also write a picture of how each frame was split: <image>_split.png, the frame "
@@ -221,7 +226,7 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
           }
         });
     if (!session) return worker_exit;
-    session->set_denoise_overlap(true);  // frame N filtered while frame N+1 renders
+    session->set_denoise_overlap(!*no_overlap);  // frame N filtered while frame N+1 renders
     const auto auto_choice = report_auto_choice(s, specs[0], "--balancer", *quiet);
     std::unique_ptr<study::TraceFile> trace;
     if (!trace_path->empty())

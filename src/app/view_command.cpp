@@ -80,6 +80,12 @@ Runner add_view_command(CLI::App& app) {
         "adaptive sampling and no --ground (auto: none elsewhere)";
     cmd->add_option("--denoise", *denoise, help)->capture_default_str();
   }
+  auto no_overlap = std::make_shared<bool>(false);
+  cmd->add_flag("--no-denoise-overlap", *no_overlap,
+                "Filter each moving frame before the next one renders. By default it is "
+                "filtered while the next renders: the same images, shown one frame later, the "
+                "filter's time hidden where the devices are not the host's cores (docs/noise.md, "
+                "\"Beside the rendering\")");
   cmd->add_flag("--ar", *ar,
                 "Augmented reality (docs/ar.md): the page films with the device's camera and "
                 "shows the --ground layer over it, turned with the device's orientation. A "
@@ -134,8 +140,8 @@ Runner add_view_command(CLI::App& app) {
     int worker_exit = 0;
     std::vector<std::string> specs{*balancer};
     std::unique_ptr<Session> session = start_run(s, *o, specs, "--balancer", &worker_exit);
-    if (!session) return worker_exit;    // a worker rank: it served the master until the end
-    session->set_denoise_overlap(true);  // a moving frame filtered while the next renders
+    if (!session) return worker_exit;  // a worker rank: it served the master until the end
+    session->set_denoise_overlap(!*no_overlap);  // a moving frame filtered while the next renders
     report_auto_choice(s, specs[0], "--balancer", false);
     vo.volume = s.volume;
     vo.can_denoise = s.can_record_features;

@@ -71,6 +71,19 @@ TEST(DenoiseCli, SvgfsHistoryIsTheSameWhateverTheSplit) {
     EXPECT_EQ(bytes(d + "/one_" + f + ".png"), bytes(d + "/two_" + f + ".png")) << f;
 }
 
+// Frame N filtered while frame N+1 renders (the default) or before it: the same frames.
+TEST(DenoiseCli, FilteringBesideTheNextFrameGivesTheSameFrames) {
+  const std::string d = folder("overlap");
+  const std::string orbit =
+      "render --res 48x27 --spp 2 -q --frames 4 --camera-path orbit:12 --denoise svgf ";
+  ASSERT_EQ(run(orbit + "-o " + d + "/beside_#.png").code, 0);
+  ASSERT_EQ(run(orbit + "--no-denoise-overlap -o " + d + "/before_#.png").code, 0);
+  for (const char* f : {"0", "1", "2", "3"}) {
+    EXPECT_FALSE(bytes(d + "/beside_" + f + ".png").empty()) << f;
+    EXPECT_EQ(bytes(d + "/beside_" + f + ".png"), bytes(d + "/before_" + f + ".png")) << f;
+  }
+}
+
 TEST(DenoiseCli, AutoIsOffAt256SamplesAndWhereNoFeaturesAreRecorded) {
   const std::string d = folder("auto");
   const std::string many = "render --res 24x16 --spp 256 --seed 3 -q ";
