@@ -69,7 +69,7 @@ void size_to(std::vector<float>& v, size_t n) {
 void prepare_frame(const DenoiseInput& in, const DenoiseWeights& w, DenoiseBuffers& b) {
   const size_t n = size_t(in.width) * size_t(in.height);
   size_to(b.guides, MR_DENOISE_GUIDE_FLOATS * n);
-  size_to(b.slopes, 2 * n);
+  size_to(b.slopes, MR_DENOISE_SLOPE_FLOATS * n);
   for (int k = 0; k < 2; ++k) {
     size_to(b.color[k], 3 * n);
     size_to(b.luminance[k], n);

@@ -49,9 +49,12 @@ struct DenoiseInput {
 struct DenoiseParams {
   int iterations = 5;            // à-trous iterations, taps 1, 2, 4, ... 2^(n-1) apart
   float sigma_luminance = 4.0f;  // luminance difference, in standard deviations of noise
-  float sigma_normal = 128.0f;   // exponent of the normals' cosine
-  float sigma_depth = 0.02f;     // relative error of the planar prediction of 1/depth
-  float sigma_albedo = 0.2f;     // largest albedo channel difference
+  // Exponent of the cosine of the angle by which a tap's normal turns beyond what the
+  // pixel's own surface predicts (render/shared/denoise_normal.h; on a plane, the
+  // normals' cosine).
+  float sigma_normal = 128.0f;
+  float sigma_depth = 0.02f;  // relative error of the planar prediction of 1/depth
+  float sigma_albedo = 0.2f;  // largest albedo channel difference
   // svgf: least weight of the current frame, and what a reprojected history must match.
   float alpha = 0.2f, moments_alpha = 0.2f;
   float depth_tolerance = 0.05f;  // relative

@@ -47,7 +47,8 @@ bool column_uniform(int x0, int offset, int width) {
 // as vectors.
 struct Centres {
   float nx[L], ny[L], nz[L], ax[L], ay[L], az[L];
-  float inv_depth[L], slope_x[L], slope_y[L], depth_scale[L], albedo_scale[L];
+  float inv_depth[L], slope_x[L], slope_y[L], turn_x[L], turn_y[L];
+  float depth_scale[L], albedo_scale[L];
   int miss[L];
 
   void load(const DenoisePass& a, int p0) {
@@ -59,6 +60,7 @@ struct Centres {
     nx[l] = c.normal.x, ny[l] = c.normal.y, nz[l] = c.normal.z;
     ax[l] = c.albedo.x, ay[l] = c.albedo.y, az[l] = c.albedo.z;
     inv_depth[l] = c.inv_depth, slope_x[l] = c.slope_x, slope_y[l] = c.slope_y;
+    turn_x[l] = c.turn_x, turn_y[l] = c.turn_y;
     depth_scale[l] = c.depth_scale, albedo_scale[l] = c.albedo_scale, miss[l] = c.miss;
   }
   DenoiseCentre get(int l) const {
@@ -66,6 +68,7 @@ struct Centres {
     c.normal = Vec3(nx[l], ny[l], nz[l]);
     c.albedo = Vec3(ax[l], ay[l], az[l]);
     c.inv_depth = inv_depth[l], c.slope_x = slope_x[l], c.slope_y = slope_y[l];
+    c.turn_x = turn_x[l], c.turn_y = turn_y[l];
     c.depth_scale = depth_scale[l], c.albedo_scale = albedo_scale[l], c.miss = miss[l];
     return c;
   }

@@ -48,7 +48,7 @@ struct PassFrame {
         luminance[i] = denoise_luminance(Vec3(color[3 * i], color[3 * i + 1], color[3 * i + 2]));
         variance[i] = luminance[i] == 0.0f ? 0.0f : 0.1f * u(rng);
       }
-    guides.resize(MR_DENOISE_GUIDE_FLOATS * n), slopes.resize(2 * n);
+    guides.resize(MR_DENOISE_GUIDE_FLOATS * n), slopes.resize(MR_DENOISE_SLOPE_FLOATS * n);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
         denoise_pack_guides(albedo.data(), normal.data(), depth.data(), w, h, x, y, guides.data(),

@@ -152,7 +152,7 @@ void OpenClDenoiser::Impl::denoise(const DenoiseInput& in, DenoiseState* state, 
   k.setArg(13, depth);
   k.setArg(14, variance);
   k.setArg(19, buffer(kGuides, MR_DENOISE_GUIDE_FLOATS * n));
-  k.setArg(20, buffer(kSlopes, 2 * n));
+  k.setArg(20, buffer(kSlopes, MR_DENOISE_SLOPE_FLOATS * n));
   bind(color[1], lum[1], var[1], color[0], lum[0], var[0]);  // and the guides
   run(kPrepare, in.width, in.height, 0);
   // The variance to start from (denoise_start_variance): var[0] -> var[1], swapped in.

@@ -7,10 +7,11 @@
 // Lensch, "Edge-Avoiding À-Trous Wavelet Transform for fast Global Illumination
 // Filtering" (HPG 2010): a 5x5 B3-spline kernel applied `iterations` times with taps
 // 1, 2, 4, ... pixels apart, each tap weighted down where the guides (normal, depth,
-// albedo) or the colour differ from the centre's. The colour weight is scaled by the
-// standard deviation of the noise, as in Schied et al., "Spatiotemporal Variance-Guided
-// Filtering" (HPG 2017), and the variance is filtered alongside the colour with the
-// squared weights, so each iteration knows how much noise is left.
+// albedo) or the colour differ from the centre's (the normal's allowing for the turn of
+// the centre's own surface, render/shared/denoise_normal.h). The colour weight is scaled
+// by the standard deviation of the noise, as in Schied et al., "Spatiotemporal
+// Variance-Guided Filtering" (HPG 2017), and the variance is filtered alongside the
+// colour with the squared weights, so each iteration knows how much noise is left.
 //
 // Buffers (all row-major, `width` x `height`): colours 3 floats a pixel (linear RGB),
 // normals 3 (unit, world space, 0 on a miss), depth 1 (along the camera axis, +inf on a
@@ -21,6 +22,7 @@
 #define MULTIRAY_RENDER_SHARED_DENOISE_H
 
 #ifdef __cplusplus
+#include "render/shared/denoise_normal.h"
 #include "render/shared/language.h"
 #endif
 
@@ -38,7 +40,9 @@ MR_NAMESPACE_BEGIN
 // fill the struct with denoise_weights.
 typedef struct {
   float sigma_luminance;  // colour: luminance difference in standard deviations of noise
-  float sigma_normal;     // normal: exponent of the cosine between the normals
+  float sigma_normal;     // normal: exponent of the cosine of the angle between the
+                          // normals beyond the turn the centre's surface predicts
+                          // (denoise_normal_cosine)
   float sigma_depth;      // depth: relative error of the planar prediction of 1/depth
   float sigma_albedo;     // albedo: largest channel difference
   // sigma_normal as 2^k for k in 0..MR_DENOISE_MAX_SQUARINGS: k, the cosine's squarings
@@ -202,25 +206,20 @@ MR_DEVICE float denoise_slope(const MR_GLOBAL float* depth, int i, int stride, i
   return before ? db : da;
 }
 
-// p's slopes of 1/depth, x and y (denoise_slope).
-MR_DEVICE mr_float2 denoise_slopes(const MR_GLOBAL float* depth, int width, int height, int x,
-                                   int y) {
-  const int p = y * width + x;
-  return MR_FLOAT2(denoise_slope(depth, p, 1, x > 0, x + 1 < width),
-                   denoise_slope(depth, p, width, y > 0, y + 1 < height));
-}
-
 // The guides packed for the filter's taps, MR_DENOISE_GUIDE_FLOATS floats a pixel, so that
 // a tap reads one place instead of three buffers and divides nothing: normal (3), 1/depth
 // (denoise_inv_depth), albedo (3), and 1 on a miss, 0 on a hit. They are planes, one
 // float a pixel each (float k of pixel i at guides[k * pixels + i]), so the guides of
 // neighbouring pixels are neighbours in memory: the CPU filters several pixels of a row
-// at once (render/denoise_rows.cpp). Slopes (denoise_slopes) likewise: x at slopes[i],
-// y at slopes[pixels + i].
+// at once (render/denoise_rows.cpp).
 #define MR_DENOISE_GUIDE_FLOATS 8
+// The slopes, planes likewise, MR_DENOISE_SLOPE_FLOATS floats a pixel (float k of pixel i
+// at slopes[k * pixels + i]): the slopes of 1/depth along x and y (denoise_slope), then
+// the normal's turns per pixel along x and y (denoise_normal_turn).
+#define MR_DENOISE_SLOPE_FLOATS 4
 
-// Writes pixel (x, y)'s guides and its slopes of 1/depth (2 floats a pixel,
-// denoise_slopes): what every iteration of the filter reads, made once a frame.
+// Writes pixel (x, y)'s guides and its slopes: what every iteration of the filter reads,
+// made once a frame.
 MR_DEVICE void denoise_pack_guides(const MR_GLOBAL float* albedo, const MR_GLOBAL float* normal,
                                    const MR_GLOBAL float* depth, int width, int height, int x,
                                    int y, MR_GLOBAL float* guides_out,
@@ -235,18 +234,22 @@ MR_DEVICE void denoise_pack_guides(const MR_GLOBAL float* albedo, const MR_GLOBA
   g[5 * pixels] = albedo[3 * i + 1];
   g[6 * pixels] = albedo[3 * i + 2];
   g[7 * pixels] = denoise_is_miss(depth, i) ? 1.0f : 0.0f;
-  const mr_float2 s = denoise_slopes(depth, width, height, x, y);
-  slopes_out[i] = s.x;
-  slopes_out[pixels + i] = s.y;
+  const int left = x > 0, right = x + 1 < width, up = y > 0, down = y + 1 < height;
+  MR_GLOBAL float* s = slopes_out + i;
+  s[0] = denoise_slope(depth, i, 1, left, right);
+  s[pixels] = denoise_slope(depth, i, width, up, down);
+  s[2 * pixels] = denoise_normal_turn(normal, depth, i, 1, left, right);
+  s[3 * pixels] = denoise_normal_turn(normal, depth, i, width, up, down);
 }
 
 // Pixel p's side of the guide weights of its taps, loaded once for all of them: its
-// guides, its slopes, and the depth and albedo terms' divisors as reciprocals.
+// guides, its slopes and turns, and the depth and albedo terms' divisors as reciprocals.
 typedef struct {
   mr_float3 normal, albedo;
   float inv_depth, slope_x, slope_y;
-  float depth_scale;   // 1 / (p's 1/depth * sigma_depth); 0 on a miss (unused)
-  float albedo_scale;  // 1 / sigma_albedo
+  float turn_x, turn_y;  // the normal's per pixel (denoise_normal_turn)
+  float depth_scale;     // 1 / (p's 1/depth * sigma_depth); 0 on a miss (unused)
+  float albedo_scale;    // 1 / sigma_albedo
   int miss;
 } DenoiseCentre;
 
@@ -261,6 +264,8 @@ MR_DEVICE DenoiseCentre denoise_centre(const MR_GLOBAL float* guides,
   c.inv_depth = g[3 * pixels];
   c.slope_x = slopes[p];
   c.slope_y = slopes[pixels + p];
+  c.turn_x = slopes[2 * pixels + p];
+  c.turn_y = slopes[3 * pixels + p];
   c.miss = g[7 * pixels] != 0.0f;
   // Selected, not branched (denoise_guide_terms): a miss's 1/depth is 0, its scale inf.
   const float depth_scale = 1.0f / (c.inv_depth * w->sigma_depth);
@@ -270,7 +275,8 @@ MR_DEVICE DenoiseCentre denoise_centre(const MR_GLOBAL float* guides,
 }
 
 // The guides' terms of tap q's weight when filtering the centre c: returns the cosine
-// between the normals, which denoise_normal_weight raises to the normal's weight, and
+// between the normals beyond the turn c's surface predicts (denoise_normal_cosine),
+// which denoise_normal_weight raises to the normal's weight, and
 // sets *exponent to the sum of the depth's and albedo's exponents (the weight is then
 // the normal's weight times exp(*exponent), denoise_tap_weight). Misses mix only with
 // misses: cosine 1 and exponent 0 (weight exactly 1) when both are misses, cosine 0 (no
@@ -294,7 +300,8 @@ MR_DEVICE float denoise_guide_terms(const DenoiseCentre* c, const MR_GLOBAL floa
   const int any_miss = c->miss | miss_q;
   const float misses = (c->miss & miss_q) ? 1.0f : 0.0f;
   *exponent = any_miss ? 0.0f : -(off * off) - a * a;
-  return any_miss ? misses : cosine;
+  const float normal_cosine = denoise_normal_cosine(cosine, c->turn_x, c->turn_y, dx, dy);
+  return any_miss ? misses : normal_cosine;
 }
 
 // A tap's weight: `kernel_weight` (the filter's own weight of the tap) times the normals'
