@@ -105,7 +105,9 @@ TEST(Aov, EmissionOfALightSeenDirectlyIsTheBeauty) {
         EXPECT_EQ(fb.features.emission[3 * i + size_t(c)], fb.pixels[i][c]) << i << " " << clamp;
         EXPECT_GT(fb.pixels[i][c], 0.0f);
       }
-    if (clamp > 0.0f) EXPECT_FLOAT_EQ(fb.pixels[0].x, clamp);
+    if (clamp > 0.0f) {
+      EXPECT_FLOAT_EQ(fb.pixels[0].x, clamp);
+    }
   }
 }
 
