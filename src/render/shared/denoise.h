@@ -154,7 +154,8 @@ MR_DEVICE mr_float3 denoise_factor(const MR_GLOBAL float* albedo, const MR_GLOBA
 // an emission buffer (`has_emission` 0; `emission` may then be null in C++, the OpenCL
 // host binds a placeholder) and where it is not finite.
 MR_DEVICE float denoise_emission(const MR_GLOBAL float* emission, int has_emission, int i, int k) {
-  const float e = has_emission ? emission[3 * i + k] : 0.0f;
+  float e = 0.0f;
+  if (has_emission) e = emission[3 * i + k];  // branched: the placeholder is never read
   return mr_isfinite(e) ? e : 0.0f;
 }
 
