@@ -207,7 +207,7 @@ MR_DEVICE void path_shade(const SceneData* sc, PathState* p, const Hit* hit, Pat
       add = p->beta * le * power_heuristic(p->prev_pdf, pdf_light);
     }
     p->L = p->L + add;
-    if (record) aov_add_emission(aov, add);
+    if (aov) aov_add_emission(aov, add);  // until the first non-specular vertex
   }
   if (p->depth >= settings.max_bounces && !record) {
     p->alive = false;
