@@ -130,7 +130,9 @@ TEST(Aov, EmissionOnlyWhereALightIsSeen) {
     }
   }
   EXPECT_GT(emitting, 0);
-  EXPECT_LT(emitting, int(fb.pixels.size()) / 8);
+  // The light covers about 1% of the view (12 of these 1024 pixels); light reflected
+  // first and then reaching the light would add emission to some 50.
+  EXPECT_LT(emitting, int(fb.pixels.size()) / 40);
   EXPECT_GT(lit, int(fb.pixels.size()) / 2);
 }
 
