@@ -136,8 +136,9 @@ Runner add_render_command(CLI::App& app, const std::vector<std::string>& command
   auto aov = std::make_shared<std::string>();
   cmd->add_option("--aov", *aov,
                   "Also write feature buffers (AOVs) of the path tracer, a comma-separated "
-                  "subset of albedo, normal, depth, variance, as layers of one multi-layer "
-                  "OpenEXR with the beauty (albedo.R/G/B, normal.X/Y/Z, depth.Z, variance.Y): the "
+                  "subset of albedo, normal, depth, variance, emission, as layers of one "
+                  "multi-layer OpenEXR with the beauty (albedo.R/G/B, normal.X/Y/Z, depth.Z, "
+                  "variance.Y, emission.R/G/B: lights seen directly or through glass): the "
                   "frame's .exr, or <image>_aov.exr beside a PNG; for Open Image Denoise or "
                   "Blender's compositor (docs/aov.md)");
   auto denoise = std::make_shared<std::string>("auto");

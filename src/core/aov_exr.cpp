@@ -18,6 +18,10 @@ std::vector<ExrPlane> aov_planes(const std::string& name, const FeatureBuffers& 
             {ch[1], f.normal.data() + 1, 3},
             {ch[2], f.normal.data() + 2, 3}};
   if (name == "depth") return {{ch[0], f.depth.data(), 1}};
+  if (name == "emission")
+    return {{ch[0], f.emission.data(), 3},
+            {ch[1], f.emission.data() + 1, 3},
+            {ch[2], f.emission.data() + 2, 3}};
   return {{ch[0], f.variance.data(), 1}};
 }
 
@@ -28,6 +32,7 @@ std::vector<std::string> aov_channels(const std::string& name) {
   if (name == "normal") return {"normal.X", "normal.Y", "normal.Z"};
   if (name == "depth") return {"depth.Z"};
   if (name == "variance") return {"variance.Y"};
+  if (name == "emission") return {"emission.R", "emission.G", "emission.B"};
   throw InputError("no AOV called '" + name + "'");
 }
 

@@ -10,6 +10,10 @@
 //                              writes its own Depth pass; a bare Z would sit in the beauty's
 //                              layer, where Open Image Denoise front ends do not look.
 //   variance.Y                 one channel: the variance of the pixel's mean luminance
+//   emission.R, emission.G, emission.B
+//                              the emitted radiance seen directly or through mirrors and
+//                              glass (render/shared/aov.h): the part of the beauty a
+//                              denoiser leaves sharp
 // Single-part (scanline, ZIP, 32-bit float), so any OpenEXR reader back to version 1 takes
 // it. Written atomically (core/file_io.h).
 #pragma once

@@ -16,6 +16,7 @@ void FeatureBuffers::resize(int w, int h) {
   normal.resize(3 * n);
   depth.resize(n);
   variance.resize(n);
+  emission.resize(3 * n);
 }
 
 void FeatureBuffers::set_packed(size_t i, const float* v) {
@@ -23,6 +24,7 @@ void FeatureBuffers::set_packed(size_t i, const float* v) {
   std::copy(v + 3, v + 6, &normal[3 * i]);
   depth[i] = v[6];
   variance[i] = v[7];
+  std::copy(v + 8, v + 11, &emission[3 * i]);
 }
 
 void FeatureBuffers::get_packed(size_t i, float* v) const {
@@ -30,6 +32,7 @@ void FeatureBuffers::get_packed(size_t i, float* v) const {
   std::copy(&normal[3 * i], &normal[3 * i] + 3, v + 3);
   v[6] = depth[i];
   v[7] = variance[i];
+  std::copy(&emission[3 * i], &emission[3 * i] + 3, v + 8);
 }
 
 std::vector<float> packed_features(const FeatureBuffers& f, Rect r) {
@@ -52,7 +55,8 @@ void unpack_features(const std::vector<float>& v, Rect r, FeatureBuffers& f) {
 
 uint64_t feature_hash(const FeatureBuffers& f, uint64_t seed) {
   uint64_t h = seed;
-  for (const std::vector<float>* buffer : {&f.albedo, &f.normal, &f.depth, &f.variance}) {
+  for (const std::vector<float>* buffer :
+       {&f.albedo, &f.normal, &f.depth, &f.variance, &f.emission}) {
     const auto* bytes = reinterpret_cast<const unsigned char*>(buffer->data());
     for (size_t i = 0; i < buffer->size() * sizeof(float); ++i) {
       h ^= bytes[i];
@@ -63,20 +67,20 @@ uint64_t feature_hash(const FeatureBuffers& f, uint64_t seed) {
 }
 
 const std::vector<std::string>& aov_names() {
-  static const std::vector<std::string> names{"albedo", "normal", "depth", "variance"};
+  static const std::vector<std::string> names{"albedo", "normal", "depth", "variance", "emission"};
   return names;
 }
 
 std::vector<std::string> check_aov_names(const std::vector<std::string>& names,
                                          const std::string& option) {
   if (names.empty())
-    throw InputError(option + " needs at least one of albedo, normal, depth, variance");
+    throw InputError(option + " needs at least one of albedo, normal, depth, variance, emission");
   for (const std::string& n : names) {
     if (std::find(aov_names().begin(), aov_names().end(), n) != aov_names().end()) continue;
     const std::string best = nearest_name(n, aov_names());
     throw InputError(option + ": unknown AOV '" + n + "'" +
                      (best.empty() ? "" : " (did you mean " + best + "?)") +
-                     "; known: albedo, normal, depth, variance");
+                     "; known: albedo, normal, depth, variance, emission");
   }
   std::vector<std::string> out;
   for (const std::string& known : aov_names())

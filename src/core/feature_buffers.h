@@ -17,23 +17,25 @@
 namespace multiray {
 
 // The path tracer's feature buffers of one view, row-major with y = 0 at the top like
-// Framebuffer::pixels. All four are sized together (empty(): none asked for).
+// Framebuffer::pixels. All five are sized together (empty(): none asked for).
 struct FeatureBuffers {
   int width = 0, height = 0;
   std::vector<float> albedo;    // 3 per pixel: R, G, B; linear, in [0, 1]; 0 where nothing
   std::vector<float> normal;    // 3 per pixel: X, Y, Z, world space, unit; 0 where nothing
   std::vector<float> depth;     // 1 per pixel: along the camera axis; +inf where nothing
   std::vector<float> variance;  // 1 per pixel: of the mean luminance over its samples
+  std::vector<float> emission;  // 3 per pixel: R, G, B; emitters seen directly or via glass
 
   bool empty() const { return depth.empty(); }
-  // Sizes all four for w x h pixels (kept when the size is right: values are overwritten
+  // Sizes all five for w x h pixels (kept when the size is right: values are overwritten
   // by the next frame's render of every pixel).
   void resize(int w, int h);
   void clear() { *this = FeatureBuffers{}; }
 
-  // Pixel `i`'s eight values in packed order (render/shared/aov.h: albedo R, G, B, normal
-  // X, Y, Z, depth, variance): how kernels hand them over and MPI workers send them.
-  static constexpr int kFloats = 8;
+  // Pixel `i`'s eleven values in packed order (render/shared/aov.h: albedo R, G, B, normal
+  // X, Y, Z, depth, variance, emission R, G, B): how kernels hand them over and MPI
+  // workers send them.
+  static constexpr int kFloats = 11;
   void set_packed(size_t i, const float* v);
   void get_packed(size_t i, float* v) const;
 };
@@ -43,7 +45,7 @@ struct FeatureBuffers {
 std::vector<float> packed_features(const FeatureBuffers& f, Rect r);
 void unpack_features(const std::vector<float>& v, Rect r, FeatureBuffers& f);
 
-// FNV-1a (64 bit) over every float bit of the four buffers (image_hash's for features).
+// FNV-1a (64 bit) over every float bit of the five buffers (image_hash's for features).
 uint64_t feature_hash(const FeatureBuffers& f, uint64_t seed = 0xcbf29ce484222325ull);
 
 // The AOV names of --aov and Python's aov=[...], in the order of the EXR's layers.

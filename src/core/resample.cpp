@@ -59,11 +59,13 @@ bool smooth_pair(const float* inv, size_t stride, int n, int i0, int i1) {
 // of `from`): upscale_features's rules, the depth of tap `nearest` unless it is -1.
 void blend(const FeatureBuffers& from, const std::vector<float>& inv, const size_t (&at)[4],
            const float (&w)[4], int nearest, FeatureBuffers& to, size_t o) {
-  float albedo[3] = {0, 0, 0}, normal[3] = {0, 0, 0}, variance = 0, inverse_depth = 0;
+  float albedo[3] = {0, 0, 0}, normal[3] = {0, 0, 0}, emission[3] = {0, 0, 0}, variance = 0,
+        inverse_depth = 0;
   for (int k = 0; k < 4; ++k) {
     for (size_t c = 0; c < 3; ++c) {
       albedo[c] += w[k] * from.albedo[3 * at[k] + c];
       normal[c] += w[k] * from.normal[3 * at[k] + c];
+      emission[c] += w[k] * from.emission[3 * at[k] + c];
     }
     variance += w[k] * w[k] * from.variance[at[k]];
     inverse_depth += w[k] * inv[at[k]];
@@ -72,6 +74,7 @@ void blend(const FeatureBuffers& from, const std::vector<float>& inv, const size
       std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
   for (size_t c = 0; c < 3; ++c) {
     to.albedo[3 * o + c] = albedo[c];
+    to.emission[3 * o + c] = emission[c];
     to.normal[3 * o + c] = length > 0 ? normal[c] / length : 0.0f;
   }
   to.variance[o] = variance;

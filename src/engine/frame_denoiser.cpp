@@ -53,6 +53,7 @@ void FrameDenoiser::apply_view(size_t view, const Framebuffer& image, const Came
   in.beauty = beauty_.data();
   in.albedo = f.albedo.data(), in.normal = f.normal.data(), in.depth = f.depth.data();
   in.variance = f.variance.empty() ? nullptr : f.variance.data();
+  in.emission = f.emission.empty() ? nullptr : f.emission.data();
   in.camera = camera;
   denoise(in, method_, &states_[view], result_.data(), {}, &buffers_);
   for (size_t i = 0; i < n; ++i)

@@ -8,6 +8,7 @@ namespace multiray {
 void FeatureRefinement::restart(size_t pixels) {
   frames_ = 0;
   albedo_.assign(3 * pixels, 0.0), normal_.assign(3 * pixels, 0.0);
+  emission_.assign(3 * pixels, 0.0);
   depth_.assign(pixels, 0.0), y_.assign(pixels, 0.0), y2_.assign(pixels, 0.0);
   m2_.assign(pixels, 0.0);
   depth_frames_.assign(pixels, 0);
@@ -23,12 +24,14 @@ void FeatureRefinement::add(const Framebuffer& image, int spp, FeatureBuffers& o
     double len2 = 0;
     for (size_t c = 0; c < 3; ++c) {
       albedo_[3 * i + c] += f.albedo[3 * i + c];
+      emission_[3 * i + c] += f.emission[3 * i + c];
       normal_[3 * i + c] += f.normal[3 * i + c];
       len2 += normal_[3 * i + c] * normal_[3 * i + c];
     }
     const double len = std::sqrt(len2);
     for (size_t c = 0; c < 3; ++c) {
       out.albedo[3 * i + c] = float(albedo_[3 * i + c] / frames);
+      out.emission[3 * i + c] = float(emission_[3 * i + c] / frames);
       out.normal[3 * i + c] = len > 0 ? float(normal_[3 * i + c] / len) : 0.0f;
     }
     if (std::isfinite(f.depth[i])) depth_[i] += f.depth[i], ++depth_frames_[i];

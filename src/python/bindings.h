@@ -28,7 +28,7 @@ py::object to_python(const nlohmann::json& doc);
 // array does not keep the session's buffers alive.
 py::array_t<float> to_numpy(const Framebuffer& fb);
 // The feature buffers `names` (core/feature_buffers.h aov_names()) as new float32 arrays,
-// {"albedo": H×W×3, "normal": H×W×3, "depth": H×W, "variance": H×W}.
+// {"albedo": H×W×3, "normal": H×W×3, "depth": H×W, "variance": H×W, "emission": H×W×3}.
 py::dict aovs_to_numpy(const FeatureBuffers& f, const std::vector<std::string>& names);
 // An H×W×3 array of float32 (any strides) as a Framebuffer; TypeError/ValueError otherwise.
 Framebuffer from_numpy(const py::array& image);

@@ -216,11 +216,12 @@ RenderArgs parse_render_kwargs(const py::kwargs& kwargs, const char* caller) {
 py::dict aovs_to_numpy(const FeatureBuffers& f, const std::vector<std::string>& names) {
   py::dict out;
   for (const std::string& name : names) {
-    const bool rgb = name == "albedo" || name == "normal";
-    const std::vector<float>& v = name == "albedo"   ? f.albedo
-                                  : name == "normal" ? f.normal
-                                  : name == "depth"  ? f.depth
-                                                     : f.variance;
+    const bool rgb = name == "albedo" || name == "normal" || name == "emission";
+    const std::vector<float>& v = name == "albedo"     ? f.albedo
+                                  : name == "normal"   ? f.normal
+                                  : name == "depth"    ? f.depth
+                                  : name == "emission" ? f.emission
+                                                       : f.variance;
     std::vector<py::ssize_t> shape{py::ssize_t(f.height), py::ssize_t(f.width)};
     if (rgb) shape.push_back(3);
     py::array_t<float> a(shape);

@@ -188,8 +188,9 @@ void bind_renderer(py::module_& m) {
       .def("render", &Renderer::render, py::arg("frames") = py::none(),
            "Render `frames` more frames (default: the `frames` argument); a list of dicts "
            "{'frame', 'image' (H×W×3 float32, linear), 'views', 'stats'}, and with "
-           "aov=['albedo', 'normal', 'depth', 'variance'] (any subset) 'aov': view 0's "
-           "feature buffers by name (albedo and normal H×W×3, depth and variance H×W; "
+           "aov=['albedo', 'normal', 'depth', 'variance', 'emission'] (any subset) 'aov': "
+           "view 0's feature buffers by name (albedo, normal and emission H×W×3, depth and "
+           "variance H×W; "
            "docs/noise.md).")
       .def("set_camera", &Renderer::set_camera, py::arg("camera"),
            "The camera of the next frames, 'ex,ey,ez,tx,ty,tz,ux,uy,uz,fov', or None for the "

@@ -78,9 +78,9 @@ void prepare_frame(const DenoiseInput& in, const DenoiseWeights& w, DenoiseBuffe
   for_each_denoise_pixel(in.width, in.height, [&](int x, int y) {
     denoise_pack_guides(in.albedo, in.normal, in.depth, in.width, in.height, x, y, b.guides.data(),
                         b.slopes.data());
-    denoise_demodulate(in.beauty, in.albedo, in.depth, in.variance, in.variance != nullptr,
-                       b.color[0].data(), b.luminance[0].data(), b.variance[0].data(),
-                       y * in.width + x);
+    denoise_demodulate(in.beauty, in.emission, in.emission != nullptr, in.albedo, in.depth,
+                       in.variance, in.variance != nullptr, b.color[0].data(),
+                       b.luminance[0].data(), b.variance[0].data(), y * in.width + x);
   });
   // The variance to start from (denoise_start_variance), into slot 1, then swapped in.
   DenoisePass pass;
@@ -112,7 +112,8 @@ int run_atrous(const DenoiseInput& in, const DenoiseParams& p, DenoiseBuffers& b
 
 void remodulate_frame(const DenoiseInput& in, const std::vector<float>& color, float* out) {
   for_each_denoise_pixel(in.width, in.height, [&](int x, int y) {
-    denoise_remodulate(color.data(), in.albedo, in.depth, out, y * in.width + x);
+    denoise_remodulate(color.data(), in.emission, in.emission != nullptr, in.albedo, in.depth, out,
+                       y * in.width + x);
   });
 }
 

@@ -12,7 +12,8 @@
 // FeatureBuffers hold exactly the layout DenoiseInput points into (no copies), so after
 // the gather the master calls
 //   DenoiseInput in{w, h, beauty, aov.albedo.data(), aov.normal.data(), aov.depth.data(),
-//                   aov.variance.empty() ? nullptr : aov.variance.data(), &view.camera};
+//                   aov.variance.empty() ? nullptr : aov.variance.data(),
+//                   aov.emission.empty() ? nullptr : aov.emission.data(), &view.camera};
 //   denoise(in, resolve_denoise(choice, context), &state_of_view, out.data());
 // with one DenoiseState per view kept across frames (reset when the scene changes), then
 // hands `out` to the observers in place of the beauty (never to the raw EXR beauty).
@@ -32,8 +33,9 @@ enum class DenoiseChoice { none, atrous, svgf, automatic };
 
 // One frame's buffers, row-major, width x height (render/shared/denoise.h's layout), not
 // owned. beauty, albedo, normal, depth are required; variance may be null (the filter
-// then estimates it from the image); camera is needed by svgf only (null: no
-// reprojection, every frame starts a new history).
+// then estimates it from the image); emission may be null (nothing is kept out of the
+// filter); camera is needed by svgf only (null: no reprojection, every frame starts a new
+// history).
 struct DenoiseInput {
   int width = 0, height = 0;
   const float* beauty = nullptr;    // 3 a pixel, linear RGB
@@ -41,6 +43,10 @@ struct DenoiseInput {
   const float* normal = nullptr;    // 3 a pixel, unit, world space, 0 on a miss
   const float* depth = nullptr;     // 1 a pixel, along the camera axis, +inf on a miss
   const float* variance = nullptr;  // 1 a pixel, of the pixel mean's luminance
+  // 3 a pixel, linear RGB: the beauty's emitted part (render/shared/aov.h), filtered out
+  // and added back as it is (so a light's own pixels keep their values and its radiance
+  // does not spread into its neighbours).
+  const float* emission = nullptr;
   const Camera* camera = nullptr;
 };
 
@@ -86,10 +92,11 @@ struct DenoiseBuffers {
 // Writes the denoised image of `in` to `out_rgb` (3 floats a pixel, may not alias the
 // inputs). none copies the beauty; atrous filters the frame alone; svgf accumulates into
 // `temporal` first (required for svgf; reset when its size differs from the frame's) and
-// filters the result. Throws std::invalid_argument on a missing buffer or a bad size.
-// Rows are spread over the calling thread's TBB arena, each piece computed with denormals
-// flushed to zero whatever the thread's own float mode; the result does not depend on the
-// arena. `buffers` (may be null: allocated for the call) are reused when given.
+// filters the result (svgf accumulates the demodulated non-emitted part; each frame's own
+// emission is added back after the filter). Throws std::invalid_argument on a missing buffer or a
+// bad size. Rows are spread over the calling thread's TBB arena, each piece computed with
+// denormals flushed to zero whatever the thread's own float mode; the result does not depend on
+// the arena. `buffers` (may be null: allocated for the call) are reused when given.
 void denoise(const DenoiseInput& in, DenoiseMethod method, DenoiseState* temporal, float* out_rgb,
              const DenoiseParams& params = {}, DenoiseBuffers* buffers = nullptr);
 

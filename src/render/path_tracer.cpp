@@ -26,11 +26,12 @@ PathTracer::PathTracer(const RenderScene& rs) : rs_(rs) {
 
 void PathTracer::step(WavefrontPath& p, const Hit* hit, const SceneData& sd,
                       const RenderSettings& settings, const TexFootprint* base_footprint) const {
-  if (!hit) return path_escape(&sd, &p);
+  AovSample* aov = settings.feature_buffers ? &p.aov : nullptr;
+  if (!hit) return path_escape(&sd, &p, aov);
   if (hit->prim == kCatcherPrim) return catcher_step(p, *hit, sd, settings);
   if (p.depth == 0) p.kind = SampleKind::object;
   path_shade(&sd, &p, hit, PathSettings{settings.max_bounces, settings.rr_start}, base_footprint,
-             settings.feature_buffers ? &p.aov : nullptr);
+             aov);
 }
 
 namespace {
@@ -46,8 +47,9 @@ void write_features(const WavefrontPath* paths, int spp, const RenderSettings& s
   aov_pixel_init(&px);
   for (int s = 0; s < spp; ++s) {
     const Vec3 L = paths[s].L;
-    aov_pixel_add(&px, &paths[s].aov,
-                  clamp_sample(is_finite(L) ? L : Vec3(0.0f), settings.sample_clamp));
+    aov_pixel_add(&px, &paths[s].aov, L,
+                  clamp_sample(is_finite(L) ? L : Vec3(0.0f), settings.sample_clamp),
+                  settings.sample_clamp);
   }
   float v[MR_AOV_FLOATS];
   aov_pixel_result(&px, v);

@@ -47,10 +47,10 @@ struct RenderSettings {
   int catcher_axis = -1;
   float catcher_height = 0.0f;
   float catcher_albedo = 0.5f;
-  // Feature buffers (AOVs: albedo, normal, depth, variance; render/shared/aov.h), recorded
-  // beside the beauty into Framebuffer::features, all four together. Path kernel only (CPU
-  // and OpenCL), rectangles only (not foveated point samples). Off: no buffer, no store,
-  // and the beauty is the same to the bit.
+  // Feature buffers (AOVs: albedo, normal, depth, variance, emission; render/shared/aov.h),
+  // recorded beside the beauty into Framebuffer::features, all five together. Path kernel only
+  // (CPU and OpenCL), rectangles only (not foveated point samples). Off: no buffer, no store, and
+  // the beauty is the same to the bit.
   bool feature_buffers = false;
   // The volume kernel's transfer function, block opacities and step (null for meshes);
   // shared, immutable, replaced when the transfer function changes.

@@ -77,7 +77,7 @@ struct RunConfig {
   double kept_bytes_per_frame = 0;
   DistributedOptions distributed;  // --distributed and its options (distributed/cluster.h)
   // --aov: the feature buffers to record (core/feature_buffers.h aov_names(), checked by
-  // check_aov_names); empty: none. Any name records all four (RenderSettings::
+  // check_aov_names); empty: none. Any name records all five (RenderSettings::
   // feature_buffers); the list says which the outputs keep.
   std::vector<std::string> aovs;
   // --denoise: none | atrous | svgf | auto (render/denoise.h denoise_methods()); auto

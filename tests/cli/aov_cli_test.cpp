@@ -34,17 +34,20 @@ const std::string kSmall = "render --res 32x18 --spp 2 --threads 1 -q ";
 // its normal is unit and its depth finite, elsewhere (a miss) both say nothing was there.
 TEST(AovCli, PngGetsALayeredExrBesideIt) {
   const std::string dir = folder("png");
-  const Result r = run(kSmall + "--aov albedo,normal,depth,variance --out " + dir + "/x.png");
+  const Result r =
+      run(kSmall + "--aov albedo,normal,depth,variance,emission --out " + dir + "/x.png");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(std::filesystem::exists(dir + "/x.png"));
   const std::string exr = dir + "/x_aov.exr";
   ASSERT_TRUE(std::filesystem::exists(exr));
   EXPECT_THAT(exr_channels(exr),
               ::testing::ElementsAre("A", "B", "G", "R", "albedo.B", "albedo.G", "albedo.R",
-                                     "depth.Z", "normal.X", "normal.Y", "normal.Z", "variance.Y"));
+                                     "depth.Z", "emission.B", "emission.G", "emission.R",
+                                     "normal.X", "normal.Y", "normal.Z", "variance.Y"));
   const std::vector<float> x = exr_channel(exr, "normal.X"), y = exr_channel(exr, "normal.Y"),
                            z = exr_channel(exr, "normal.Z"), d = exr_channel(exr, "depth.Z"),
-                           a = exr_channel(exr, "albedo.G"), v = exr_channel(exr, "variance.Y");
+                           a = exr_channel(exr, "albedo.G"), v = exr_channel(exr, "variance.Y"),
+                           e = exr_channel(exr, "emission.G"), beauty = exr_channel(exr, "G");
   size_t hits = 0;
   for (size_t i = 0; i < d.size(); ++i) {
     const float n2 = x[i] * x[i] + y[i] * y[i] + z[i] * z[i];
@@ -58,6 +61,8 @@ TEST(AovCli, PngGetsALayeredExrBesideIt) {
     }
     EXPECT_TRUE(a[i] >= 0 && a[i] <= 1) << i;
     EXPECT_GE(v[i], 0.0f) << i;
+    EXPECT_GE(e[i], 0.0f) << i;
+    EXPECT_LE(e[i], beauty[i]) << i;  // a part of the beauty
   }
   EXPECT_GT(hits, d.size() / 2);
 }

@@ -25,7 +25,8 @@ Framebuffer sample_frame() {
   for (size_t i = 0; i < fb.pixels.size(); ++i) {
     const float k = float(i);
     fb.pixels[i] = Vec3(k, k + 0.25f, k + 0.5f);
-    const float v[8] = {0.1f * k, 0.2f, 0.3f, 0.0f, 1.0f, 0.0f, 2.0f + k, 0.01f * k};
+    const float v[FeatureBuffers::kFloats] = {0.1f * k, 0.2f,      0.3f,     0.0f, 1.0f,    0.0f,
+                                              2.0f + k, 0.01f * k, 5.0f * k, 6.0f, 7.0f + k};
     fb.features.set_packed(i, v);
   }
   fb.features.depth[0] = INFINITY;  // a miss
@@ -38,18 +39,25 @@ TEST(AovExr, EveryLayerReadsBackWithItsName) {
   write_exr_with_aovs(path, fb, aov_names());
   EXPECT_THAT(exr_channels(path),
               ::testing::ElementsAre("A", "B", "G", "R", "albedo.B", "albedo.G", "albedo.R",
-                                     "depth.Z", "normal.X", "normal.Y", "normal.Z", "variance.Y"));
+                                     "depth.Z", "emission.B", "emission.G", "emission.R",
+                                     "normal.X", "normal.Y", "normal.Z", "variance.Y"));
   const std::vector<float> r = exr_channel(path, "R"), a = exr_channel(path, "A");
   const std::vector<float> albedo = exr_channel(path, "albedo.R");
   const std::vector<float> ny = exr_channel(path, "normal.Y");
   const std::vector<float> depth = exr_channel(path, "depth.Z");
   const std::vector<float> var = exr_channel(path, "variance.Y");
+  const std::vector<float> er = exr_channel(path, "emission.R"),
+                           eg = exr_channel(path, "emission.G"),
+                           eb = exr_channel(path, "emission.B");
   for (size_t i = 0; i < fb.pixels.size(); ++i) {
     EXPECT_EQ(r[i], fb.pixels[i].x);
     EXPECT_EQ(a[i], 1.0f);
     EXPECT_EQ(albedo[i], fb.features.albedo[3 * i]);
     EXPECT_EQ(ny[i], 1.0f);
     EXPECT_EQ(var[i], fb.features.variance[i]);
+    EXPECT_EQ(er[i], 5.0f * float(i));
+    EXPECT_EQ(eg[i], 6.0f);
+    EXPECT_EQ(eb[i], 7.0f + float(i));
     if (i == 0)
       EXPECT_TRUE(std::isinf(depth[i]));
     else
@@ -61,6 +69,9 @@ TEST(AovExr, OnlyTheLayersAskedFor) {
   const std::string path = ::testing::TempDir() + "/aov_exr_depth.exr";
   write_exr_with_aovs(path, sample_frame(), {"depth"});
   EXPECT_THAT(exr_channels(path), ::testing::ElementsAre("A", "B", "G", "R", "depth.Z"));
+  write_exr_with_aovs(path, sample_frame(), {"emission"});
+  EXPECT_THAT(exr_channels(path), ::testing::ElementsAre("A", "B", "G", "R", "emission.B",
+                                                         "emission.G", "emission.R"));
 }
 
 TEST(AovExr, RefusesAFrameWithoutFeatureBuffers) {
@@ -74,7 +85,7 @@ TEST(AovList, ParsesAnySubsetInLayerOrder) {
   EXPECT_THAT(parse_aov_list("variance,albedo", "--aov"),
               ::testing::ElementsAre("albedo", "variance"));
   EXPECT_THAT(parse_aov_list("depth,depth", "--aov"), ::testing::ElementsAre("depth"));
-  EXPECT_EQ(parse_aov_list("albedo,normal,depth,variance", "--aov"), aov_names());
+  EXPECT_EQ(parse_aov_list("emission,albedo,normal,depth,variance", "--aov"), aov_names());
 }
 
 TEST(AovList, UnknownNamesSayTheNearest) {

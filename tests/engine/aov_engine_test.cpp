@@ -174,8 +174,11 @@ TEST(AovEngine, RefinedProgressiveFramesAreOneRenderOfAllTheirSamples) {
   ASSERT_EQ(got.depth.size(), one.depth.size());
   size_t same_depth = 0, varied = 0;
   for (size_t i = 0; i < one.depth.size(); ++i) {
-    for (size_t c = 0; c < 3; ++c)
+    for (size_t c = 0; c < 3; ++c) {
       EXPECT_NEAR(got.albedo[3 * i + c], one.albedo[3 * i + c], 1e-6f);
+      EXPECT_NEAR(got.emission[3 * i + c], one.emission[3 * i + c],
+                  1e-5f * one.emission[3 * i + c] + 1e-7f);
+    }
     EXPECT_NEAR(got.variance[i], one.variance[i], 1e-3f * one.variance[i] + 1e-7f) << i;
     varied += one.variance[i] > 1e-5f;
     same_depth += (std::isinf(one.depth[i]) && std::isinf(got.depth[i])) ||

@@ -161,5 +161,28 @@ TEST(SessionDenoise, SvgfKeepsItsHistoryOverFramesRenderedSmaller) {
   EXPECT_NE(image_hash(s.results.back()->denoised.at(0)), image_hash(enlarged(fresh[0])));
 }
 
+// The frame loop's denoiser hands the frame's emission buffer to the filter: a light in
+// the dark (its pixels all emission, one surface throughout, the rest black) comes out
+// of atrous and svgf as it went in, its neighbours still black.
+TEST(SessionDenoise, TheEmissionBufferKeepsALightSharp) {
+  Framebuffer fb(kW, kH);
+  fb.features.resize(kW, kH);
+  for (size_t i = 0; i < fb.pixels.size(); ++i) {
+    const int x = int(i % kW), y = int(i / kW);
+    const bool light = x >= 8 && x < 14 && y >= 5 && y < 11;
+    fb.pixels[i] = light ? Vec3(17.0f, 12.0f, 4.0f) : Vec3(0.0f);
+    const float v[FeatureBuffers::kFloats] = {0.78f,          0.78f,          0.78f,         0.0f,
+                                              -1.0f,          0.0f,           2.0f,          0.0f,
+                                              fb.pixels[i].x, fb.pixels[i].y, fb.pixels[i].z};
+    fb.features.set_packed(i, v);
+  }
+  for (const DenoiseMethod m : {DenoiseMethod::atrous, DenoiseMethod::svgf}) {
+    std::vector<Framebuffer> out;
+    FrameDenoiser(m).apply({ViewSetup{}}, {fb}, out);
+    for (size_t i = 0; i < fb.pixels.size(); ++i)
+      for (int c = 0; c < 3; ++c) ASSERT_EQ(out.at(0).pixels[i][c], fb.pixels[i][c]) << i;
+  }
+}
+
 }  // namespace session_denoise_test
 }  // namespace multiray

@@ -108,8 +108,8 @@ TEST(Protocol, MessagesSurviveARoundTrip) {
 // a result without them stays without, and a payload of the wrong size is refused.
 TEST(Protocol, FeatureBuffersTravelWithThePixels) {
   ResultMessage m = sample_result();
-  m.items[0].features = {0.5f, 0.25f, 0.125f, 0, 1, 0, INFINITY, 1e-3f,
-                         0.1f, 0.2f,  0.3f,   1, 0, 0, 2.5f,     0.0f};
+  m.items[0].features = {0.5f, 0.25f, 0.125f, 0, 1, 0, INFINITY, 1e-3f, 3.0f, 2.0f, 1.0f,
+                         0.1f, 0.2f,  0.3f,   1, 0, 0, 2.5f,     0.0f,  0.0f, 0.0f, 0.0f};
   for (const ResultEncoding e : {ResultEncoding::float32, ResultEncoding::float_zstd,
                                  ResultEncoding::half, ResultEncoding::half_zstd}) {
     if (uses_zstd(e) && !zstd_available()) continue;

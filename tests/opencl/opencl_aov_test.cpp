@@ -40,12 +40,34 @@ TEST(OpenClAov, PlaneSeenFromAbove) {
     for (int c = 0; c < 3; ++c) EXPECT_EQ(f.albedo[3 * i + size_t(c)], 0.5f) << i;
     EXPECT_NEAR(f.normal[3 * i + 1], 1.0f, 1e-6f) << i;
     EXPECT_NEAR(f.depth[i], 1.0f, 1e-4f) << i;
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(f.emission[3 * i + size_t(c)], 0.0f) << i;
   }
 }
 
-// The same code on the same random numbers: albedo, normal and depth (fixed by the
-// camera ray) agree to float rounding nearly everywhere; the variance (of the whole
-// path) agrees where the two backends' paths did, which is most pixels.
+// A pixel that sees only a light (the plane emits and reflects nothing): its emission is
+// the beauty, bit for bit, also under the sample clamp (aov.h).
+TEST(OpenClAov, EmissionOfALightSeenDirectlyIsTheBeauty) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  Scene scene = make_lit_plane(0.0f, 1.0f);
+  scene.materials[0].emission = Vec3(4.0f, 2.0f, 1.0f);
+  SceneCache rs(scene);
+  OpenClDevice cl(rs, {}, "opencl:0");
+  for (const float clamp : {0.0f, 3.0f}) {
+    RenderSettings s = with_features(4);
+    s.sample_clamp = clamp;
+    const Framebuffer fb = render_whole(cl, view_of(scene, 12, 8), s);
+    for (size_t i = 0; i < fb.pixels.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(fb.features.emission[3 * i + size_t(c)], fb.pixels[i][c]) << i << " " << clamp;
+        EXPECT_GT(fb.pixels[i][c], 0.0f);
+      }
+  }
+}
+
+// The same code on the same random numbers: albedo, normal, depth and emission (fixed by
+// the camera ray and the specular bounces after it) agree to float rounding nearly
+// everywhere; the variance (of the whole path) agrees where the two backends' paths did,
+// which is most pixels.
 TEST(OpenClAov, MatchesCpu) {
   MULTIRAY_SKIP_WITHOUT_OPENCL();
   const Scene scene = make_cornell_box();
@@ -60,19 +82,24 @@ TEST(OpenClAov, MatchesCpu) {
   const auto close = [](float x, float y, float tol) {
     return (std::isinf(x) && x == y) || std::abs(x - y) <= tol * std::max(1.0f, std::abs(x));
   };
-  size_t geometry = 0, variance = 0;
+  size_t geometry = 0, variance = 0, emission = 0, emitting = 0;
   const size_t n = a.depth.size();
   for (size_t i = 0; i < n; ++i) {
-    bool same = close(a.depth[i], b.depth[i], 1e-4f);
+    bool same = close(a.depth[i], b.depth[i], 1e-4f), same_emission = true;
     for (int c = 0; c < 3; ++c) {
       same &= close(a.albedo[3 * i + size_t(c)], b.albedo[3 * i + size_t(c)], 1e-4f);
       same &= close(a.normal[3 * i + size_t(c)], b.normal[3 * i + size_t(c)], 1e-4f);
+      same_emission &= close(a.emission[3 * i + size_t(c)], b.emission[3 * i + size_t(c)], 1e-4f);
     }
     geometry += same;
     variance += close(a.variance[i], b.variance[i], 1e-3f);
+    emission += same_emission;
+    emitting += a.emission[3 * i] > 0.0f;
   }
   EXPECT_GE(double(geometry), 0.99 * double(n));
   EXPECT_GE(double(variance), 0.9 * double(n));
+  EXPECT_GE(double(emission), 0.99 * double(n));
+  EXPECT_GT(emitting, 0u);  // the light is in view
 }
 
 // Split independence: tiles, small launches (tile=4, wg=1), two devices pulling

@@ -33,17 +33,20 @@ TEST(OpenClDenoise, MatchesTheCpu) {
   // it, and rows do not divide them.
   OpenClDenoiser gpu(0, 64, 32);
   for (EdgeKind kind : {EdgeKind::normal, EdgeKind::depth, EdgeKind::albedo})
-    for (bool with_variance : {false, true}) {
-      DenoiseFrame f = testing::edge_frame(kind, 60, 45);
-      for (int x = 0; x < 12; ++x)  // some sky: misses
-        for (int y = 0; y < 9; ++y) f.depth[f.index(x, y)] = INFINITY;
-      f.add_noise(0.3f, 17, with_variance);
-      std::vector<float> cpu(f.beauty.size()), cl(f.beauty.size(), -1.0f);
-      denoise(f.input(), DenoiseMethod::atrous, nullptr, cpu.data());
-      gpu.atrous(f.input(), cl.data());
-      EXPECT_LT(max_relative_difference(cpu, cl), 1e-4f)
-          << "kind " << int(kind) << ", variance " << with_variance;
-    }
+    for (bool with_variance : {false, true})
+      for (bool with_light : {false, true}) {
+        DenoiseFrame f = testing::edge_frame(kind, 60, 45);
+        for (int x = 0; x < 12; ++x)  // some sky: misses
+          for (int y = 0; y < 9; ++y) f.depth[f.index(x, y)] = INFINITY;
+        f.add_noise(0.3f, 17, with_variance);
+        // A light across the edge, in the emission buffer (filtered out, added back).
+        if (with_light) f.add_light(25, 20, 36, 26, Vec3(6.0f, 4.0f, 2.0f));
+        std::vector<float> cpu(f.beauty.size()), cl(f.beauty.size(), -1.0f);
+        denoise(f.input(), DenoiseMethod::atrous, nullptr, cpu.data());
+        gpu.atrous(f.input(), cl.data());
+        EXPECT_LT(max_relative_difference(cpu, cl), 1e-4f)
+            << "kind " << int(kind) << ", variance " << with_variance << ", light " << with_light;
+      }
 }
 
 // svgf over six frames of a moving camera, with and without the renderer's variance:
@@ -57,6 +60,7 @@ TEST(OpenClDenoise, SvgfMatchesTheCpu) {
     for (unsigned k = 0; k < 6; ++k) {
       DenoiseFrame f = testing::walls(testing::camera_at(0.03f * float(k)), 40 + k);
       f.with_variance = with_variance;
+      f.add_light(30, 20, 38 + int(k), 26, Vec3(8.0f));  // emission: kept out of the history
       std::vector<float> cpu(f.beauty.size()), cl(f.beauty.size(), -1.0f);
       denoise(f.input(), DenoiseMethod::svgf, &on_cpu, cpu.data());
       gpu.svgf(f.input(), on_cl, cl.data());

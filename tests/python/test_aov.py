@@ -36,3 +36,15 @@ def test_a_subset_and_the_cli_form():
 def test_unknown_names_say_the_nearest():
     with pytest.raises(ValueError, match="did you mean albedo"):
         multiray.render(**SMALL, aov=["albdo"])
+
+
+def test_emission_is_the_part_of_the_beauty_lights_seen_give():
+    frame = multiray.render(**SMALL, aov=["emission", "depth"])[0]
+    aov, image = frame["aov"], frame["image"]
+    assert set(aov) == {"emission", "depth"}
+    assert aov["emission"].shape == image.shape and aov["emission"].dtype == np.float32
+    # The sky seen directly is all its pixels' light; the box's walls emit nothing.
+    miss = ~np.isfinite(aov["depth"])
+    assert np.any(miss) and np.array_equal(aov["emission"][miss], image[miss])
+    assert np.all(aov["emission"] >= 0) and np.all(aov["emission"] <= image)
+    assert np.mean(aov["emission"][~miss].max(axis=1) == 0) > 0.5

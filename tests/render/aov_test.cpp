@@ -1,5 +1,6 @@
 // The path tracer's feature buffers (AOVs, render/shared/aov.h) on the CPU: the values
-// on analytic scenes, the variance's definition checked sample by sample, the beauty
+// on analytic scenes, the variance's definition checked sample by sample, the emission
+// where a light is seen, the beauty
 // untouched by asking for them, and the buffers as independent of the split as the image.
 #include <gtest/gtest.h>
 
@@ -74,12 +75,65 @@ TEST(Aov, MissesAndPlanarDepth) {
     EXPECT_EQ(f.albedo[3 * top], 0.0f);
     EXPECT_EQ(f.normal[3 * top + 1], 0.0f);
     EXPECT_EQ(f.variance[top], 0.0f);
+    // The sky seen directly is all the top row's light: its emission is the beauty. The
+    // plane is lit, not emitting: the bottom row's emission is 0 under a bright beauty.
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(f.emission[3 * top + size_t(c)], fb.pixels[top][c]) << x;
+      EXPECT_EQ(f.emission[3 * bottom + size_t(c)], 0.0f) << x;
+    }
+    EXPECT_GT(fb.pixels[bottom].y, 0.05f);
     EXPECT_EQ(f.albedo[3 * bottom + 1], 0.5f);
     EXPECT_NEAR(f.normal[3 * bottom + 1], 1.0f, 1e-6f);
     // The bottom row's rays leave about tan(30 deg) * (1 - 1/16) below the axis.
     const float slope = std::tan(30.0f * kPi / 180.0f) * (1.0f - 1.0f / float(h));
     EXPECT_NEAR(f.depth[bottom], 1.0f / slope, 0.1f);
   }
+}
+
+// A pixel that sees only a light: its emission is the beauty, bit for bit, also when the
+// sample clamp scales every sample down (the emission is scaled with its sample). The
+// plane itself emits, is black (reflects nothing) and fills the view.
+TEST(Aov, EmissionOfALightSeenDirectlyIsTheBeauty) {
+  Scene scene = make_lit_plane(0.0f, 1.0f);
+  scene.materials[0].emission = Vec3(4.0f, 2.0f, 1.0f);
+  for (const float clamp : {0.0f, 3.0f}) {
+    RenderSettings s = with_features(4);
+    s.sample_clamp = clamp;
+    const Framebuffer fb = render(scene, 12, 8, s);
+    for (size_t i = 0; i < fb.pixels.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(fb.features.emission[3 * i + size_t(c)], fb.pixels[i][c]) << i << " " << clamp;
+        EXPECT_GT(fb.pixels[i][c], 0.0f);
+      }
+    if (clamp > 0.0f) {
+      EXPECT_FLOAT_EQ(fb.pixels[0].x, clamp);
+    }
+  }
+}
+
+// A light's radiance reflected off a diffuse surface is not emission: in the Cornell box
+// only the pixels that see the light have some (at most its radiance, never more than
+// the beauty); the rest of the box, lit by it, has none.
+TEST(Aov, EmissionOnlyWhereALightIsSeen) {
+  const Scene scene = make_cornell_box();
+  const Framebuffer fb = render(scene, 32, 32, with_features(4));
+  int lit = 0, emitting = 0;
+  for (size_t i = 0; i < fb.pixels.size(); ++i) {
+    const float e = fb.features.emission[3 * i];
+    EXPECT_GE(e, 0.0f);
+    EXPECT_LE(e, fb.pixels[i].x) << i;  // never more than the beauty
+    if (e > 0.0f) {
+      ++emitting;
+      EXPECT_LE(e, 17.0f) << i;  // the light's radiance, red
+    } else if (fb.pixels[i].x > 0.0f) {
+      ++lit;
+    }
+  }
+  EXPECT_GT(emitting, 0);
+  // The light covers about 1% of the view (12 of these 1024 pixels); light reflected
+  // first and then reaching the light would add emission to some 50.
+  EXPECT_LT(emitting, int(fb.pixels.size()) / 40);
+  EXPECT_GT(lit, int(fb.pixels.size()) / 2);
 }
 
 // The variance is the variance of the pixel's mean luminance, from its own samples:

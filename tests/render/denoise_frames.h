@@ -14,14 +14,15 @@ namespace multiray::testing {
 
 struct DenoiseFrame {
   int width = 0, height = 0;
-  std::vector<float> clean, beauty, albedo, normal, depth, variance;
+  std::vector<float> clean, beauty, albedo, normal, depth, variance, emission;
   Camera camera;
   bool with_variance = false;
+  bool with_emission = false;  // the emission buffer is given to the filter
 
   DenoiseFrame(int w, int h) : width(w), height(h) {
     const size_t n = size_t(w) * size_t(h);
     clean.assign(3 * n, 0.0f), albedo.assign(3 * n, 0.0f), normal.assign(3 * n, 0.0f);
-    depth.assign(n, INFINITY), variance.assign(n, 0.0f);
+    depth.assign(n, INFINITY), variance.assign(n, 0.0f), emission.assign(3 * n, 0.0f);
   }
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
   // Pixel (x, y) sees a surface of albedo `a`, normal `nrm` and depth `d` lit by
@@ -54,15 +55,29 @@ struct DenoiseFrame {
     }
     with_variance = pass_variance;
   }
+  // Pixels [x0, x1) x [y0, y1) also see a light of radiance `le` (an emitter seen
+  // directly, in the emission buffer): added to the beauty (after add_noise) and the
+  // clean image, and given to the filter.
+  void add_light(int x0, int y0, int x1, int y1, Vec3 le) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const size_t k = 3 * index(x, y) + size_t(c);
+          beauty[k] += le[c], clean[k] += le[c], emission[k] += le[c];
+        }
+    with_emission = true;
+  }
   DenoiseInput input() const {
-    return DenoiseInput{width,
-                        height,
-                        beauty.data(),
-                        albedo.data(),
-                        normal.data(),
-                        depth.data(),
-                        with_variance ? variance.data() : nullptr,
-                        &camera};
+    DenoiseInput in{width,
+                    height,
+                    beauty.data(),
+                    albedo.data(),
+                    normal.data(),
+                    depth.data(),
+                    with_variance ? variance.data() : nullptr,
+                    with_emission ? emission.data() : nullptr};
+    in.camera = &camera;
+    return in;
   }
 };
 

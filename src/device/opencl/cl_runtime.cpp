@@ -108,7 +108,7 @@ ClLaunchBuffers::ClLaunchBuffers(const ClRuntime& rt) {
 
 bool ClLaunchBuffers::allocate_features(const ClRuntime& rt) {
   if (!host_features.empty()) return false;
-  const size_t values = 2 * size_t(rt.tile) * size_t(rt.tile);
+  const size_t values = kFeatureFloat4s * size_t(rt.tile) * size_t(rt.tile);
   features = cl::Buffer(rt.context, CL_MEM_WRITE_ONLY, values * sizeof(cl_float4));
   host_features.resize(values);
   return true;
@@ -150,11 +150,13 @@ void ClLaunchBuffers::read_features(std::span<const ClLaunchRect> pieces, Frameb
   size_t first = 0;  // of the piece, in the batch
   for (const ClLaunchRect& r : pieces) {
     for (size_t i = 0; i < r.pixels(); ++i) {
-      // Two float4 per pixel: (albedo, depth), (normal, variance); kernels/path_tracer.cl.
-      const cl_float4& a = host_features[2 * (first + i)];
-      const cl_float4& b = host_features[2 * (first + i) + 1];
-      const float v[FeatureBuffers::kFloats] = {a.s[0], a.s[1], a.s[2], b.s[0],
-                                                b.s[1], b.s[2], a.s[3], b.s[3]};
+      // Three float4 per pixel: (albedo, depth), (normal, variance), (emission, unused);
+      // kernels/path_tracer.cl.
+      const cl_float4& a = host_features[kFeatureFloat4s * (first + i)];
+      const cl_float4& b = host_features[kFeatureFloat4s * (first + i) + 1];
+      const cl_float4& e = host_features[kFeatureFloat4s * (first + i) + 2];
+      const float v[FeatureBuffers::kFloats] = {a.s[0], a.s[1], a.s[2], b.s[0], b.s[1], b.s[2],
+                                                a.s[3], b.s[3], e.s[0], e.s[1], e.s[2]};
       const size_t x = size_t(r.x) + i % size_t(r.w), y = size_t(r.y) + i / size_t(r.w);
       out.features.set_packed(y * size_t(out.width) + x, v);
     }
@@ -170,10 +172,10 @@ void ClLaunchBuffers::read(const ClRuntime& rt, std::span<const ClLaunchRect> pi
   rt.queue.enqueueReadBuffer(radiance, CL_FALSE, 0, n * sizeof(cl_float4), host_radiance.data());
   rt.queue.enqueueReadBuffer(counts, CL_FALSE, 0, n * sizeof(cl_uint), host_counts.data());
   if (with_features) {
-    if (host_features.size() < 2 * n || out.features.width != out.width ||
+    if (host_features.size() < kFeatureFloat4s * n || out.features.width != out.width ||
         out.features.height != out.height)
       throw std::logic_error("feature buffers asked for, and nothing to hold them");
-    rt.queue.enqueueReadBuffer(features, CL_FALSE, 0, 2 * n * sizeof(cl_float4),
+    rt.queue.enqueueReadBuffer(features, CL_FALSE, 0, kFeatureFloat4s * n * sizeof(cl_float4),
                                host_features.data());
   }
   rt.queue.finish();

@@ -101,9 +101,11 @@ struct ClRectCounts {
 
 // The per-launch buffers every kernel here shares: the batch's rect list (batch_rects.h),
 // its output (radiance as float4 and one count per pixel, and for the path tracer, when
-// asked, two float4 of feature buffers per pixel) and its slice of the view's
+// asked, kFeatureFloat4s float4 of feature buffers per pixel) and its slice of the view's
 // samples-per-pixel map, with host copies.
 struct ClLaunchBuffers {
+  // The path kernel's float4s of feature buffers a pixel (kernels/path_tracer.cl).
+  static constexpr size_t kFeatureFloat4s = 3;
   explicit ClLaunchBuffers(const ClRuntime& rt);
   // Renders `rects` of `view` into `out` in the launches of plan_launches: per launch,
   // enqueues (non-blocking) the rect list and the sample-map slice, then calls

@@ -16,7 +16,7 @@ namespace multiray {
 namespace {
 // kernels/denoise.cl's passes and argument count.
 enum DenoisePass : cl_int { kPrepare = 0, kVariance = 1, kAtrous = 2, kRemodulate = 3 };
-constexpr cl_uint kDenoiseArgs = 23, kTemporalArgs = 24;
+constexpr cl_uint kDenoiseArgs = 25, kTemporalArgs = 24;
 // The device buffers, kept from frame to frame (reallocated when the size changes).
 enum Slot {
   kBeauty,
@@ -24,6 +24,7 @@ enum Slot {
   kNormal,
   kDepth,
   kGivenVariance,
+  kEmission,
   kColor0,
   kColor1,
   kVariance0,
@@ -135,6 +136,8 @@ void OpenClDenoiser::Impl::denoise(const DenoiseInput& in, DenoiseState* state, 
   const cl::Buffer depth = upload(kDepth, in.depth, n);
   const cl::Buffer variance =
       in.variance ? upload(kGivenVariance, in.variance, n) : buffer(kGivenVariance, 1);
+  const cl::Buffer emission =
+      in.emission ? upload(kEmission, in.emission, 3 * n) : buffer(kEmission, 1);
   // Two colours, luminances and variances, ping-pong: each pass reads one and writes the
   // other.
   cl::Buffer color[2] = {buffer(kColor0, 3 * n), buffer(kColor1, 3 * n)};
@@ -153,6 +156,8 @@ void OpenClDenoiser::Impl::denoise(const DenoiseInput& in, DenoiseState* state, 
   k.setArg(14, variance);
   k.setArg(19, buffer(kGuides, MR_DENOISE_GUIDE_FLOATS * n));
   k.setArg(20, buffer(kSlopes, MR_DENOISE_SLOPE_FLOATS * n));
+  k.setArg(23, cl_int(in.emission != nullptr));
+  k.setArg(24, emission);
   bind(color[1], lum[1], var[1], color[0], lum[0], var[0]);  // and the guides
   run(kPrepare, in.width, in.height, 0);
   // The variance to start from (denoise_start_variance): var[0] -> var[1], swapped in.

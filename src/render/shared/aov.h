@@ -16,11 +16,21 @@
 //   and glass) times the cosine between the camera ray and the camera's axis: for a
 //   surface seen directly, its distance along the camera's axis (planar "Z" depth, what
 //   OpenEXR's and Blender's Z channels hold), in scene units.
+// - emission: the emitted radiance the path collects up to and including that vertex
+//   (an emitter seen directly or through mirrors and glass, the environment seen past
+//   them), each term weighted exactly as path_shade/path_escape add it to the path's
+//   radiance (render/shared/path.h); linear RGB. Light reflected off the vertex (next-event
+//   estimation from it, later bounces) is not in it: the beauty minus it is what the
+//   denoiser filters (render/shared/denoise.h), the emission added back sharp.
 //
 // Per pixel (AovPixel, over the pixel's samples, in sample order):
 // - albedo: the mean over all samples (a miss counts as 0);
 // - normal: the normalised sum over the samples that met a surface; (0, 0, 0) when none;
 // - depth: the mean over the samples that met a surface; +infinity when none did;
+// - emission: the mean over all samples, each handled as the beauty handles its sample's
+//   radiance: 0 when that radiance is not finite, scaled by the same factor when the
+//   sample clamp scales it (so it never exceeds the beauty, and a pixel that sees only
+//   emitters has exactly the beauty's value);
 // - variance: the variance of the pixel's mean luminance (Rec. 709 Y of each sample's
 //   radiance exactly as it is averaged into the beauty: clamped, non-finite as 0), i.e. the
 //   unbiased sample variance of the samples' Y divided by their count (Welford's
@@ -36,12 +46,13 @@
 
 MR_NAMESPACE_BEGIN
 
-// Floats per pixel of the packed form (kernels' output, wire): albedo R, G, B, normal X,
-// Y, Z, depth, variance.
-#define MR_AOV_FLOATS 8
+// Floats per pixel of the packed form (kernels' output, wire): albedo R, G, B (0-2),
+// normal X, Y, Z (3-5), depth (6), variance (7), emission R, G, B (8-10).
+#define MR_AOV_FLOATS 11
 
 typedef struct {
   mr_float3 albedo, normal;
+  mr_float3 emission;  // collected so far, until the first non-specular vertex (done)
   float depth;
   float length;    // of the path so far, up to the last recorded vertex
   float cos_axis;  // between the camera ray and the camera's axis
@@ -53,6 +64,7 @@ typedef struct {
 MR_DEVICE void aov_init(AovSample* a, mr_float3 dir, mr_float3 forward) {
   a->albedo = MR_FLOAT3(0.0f, 0.0f, 0.0f);
   a->normal = MR_FLOAT3(0.0f, 0.0f, 0.0f);
+  a->emission = MR_FLOAT3(0.0f, 0.0f, 0.0f);
   a->depth = INFINITY;
   a->length = 0.0f;
   a->cos_axis = dot3(dir, forward);
@@ -72,8 +84,16 @@ MR_DEVICE void aov_at_hit(AovSample* a, float t, mr_float3 albedo, mr_float3 ns,
   a->done = !specular;
 }
 
+// Emitted radiance `le` the path adds to its radiance, as it adds it: recorded while the
+// first non-specular vertex is still to come or is the one being shaded (path_shade calls
+// this before aov_at_hit).
+MR_DEVICE void aov_add_emission(AovSample* a, mr_float3 le) {
+  if (!a->done) a->emission = a->emission + le;
+}
+
 typedef struct {
   mr_float3 albedo, normal;  // sums: over every sample, over the samples that hit
+  mr_float3 emission;        // sum over every sample, as averaged into the beauty
   float depth;               // sum over the samples that hit
   float mean, m2;            // Welford's running mean and sum of squared deviations of Y
   mr_int samples, hits;
@@ -82,6 +102,7 @@ typedef struct {
 MR_DEVICE void aov_pixel_init(AovPixel* px) {
   px->albedo = MR_FLOAT3(0.0f, 0.0f, 0.0f);
   px->normal = MR_FLOAT3(0.0f, 0.0f, 0.0f);
+  px->emission = MR_FLOAT3(0.0f, 0.0f, 0.0f);
   px->depth = 0.0f;
   px->mean = 0.0f;
   px->m2 = 0.0f;
@@ -94,10 +115,19 @@ MR_DEVICE float aov_luminance(mr_float3 c) {
   return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
 }
 
-// Adds sample `a`, whose radiance as averaged into the beauty is `L`.
-MR_DEVICE void aov_pixel_add(AovPixel* px, const AovSample* a, mr_float3 L) {
+// Adds sample `a`, whose radiance is `radiance` as traced and `L` as averaged into the
+// beauty: clamp_sample(radiance if finite else 0, limit) (sampling.h), `limit` the sample
+// clamp. Its emission gets the same treatment: 0 with a non-finite radiance, else scaled
+// by clamp_sample's factor (so, where the emission is all the radiance, the same bits).
+MR_DEVICE void aov_pixel_add(AovPixel* px, const AovSample* a, mr_float3 radiance, mr_float3 L,
+                             float limit) {
   ++px->samples;
   px->albedo = px->albedo + a->albedo;
+  const mr_float3 e = a->emission;
+  if (finite3(radiance) && finite3(e)) {
+    const float m = mr_fmax(radiance.x, mr_fmax(radiance.y, radiance.z));
+    px->emission = px->emission + (limit > 0.0f && m > limit ? e * (limit / m) : e);
+  }
   if (a->hit) {
     px->normal = px->normal + a->normal;
     px->depth += a->depth;
@@ -120,6 +150,9 @@ MR_DEVICE void aov_pixel_result(const AovPixel* px, float out[MR_AOV_FLOATS]) {
   out[3] = normal.x, out[4] = normal.y, out[5] = normal.z;
   out[6] = px->hits > 0 ? px->depth / (float)px->hits : INFINITY;
   out[7] = px->samples > 1 ? px->m2 / ((float)(px->samples - 1) * (float)px->samples) : 0.0f;
+  const mr_float3 emission =
+      px->samples > 0 ? px->emission * (1.0f / (float)px->samples) : MR_FLOAT3(0.0f, 0.0f, 0.0f);
+  out[8] = emission.x, out[9] = emission.y, out[10] = emission.z;
 }
 
 MR_NAMESPACE_END

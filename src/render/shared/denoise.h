@@ -15,9 +15,12 @@
 //
 // Buffers (all row-major, `width` x `height`): colours 3 floats a pixel (linear RGB),
 // normals 3 (unit, world space, 0 on a miss), depth 1 (along the camera axis, +inf on a
-// miss), variances 1 (of a pixel's luminance). The filter works on the beauty divided by
-// denoise_factor (demodulated: the lighting without the texture), so texture detail is
-// never blurred; denoise_remodulate multiplies it back.
+// miss), variances 1 (of a pixel's luminance). The filter works on the beauty minus its
+// emission (render/shared/aov.h: emitters seen directly or through glass, when given)
+// divided by denoise_factor (demodulated: the lighting without the texture), so texture
+// detail is never blurred, and a light is neither spread over its neighbours nor shuts
+// them out by its luminance; denoise_remodulate multiplies it back and adds the emission
+// back unfiltered (emitters are seen sharp).
 #ifndef MULTIRAY_RENDER_SHARED_DENOISE_H
 #define MULTIRAY_RENDER_SHARED_DENOISE_H
 
@@ -151,24 +154,42 @@ MR_DEVICE mr_float3 denoise_factor(const MR_GLOBAL float* albedo, const MR_GLOBA
          MR_FLOAT3(MR_DENOISE_ALBEDO_EPS, MR_DENOISE_ALBEDO_EPS, MR_DENOISE_ALBEDO_EPS);
 }
 
-// Pixel `i` demodulated into `color_out` (and its luminance into `luminance_out`); a
-// non-finite beauty channel is taken as 0 (one NaN would otherwise spread over the
-// filter's whole footprint). With `variance` (may be null in C++; the OpenCL host passes
-// has_variance 0 instead) the given variance is scaled to the demodulated colour, by the
-// factor's luminance squared (exact for a grey albedo, an approximation for a coloured
-// one).
-MR_DEVICE void denoise_demodulate(const MR_GLOBAL float* beauty, const MR_GLOBAL float* albedo,
+// Channel `k` of pixel `i`'s emission, the part of the beauty left unfiltered: 0 without
+// an emission buffer (`has_emission` 0; `emission` may then be null in C++, the OpenCL
+// host binds a placeholder) and where it is not finite.
+MR_DEVICE float denoise_emission(const MR_GLOBAL float* emission, int has_emission, int i, int k) {
+  float e = 0.0f;
+  if (has_emission) e = emission[3 * i + k];  // branched: the placeholder is never read
+  return mr_isfinite(e) ? e : 0.0f;
+}
+
+// Channel `k` of what pixel `i` filters, before demodulation: the beauty (0 where not
+// finite: one NaN would otherwise spread over the filter's whole footprint) minus the
+// emission, at least 0 (the emission never exceeds the beauty but by rounding).
+MR_DEVICE float denoise_unemitted(const MR_GLOBAL float* beauty, const MR_GLOBAL float* emission,
+                                  int has_emission, int i, int k) {
+  const float c = beauty[3 * i + k];
+  const float rest = (mr_isfinite(c) ? c : 0.0f) - denoise_emission(emission, has_emission, i, k);
+  return rest > 0.0f ? rest : 0.0f;
+}
+
+// Pixel `i` demodulated into `color_out` (and its luminance into `luminance_out`): the
+// beauty minus the emission (denoise_unemitted) divided by denoise_factor. With
+// `variance` (may be null in C++; the OpenCL host passes has_variance 0 instead) the given
+// variance is scaled to the demodulated colour, by the factor's luminance squared (exact
+// for a grey albedo, an approximation for a coloured one).
+MR_DEVICE void denoise_demodulate(const MR_GLOBAL float* beauty, const MR_GLOBAL float* emission,
+                                  int has_emission, const MR_GLOBAL float* albedo,
                                   const MR_GLOBAL float* depth, const MR_GLOBAL float* variance,
                                   int has_variance, MR_GLOBAL float* color_out,
                                   MR_GLOBAL float* luminance_out, MR_GLOBAL float* variance_out,
                                   int i) {
   const mr_float3 f = denoise_factor(albedo, depth, i);
-  const mr_float3 c = load3(beauty + 3 * i);
   // Channel by channel: clang turns finite3's && into a select guarded by an LLVM
   // `freeze`, which Oclgrind's --uninitialized check cannot interpret.
-  color_out[3 * i] = (mr_isfinite(c.x) ? c.x : 0.0f) / f.x;
-  color_out[3 * i + 1] = (mr_isfinite(c.y) ? c.y : 0.0f) / f.y;
-  color_out[3 * i + 2] = (mr_isfinite(c.z) ? c.z : 0.0f) / f.z;
+  color_out[3 * i] = denoise_unemitted(beauty, emission, has_emission, i, 0) / f.x;
+  color_out[3 * i + 1] = denoise_unemitted(beauty, emission, has_emission, i, 1) / f.y;
+  color_out[3 * i + 2] = denoise_unemitted(beauty, emission, has_emission, i, 2) / f.z;
   denoise_store_luminance(color_out, luminance_out, i);
   if (has_variance) {
     const float l = denoise_luminance(f);
@@ -177,13 +198,15 @@ MR_DEVICE void denoise_demodulate(const MR_GLOBAL float* beauty, const MR_GLOBAL
   }
 }
 
-// The demodulated pixel `i` multiplied back by its factor into `out`.
-MR_DEVICE void denoise_remodulate(const MR_GLOBAL float* color, const MR_GLOBAL float* albedo,
+// The demodulated pixel `i` multiplied back by its factor, plus its emission
+// (denoise_emission), into `out`.
+MR_DEVICE void denoise_remodulate(const MR_GLOBAL float* color, const MR_GLOBAL float* emission,
+                                  int has_emission, const MR_GLOBAL float* albedo,
                                   const MR_GLOBAL float* depth, MR_GLOBAL float* out, int i) {
   const mr_float3 f = denoise_factor(albedo, depth, i);
-  out[3 * i] = color[3 * i] * f.x;
-  out[3 * i + 1] = color[3 * i + 1] * f.y;
-  out[3 * i + 2] = color[3 * i + 2] * f.z;
+  out[3 * i] = color[3 * i] * f.x + denoise_emission(emission, has_emission, i, 0);
+  out[3 * i + 1] = color[3 * i + 1] * f.y + denoise_emission(emission, has_emission, i, 1);
+  out[3 * i + 2] = color[3 * i + 2] * f.z + denoise_emission(emission, has_emission, i, 2);
 }
 
 // 1 / depth (0 on a miss: a miss is a surface at infinity).

@@ -85,8 +85,12 @@ MR_DEVICE mr_float3 path_escape_contribution(const SceneData* sc, const PathStat
   return p->beta * le * w;
 }
 
-MR_DEVICE void path_escape(const SceneData* sc, PathState* p) {
-  p->L = p->L + path_escape_contribution(sc, p);
+// `aov`, when given, takes the environment's light as emission while the path has met
+// no non-specular vertex (aov.h).
+MR_DEVICE void path_escape(const SceneData* sc, PathState* p, AovSample* aov) {
+  const mr_float3 add = path_escape_contribution(sc, p);
+  p->L = p->L + add;
+  if (aov) aov_add_emission(aov, add);
   p->alive = false;
 }
 
@@ -189,19 +193,22 @@ MR_DEVICE void path_shade(const SceneData* sc, PathState* p, const Hit* hit, Pat
   const mr_float3 wo_world = -p->ray.dir;
   const bool front = dot3(ng, wo_world) > 0.0f;
 
+  // A path at its last bounce still records its features when they are waiting for it.
+  const bool record = aov && !aov->done;
   if (front && mat->emissive) {
     const mr_float3 le = emission_at(sc, mat, uv);
+    mr_float3 add;
     if (p->prev_specular) {
-      p->L = p->L + p->beta * le;
+      add = p->beta * le;
     } else {
       const float cos_l = dot3(ng, wo_world);
       const float pdf_light =
           (1.0f - sc->p_env) * sc->light_pdf_by_prim[hit->prim] * hit->t * hit->t / cos_l;
-      p->L = p->L + p->beta * le * power_heuristic(p->prev_pdf, pdf_light);
+      add = p->beta * le * power_heuristic(p->prev_pdf, pdf_light);
     }
+    p->L = p->L + add;
+    if (aov) aov_add_emission(aov, add);  // until the first non-specular vertex
   }
-  // A path at its last bounce still records its features when they are waiting for it.
-  const bool record = aov && !aov->done;
   if (p->depth >= settings.max_bounces && !record) {
     p->alive = false;
     return;

@@ -20,7 +20,8 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void denois
     __global const float* depth, __global const float* variance,
     __global const float* color_in, __global const float* variance_in,
     __global float* color_out, __global float* variance_out, __global float* guides,
-    __global float* slopes, __global const float* luminance_in, __global float* luminance_out) {
+    __global float* slopes, __global const float* luminance_in, __global float* luminance_out,
+    int has_emission, __global const float* emission) {
   // A division and no remainder: with both, clang pairs them through an LLVM `freeze`,
   // which Oclgrind's --uninitialized check cannot interpret.
   const int i = offset + (int)get_global_id(0);
@@ -30,8 +31,8 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void denois
                                            sigma_albedo);
   if (pass == MR_DENOISE_PREPARE) {
     denoise_pack_guides(albedo, normal, depth, width, height, x, y, guides, slopes);
-    denoise_demodulate(beauty, albedo, depth, variance, has_variance, color_out, luminance_out,
-                       variance_out, i);
+    denoise_demodulate(beauty, emission, has_emission, albedo, depth, variance, has_variance,
+                       color_out, luminance_out, variance_out, i);
   } else if (pass == MR_DENOISE_VARIANCE) {
     variance_out[i] = denoise_start_variance(has_variance, variance_in, luminance_in, guides,
                                              slopes, width, height, x, y, &w);
@@ -39,7 +40,7 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void denois
     denoise_atrous_pixel(color_in, luminance_in, variance_in, guides, slopes, color_out,
                          luminance_out, variance_out, width, height, x, y, step, &w);
   } else {
-    denoise_remodulate(color_in, albedo, depth, color_out, i);
+    denoise_remodulate(color_in, emission, has_emission, albedo, depth, color_out, i);
   }
 }
 

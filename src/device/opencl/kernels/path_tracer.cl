@@ -11,7 +11,7 @@ float3 trace_path(const SceneData* sc, PathState* p, PathSettings settings, AovS
     Hit hit, unused;
     ++*rays;
     if (!bvh_walk(sc, &p->ray, false, &hit)) {
-      path_escape(sc, p);
+      path_escape(sc, p, aov);
       break;
     }
     path_shade(sc, p, &hit, settings, 0, aov);
@@ -29,8 +29,8 @@ float3 trace_path(const SceneData* sc, PathState* p, PathSettings settings, AovS
 // samples, or spp_map[i] when use_spp_map (irregular sampling), and writes its mean
 // radiance to radiance[i] (w unused; 0 for a pixel without samples) and its ray count to
 // rays[i]; with feature_buffers, its feature buffers in packed order (aov.h) to
-// features[2i] (albedo, depth) and features[2i + 1] (normal, variance), else nothing
-// there. Built with -DMR_GROUP_ITEMS (the work-group size every launch uses).
+// features[3i] (albedo, depth), features[3i + 1] (normal, variance) and features[3i + 2]
+// (emission, w 0), else nothing there. Built with -DMR_GROUP_ITEMS (the work-group size every launch uses).
 __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void render_rect(
     MR_RENDER_RECT_ARGS(MR_ARG_PARAM, MR_ARG_COMMA)) {
   const LaunchParams p = *params;
@@ -70,14 +70,15 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void render
     const float3 L = trace_path(&sc, &path, settings, record ? &aov : 0, &count);
     const float3 c = clamp_sample(finite3(L) ? L : (float3)(0.0f), p.sample_clamp);
     sum += c;
-    if (record) aov_pixel_add(&px, &aov, c);
+    if (record) aov_pixel_add(&px, &aov, L, c, p.sample_clamp);
   }
   radiance[i] = samples > 0 ? (float4)(sum * (1.0f / (float)samples), 0.0f) : (float4)(0.0f);
   rays[i] = count;
   if (record) {
     float v[MR_AOV_FLOATS];
     aov_pixel_result(&px, v);
-    features[2 * i] = (float4)(v[0], v[1], v[2], v[6]);
-    features[2 * i + 1] = (float4)(v[3], v[4], v[5], v[7]);
+    features[3 * i] = (float4)(v[0], v[1], v[2], v[6]);
+    features[3 * i + 1] = (float4)(v[3], v[4], v[5], v[7]);
+    features[3 * i + 2] = (float4)(v[8], v[9], v[10], 0.0f);
   }
 }
