@@ -21,12 +21,13 @@
 // (issue 52's goal: the frame rate with svgf within 15% of the raw one). The cost is
 // learnt from every filtering here (ms per pixel) and the moving frames' engine time; the
 // first moving frame is filtered to measure it (per pixel filtered: a moving frame's are
-// those it was rendered at). On two CPU cores the filter takes ~50 ms at 640x360, ~13 ms
-// for a half-scale moving frame, against a ~14-17 ms raw frame (docs/noise.md, measured
-// 2026-12-04), so `auto` mostly shows raw frames while the camera moves, and filters the
-// still image only while the filter has been idle for at least
-// (1 - kMovingShare) of the time, holding the last filtered image in between; a choice of
-// svgf or atrous by name is always followed.
+// those it was rendered at). On two CPU cores the filter takes ~55-65 ms at 640x360, ~19 ms
+// (svgf) for a half-scale moving frame, against a ~14-19 ms raw frame (docs/noise.md,
+// measured 2026-12-04; the session filters a moving frame while the next renders, which
+// on shared cores saves nothing), so `auto` mostly shows raw frames while the camera moves, and
+// filters the still image only while the filter has been idle for at least (1 - kMovingShare) of
+// the time, holding the last filtered image in between; a choice of svgf or atrous by name is
+// always followed.
 #pragma once
 
 #include <atomic>
