@@ -136,9 +136,11 @@ TEST(Aov, EmissionOnlyWhereALightIsSeen) {
   EXPECT_GT(lit, int(fb.pixels.size()) / 2);
 }
 
-// The variance is the variance of the pixel's mean luminance, from its own samples:
-// rendered sample by sample (first_sample = k, one sample each) and computed here in
-// double, it agrees with the buffer of the render of all of them.
+// The variance is the variance of the pixel's mean luminance less its emission, from its
+// own samples: rendered sample by sample (first_sample = k, one sample each, the sample's
+// emission in its feature buffers) and computed here in double, it agrees with the buffer
+// of the render of all of them; where a pixel sees the light's edge, the beauty's own
+// variance would not.
 TEST(Aov, VarianceOfTheMeanLuminance) {
   const Scene scene = make_cornell_box();
   const int w = 12, h = 8, n = 8;
@@ -150,27 +152,35 @@ TEST(Aov, VarianceOfTheMeanLuminance) {
   Framebuffer all(w, h);
   all.features.resize(w, h);
   tracer.render_rect(view, with_features(n), {0, 0, w, h}, all);
-  std::vector<std::vector<double>> y(size_t(w * h));
+  std::vector<std::vector<double>> y(size_t(w * h)), beauty(size_t(w * h));
   for (int k = 0; k < n; ++k) {
     ViewSetup one = view;
     one.first_sample = uint32_t(k);
     Framebuffer fb(w, h);
-    tracer.render_rect(one, RenderSettings{.spp = 1, .max_bounces = 8}, {0, 0, w, h}, fb);
+    fb.features.resize(w, h);
+    tracer.render_rect(one, with_features(1), {0, 0, w, h}, fb);
     for (size_t i = 0; i < fb.pixels.size(); ++i) {
       const Vec3 c = fb.pixels[i];
-      y[i].push_back(0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z);
+      const float* e = &fb.features.emission[3 * i];
+      y[i].push_back(0.2126 * (c.x - e[0]) + 0.7152 * (c.y - e[1]) + 0.0722 * (c.z - e[2]));
+      beauty[i].push_back(0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z);
     }
   }
-  int varied = 0;
-  for (size_t i = 0; i < y.size(); ++i) {
+  const auto variance_of_mean = [&](const std::vector<double>& v) {
     double mean = 0, m2 = 0;
-    for (double v : y[i]) mean += v / n;
-    for (double v : y[i]) m2 += (v - mean) * (v - mean);
-    const double expected = m2 / (n - 1) / n;
+    for (double x : v) mean += x / n;
+    for (double x : v) m2 += (x - mean) * (x - mean);
+    return m2 / (n - 1) / n;
+  };
+  int varied = 0, edges = 0;
+  for (size_t i = 0; i < y.size(); ++i) {
+    const double expected = variance_of_mean(y[i]);
     EXPECT_NEAR(all.features.variance[i], expected, 1e-4 * expected + 1e-7) << "pixel " << i;
     varied += expected > 1e-6;
+    edges += variance_of_mean(beauty[i]) > 2 * expected + 1e-3;  // the light's spread
   }
   EXPECT_GT(varied, w * h / 2);  // the check is not all zeros
+  EXPECT_GT(edges, 0);           // and some pixel tells the two variances apart
 }
 
 // Asking for the buffers changes no bit of the beauty.

@@ -31,10 +31,14 @@
 //   radiance: 0 when that radiance is not finite, scaled by the same factor when the
 //   sample clamp scales it (so it never exceeds the beauty, and a pixel that sees only
 //   emitters has exactly the beauty's value);
-// - variance: the variance of the pixel's mean luminance (Rec. 709 Y of each sample's
-//   radiance exactly as it is averaged into the beauty: clamped, non-finite as 0), i.e. the
-//   unbiased sample variance of the samples' Y divided by their count (Welford's
-//   recurrence); 0 with fewer than two samples.
+// - variance: the variance of the pixel's mean luminance less its emission (Rec. 709 Y of
+//   each sample's radiance exactly as it is averaged into the beauty, clamped, non-finite
+//   as 0, minus that sample's emission as averaged above), i.e. the unbiased sample
+//   variance of the samples' Y divided by their count (Welford's recurrence); 0 with fewer
+//   than two samples. Less the emission because that is what the denoiser filters, the
+//   emission being added back as it is: at a light's edge the emission's own spread (the
+//   samples that met the light or missed it) is no noise of the filtered part. Where a
+//   pixel sees no emitter, the beauty's variance.
 // Every value is a function of the pixel's own samples only, so the buffers are as
 // independent of the split as the beauty is.
 #ifndef MULTIRAY_RENDER_SHARED_AOV_H
@@ -124,16 +128,20 @@ MR_DEVICE void aov_pixel_add(AovPixel* px, const AovSample* a, mr_float3 radianc
   ++px->samples;
   px->albedo = px->albedo + a->albedo;
   const mr_float3 e = a->emission;
+  // The sample's emission as averaged into the pixel's (0 where it is not).
+  mr_float3 ec = MR_FLOAT3(0.0f, 0.0f, 0.0f);
   if (finite3(radiance) && finite3(e)) {
     const float m = mr_fmax(radiance.x, mr_fmax(radiance.y, radiance.z));
-    px->emission = px->emission + (limit > 0.0f && m > limit ? e * (limit / m) : e);
+    ec = limit > 0.0f && m > limit ? e * (limit / m) : e;
+    px->emission = px->emission + ec;
   }
   if (a->hit) {
     px->normal = px->normal + a->normal;
     px->depth += a->depth;
     ++px->hits;
   }
-  const float y = aov_luminance(L);
+  // The variance is that of what the denoiser filters: the beauty less its emission.
+  const float y = aov_luminance(L - ec);
   const float delta = y - px->mean;
   px->mean += delta / (float)px->samples;
   px->m2 += delta * (y - px->mean);
