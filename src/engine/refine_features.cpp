@@ -36,8 +36,11 @@ void FeatureRefinement::add(const Framebuffer& image, int spp, FeatureBuffers& o
     }
     if (std::isfinite(f.depth[i])) depth_[i] += f.depth[i], ++depth_frames_[i];
     out.depth[i] = depth_frames_[i] > 0 ? float(depth_[i] / depth_frames_[i]) : INFINITY;
+    // The variance is that of the beauty less its emission (render/shared/aov.h), so the
+    // frames' means it pools are too.
     const Vec3 c = image.pixels[i];
-    const double y = 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+    const float* e = &f.emission[3 * i];
+    const double y = 0.2126 * (c.x - e[0]) + 0.7152 * (c.y - e[1]) + 0.0722 * (c.z - e[2]);
     y_[i] += y, y2_[i] += y * y;
     m2_[i] += double(f.variance[i]) * s * (s - 1);
     const double m2 = m2_[i] + s * std::max(0.0, y2_[i] - y_[i] * y_[i] / frames);
