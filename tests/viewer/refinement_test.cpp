@@ -64,7 +64,8 @@ TEST(Refinement, FeatureBuffersArePooled) {
     for (Vec3& p : fb.pixels) p = Vec3(y, y, y);
     fb.features.resize(4, 2);
     for (size_t i = 0; i < fb.pixels.size(); ++i) {
-      const float v[8] = {albedo, albedo, albedo, 0, 0, 1, 2.0f, 1.0f};
+      const float v[multiray::FeatureBuffers::kFloats] = {albedo, albedo, albedo, 0,
+                                                          0,      1,      2.0f,   1.0f};
       fb.features.set_packed(i, v);
     }
     return fb;
