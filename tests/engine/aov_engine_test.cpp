@@ -15,6 +15,7 @@
 #include "core/math.h"
 #include "device/cpu/cpu_device.h"
 #include "engine/engine.h"
+#include "engine/half_scale_advisor.h"
 #include "engine/refinement.h"
 #include "engine/session.h"
 #include "scene/builders.h"
@@ -81,15 +82,7 @@ TEST(AovEngine, BuffersOnlyForTheFramesThatAskForThem) {
   EXPECT_TRUE(engine.images()[0].features.albedo.empty());
 }
 
-// Every frame at half the width and height, as the viewer's while the camera moves.
-struct HalfScale : FrameAdvisor {
-  FrameAdvice advise(int, const std::vector<ViewSetup>&, const RenderSettings&) override {
-    FrameAdvice a;
-    a.quality.image_scale = 0.5;
-    return a;
-  }
-  void measured(const FrameAdvice&, const FrameRecord&, const balance::FrameStats&) override {}
-};
+using testing::HalfScale;
 
 // A plane of albedo 0.5 seen level with its horizon, rendered at half size by two devices:
 // the feature buffers come out at the output's size, the sky rows a miss (albedo and

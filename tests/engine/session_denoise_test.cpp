@@ -14,6 +14,7 @@
 #include "device/cpu/cpu_device.h"
 #include "engine/frame_advisor.h"
 #include "engine/frame_denoiser.h"
+#include "engine/half_scale_advisor.h"
 #include "engine/session.h"
 #include "scene/builders.h"
 
@@ -73,15 +74,7 @@ TEST(SessionDenoise, ASwitchBetweenFramesStartsTheHistoryAgain) {
   EXPECT_EQ(session.denoise(), M::svgf);
 }
 
-// Every frame at half the output's size, as the viewer's while the camera moves.
-struct HalfScale : FrameAdvisor {
-  FrameAdvice advise(int, const std::vector<ViewSetup>&, const RenderSettings&) override {
-    FrameAdvice a;
-    a.quality.image_scale = 0.5;
-    return a;
-  }
-  void measured(const FrameAdvice&, const FrameRecord&, const balance::FrameStats&) override {}
-};
+using testing::HalfScale;
 
 // Keeps every frame and the views as the engine rendered them, before enlarging.
 struct SmallFrames : FrameObserver {

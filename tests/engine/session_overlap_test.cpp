@@ -15,6 +15,7 @@
 #include "device/cpu/cpu_device.h"
 #include "engine/background_job.h"
 #include "engine/frame_advisor.h"
+#include "engine/half_scale_advisor.h"
 #include "engine/session.h"
 #include "scene/builders.h"
 
@@ -45,15 +46,7 @@ struct Recorder : FrameObserver {
   }
 };
 
-// Frames at half the output's size, as the viewer's while the camera moves.
-struct HalfScale : FrameAdvisor {
-  FrameAdvice advise(int, const std::vector<ViewSetup>&, const RenderSettings&) override {
-    FrameAdvice a;
-    a.quality.image_scale = 0.5;
-    return a;
-  }
-  void measured(const FrameAdvice&, const FrameRecord&, const balance::FrameStats&) override {}
-};
+using testing::HalfScale;
 
 struct RunSpec {
   bool overlap = false;
