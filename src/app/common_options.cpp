@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "render/denoise.h"
 #include "run/catalog.h"
 
 namespace multiray::app {
@@ -198,6 +199,13 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
          "(default 3; a white sky of 1 gives pi), angular diameter in degrees (0.53)")
       ->capture_default_str();
   cmd.add_option("--seed", o.seed, "Seed for all random numbers")->capture_default_str();
+  {
+    std::string help = "The denoiser's normal term (docs/noise.md, \"The filter\"):";
+    for (const DenoiseNormalInfo& t : denoise_normal_terms())
+      help += std::string(" ") + t.name + ": " + t.help + ";";
+    help.back() = '.';
+    cmd.add_option("--denoise-normal", o.denoise_normal, help)->capture_default_str();
+  }
   cmd.add_flag("--allow-outside-paths", o.allow_outside_paths,
                "Let a scene file name files outside its own folder (buffers, images, material "
                "libraries); by default they are refused, with a warning or an error. Only "

@@ -55,7 +55,7 @@ void FrameDenoiser::apply_view(size_t view, const Framebuffer& image, const Came
   in.variance = f.variance.empty() ? nullptr : f.variance.data();
   in.emission = f.emission.empty() ? nullptr : f.emission.data();
   in.camera = camera;
-  denoise(in, method_, &states_[view], result_.data(), {}, &buffers_);
+  denoise(in, method_, &states_[view], result_.data(), params_, &buffers_);
   for (size_t i = 0; i < n; ++i)
     o.pixels[i] = {result_[3 * i], result_[3 * i + 1], result_[3 * i + 2]};
 }

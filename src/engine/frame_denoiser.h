@@ -15,7 +15,8 @@ namespace multiray {
 
 class FrameDenoiser {
  public:
-  explicit FrameDenoiser(DenoiseMethod method) : method_(method) {}
+  explicit FrameDenoiser(DenoiseMethod method, const DenoiseParams& params = {})
+      : method_(method), params_(params) {}
   DenoiseMethod method() const { return method_; }
 
   // Writes one image per view to `out` (each the size of its beauty; no alpha, no
@@ -36,6 +37,7 @@ class FrameDenoiser {
 
  private:
   DenoiseMethod method_;
+  DenoiseParams params_;
   std::vector<DenoiseState> states_;  // per view
   std::vector<float> beauty_, result_;
   std::vector<Framebuffer> small_;  // apply_scaled's denoised images before enlarging

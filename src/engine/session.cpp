@@ -102,7 +102,8 @@ void Session::take_up_denoise() {
   denoise_ = method;
   // New denoisers: the histories of the method before are dropped with them.
   denoisers_.clear();
-  if (method != DenoiseMethod::none) denoisers_.assign(engines_.size(), FrameDenoiser(method));
+  if (method != DenoiseMethod::none)
+    denoisers_.assign(engines_.size(), FrameDenoiser(method, denoise_params_));
 }
 
 const std::vector<Framebuffer>* Session::scaled_for_denoise(size_t lane,

@@ -104,6 +104,9 @@ class Session {
   // every lane's history again (svgf's history from frames filtered otherwise, or not at
   // all, is not this method's); the same method again keeps it.
   void set_denoise(DenoiseMethod method) { denoise_request_ = method; }
+  // The filter's parameters for every method (render/denoise.h; `--denoise-normal`). Call
+  // before run().
+  void set_denoise_params(const DenoiseParams& params) { denoise_params_ = params; }
   // The method of the frame being rendered (or of the last one).
   DenoiseMethod denoise() const { return denoise_; }
   // The denoiser beside the rendering: with one lane, frame N is filtered on a thread of
@@ -199,7 +202,8 @@ class Session {
   bool last_full_quality_ = true;  // the frame before was rendered at full quality
   std::atomic<DenoiseMethod> denoise_request_{DenoiseMethod::none};
   DenoiseMethod denoise_ = DenoiseMethod::none;  // of denoisers_
-  std::vector<FrameDenoiser> denoisers_;         // per lane, or none
+  DenoiseParams denoise_params_;
+  std::vector<FrameDenoiser> denoisers_;  // per lane, or none
   bool overlap_denoise_ = false;
   // The frame whose denoiser runs on filter_job_ (set_denoise_overlap), until handed over.
   std::shared_ptr<FrameResult> overlapped_;

@@ -56,7 +56,8 @@ void for_each_denoise_pixel(int width, int height, F f) {
 }
 
 DenoiseWeights denoise_weights_of(const DenoiseParams& p) {
-  return denoise_weights(p.sigma_luminance, p.sigma_normal, p.sigma_depth, p.sigma_albedo);
+  return denoise_weights(p.sigma_luminance, p.sigma_normal, p.sigma_depth, p.sigma_albedo,
+                         p.normal_turn ? 1 : 0);
 }
 
 // Sizes `v` to `n` floats (kept when it has them: the values are overwritten).
@@ -197,6 +198,28 @@ const std::vector<DenoiseMethodInfo>& denoise_methods() {
        "samples per pixel, atrous for PNG output under 256 samples per pixel, none otherwise"},
   };
   return methods;
+}
+
+const std::vector<DenoiseNormalInfo>& denoise_normal_terms() {
+  static const std::vector<DenoiseNormalInfo> terms{
+      {"turn", true,
+       "ours: the normals' cosine beyond the turn the pixel's own surface predicts, so that "
+       "curved surfaces (columns, arches) are filtered along while a crease still stops the "
+       "filter"},
+      {"svgf", false,
+       "the papers' term (Schied et al. 2017, after Dammertz et al. 2010): the normals' "
+       "cosine alone, raised to 128"},
+  };
+  return terms;
+}
+
+bool parse_denoise_normal(const std::string& name, DenoiseParams& params) {
+  for (const DenoiseNormalInfo& t : denoise_normal_terms())
+    if (name == t.name) {
+      params.normal_turn = t.turn;
+      return true;
+    }
+  return false;
 }
 
 bool parse_denoise(const std::string& name, DenoiseChoice& out) {

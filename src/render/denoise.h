@@ -59,6 +59,9 @@ struct DenoiseParams {
   // pixel's own surface predicts (render/shared/denoise_normal.h; on a plane, the
   // normals' cosine).
   float sigma_normal = 128.0f;
+  // true (ours, the default): the normal term allows for that turn; false: the normals'
+  // cosine alone, the papers' term (`--denoise-normal svgf`).
+  bool normal_turn = true;
   float sigma_depth = 0.02f;  // relative error of the planar prediction of 1/depth
   float sigma_albedo = 0.2f;  // largest albedo channel difference
   // svgf: least weight of the current frame, and what a reprojected history must match.
@@ -115,6 +118,19 @@ struct DenoiseMethodInfo {
 const std::vector<DenoiseMethodInfo>& denoise_methods();
 // The choice named `name`; false when there is none (`out` untouched).
 bool parse_denoise(const std::string& name, DenoiseChoice& out);
+
+// A registry entry: a `--denoise-normal` value (the normal term's form,
+// DenoiseParams::normal_turn) and its help line.
+struct DenoiseNormalInfo {
+  const char* name;
+  bool turn;
+  const char* help;
+};
+// turn (ours, the default), svgf (the papers'): in the order help lists them.
+const std::vector<DenoiseNormalInfo>& denoise_normal_terms();
+// Sets params.normal_turn for the form named `name`; false when there is none (`params`
+// untouched).
+bool parse_denoise_normal(const std::string& name, DenoiseParams& params);
 
 // What `auto` means for a run (issue 52): svgf in the viewer while the camera moves and
 // while the image it shows has under 256 samples per pixel (`spp`: a still camera's

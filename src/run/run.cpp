@@ -71,6 +71,7 @@ std::unique_ptr<Session> Run::make_session(const std::vector<std::string>& specs
       std::make_unique<Session>(device_ptrs(), std::move(lanes), *views, path, settings);
   session->set_perturbations(perturbations);
   session->set_denoise(denoise);
+  session->set_denoise_params(denoise_params);
   if (volume) {
     const int n = int(devices.size());
     session->set_advisors([&, modes, n](size_t lane) { return volume->advisor(lane % modes, n); });
@@ -315,6 +316,8 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   s.can_record_features = features_refused(o, s.settings, sampling.mode, "").empty();
   s.settings.feature_buffers = check_feature_buffers(o, s.settings, sampling.mode);
   s.denoise = check_denoise(o, s.settings, sampling.mode);
+  if (!parse_denoise_normal(o.denoise_normal, s.denoise_params))
+    throw InputError("--denoise-normal '" + o.denoise_normal + "' must be turn or svgf");
   s.settings.feature_buffers |= s.denoise != DenoiseMethod::none;
   std::optional<Camera> cli_camera;
   // --camera default: the framing default even where the file has a camera of its own.

@@ -50,6 +50,7 @@ struct Run {
   float view_spacing = 0;  // between grid views, scene units (0: one view)
   // --denoise as resolved for this run (none: no denoiser); make_session passes it on.
   DenoiseMethod denoise = DenoiseMethod::none;
+  DenoiseParams denoise_params;  // --denoise-normal's form; make_session passes them on
   // Whether the run could record feature buffers, which a denoiser needs (the path
   // integrator, uniform or adaptive sampling, no --ground): the viewer's denoise toggle.
   bool can_record_features = false;

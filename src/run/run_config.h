@@ -84,6 +84,8 @@ struct RunConfig {
   // resolves with `png_output` and `viewer` (resolve_denoise) and means none where the
   // run cannot record feature buffers. Commands set the two flags for what they write.
   std::string denoise = "none";
+  // --denoise-normal: turn | svgf (render/denoise.h denoise_normal_terms()).
+  std::string denoise_normal = "turn";
   bool png_output = false;  // the run writes PNG images (render without --exr only, ...)
   bool viewer = false;      // the live viewer
 };

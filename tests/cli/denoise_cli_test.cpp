@@ -107,8 +107,27 @@ TEST(DenoiseCli, TheExrKeepsTheRawBeautyUnlessAMethodIsNamed) {
   EXPECT_NE(bytes(d + "/auto.png"), bytes(d + "/none.png"));
 }
 
+// --denoise-normal svgf, the papers' normal term, reaches the filter: the box's ball is
+// curved, so its image differs from the default term's; both the same whatever the split.
+TEST(DenoiseCli, ThePapersNormalTermIsSelectable) {
+  const std::string d = folder("normal");
+  const std::string a = kSmall + "--denoise atrous ";
+  ASSERT_EQ(run(a + "-o " + d + "/turn.png").code, 0);
+  ASSERT_EQ(run(a + "--denoise-normal svgf -o " + d + "/svgf.png").code, 0);
+  ASSERT_EQ(run(a +
+                "--denoise-normal svgf --devices cpu:threads=1,cpu:threads=1 --balancer "
+                "queue -o " +
+                d + "/svgf_two.png")
+                .code,
+            0);
+  EXPECT_NE(bytes(d + "/turn.png"), bytes(d + "/svgf.png"));
+  EXPECT_EQ(bytes(d + "/svgf.png"), bytes(d + "/svgf_two.png"));
+}
+
 TEST(DenoiseCli, BadValuesAreRefusedInOneLine) {
   const std::string d = folder("bad");
+  const std::string c = "render --res 8x8 --denoise-normal cosine -o " + d + "/x.png";
+  multiray::testing::expect_input_error(run(c), c, "must be turn or svgf");
   const std::string a = "render --res 8x8 --denoise atros -o " + d + "/x.png";
   multiray::testing::expect_input_error(run(a), a, "did you mean atrous");
   const std::string b = "render --res 8x8 --integrator ao --denoise svgf -o " + d + "/x.png";

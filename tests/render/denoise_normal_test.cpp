@@ -130,6 +130,33 @@ TEST(DenoiseNormal, CurvedSurfaceFillsItsDarkPixels) {
   }
 }
 
+// `--denoise-normal svgf`, the papers' term: the normals' cosine alone, so the domes'
+// dark pixels stay as dark as the old term left them (2.4e-5 of the light measured),
+// while on a plane, where no turn is predicted, both forms give the same bits.
+TEST(DenoiseNormal, PapersTermIsTheNormalsCosineAlone) {
+  DenoiseParams papers;
+  ASSERT_TRUE(parse_denoise_normal("svgf", papers));
+  EXPECT_FALSE(papers.normal_turn);
+  const DenoiseFrame domes = curved(Curve::domes, 3);
+  std::vector<float> out(domes.beauty.size());
+  denoise(domes.input(), DenoiseMethod::atrous, nullptr, out.data(), papers);
+  float darkest = 1.0f;
+  for (size_t i = 0; i < domes.variance.size(); ++i)
+    if (domes.beauty[3 * i] == 0.0f) darkest = std::min(darkest, out[3 * i]);
+  EXPECT_LT(darkest, 0.01f * 0.5f) << "the darkest of the clean 0.5";
+
+  DenoiseFrame plane(40, 30);
+  for (int y = 0; y < plane.height; ++y)
+    for (int x = 0; x < plane.width; ++x)
+      plane.set(x, y, Vec3(0.6f), Vec3(x < 20 ? 1.0f : 0.3f), turned(0.3f), 2.0f + 0.01f * y);
+  plane.add_noise(0.3f, 9, true);
+  std::vector<float> ours(plane.beauty.size()), theirs(plane.beauty.size());
+  denoise(plane.input(), DenoiseMethod::atrous, nullptr, ours.data());
+  denoise(plane.input(), DenoiseMethod::atrous, nullptr, theirs.data(), papers);
+  EXPECT_EQ(0, std::memcmp(ours.data(), theirs.data(), ours.size() * sizeof(float)));
+  EXPECT_FALSE(parse_denoise_normal("cosine", papers));
+}
+
 // Two planes meeting at a crease of 30 or 90 degrees, at one depth and albedo, one lit 1
 // and the other 0.25, noise of 30%: the columns on either side of the crease keep their
 // own plane's light (mean within 5% of the contrast, no pixel off by a third of it), as

@@ -62,7 +62,7 @@ struct PassFrame {
     p.guides = guides.data(), p.slopes = slopes.data();
     p.color_out = color_out.data(), p.luminance_out = luminance_out.data();
     p.variance_out = variance_out.data();
-    p.weights = denoise_weights(4.0f, 128.0f, 0.02f, 0.2f);
+    p.weights = denoise_weights(4.0f, 128.0f, 0.02f, 0.2f, 1);
     return p;
   }
   // Every output, to compare bit by bit.

@@ -243,7 +243,7 @@ TEST(Denoise, SameBitsWhateverTheCallersFloatMode) {
 // to float rounding (7 squarings: a few ulp).
 TEST(Denoise, NormalWeightIsTheCosineToTheSigma) {
   for (float sigma : {1.0f, 2.0f, 8.0f, 128.0f, 1024.0f, 0.5f, 100.0f, 2048.0f}) {
-    const DenoiseWeights w = denoise_weights(4.0f, sigma, 0.02f, 0.2f);
+    const DenoiseWeights w = denoise_weights(4.0f, sigma, 0.02f, 0.2f, 1);
     const int k = int(std::round(std::log2(sigma)));
     const bool squared = sigma >= 1.0f && sigma <= 1024.0f && std::exp2(float(k)) == sigma;
     EXPECT_EQ(w.normal_squarings, squared ? k : -1) << "sigma " << sigma;

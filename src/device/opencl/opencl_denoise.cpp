@@ -16,7 +16,7 @@ namespace multiray {
 namespace {
 // kernels/denoise.cl's passes and argument count.
 enum DenoisePass : cl_int { kPrepare = 0, kVariance = 1, kAtrous = 2, kRemodulate = 3 };
-constexpr cl_uint kDenoiseArgs = 25, kTemporalArgs = 24;
+constexpr cl_uint kDenoiseArgs = 26, kTemporalArgs = 24;
 // The device buffers, kept from frame to frame (reallocated when the size changes).
 enum Slot {
   kBeauty,
@@ -158,6 +158,7 @@ void OpenClDenoiser::Impl::denoise(const DenoiseInput& in, DenoiseState* state, 
   k.setArg(20, buffer(kSlopes, MR_DENOISE_SLOPE_FLOATS * n));
   k.setArg(23, cl_int(in.emission != nullptr));
   k.setArg(24, emission);
+  k.setArg(25, cl_int(p.normal_turn ? 1 : 0));
   bind(color[1], lum[1], var[1], color[0], lum[0], var[0]);  // and the guides
   run(kPrepare, in.width, in.height, 0);
   // The variance to start from (denoise_start_variance): var[0] -> var[1], swapped in.

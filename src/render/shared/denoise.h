@@ -52,17 +52,22 @@ typedef struct {
   // that raise it to sigma_normal (SVGF's 128: 7 multiplications instead of a pow);
   // otherwise -1 (pow).
   int normal_squarings;
+  // 1: the normal term allows for the turn the centre's surface predicts (ours,
+  // render/shared/denoise_normal.h); 0: the normals' cosine alone, as SVGF's and Dammertz
+  // et al.'s normal term (the turns read as 0: that cosine to the bit).
+  int normal_turn;
 } DenoiseWeights;
 
 #define MR_DENOISE_MAX_SQUARINGS 10
 
 MR_DEVICE DenoiseWeights denoise_weights(float sigma_luminance, float sigma_normal,
-                                         float sigma_depth, float sigma_albedo) {
+                                         float sigma_depth, float sigma_albedo, int normal_turn) {
   DenoiseWeights w;
   w.sigma_luminance = sigma_luminance;
   w.sigma_normal = sigma_normal;
   w.sigma_depth = sigma_depth;
   w.sigma_albedo = sigma_albedo;
+  w.normal_turn = normal_turn;
   w.normal_squarings = -1;
   float power = 1.0f;
   for (int k = 0; k <= MR_DENOISE_MAX_SQUARINGS; ++k, power *= 2.0f)
@@ -287,8 +292,8 @@ MR_DEVICE DenoiseCentre denoise_centre(const MR_GLOBAL float* guides,
   c.inv_depth = g[3 * pixels];
   c.slope_x = slopes[p];
   c.slope_y = slopes[pixels + p];
-  c.turn_x = slopes[2 * pixels + p];
-  c.turn_y = slopes[3 * pixels + p];
+  c.turn_x = w->normal_turn ? slopes[2 * pixels + p] : 0.0f;
+  c.turn_y = w->normal_turn ? slopes[3 * pixels + p] : 0.0f;
   c.miss = g[7 * pixels] != 0.0f;
   // Selected, not branched (denoise_guide_terms): a miss's 1/depth is 0, its scale inf.
   const float depth_scale = 1.0f / (c.inv_depth * w->sigma_depth);

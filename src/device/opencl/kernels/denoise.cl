@@ -21,14 +21,14 @@ __kernel __attribute__((reqd_work_group_size(MR_GROUP_ITEMS, 1, 1))) void denois
     __global const float* color_in, __global const float* variance_in,
     __global float* color_out, __global float* variance_out, __global float* guides,
     __global float* slopes, __global const float* luminance_in, __global float* luminance_out,
-    int has_emission, __global const float* emission) {
+    int has_emission, __global const float* emission, int normal_turn) {
   // A division and no remainder: with both, clang pairs them through an LLVM `freeze`,
   // which Oclgrind's --uninitialized check cannot interpret.
   const int i = offset + (int)get_global_id(0);
   if (i >= width * height) return;
   const int y = i / width, x = i - y * width;
   const DenoiseWeights w = denoise_weights(sigma_luminance, sigma_normal, sigma_depth,
-                                           sigma_albedo);
+                                           sigma_albedo, normal_turn);
   if (pass == MR_DENOISE_PREPARE) {
     denoise_pack_guides(albedo, normal, depth, width, height, x, y, guides, slopes);
     denoise_demodulate(beauty, emission, has_emission, albedo, depth, variance, has_variance,
