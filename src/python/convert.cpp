@@ -103,7 +103,8 @@ std::map<std::string, Field> fields(RenderArgs& a) {
           {"allow_outside_paths", &o.allow_outside_paths},
           {"max_memory", &o.max_memory},
           {"aov", &o.aovs},
-          {"denoise", &o.denoise}};
+          {"denoise", &o.denoise},
+          {"denoise_normal", &o.denoise_normal}};
 }
 
 // Text options also take numbers (seed=7, step-like values) and paths (os.PathLike); the

@@ -1,4 +1,5 @@
-"""denoise= on multiray.render: the denoised image beside the raw one, as --denoise."""
+"""denoise= on multiray.render: the denoised image beside the raw one, as --denoise;
+denoise_normal= as --denoise-normal."""
 import numpy as np
 import pytest
 
@@ -24,3 +25,12 @@ def test_denoised_image_beside_the_raw_one():
 def test_a_misspelt_method_is_refused_with_a_suggestion():
     with pytest.raises(ValueError, match="did you mean atrous"):
         multiray.render(**SMALL, denoise="atros")
+
+
+def test_the_papers_normal_term_is_selectable():
+    ours = multiray.render(**SMALL, denoise="atrous")[0]["denoised"]
+    papers = multiray.render(**SMALL, denoise="atrous", denoise_normal="svgf")[0]["denoised"]
+    # The box's ball is curved: the two normal terms weigh its pixels differently.
+    assert not np.array_equal(ours, papers)
+    with pytest.raises(ValueError, match="must be turn or svgf"):
+        multiray.render(**SMALL, denoise="atrous", denoise_normal="cosine")
