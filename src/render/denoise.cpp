@@ -95,7 +95,9 @@ void prepare_frame(const DenoiseInput& in, const DenoiseWeights& w, DenoiseBuffe
 }
 
 // The à-trous iterations, from slot `cur` of `b`; returns the slot holding the result.
-int run_atrous(const DenoiseInput& in, const DenoiseParams& p, DenoiseBuffers& b, int cur) {
+// `first` (may be null): given the first iteration's colour (svgf's filtered history).
+int run_atrous(const DenoiseInput& in, const DenoiseParams& p, DenoiseBuffers& b, int cur,
+               std::vector<float>* first = nullptr) {
   const DenoiseWeights w = denoise_weights_of(p);
   for (int k = 0; k < p.iterations; ++k, cur ^= 1) {
     const int step = 1 << k, next = cur ^ 1;
@@ -107,6 +109,7 @@ int run_atrous(const DenoiseInput& in, const DenoiseParams& p, DenoiseBuffers& b
     pass.color_out = b.color[next].data(), pass.luminance_out = b.luminance[next].data();
     pass.variance_out = b.variance[next].data();
     for_each_denoise_row(in.height, [&](int y) { denoise_atrous_row(pass, y, step); });
+    if (k == 0 && first) first->assign(b.color[next].begin(), b.color[next].end());
   }
   return cur;
 }
@@ -179,8 +182,10 @@ void denoise(const DenoiseInput& in, DenoiseMethod method, DenoiseState* tempora
   DenoiseBuffers& b = buffers ? *buffers : local;
   prepare_frame(in, denoise_weights_of(params), b);
   int cur = 0;
-  if (method == DenoiseMethod::svgf) cur = accumulate_frame(in, params, b, *temporal);
-  cur = run_atrous(in, params, b, cur);
+  const bool svgf = method == DenoiseMethod::svgf;
+  if (svgf) cur = accumulate_frame(in, params, b, *temporal);
+  cur =
+      run_atrous(in, params, b, cur, svgf && params.history_filtered ? &temporal->color : nullptr);
   remodulate_frame(in, b.color[cur], out_rgb);
 }
 

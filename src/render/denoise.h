@@ -68,6 +68,11 @@ struct DenoiseParams {
   float alpha = 0.2f, moments_alpha = 0.2f;
   float depth_tolerance = 0.05f;  // relative
   float normal_tolerance = 0.9f;  // cosine
+  // svgf: true (the paper's form, Schied et al. 2017): the colour the next frame
+  // accumulates onto is this frame's after the first à-trous iteration, so each frame
+  // adds to a history already smoothed once; false (ours until 2026-12-04): the
+  // unfiltered accumulation. The moments and history lengths are kept unfiltered either way.
+  bool history_filtered = true;
 };
 
 // svgf's history, kept by the caller between frames of one view. Empty: no history.

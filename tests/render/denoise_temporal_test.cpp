@@ -3,7 +3,11 @@
 // its own seed.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+
 #include "render/denoise_frames.h"
+#include "render/shared/denoise.h"
 
 namespace multiray {
 namespace denoise_temporal_test {
@@ -39,6 +43,38 @@ TEST(DenoiseTemporal, StillCameraAccumulates) {
   denoise(f.input(), DenoiseMethod::atrous, nullptr, alone.data());
   const auto all = [](int, int) { return true; };
   EXPECT_LT(testing::rmse(f, out, all), 0.7 * testing::rmse(f, alone, all));
+}
+
+// The history the next frame accumulates onto (Schied et al. 2017: the first à-trous
+// iteration's output): with one iteration, the filtered frame is that history multiplied
+// back by albedo, to the bit, on the second frame too; without the feedback (ours until
+// 2026-12-04) the history is the unfiltered accumulation, noisier than the filtered one.
+TEST(DenoiseTemporal, TheHistoryIsTheFirstIterationsOutput) {
+  DenoiseParams one;
+  one.iterations = 1;
+  DenoiseState state;
+  std::vector<float> out(3 * kW * kH), back(out.size());
+  for (unsigned k = 0; k < 2; ++k) {
+    const DenoiseFrame f = walls(camera_at(0.01f * float(k)), 300 + k);
+    denoise(f.input(), DenoiseMethod::svgf, &state, out.data(), one);
+    const DenoiseInput in = f.input();
+    for (int i = 0; i < kW * kH; ++i)
+      denoise_remodulate(state.color.data(), in.emission, in.emission != nullptr, in.albedo,
+                         in.depth, back.data(), i);
+    EXPECT_EQ(0, std::memcmp(out.data(), back.data(), out.size() * sizeof(float))) << k;
+  }
+  DenoiseParams ours;
+  ours.history_filtered = false;
+  DenoiseState filtered, unfiltered;
+  const DenoiseFrame f = walls(camera_at(0), 400);
+  denoise(f.input(), DenoiseMethod::svgf, &filtered, out.data());
+  denoise(f.input(), DenoiseMethod::svgf, &unfiltered, out.data(), ours);
+  const auto roughness = [](const std::vector<float>& c) {  // mean step between neighbours
+    double sum = 0;
+    for (size_t i = 3; i < c.size(); ++i) sum += std::abs(c[i] - c[i - 3]);
+    return sum / double(c.size());
+  };
+  EXPECT_LT(roughness(filtered.color), 0.8 * roughness(unfiltered.color));
 }
 
 // Without the renderer's variance the first three frames use the spatial estimate, then

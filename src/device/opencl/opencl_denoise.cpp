@@ -170,6 +170,9 @@ void OpenClDenoiser::Impl::denoise(const DenoiseInput& in, DenoiseState* state, 
   for (int it = 0; it < p.iterations; ++it, cur ^= 1) {
     bind(color[cur], lum[cur], var[cur], color[cur ^ 1], lum[cur ^ 1], var[cur ^ 1]);
     run(kAtrous, in.width, in.height, 1 << it);
+    if (it == 0 && state && p.history_filtered)  // svgf's history: the first iteration's
+      rt.queue.enqueueReadBuffer(color[cur ^ 1], CL_FALSE, 0, 3 * n * sizeof(float),
+                                 state->color.data());
   }
   const cl::Buffer out = buffer(kOut, 3 * n);
   bind(color[cur], lum[cur], var[cur], out, lum[cur ^ 1], var[cur ^ 1]);  // writes `out` only
