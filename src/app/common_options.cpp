@@ -206,6 +206,11 @@ void add_common_options(CLI::App& cmd, RunConfig& o) {
     help.back() = '.';
     cmd.add_option("--denoise-normal", o.denoise_normal, help)->capture_default_str();
   }
+  cmd.add_option("--svgf-history", o.svgf_history,
+                 "What svgf's next frame accumulates onto: filtered (the paper's, Schied et al. "
+                 "2017: this frame after the first à-trous iteration) or accumulated (ours "
+                 "until 2026-12-04: the unfiltered accumulation)")
+      ->capture_default_str();
   cmd.add_flag("--allow-outside-paths", o.allow_outside_paths,
                "Let a scene file name files outside its own folder (buffers, images, material "
                "libraries); by default they are refused, with a warning or an error. Only "

@@ -104,7 +104,8 @@ std::map<std::string, Field> fields(RenderArgs& a) {
           {"max_memory", &o.max_memory},
           {"aov", &o.aovs},
           {"denoise", &o.denoise},
-          {"denoise_normal", &o.denoise_normal}};
+          {"denoise_normal", &o.denoise_normal},
+          {"svgf_history", &o.svgf_history}};
 }
 
 // Text options also take numbers (seed=7, step-like values) and paths (os.PathLike); the

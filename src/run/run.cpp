@@ -318,6 +318,9 @@ void fill_setup(Run& s, const RunConfig& o, int lanes, const std::function<void(
   s.denoise = check_denoise(o, s.settings, sampling.mode);
   if (!parse_denoise_normal(o.denoise_normal, s.denoise_params))
     throw InputError("--denoise-normal '" + o.denoise_normal + "' must be turn or svgf");
+  if (o.svgf_history != "filtered" && o.svgf_history != "accumulated")
+    throw InputError("--svgf-history '" + o.svgf_history + "' must be filtered or accumulated");
+  s.denoise_params.history_filtered = o.svgf_history == "filtered";
   s.settings.feature_buffers |= s.denoise != DenoiseMethod::none;
   std::optional<Camera> cli_camera;
   // --camera default: the framing default even where the file has a camera of its own.

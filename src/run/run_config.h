@@ -86,6 +86,9 @@ struct RunConfig {
   std::string denoise = "none";
   // --denoise-normal: turn | svgf (render/denoise.h denoise_normal_terms()).
   std::string denoise_normal = "turn";
+  // --svgf-history: filtered (the paper's) | accumulated (ours until 2026-12-04);
+  // DenoiseParams::history_filtered.
+  std::string svgf_history = "filtered";
   bool png_output = false;  // the run writes PNG images (render without --exr only, ...)
   bool viewer = false;      // the live viewer
 };

@@ -124,10 +124,23 @@ TEST(DenoiseCli, ThePapersNormalTermIsSelectable) {
   EXPECT_EQ(bytes(d + "/svgf.png"), bytes(d + "/svgf_two.png"));
 }
 
+// --svgf-history accumulated (ours until 2026-12-04) reaches svgf: from the second frame
+// on its history differs from the paper's filtered one, so the frames differ.
+TEST(DenoiseCli, SvgfsHistoryFormIsSelectable) {
+  const std::string d = folder("history");
+  const std::string a = kSmall + "--denoise svgf --frames 2 --camera-path orbit ";
+  ASSERT_EQ(run(a + "-o " + d + "/filtered_#.png").code, 0);
+  ASSERT_EQ(run(a + "--svgf-history accumulated -o " + d + "/accumulated_#.png").code, 0);
+  EXPECT_EQ(bytes(d + "/filtered_0.png"), bytes(d + "/accumulated_0.png"));  // no history yet
+  EXPECT_NE(bytes(d + "/filtered_1.png"), bytes(d + "/accumulated_1.png"));
+}
+
 TEST(DenoiseCli, BadValuesAreRefusedInOneLine) {
   const std::string d = folder("bad");
   const std::string c = "render --res 8x8 --denoise-normal cosine -o " + d + "/x.png";
   multiray::testing::expect_input_error(run(c), c, "must be turn or svgf");
+  const std::string h = "render --res 8x8 --svgf-history raw -o " + d + "/x.png";
+  multiray::testing::expect_input_error(run(h), h, "must be filtered or accumulated");
   const std::string a = "render --res 8x8 --denoise atros -o " + d + "/x.png";
   multiray::testing::expect_input_error(run(a), a, "did you mean atrous");
   const std::string b = "render --res 8x8 --integrator ao --denoise svgf -o " + d + "/x.png";
