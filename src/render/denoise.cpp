@@ -149,7 +149,8 @@ int accumulate_frame(const DenoiseInput& in, const DenoiseParams& p, DenoiseBuff
     b.variance[1][size_t(i)] = b.history[2 * size_t(i) + 1];
   });
   s.width = in.width, s.height = in.height, s.camera = cam;
-  s.color.assign(b.color[1].begin(), b.color[1].end());
+  // Else run_atrous writes the history after its first iteration.
+  if (!svgf_history_from_first_iteration(p)) s.color.assign(b.color[1].begin(), b.color[1].end());
   s.moments.swap(b.moments);  // b's become the scratch of the next frame
   s.history.swap(b.history);
   s.depth.assign(in.depth, in.depth + n);
@@ -184,8 +185,8 @@ void denoise(const DenoiseInput& in, DenoiseMethod method, DenoiseState* tempora
   int cur = 0;
   const bool svgf = method == DenoiseMethod::svgf;
   if (svgf) cur = accumulate_frame(in, params, b, *temporal);
-  cur =
-      run_atrous(in, params, b, cur, svgf && params.history_filtered ? &temporal->color : nullptr);
+  cur = run_atrous(in, params, b, cur,
+                   svgf && svgf_history_from_first_iteration(params) ? &temporal->color : nullptr);
   remodulate_frame(in, b.color[cur], out_rgb);
 }
 

@@ -75,6 +75,12 @@ struct DenoiseParams {
   bool history_filtered = true;
 };
 
+// Whether svgf's history is taken after the first à-trous iteration (so the accumulation
+// need not be kept as the history first): history_filtered, and there is an iteration.
+inline bool svgf_history_from_first_iteration(const DenoiseParams& p) {
+  return p.history_filtered && p.iterations > 0;
+}
+
 // svgf's history, kept by the caller between frames of one view. Empty: no history.
 struct DenoiseState {
   int width = 0, height = 0;

@@ -170,7 +170,7 @@ void OpenClDenoiser::Impl::denoise(const DenoiseInput& in, DenoiseState* state, 
   for (int it = 0; it < p.iterations; ++it, cur ^= 1) {
     bind(color[cur], lum[cur], var[cur], color[cur ^ 1], lum[cur ^ 1], var[cur ^ 1]);
     run(kAtrous, in.width, in.height, 1 << it);
-    if (it == 0 && state && p.history_filtered)  // svgf's history: the first iteration's
+    if (it == 0 && state && svgf_history_from_first_iteration(p))  // svgf's history
       rt.queue.enqueueReadBuffer(color[cur ^ 1], CL_FALSE, 0, 3 * n * sizeof(float),
                                  state->color.data());
   }
@@ -214,7 +214,8 @@ void OpenClDenoiser::Impl::accumulate(const DenoiseInput& in, const DenoiseParam
   launch(temporal, 0, n);
   s.width = in.width, s.height = in.height, s.camera = cams[0];
   s.color.resize(3 * n), s.moments.resize(2 * n), s.history.resize(2 * n);
-  rt.queue.enqueueReadBuffer(acc, CL_FALSE, 0, 3 * n * sizeof(float), s.color.data());
+  if (!svgf_history_from_first_iteration(p))  // else read after the first iteration
+    rt.queue.enqueueReadBuffer(acc, CL_FALSE, 0, 3 * n * sizeof(float), s.color.data());
   rt.queue.enqueueReadBuffer(moments, CL_FALSE, 0, 2 * n * sizeof(float), s.moments.data());
   rt.queue.enqueueReadBuffer(history, CL_TRUE, 0, 2 * n * sizeof(float), s.history.data());
   s.depth.assign(in.depth, in.depth + n);
