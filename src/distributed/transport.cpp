@@ -12,6 +12,7 @@ namespace multiray::remote {
 struct Transport::InFlight {
   MPI_Request request = MPI_REQUEST_NULL;
   int to = 0;
+  bool part = false;                                  // of a message (not a heartbeat)
   std::shared_ptr<const std::vector<uint8_t>> bytes;  // kept until the send completes
 };
 
@@ -47,6 +48,9 @@ Transport::Transport(LinkSpec link) : link_(std::move(link), 1) {
   link_ = LinkModel(rank_ == 0 ? link_.spec() : LinkSpec{}, std::max(1, size_ - 1));
   heard_.assign(size_t(size_), Clock::now());
   given_up_.assign(size_t(size_), false);
+  parts_.assign(size_t(size_), {});
+  sending_.assign(size_t(size_), {});
+  parts_in_flight_.assign(size_t(size_), 0);
   thread_ = std::thread([this] { loop(); });
 }
 
@@ -137,6 +141,8 @@ void Transport::loop() {
       if (drain_until == Clock::time_point{}) drain_until = now + kDrainLimit;
       bool pending = !outbox_.empty();
       for (const auto& f : in_flight_) pending |= !given_up_[size_t(f->to)];
+      for (int r = 0; r < size_; ++r)
+        pending |= !sending_[size_t(r)].empty() && !given_up_[size_t(r)];
       if (!pending || now >= drain_until) break;
     }
     // Sleeps unless a message became due to send (a wake-up from send(), or a release
@@ -180,25 +186,24 @@ bool Transport::pump() {
         ++it;
       }
   }
+  // Each leaves in parts behind that peer's earlier messages (send_parts).
   for (Outgoing& o : due) {
-    auto f = std::make_unique<InFlight>();
-    f->to = o.to;
-    f->bytes = std::move(o.bytes);
-    MPI_Isend(f->bytes->data(), int(f->bytes->size()), MPI_BYTE, o.to, o.tag, MPI_COMM_WORLD,
-              &f->request);
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      stats_.messages_sent++, stats_.bytes_sent += f->bytes->size();
+      stats_.messages_sent++, stats_.bytes_sent += o.bytes->size();
     }
-    in_flight_.push_back(std::move(f));
+    sending_[size_t(o.to)].push_back(Sending{o.tag, std::move(o.bytes), 0});
     moved = true;
   }
-  // Finished sends release their buffers.
+  // Finished sends release their buffers and make room for the next parts.
   for (auto it = in_flight_.begin(); it != in_flight_.end();) {
     int done = 0;
     MPI_Test(&(*it)->request, &done, MPI_STATUS_IGNORE);
+    if (done && (*it)->part) --parts_in_flight_[size_t((*it)->to)], moved = true;
     it = done ? in_flight_.erase(it) : it + 1;
   }
+  for (int to = 0; to < size_; ++to)
+    if (send_parts(to)) moved = true;
   while (probe_one()) moved = true;
   if (finish_receives()) moved = true;
   // The emulated link delivers what is due.
@@ -213,6 +218,26 @@ bool Transport::pump() {
   }
   if (delivered) arrived_.notify_all();
   return moved || delivered;
+}
+
+bool Transport::send_parts(int to) {
+  std::deque<Sending>& queue = sending_[size_t(to)];
+  bool sent = false;
+  while (parts_in_flight_[size_t(to)] < kPartsInFlight && !queue.empty()) {
+    Sending& m = queue.front();
+    const size_t size = m.bytes->size(), n = std::min(kPartBytes, size - m.at);
+    const bool last = m.at + n == size;
+    auto f = std::make_unique<InFlight>();
+    f->to = to, f->part = true, f->bytes = m.bytes;
+    MPI_Isend(f->bytes->data() + m.at, int(n), MPI_BYTE, to, last ? m.tag : kPartTag,
+              MPI_COMM_WORLD, &f->request);
+    in_flight_.push_back(std::move(f));
+    ++parts_in_flight_[size_t(to)];
+    m.at += n;
+    if (last) queue.pop_front();
+    sent = true;
+  }
+  return sent;
 }
 
 bool Transport::probe_one() {
@@ -263,9 +288,23 @@ bool Transport::finish_receives() {
     Message m = std::move((*it)->message);
     it = arriving_.erase(it);
     moved = true;
-    if (!known || given_up_[size_t(from)]) continue;
+    if (!known) continue;
+    std::vector<uint8_t>& parts = parts_[size_t(from)];
+    if (given_up_[size_t(from)]) {
+      std::vector<uint8_t>().swap(parts);  // its message will never be whole
+      continue;
+    }
     heard_[size_t(from)] = now;
     if (m.tag == kHeartbeatTag) continue;
+    if (m.tag == kPartTag) {  // parts of a peer's message come in order (MPI's rule)
+      parts.insert(parts.end(), m.bytes.begin(), m.bytes.end());
+      continue;
+    }
+    if (!parts.empty()) {
+      parts.insert(parts.end(), m.bytes.begin(), m.bytes.end());
+      m.bytes = std::move(parts);
+      parts = {};
+    }
     stats_.messages_received++, stats_.bytes_received += m.bytes.size();
     const Clock::time_point at =
         rank_ == 0 && m.from > 0 ? link_.deliver_at(m.from - 1, m.bytes.size(), now) : now;

@@ -7,6 +7,11 @@
 // matched message is received with MPI_Imrecv and tested, never waited for. The other
 // threads hand messages to send() and wait in receive() with a deadline.
 //
+// A message longer than kPartBytes crosses in parts, two at a time, each of which tells
+// the receiver its sender is alive: the heartbeats wait behind the bytes in the same TCP
+// stream, so a result that took longer than --worker-timeout to cross whole had its live
+// sender given up on.
+//
 // Sending overlaps rendering: send() returns at once and the transport's thread moves
 // the bytes while the caller renders the next item (Seo et al. 2022 use a sender thread
 // per worker for the same overlap). On the master (rank 0), messages to and from workers
@@ -30,6 +35,24 @@ namespace multiray::remote {
 
 // The tag of the transport's own heartbeats (never delivered to receive()).
 constexpr int kHeartbeatTag = 99;
+// A message longer than kPartBytes crosses as parts: every part but the last with this
+// tag, the last with the message's own; the receiver joins them and delivers one message.
+// Each part that arrives counts as hearing from its sender. Sent whole, a result of
+// several MB took longer than --worker-timeout across a slow link while the sender's
+// heartbeats waited behind its bytes in the same TCP stream, and a live worker was given
+// up on (2026-12-04: 806 KB at 2 Mbit/s, 3.2 s, against the test harness's 2 s).
+constexpr int kPartTag = 98;
+// 128 KiB: 0.5 s at 2 Mbit/s, a quarter of tests/mpi/netfault.sh's 2-s timeout (40 ms at
+// 25 Mbit/s Wi-Fi). Above Open MPI's 64 KiB eager limit of its TCP transport, so a part
+// can still be cut half received (what MPI_Imrecv is for, above); large enough that a
+// 30 MB result is 230 parts, matched in one pass of the probe loop each.
+constexpr size_t kPartBytes = size_t(128) << 10;
+// Parts in flight to one peer at a time. Open MPI moves the bytes of every pending large
+// send to a peer interleaved: twelve parts sent at once all completed together, at the
+// end, as one whole message had. Two at a time keep one part crossing while the next is
+// matched; a later message to that peer waits behind the parts (they would otherwise be
+// joined to it), a heartbeat does not.
+constexpr int kPartsInFlight = 2;
 
 struct Message {
   int from = -1, tag = 0;
@@ -95,9 +118,18 @@ class Transport {
   };
   struct InFlight;
   struct Arriving;
+  // A message leaving in parts: the next part starts at `at`.
+  struct Sending {
+    int tag;
+    std::shared_ptr<const std::vector<uint8_t>> bytes;
+    size_t at;
+  };
   void loop();
   // One pass of the transport's thread; true when it moved anything.
   bool pump();
+  // Starts sends of the next parts to `to` while fewer than kPartsInFlight are under way;
+  // true when it started any.
+  bool send_parts(int to);
   bool probe_one();
   // Moves completed receives to delivery, each peer's in the order they matched; true
   // when it moved anything.
@@ -120,6 +152,13 @@ class Transport {
   // only). A receive from a peer given up on may never complete (its link is down): it is
   // left here, its buffer kept, since MPI may still write into it.
   std::deque<std::unique_ptr<Arriving>> arriving_;
+  // Per peer, the parts (kPartTag) of a message whose last part has not come yet
+  // (transport thread only).
+  std::vector<std::vector<uint8_t>> parts_;
+  // Per peer, the messages leaving in parts, oldest first, and how many of their parts'
+  // sends are under way (transport thread only).
+  std::vector<std::deque<Sending>> sending_;
+  std::vector<int> parts_in_flight_;
   TransportStats stats_;
   bool stop_ = false;
   std::atomic<bool> forgo_finalize_{false};
