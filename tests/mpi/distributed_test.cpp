@@ -232,6 +232,24 @@ TEST(Distributed, BadSetupsFailInOneLine) {
   EXPECT_THAT(r.out, ::testing::HasSubstr("foveated"));
 }
 
+// A worker's result longer than one part of the transport (128 KiB: half of a 320x180
+// frame with its feature buffers as floats is about 800 KB) crosses in parts and is
+// joined whole: the frame and its feature buffers are one process's to the bit.
+TEST(Distributed, AResultLongerThanAPartArrivesWhole) {
+  const std::string args =
+      "render --res 320x180 --spp 1 --frames 1 -q --balancer uniform "
+      "--result-encoding float --devices cpu:threads=1 --out ";
+  const std::string one = out_dir("one"), three = out_dir("three");
+  const CliResult a = single(args + one);
+  ASSERT_EQ(a.code, 0) << a.out;
+  const CliResult b = distributed(3, args + three);
+  ASSERT_EQ(b.code, 0) << b.out;
+  EXPECT_EQ(hashes(three), hashes(one));
+  const std::string feature = stats(one)["frames"][0]["feature_hash"].get<std::string>();
+  EXPECT_EQ(stats(three)["frames"][0]["feature_hash"].get<std::string>(), feature);
+  EXPECT_GT(stats(three)["frames"][0]["result_bytes"][0].get<double>(), 2.0 * 131072);
+}
+
 // --result-encoding: compressed floats give the master the very pixels of plain floats
 // (and of one process) in fewer bytes; halves give one image whatever the split (each
 // pixel is rounded on its own), unlike the floats' image. Two workers, one 64x64 frame.
