@@ -40,7 +40,7 @@ constexpr int kHeartbeatTag = 99;
 // Each part that arrives counts as hearing from its sender. Sent whole, a result of
 // several MB took longer than --worker-timeout across a slow link while the sender's
 // heartbeats waited behind its bytes in the same TCP stream, and a live worker was given
-// up on (2026-12-04: 806 KB at 2 Mbit/s, 3.2 s, against the test harness's 2 s).
+// up on (2026-12-04: a 1.6 MB result at 2 Mbit/s, 6.5 s, against the test harness's 2 s).
 constexpr int kPartTag = 98;
 // 128 KiB: 0.5 s at 2 Mbit/s, a quarter of tests/mpi/netfault.sh's 2-s timeout (40 ms at
 // 25 Mbit/s Wi-Fi). Above Open MPI's 64 KiB eager limit of its TCP transport, so a part

@@ -14,8 +14,8 @@
 # simply vanish, as when a cable is pulled or a switch port dies.
 #
 #   worker  rank 2's link is slowed to 2 Mbit/s (tbf), so that its result (half of a
-#           320x180 frame with its feature buffers, 806 KB as float, in 128 KiB parts)
-#           takes over 3 s to cross, longer than --worker-timeout, and cut while
+#           320x180 frame with its feature buffers, 1.6 MB as float, in 128 KiB parts)
+#           takes over 6 s to cross, longer than --worker-timeout, and cut while
 #           that result is half across; restored 6 s later. The frame must complete with
 #           its items re-rendered by rank 1, every frame bit-identical to one process,
 #           "rank 2: no answer" printed, rank 1 never taking the master for dead, and the
@@ -113,7 +113,7 @@ done
 if [ "$scenario" = worker ]; then
   args="render --res 320x180 --spp 1 --frames 4 --camera-path orbit:10 --balancer uniform"
   # The denoiser's feature buffers (on by default under 256 spp) make rank 2's result
-  # 806 KB, over 3.2 s across this link, longer than --worker-timeout: sent whole, its
+  # 1.6 MB, over 6.5 s across this link, longer than --worker-timeout: sent whole, its
   # heartbeats waited behind it and the master gave rank 2 up during frame 0, before any
   # cut (a fresh clone, 2026-12-04). It crosses in parts now (distributed/transport.h).
   args+=" --result-encoding float"
