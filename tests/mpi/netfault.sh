@@ -33,12 +33,13 @@
 #
 # Exit 0: passed; 1: failed (what failed is printed); 77: skipped, with the reason (not
 # root, no `ip`/`unshare`/`tc`, or no namespace can be made here). Every step has a
-# deadline: a passing run takes 10-20 s, a failing one ends within about 75 s. Only the
+# deadline: a passing run takes 10-30 s (the worker cut's frame 0 waits about 12 s for
+# rank 2's whole result), a failing one ends within about 80 s. Only the
 # processes inside these namespaces (all started here) are killed, by PID, and the
 # namespaces (and with them their veths) are deleted on every exit, a failed or
 # interrupted one too; a failed run keeps its logs and says where.
 set -u
-[ $# -eq 3 ] || { sed -n '2,38p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -eq 3 ] || { sed -n '2,40p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 multiray=$1
 mpiexec=$2
 scenario=$3
@@ -185,7 +186,7 @@ settle_mpirun() {
   say "mpirun ended"
 }
 
-wait_for 25 "first frame" test -f "$out/frame_0000.png" || exit 1
+wait_for 40 "first frame" test -f "$out/frame_0000.png" || exit 1
 say "frame 0 written"
 if [ "$scenario" != master ]; then
   if [ "$scenario" = worker ]; then
