@@ -101,11 +101,13 @@ void add_distributed_options(CLI::App& cmd, DistributedOptions& o) {
                  "float+zstd (the same floats compressed with zstd: exact, fewer bytes), half "
                  "(16-bit half floats, 6 bytes: LOSSY, about 3 significant digits, values "
                  "beyond 65504 clamp to it) or half+zstd (half, compressed); zstd needs a "
-                 "build with libzstd-dev (docs/distributed.md)")
+                 "build with libzstd-dev (docs/distributed.md). The denoiser's feature "
+                 "buffers travel the same way: 44 more bytes a pixel as float")
       ->capture_default_str();
   cmd.add_option("--worker-timeout", o.worker_timeout_s,
-                 "Seconds of silence (no result, no heartbeat) after which a worker is given "
-                 "up on and its work re-assigned")
+                 "Seconds of silence (no result, no part of one, no heartbeat) after which a "
+                 "worker is given up on and its work re-assigned. Results cross in parts of "
+                 "128 KiB, two at a time: a worker's link must carry 256 KiB within it")
       ->capture_default_str();
   cmd.add_option("--depth", o.depth,
                  "Items pulled on demand that a worker holds at once: N in 1..64 (2: it renders "
