@@ -171,9 +171,18 @@ void check_denoise_input(const DenoiseInput& in, DenoiseMethod method,
     throw std::invalid_argument("denoise: svgf needs a state to keep its history in");
 }
 
-void denoise(const DenoiseInput& in, DenoiseMethod method, DenoiseState* temporal, float* out_rgb,
-             const DenoiseParams& params, DenoiseBuffers* buffers) {
-  check_denoise_input(in, method, temporal, out_rgb);
+DenoiseInput denoise_input_as_filtered(const DenoiseInput& in) {
+  DenoiseInput out = in;
+  const size_t n = size_t(std::max(in.width, 0)) * size_t(std::max(in.height, 0));
+  if (in.variance && std::none_of(in.variance, in.variance + n, [](float v) { return v > 0.0f; }))
+    out.variance = nullptr;
+  return out;
+}
+
+void denoise(const DenoiseInput& given, DenoiseMethod method, DenoiseState* temporal,
+             float* out_rgb, const DenoiseParams& params, DenoiseBuffers* buffers) {
+  check_denoise_input(given, method, temporal, out_rgb);
+  const DenoiseInput in = denoise_input_as_filtered(given);
   const size_t n = size_t(in.width) * size_t(in.height);
   if (method == DenoiseMethod::none) {
     std::memcpy(out_rgb, in.beauty, 3 * n * sizeof(float));

@@ -114,6 +114,15 @@ struct DenoiseBuffers {
 void denoise(const DenoiseInput& in, DenoiseMethod method, DenoiseState* temporal, float* out_rgb,
              const DenoiseParams& params = {}, DenoiseBuffers* buffers = nullptr);
 
+// `in` as the filter takes it: its variance left out when it says nothing. The renderer's
+// variance needs two samples a pixel (render/shared/aov.h gives 0 with fewer), so a
+// buffer that is 0 throughout, as every frame of one sample a pixel has, is no estimate;
+// taken as one, it made the luminance weight shut out every neighbour of a lit pixel, and
+// the viewer's 1-spp frames came out of the filter as noisy as they went in. Without it
+// the filter estimates the variance itself, as SVGF does at one sample a pixel: spatially,
+// and svgf from its temporal moments once a pixel has four frames. Both drivers call it.
+DenoiseInput denoise_input_as_filtered(const DenoiseInput& in);
+
 // Throws std::invalid_argument unless `in`, `temporal` and `out` are what denoise needs
 // for `method` (the OpenCL driver checks its input with it too).
 void check_denoise_input(const DenoiseInput& in, DenoiseMethod method,

@@ -4,6 +4,7 @@
 // and the same bits whatever the work-group size and launch size.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -48,6 +49,23 @@ TEST(OpenClDenoise, MatchesTheCpu) {
         EXPECT_LT(max_relative_difference(cpu, cl), 1e-4f)
             << "kind " << int(kind) << ", variance " << with_variance << ", light " << with_light;
       }
+}
+
+// A variance of 0 throughout (one sample a pixel, render/shared/aov.h) is no variance on
+// the device too: the same bits as without one, and the CPU's image within tolerance.
+TEST(OpenClDenoise, AVarianceOfZeroThroughoutIsNoVariance) {
+  MULTIRAY_SKIP_WITHOUT_OPENCL();
+  OpenClDenoiser gpu(0, 64, 32);
+  DenoiseFrame f = testing::edge_frame(EdgeKind::albedo, 60, 45);
+  f.add_noise(0.3f, 23, true);
+  std::fill(f.variance.begin(), f.variance.end(), 0.0f);
+  std::vector<float> zero(f.beauty.size()), none(f.beauty.size()), cpu(f.beauty.size());
+  gpu.atrous(f.input(), zero.data());
+  f.with_variance = false;
+  gpu.atrous(f.input(), none.data());
+  denoise(f.input(), DenoiseMethod::atrous, nullptr, cpu.data());
+  EXPECT_EQ(std::memcmp(zero.data(), none.data(), zero.size() * sizeof(float)), 0);
+  EXPECT_LT(max_relative_difference(cpu, zero), 1e-4f);
 }
 
 // Both forms of the normal term (--denoise-normal) on domes whose normal turns 15 degrees

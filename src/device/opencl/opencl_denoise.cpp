@@ -245,7 +245,7 @@ OpenClDenoiser::~OpenClDenoiser() = default;
 void OpenClDenoiser::atrous(const DenoiseInput& in, float* out_rgb, const DenoiseParams& params) {
   check_denoise_input(in, DenoiseMethod::atrous, nullptr, out_rgb);
   try {
-    impl_->denoise(in, nullptr, out_rgb, params);
+    impl_->denoise(denoise_input_as_filtered(in), nullptr, out_rgb, params);
   } catch (const cl::Error& e) {
     throw DeviceError("opencl denoiser on device " + std::to_string(impl_->rt.index) + ": " +
                       cl_util::describe(e));
@@ -256,7 +256,7 @@ void OpenClDenoiser::svgf(const DenoiseInput& in, DenoiseState& state, float* ou
                           const DenoiseParams& params) {
   check_denoise_input(in, DenoiseMethod::svgf, &state, out_rgb);
   try {
-    impl_->denoise(in, &state, out_rgb, params);
+    impl_->denoise(denoise_input_as_filtered(in), &state, out_rgb, params);
   } catch (const cl::Error& e) {
     throw DeviceError("opencl denoiser on device " + std::to_string(impl_->rt.index) + ": " +
                       cl_util::describe(e));
