@@ -66,8 +66,11 @@ void size_to(std::vector<float>& v, size_t n) {
 }
 
 // The frame's guides, and its demodulated colour, luminance and variance (the renderer's,
-// scaled, or the spatial estimate) in slot 0 of `b`.
-void prepare_frame(const DenoiseInput& in, const DenoiseWeights& w, DenoiseBuffers& b) {
+// scaled, or the spatial estimate) in slot 0 of `b`. Without `start_variance` the
+// variance is 0 throughout instead (svgf without a given variance estimates it after its
+// temporal step, where a pixel needs it: accumulate_frame).
+void prepare_frame(const DenoiseInput& in, const DenoiseWeights& w, DenoiseBuffers& b,
+                   bool start_variance) {
   const size_t n = size_t(in.width) * size_t(in.height);
   size_to(b.guides, MR_DENOISE_GUIDE_FLOATS * n);
   size_to(b.slopes, MR_DENOISE_SLOPE_FLOATS * n);
@@ -83,6 +86,10 @@ void prepare_frame(const DenoiseInput& in, const DenoiseWeights& w, DenoiseBuffe
                        in.variance, in.variance != nullptr, b.color[0].data(),
                        b.luminance[0].data(), b.variance[0].data(), y * in.width + x);
   });
+  if (!start_variance) {
+    std::fill(b.variance[0].begin(), b.variance[0].end(), 0.0f);
+    return;
+  }
   // The variance to start from (denoise_start_variance), into slot 1, then swapped in.
   DenoisePass pass;
   pass.width = in.width, pass.height = in.height, pass.weights = w;
@@ -121,6 +128,22 @@ void remodulate_frame(const DenoiseInput& in, const std::vector<float>& color, f
   });
 }
 
+// Without a given variance: the frame's share of the variance of every pixel whose
+// history is young, from the spatial estimate (denoise_young_history_row), into b.history
+// and slot 1's variance. The temporal step took it as 0 (prepare_frame without its start
+// variance): the same bits as with the estimate made for every pixel first, which SVGF
+// (section 4.2) uses only for histories under four frames.
+void add_young_history_variance(const DenoiseInput& in, const DenoiseParams& p,
+                                DenoiseBuffers& b) {
+  DenoisePass pass;
+  pass.width = in.width, pass.height = in.height, pass.weights = denoise_weights_of(p);
+  pass.luminance = b.luminance[0].data();
+  pass.guides = b.guides.data(), pass.slopes = b.slopes.data();
+  pass.variance_out = b.variance[1].data();
+  for_each_denoise_row(
+      in.height, [&](int y) { denoise_young_history_row(pass, y, b.history.data(), p.alpha); });
+}
+
 // svgf's temporal step: the frame's demodulated colour (slot 0 of `b`) accumulated into
 // `s`, the accumulated colour, its luminance and variance written to slot 1 for the
 // filter; `s` then holds this frame's history. Returns 1, the filter's slot.
@@ -148,6 +171,7 @@ int accumulate_frame(const DenoiseInput& in, const DenoiseParams& p, DenoiseBuff
     denoise_store_luminance(color, b.luminance[1].data(), i);
     b.variance[1][size_t(i)] = b.history[2 * size_t(i) + 1];
   });
+  if (!in.variance) add_young_history_variance(in, p, b);
   s.width = in.width, s.height = in.height, s.camera = cam;
   // Else run_atrous writes the history after its first iteration.
   if (!svgf_history_from_first_iteration(p)) s.color.assign(b.color[1].begin(), b.color[1].end());
@@ -190,9 +214,9 @@ void denoise(const DenoiseInput& given, DenoiseMethod method, DenoiseState* temp
   }
   DenoiseBuffers local;
   DenoiseBuffers& b = buffers ? *buffers : local;
-  prepare_frame(in, denoise_weights_of(params), b);
-  int cur = 0;
   const bool svgf = method == DenoiseMethod::svgf;
+  prepare_frame(in, denoise_weights_of(params), b, !svgf || in.variance);
+  int cur = 0;
   if (svgf) cur = accumulate_frame(in, params, b, *temporal);
   cur = run_atrous(in, params, b, cur,
                    svgf && svgf_history_from_first_iteration(params) ? &temporal->color : nullptr);

@@ -1,6 +1,7 @@
 #include "render/denoise_rows.h"
 
 #include "render/shared/denoise_atrous.h"
+#include "render/shared/denoise_temporal.h"
 
 // The block functions are compiled twice, for x86-64's baseline (SSE2) and for AVX2 (8
 // lanes a vector), and the loader picks one for the machine. AVX2 brings no fma in GCC
@@ -257,7 +258,61 @@ MR_DENOISE_CLONES int start_variance_row_blocks(const DenoisePass& a, int y, boo
   return by_blocks;
 }
 
+// Pixel i's young-history variance from `spatial` (denoise_young_history_row).
+inline void young_history_pixel(const DenoisePass& a, float* history, float alpha, int i,
+                                float spatial) {
+  const float v =
+      denoise_young_history_variance(history[2 * i + 1], history[2 * i], alpha, spatial);
+  history[2 * i + 1] = v;
+  a.variance_out[i] = v;
+}
+
+void young_history_pixels(const DenoisePass& a, int x_begin, int x_end, int y, float* history,
+                          float alpha) {
+  for (int x = x_begin; x < x_end; ++x) {
+    const int i = y * a.width + x;
+    if (!denoise_history_young(history[2 * i])) continue;
+    young_history_pixel(a, history, alpha, i,
+                        denoise_spatial_variance(a.luminance, a.guides, a.slopes, a.width,
+                                                 a.height, x, y, &a.weights));
+  }
+}
+
+// As atrous_row_blocks: a block's spatial estimate is made when one of its pixels is young.
+MR_DENOISE_CLONES int young_history_row_blocks(const DenoisePass& a, int y, float* history,
+                                               float alpha) {
+  int x0 = 0, by_blocks = 0;
+  for (; x0 + L <= a.width; x0 += L) {
+    if (!block_fits(x0, MR_DENOISE_VARIANCE_RADIUS, 1, a.width)) {
+      young_history_pixels(a, x0, x0 + L, y, history, alpha);
+      continue;
+    }
+    const int p0 = y * a.width + x0;
+    int young[L], any = 0;
+    for (int l = 0; l < L; ++l) {
+      young[l] = denoise_history_young(history[2 * (p0 + l)]);
+      any = any || young[l];
+    }
+    by_blocks += L;
+    if (!any) continue;
+    float spatial[L];
+    spatial_block(a, x0, y, spatial);
+    for (int l = 0; l < L; ++l)
+      if (young[l]) young_history_pixel(a, history, alpha, p0 + l, spatial[l]);
+  }
+  young_history_pixels(a, x0, a.width, y, history, alpha);
+  return by_blocks;
+}
+
 }  // namespace denoise_blocks
+
+int denoise_young_history_row(const DenoisePass& a, int y, float* history, float alpha,
+                              bool blocks) {
+  if (blocks && a.weights.normal_squarings == denoise_blocks::kBlockSquarings)
+    return denoise_blocks::young_history_row_blocks(a, y, history, alpha);
+  denoise_blocks::young_history_pixels(a, 0, a.width, y, history, alpha);
+  return 0;
+}
 
 int denoise_atrous_row(const DenoisePass& a, int y, int step, bool blocks) {
   if (blocks && a.weights.normal_squarings == denoise_blocks::kBlockSquarings)

@@ -42,4 +42,14 @@ int denoise_atrous_row(const DenoisePass& pass, int y, int step, bool blocks = t
 int denoise_start_variance_row(const DenoisePass& pass, int y, bool has_variance,
                                bool blocks = true);
 
+// svgf without a given variance, after its temporal step over row y: each pixel whose
+// history is young (denoise_history_young of history[2 i]) gets its frame's share of the
+// variance from the spatial estimate of pass.luminance (the frame's demodulated
+// luminance), denoise_young_history_variance into history[2 i + 1] and
+// pass.variance_out; the other pixels, whose variance came from the moments, are left
+// as they are. `alpha`: TemporalParams::alpha. Returns how many of the row's pixels went
+// by blocks.
+int denoise_young_history_row(const DenoisePass& pass, int y, float* history, float alpha,
+                              bool blocks = true);
+
 }  // namespace multiray

@@ -7,7 +7,10 @@
 #include <cstring>
 
 #include "render/denoise_frames.h"
+#include "render/path_tracer.h"
 #include "render/shared/denoise.h"
+#include "render/shared/denoise_atrous.h"
+#include "render/shared/denoise_temporal.h"
 
 namespace multiray {
 namespace denoise_temporal_test {
@@ -140,6 +143,66 @@ TEST(DenoiseTemporal, MovingCameraDoesNotSmearAnEdge) {
     }
   ASSERT_GT(count, 0);
   EXPECT_LT(sum / count, 0.05 * contrast);
+}
+
+// Without a given variance the spatial estimate is made only for the pixels whose history
+// is young (under four frames: SVGF, section 4.2), after the temporal step. The history it
+// leaves is, to the bit, that of the temporal step given every pixel's estimate first
+// (computed here pixel by pixel with the shared functions), over frames of a moving camera
+// with something appearing in the fifth, so that young and old pixels meet.
+TEST(DenoiseTemporal, AYoungHistorysVarianceIsTheSpatialEstimates) {
+  const DenoiseParams p;
+  const DenoiseWeights w = denoise_weights(p.sigma_luminance, p.sigma_normal, p.sigma_depth,
+                                           p.sigma_albedo, p.normal_turn ? 1 : 0);
+  const TemporalParams t{p.alpha, p.moments_alpha, p.depth_tolerance, p.normal_tolerance, 0};
+  const int n = kW * kH;
+  DenoiseState state;
+  std::vector<float> out(3 * size_t(n));
+  int young_beside_old = 0;
+  for (unsigned k = 0; k < 6; ++k) {
+    DenoiseFrame f = walls(camera_at(0.04f * float(k)), 500 + k);
+    f.with_variance = false;
+    if (k == 4)
+      for (int y = 10; y < 30; ++y)
+        for (int x = 20; x < 40; ++x) f.depth[f.index(x, y)] = 1.0f;
+    const DenoiseInput in = f.input();
+    const size_t np = size_t(n);
+    std::vector<float> color(3 * np), lum(np), var(np), spatial(np);
+    std::vector<float> guides(MR_DENOISE_GUIDE_FLOATS * size_t(n));
+    std::vector<float> slopes(MR_DENOISE_SLOPE_FLOATS * size_t(n));
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        denoise_pack_guides(in.albedo, in.normal, in.depth, kW, kH, x, y, guides.data(),
+                            slopes.data());
+        denoise_demodulate(in.beauty, nullptr, 0, in.albedo, in.depth, nullptr, 0, color.data(),
+                           lum.data(), var.data(), y * kW + x);
+      }
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x)
+        spatial[size_t(y * kW + x)] = denoise_start_variance(
+            0, var.data(), lum.data(), guides.data(), slopes.data(), kW, kH, x, y, &w);
+    const CameraBlock cur = PinholeCamera(*in.camera, kW, kH).block();
+    const bool has_prev = !state.empty();
+    const float* none = color.data();  // not read without a previous frame
+    std::vector<float> acc(3 * size_t(n)), moments(2 * size_t(n)), history(2 * size_t(n));
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x)
+        denoise_temporal_pixel(
+            &cur, &state.camera, has_prev, color.data(), spatial.data(), in.depth, in.normal,
+            has_prev ? state.color.data() : none, has_prev ? state.moments.data() : none,
+            has_prev ? state.history.data() : none, has_prev ? state.depth.data() : none,
+            has_prev ? state.normal.data() : none, acc.data(), moments.data(), history.data(), kW,
+            kH, x, y, &t);
+    denoise(in, DenoiseMethod::svgf, &state, out.data());
+    ASSERT_EQ(std::memcmp(state.history.data(), history.data(), history.size() * sizeof(float)), 0)
+        << "frame " << k;
+    ASSERT_EQ(std::memcmp(state.moments.data(), moments.data(), moments.size() * sizeof(float)), 0)
+        << "frame " << k;
+    int young = 0;
+    for (int i = 0; i < n; ++i) young += history[2 * size_t(i)] < 4.0f;
+    if (young > 0 && young < n) ++young_beside_old;
+  }
+  EXPECT_GE(young_beside_old, 2);
 }
 
 // A new size starts a new history.

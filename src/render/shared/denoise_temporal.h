@@ -94,6 +94,29 @@ MR_DEVICE float denoise_reproject(
   return sum;
 }
 
+// Whether a history of `n` frames (this one included) is too young for its moments'
+// variance (SVGF: under four frames), so that the frame's variance is the spatial estimate
+// (render/shared/denoise_atrous.h) when the renderer gave none.
+MR_DEVICE int denoise_history_young(float n) { return n < 4.0f; }
+
+// The variance of an accumulation whose current frame has weight `a`: the history's
+// variance `prev` and the frame's `v` carried as for a weighted mean of independent
+// frames, (1 - a)^2 prev + a^2 v.
+MR_DEVICE float denoise_blend_variance(float prev, float a, float v) {
+  return (1.0f - a) * (1.0f - a) * prev + a * a * v;
+}
+
+// The same for a young history (denoise_history_young) whose frame variance was taken as
+// 0 in the temporal step, so that the spatial estimate is made only for such pixels
+// (render/denoise.cpp): `history_part` is what denoise_blend_variance gave with v = 0,
+// i.e. (1 - a)^2 prev to the bit (adding +0 changes nothing), and this adds a^2 v, the
+// same bits denoise_blend_variance gives with v. `n` is the history length the temporal
+// step wrote (exact under its cap) and `alpha` its TemporalParams::alpha.
+MR_DEVICE float denoise_young_history_variance(float history_part, float n, float alpha, float v) {
+  const float a = mr_fmax(alpha, 1.0f / n);
+  return history_part + a * a * v;
+}
+
 // Accumulates pixel (x, y): the current demodulated colour blended into its reprojected
 // history with weight max(alpha, 1 / n) (n: frames in the history, this one included, so
 // a young history is a plain mean), the luminance moments likewise. Writes colour,
@@ -124,7 +147,7 @@ MR_DEVICE void denoise_temporal_pixel(
   const mr_float3 blended = lerp3(hist, c, a);
   const float m1 = m.x * (1.0f - am) + l * am, m2 = m.y * (1.0f - am) + l * l * am;
   float v = frame_variance[i];
-  if (!t->has_given_variance && n >= 4.0f) v = mr_fmax(0.0f, m2 - m1 * m1);
+  if (!t->has_given_variance && !denoise_history_young(n)) v = mr_fmax(0.0f, m2 - m1 * m1);
   out_color[3 * i] = blended.x;
   out_color[3 * i + 1] = blended.y;
   out_color[3 * i + 2] = blended.z;
@@ -132,7 +155,7 @@ MR_DEVICE void denoise_temporal_pixel(
   out_moments[2 * i + 1] = m2;
   // The history length is capped where it no longer changes the weights (1 / n < alpha).
   out_history[2 * i] = n < 1024.0f ? n : 1024.0f;
-  out_history[2 * i + 1] = (1.0f - a) * (1.0f - a) * hv.y + a * a * v;
+  out_history[2 * i + 1] = denoise_blend_variance(hv.y, a, v);
 }
 
 MR_NAMESPACE_END
