@@ -236,7 +236,7 @@ MR_DENOISE_CLONES int atrous_row_blocks(const DenoisePass& a, int y, int step) {
   const int p0 = y * a.width + x0;
   int given[L], all_given = 1;
   for (int l = 0; l < L; ++l) {
-    given[l] = denoise_uses_given_variance(has_variance, a.variance, a.luminance, p0 + l);
+    given[l] = denoise_uses_given_variance(has_variance, a.variance, p0 + l);
     all_given = all_given && given[l];
   }
   float spatial[L] = {};

@@ -214,6 +214,21 @@ TEST(Denoise, AVarianceOfZeroThroughoutIsNoVariance) {
   }
 }
 
+// An adaptive frame (`--sampling adaptive`): the renderer's variance on the pixels of
+// several samples, 0 on the others, which had one sample each (render/shared/aov.h). Those
+// are smoothed too: their error falls at least 8 times (measured 17). Taken at their 0,
+// they kept most of their noise (measured: 2.4 times, from the given pixels mixing in).
+TEST(Denoise, PixelsOfOneSampleAmidSeveralAreFiltered) {
+  DenoiseFrame f = edge_frame(EdgeKind::albedo);
+  f.add_noise(0.3f, 31, true);
+  const auto one_sample = [](int x, int y) { return (x + y) % 5 != 0; };
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x)
+      if (one_sample(x, y)) f.variance[f.index(x, y)] = 0.0f;
+  const std::vector<float> out = run(f);
+  EXPECT_LT(rmse(f, out, one_sample) * 8.0, rmse(f, f.beauty, one_sample));
+}
+
 // A fine texture (every pixel its own albedo in 0.2..0.8) under even light: the filter
 // works on the light alone (the beauty divided by albedo) and multiplies the texture back,
 // so the texture is kept while the noise goes: the error falls by a factor of at least 3

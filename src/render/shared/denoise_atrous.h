@@ -61,16 +61,18 @@ MR_DEVICE float denoise_spatial_variance(const MR_GLOBAL float* luminance,
 }
 
 // Whether pixel i starts from the renderer's variance (`given`, scaled by
-// denoise_demodulate) rather than the spatial estimate above: where one was given, except
-// at a black pixel whose given variance is 0. All its samples returned nothing, which
-// says little about its mean at a few samples per pixel, yet a variance of 0 makes the
-// luminance weight shut out every neighbour, so the pixel stayed black (issue 52: the
-// salt and pepper of the Sponza hall at 16 spp). Among black neighbours the estimate is 0
-// too: a region that is black throughout stays black.
-MR_DEVICE int denoise_uses_given_variance(int has_variance, const MR_GLOBAL float* given,
-                                          const MR_GLOBAL float* luminance, int i) {
+// denoise_demodulate) rather than the spatial estimate above: where one was given and it
+// is not 0. A variance of 0 says nothing here: the renderer's needs two samples (a pixel
+// of one sample, as most of an adaptive frame's are, has 0), and a black pixel whose
+// samples all returned nothing says little about its mean at a few samples per pixel;
+// yet taken as the noise, 0 makes the luminance weight shut out every neighbour that
+// differs, and the pixel stays as it came (issue 52: the salt and pepper of the Sponza
+// hall at 16 spp, the speckles of `--sampling adaptive`). Where two samples or more all
+// agreed (a constant sky), the estimate among like neighbours is 0 too, and a region black
+// throughout stays black.
+MR_DEVICE int denoise_uses_given_variance(int has_variance, const MR_GLOBAL float* given, int i) {
   if (!has_variance) return 0;  // and `given` is not read (nothing wrote it)
-  return (given[i] != 0.0f) | (luminance[i] != 0.0f);  // | on ints: see denoise_guide_terms
+  return given[i] != 0.0f;
 }
 
 // The variance the filter starts from at pixel (x, y): the given one or the spatial
@@ -81,7 +83,7 @@ MR_DEVICE float denoise_start_variance(int has_variance, const MR_GLOBAL float* 
                                        const MR_GLOBAL float* slopes, int width, int height, int x,
                                        int y, const DenoiseWeights* w) {
   const int i = y * width + x;
-  if (denoise_uses_given_variance(has_variance, given, luminance, i)) return given[i];
+  if (denoise_uses_given_variance(has_variance, given, i)) return given[i];
   return denoise_spatial_variance(luminance, guides, slopes, width, height, x, y, w);
 }
 
