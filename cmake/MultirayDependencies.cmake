@@ -28,6 +28,9 @@ if(NOT TARGET multiray::teem)
 endif()
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+# xxHash's XXH3: the images' and feature buffers' fingerprints (core/image.h), hashed every
+# frame (the viewer twice); Debian's libxxhash-dev.
+pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
 
 # OpenCL backend (src/device/opencl). MULTIRAY_WITH_OPENCL:
 #   AUTO (default) build it when the OpenCL loader and the C++ header are found, else warn;

@@ -14,7 +14,7 @@ PACKAGES="build-essential cmake pkg-config clang-format libembree-dev libtbb-dev
   assimp-testmodels libnanoflann-dev pocl-opencl-icd ocl-icd-opencl-dev opencl-headers \
   opencl-clhpp-headers clang-15 libclang-common-15-dev lld-15 \
   libteem-dev libdlib-dev libblas-dev liblapack-dev libjpeg-dev libassimp-dev \
-  libopenmpi-dev openmpi-bin libzstd-dev libcivetweb-dev chromium \
+  libopenmpi-dev openmpi-bin libzstd-dev libxxhash-dev libcivetweb-dev chromium \
   pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest \
   mesa-opencl-icd oclgrind"
 missing=""

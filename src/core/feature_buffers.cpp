@@ -4,6 +4,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <xxhash.h>
+
 #include "core/error.h"
 #include "util/nearest.h"
 
@@ -56,13 +58,8 @@ void unpack_features(const std::vector<float>& v, Rect r, FeatureBuffers& f) {
 uint64_t feature_hash(const FeatureBuffers& f, uint64_t seed) {
   uint64_t h = seed;
   for (const std::vector<float>* buffer :
-       {&f.albedo, &f.normal, &f.depth, &f.variance, &f.emission}) {
-    const auto* bytes = reinterpret_cast<const unsigned char*>(buffer->data());
-    for (size_t i = 0; i < buffer->size() * sizeof(float); ++i) {
-      h ^= bytes[i];
-      h *= 0x100000001b3ull;
-    }
-  }
+       {&f.albedo, &f.normal, &f.depth, &f.variance, &f.emission})
+    h = XXH3_64bits_withSeed(buffer->data(), buffer->size() * sizeof(float), h);
   return h;
 }
 

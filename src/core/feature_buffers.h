@@ -45,7 +45,8 @@ struct FeatureBuffers {
 std::vector<float> packed_features(const FeatureBuffers& f, Rect r);
 void unpack_features(const std::vector<float>& v, Rect r, FeatureBuffers& f);
 
-// FNV-1a (64 bit) over every float bit of the five buffers (image_hash's for features).
+// XXH3 (64 bit) over every float bit of the five buffers, each seeded with the hash so far
+// (image_hash's for features).
 uint64_t feature_hash(const FeatureBuffers& f, uint64_t seed = 0xcbf29ce484222325ull);
 
 // The AOV names of --aov and Python's aov=[...], in the order of the EXR's layers.

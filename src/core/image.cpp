@@ -9,6 +9,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <xxhash.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,17 +28,9 @@ uint8_t encode_srgb(float v) {
 }  // namespace
 
 uint64_t image_hash(const Framebuffer& fb, uint64_t seed) {
-  uint64_t h = seed;
-  const auto* bytes = reinterpret_cast<const unsigned char*>(fb.pixels.data());
-  for (size_t i = 0; i < fb.pixels.size() * sizeof(Vec3); ++i) {
-    h ^= bytes[i];
-    h *= 0x100000001b3ull;
-  }
-  const auto* alpha = reinterpret_cast<const unsigned char*>(fb.alpha.data());
-  for (size_t i = 0; i < fb.alpha.size() * sizeof(float); ++i) {
-    h ^= alpha[i];
-    h *= 0x100000001b3ull;
-  }
+  uint64_t h = XXH3_64bits_withSeed(fb.pixels.data(), fb.pixels.size() * sizeof(Vec3), seed);
+  if (!fb.alpha.empty())
+    h = XXH3_64bits_withSeed(fb.alpha.data(), fb.alpha.size() * sizeof(float), h);
   return h;
 }
 

@@ -60,7 +60,7 @@ PYBIND11_MODULE(multiray, m) {
         return std::string(hex);
       },
       py::arg("images"),
-      "FNV-1a over the float32 pixels as 16 hex digits: stats.json's image_hash of a frame "
+      "XXH3 (64 bit) over the float32 pixels as 16 hex digits: stats.json's image_hash of a frame "
       "(pass every view, in order, for a frame of several).");
   m.def(
       "read_exr",

@@ -30,7 +30,7 @@ std::string dump_json(const nlohmann::json& doc, int indent = 1);
 nlohmann::json frame_to_json(const FrameRecord& rec);
 // A rendered frame's record in stats.json's "frames" (and the Python module's per-frame
 // stats): frame_to_json of its record, with sampling_ms, reprojection (reprojected
-// sampling only) and image_hash (FNV-1a over every view's float pixels, chained in view
+// sampling only) and image_hash (XXH3 over every view's float pixels, chained in view
 // order, as 16 hex digits: core/image.h image_hash).
 nlohmann::json frame_result_to_json(const FrameResult& r);
 // A reprojected frame's summary: {"reference_views", "hole_fraction"}.
