@@ -11,7 +11,7 @@ bool same(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z
 bool RefineKey::operator==(const RefineKey& o) const {
   return same(camera.eye, o.camera.eye) && same(camera.target, o.camera.target) &&
          same(camera.up, o.camera.up) && camera.fov_y_deg == o.camera.fov_y_deg &&
-         view == o.view && generation == o.generation;
+         view == o.view && generation == o.generation && image_scale == o.image_scale;
 }
 
 Refinement::Refinement(int frame_spp, int target_spp)

@@ -23,6 +23,10 @@ struct RefineKey {
   Camera camera;
   int view = 0;
   int generation = 0;  // bumped by anything else that changes the image (a style)
+  // The scale the frame was rendered at (FrameRecord::quality.image_scale): a frame
+  // rendered smaller and enlarged (the viewer's, while the camera moves and for a moment
+  // after) is never averaged with full-size ones, which start again from their first.
+  double image_scale = 1.0;
   bool operator==(const RefineKey& o) const;
 };
 

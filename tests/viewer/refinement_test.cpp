@@ -96,6 +96,15 @@ TEST(Refinement, AnyChangeStartsAgainFromOneFrame) {
   Framebuffer larger(8, 2);  // the frame's size changed
   EXPECT_EQ(r.add(larger, key).width, 8);
   EXPECT_EQ(r.samples(), 1);
+  // Frames rendered smaller and enlarged (while the camera moves) and full-size ones under
+  // the same camera are never averaged: each change of scale starts again.
+  key.image_scale = 0.5;
+  r.add(larger, key);
+  r.add(larger, key);
+  EXPECT_EQ(r.samples(), 2);
+  key.image_scale = 1.0;
+  r.add(larger, key);
+  EXPECT_EQ(r.samples(), 1);
 }
 
 }  // namespace refinement_test

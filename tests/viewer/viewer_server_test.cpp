@@ -155,6 +155,56 @@ TEST(ViewerServer, RefinesWhileStillAndStartsAgainOnAMove) {
   EXPECT_EQ(viewer.stop(), 128 + SIGINT);
 }
 
+// The still image after a drag. Frames begun within kMotionHoldSeconds of the last move are
+// rendered at --move-scale with the camera where it stopped, the same camera as the still
+// frames after them; the session starts the sample sequence again at the first full-size
+// frame. The refinement must too: the first full-size frame under a camera shows its own
+// samples only (spp 1), and the converged image is the sequence's 16 frames (the last of
+// them starts at sample 15). Until 2026-12-04 the frames rendered smaller were averaged in:
+// at this size the hold's 16 half-size frames made the "converged" image, and the full-size
+// frames after them were ignored.
+TEST(ViewerServer, AStillImageAfterADragHoldsNoFrameRenderedSmaller) {
+  mg_init_library(MG_FEATURES_WEBSOCKET);
+  multiray::testing::ViewerProcess viewer(
+      "--res 64x36 --spp 16 --frame-spp 1 --devices cpu:threads=1 --denoise none");
+  ASSERT_GT(viewer.port(), 0);
+  Client c(viewer.port());
+  ASSERT_TRUE(c.connected());
+  const auto converged = [](const nlohmann::json& j) {
+    return j.value("type", "") == "frame" && j.value("spp", 0) == 16 &&
+           j.value("image_scale", 0.0) == 1.0;
+  };
+  const nlohmann::json start = c.wait(converged);
+  ASSERT_FALSE(start.is_null());
+  for (int i = 0; i < 5; ++i) {
+    c.send(R"({"type":"orbit","dx":3,"dy":0})");
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  nlohmann::json first_full, smaller;  // under the camera where the moves ended
+  // By time, not by frames: at this size a frame takes well under a millisecond, and the
+  // hold alone makes hundreds of them.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (std::chrono::steady_clock::now() < deadline) {
+    const nlohmann::json f = c.wait_type("frame");
+    ASSERT_FALSE(f.is_null());
+    if (f["camera"] == start["camera"]) continue;  // begun before the moves
+    if (f.value("image_scale", 1.0) < 1.0) {
+      smaller = f;
+      first_full = nullptr;  // the camera may still move
+      continue;
+    }
+    if (first_full.is_null() || f["camera"] != first_full["camera"]) first_full = f;
+    if (converged(f)) {
+      EXPECT_EQ(first_full.value("spp", 0), 1) << "the first full-size frame: " << first_full;
+      EXPECT_GE(f.value("first_sample", 0), 15) << f.dump();
+      break;
+    }
+  }
+  EXPECT_FALSE(smaller.is_null()) << "no frame rendered smaller while the camera moved";
+  EXPECT_FALSE(first_full.is_null()) << "no full-size frame after the moves";
+  EXPECT_EQ(viewer.stop(), 128 + SIGINT);
+}
+
 // Fuzz-style: malformed, out-of-range and random messages each get an error reply (or are
 // ignored), and the server keeps streaming frames afterwards. Random bytes are ASCII: text
 // that is not UTF-8, or a message over 4096 bytes, closes the connection with 1007 or 1009

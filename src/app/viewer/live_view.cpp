@@ -187,7 +187,8 @@ LiveView::Shown LiveView::shown_image(const FrameResult& r, int view, const Begu
   const Framebuffer* refined = &img;  // as rendered
   bool restarted = true;
   if (refinement_ && begun) {  // the camera the frame was begun with is the key
-    refined = &refinement_->add(img, RefineKey{begun->camera, view, 0});
+    const double scale = r.record.quality.image_scale > 0 ? r.record.quality.image_scale : 1.0;
+    refined = &refinement_->add(img, RefineKey{begun->camera, view, 0, scale});
     out.samples = refinement_->samples();
     restarted = refinement_->restarted();
   }
