@@ -1,7 +1,7 @@
 // The live viewer as a user drags (issue 33): starts `multiray view ARGS`, connects as the
 // page does, sends an orbit step every 20 ms (a mouse at 50 Hz) for SECONDS, and counts
 // the frames (JPEGs) that reach the client; then stops moving and times how long the
-// picture takes to converge (a frame with spp = refine_spp). One JSON line on stdout.
+// picture takes to converge (a full-size frame with spp = refine_spp). One JSON line on stdout.
 // bench/viewer_fps.sh runs it; a timing, so only on a quiet machine.
 //
 //   viewer_fps SECONDS [view options...]
@@ -47,7 +47,8 @@ int main(int argc, char** argv) {
   const nlohmann::json done = client.wait(
       [](const nlohmann::json& j) {
         return j.value("type", "") == "frame" && j.value("refine_spp", 0) > 0 &&
-               j.value("spp", 0) >= j.value("refine_spp", 0);
+               j.value("spp", 0) >= j.value("refine_spp", 0) &&
+               j.value("image_scale", 1.0) == 1.0;  // full size, not the hold's smaller frames
       },
       std::chrono::seconds(120));
   const double converge_s = std::chrono::duration<double>(clock::now() - still).count();
