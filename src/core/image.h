@@ -30,8 +30,8 @@ struct Framebuffer {
 // XXH3 (64 bit, xxHash) over the pixels' float bits, seeded with `seed`: a fingerprint for
 // checking that two renders are bit-identical (chain views by passing the previous hash).
 // The alpha channel, when there is one, is hashed after the pixels, seeded with theirs.
-// (FNV-1a until 2026-12-04: byte by byte, 3.7 ms for a 640x360 frame, which the viewer paid
-// twice a frame; XXH3 reads 8 bytes and more at a time.)
+// (FNV-1a until 2026-12-04: byte by byte, 3.1-3.2 ms for a 640x360 frame, which the
+// viewer paid twice a frame; XXH3 takes 0.16-0.18 ms, docs/benchmarks.md.)
 uint64_t image_hash(const Framebuffer& fb, uint64_t seed = 0xcbf29ce484222325ull);
 
 // How linear radiance becomes an 8-bit display value (PNG; EXR files stay linear).
