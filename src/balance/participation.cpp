@@ -190,7 +190,7 @@ ParticipationTracker::Decision ParticipationTracker::decide(const std::vector<bo
     if (alive[i] && take[i] && rest_to_measure(i, d, take, total, !measuring)) {
       measuring = true;
       d.rest[i] = true;
-      d.reason[i] = "rested for a frame to measure what it saves";
+      d.reason[i] = kMeasuringRestReason;
       out_[i] = false;
       continue;
     }

@@ -82,6 +82,10 @@ std::vector<bool> choose_participants(const std::vector<DeviceCostModel>& models
                                       const std::vector<bool>& eligible, double total,
                                       double margin);
 
+// The reason a device taking part gives when it is rested for one frame to measure what
+// it saves (ParticipationTracker, kRestProbeSaving): not left out, only measured.
+inline constexpr const char* kMeasuringRestReason = "rested for a frame to measure what it saves";
+
 // One line on why a device is left out of a `frame_ms` frame: "75 ms fixed per frame
 // against a 44 ms frame", or when its fixed cost is below the frame, "it would save less
 // than 3% of a 44 ms frame (2 ms fixed per frame)".
