@@ -4,12 +4,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <string>
 #include <thread>
 
 #include <cstring>
 
 #include "balance/balancer.h"
-#include "balance/participation.h"
 #include "core/clock.h"
 #include "core/error.h"
 #include "device/cpu/cpu_device.h"
@@ -337,14 +337,15 @@ class FixedCostDevice : public Device {
 // Issue 50: a device whose fixed cost outlasts the frame is left out by the default
 // balancer (hybrid) and then costs nothing: it is not even started. After a change that
 // makes it pay (512x the samples: the frame now takes hundreds of ms, its 30 ms are worth
-// paying) it comes back and is not left out again. The image is bit-identical to one
-// device's whichever subset rendered it. What is timed is a sleep of 30 ms against a frame
-// of ~0.5 ms (and later against one of ~250 ms): the decisions hold with wide margins at
-// any load. What does depend on the load is what the second device saves beside the first
-// on the same two cores: under 10% of the frame, the rule rests it for one frame to
-// measure that (kMeasuringRestReason, participation.h), which is taking part, not being
-// left out; it happened at frame 23 once in 17 runs beside the README's examples and once
-// in five whole ctest runs (2026-12-04), and the test forbade it until then.
+// paying) it comes back within two frames and takes part from then on. The image is
+// bit-identical to one device's whichever subset rendered it. What is timed is a sleep of
+// 30 ms against a frame of ~0.5 ms (and later against one of ~250 ms): those decisions
+// hold with wide margins at any load. What the second device saves beside the first on
+// the same two cores after the change does depend on the load, and the rule judges it
+// every frame: beside other tests it was rested for one frame, to measure it (saving
+// under 10%, participation.h) or left out (saving under 3% once, in a frame the load
+// slowed), at frame 23 in about one run in 20-60 (2026-12-04; the test forbade any rest
+// then). So the frames after the return allow one rest among three, with its reason shown.
 TEST(Engine, ADeviceWhoseFixedCostDoesNotPayIsLeftOutAndComesBackWhenItDoes) {
   const Scene scene = make_cornell_box();
   SceneCache rs(scene);
@@ -357,7 +358,8 @@ TEST(Engine, ADeviceWhoseFixedCostDoesNotPayIsLeftOutAndComesBackWhenItDoes) {
     v[0].width = 24, v[0].height = 16;
     return v;
   };
-  int rested = 0, back_at = -1, measured_after = 0;
+  int rested = 0, back_at = -1, rested_after = 0;
+  std::string reasons;
   constexpr int kChange = 20, kFrames = 26;
   for (int f = 0; f < kFrames; ++f) {
     const RenderSettings settings{.spp = f < kChange ? 1 : 512, .max_bounces = 4};
@@ -376,12 +378,12 @@ TEST(Engine, ADeviceWhoseFixedCostDoesNotPayIsLeftOutAndComesBackWhenItDoes) {
     } else if (f >= kChange && back_at < 0) {
       back_at = f;
     }
-    if (f >= kChange + 3 && rec.devices[1].rested) {  // only to measure, once
-      EXPECT_EQ(engine.last_plan().rest_reason.at(1), balance::kMeasuringRestReason) << f;
-      ++measured_after;
+    if (f >= kChange + 3 && rec.devices[1].rested) {
+      ++rested_after;
+      reasons += std::to_string(f) + ": " + engine.last_plan().rest_reason.at(1) + "; ";
     }
   }
-  EXPECT_LE(measured_after, 1);
+  EXPECT_LE(rested_after, 1) << reasons;
   EXPECT_GE(rested, 10);  // of the 20 frames before the change: left out after learning
   EXPECT_GE(back_at, kChange);
   EXPECT_LE(back_at, kChange + 2);
