@@ -112,6 +112,12 @@ TEST(ViewerServer, WatchesAndSteersADistributedRun) {
 }
 #endif
 
+// A frame message of the refined image at --spp 16, rendered at full size.
+bool converged_full_size(const nlohmann::json& j) {
+  return j.value("type", "") == "frame" && j.value("spp", 0) == 16 &&
+         j.value("image_scale", 0.0) == 1.0;
+}
+
 // Progressive refinement (issue 33): each frame has --frame-spp samples; while the camera
 // stands, the page gets the mean of the frames since it stopped, up to --spp, and a move
 // starts again from one frame.
@@ -122,11 +128,7 @@ TEST(ViewerServer, RefinesWhileStillAndStartsAgainOnAMove) {
   ASSERT_GT(viewer.port(), 0);
   Client c(viewer.port());
   ASSERT_TRUE(c.connected());
-  const auto converged = [](const nlohmann::json& j) {
-    return j.value("type", "") == "frame" && j.value("spp", 0) == 16 &&
-           j.value("image_scale", 0.0) == 1.0;
-  };
-  const nlohmann::json still = c.wait(converged);
+  const nlohmann::json still = c.wait(converged_full_size);
   ASSERT_FALSE(still.is_null()) << "never refined to --spp";
   EXPECT_EQ(still["refine_spp"], 16);
   // Progressive sampling: the frames being averaged continue one sample sequence, so the
@@ -151,7 +153,7 @@ TEST(ViewerServer, RefinesWhileStillAndStartsAgainOnAMove) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   EXPECT_FALSE(smaller.is_null()) << "no frame at --move-scale while the camera moved";
-  EXPECT_FALSE(c.wait(converged).is_null()) << "did not refine again after the move";
+  EXPECT_FALSE(c.wait(converged_full_size).is_null()) << "did not refine again after the move";
   EXPECT_EQ(viewer.stop(), 128 + SIGINT);
 }
 
@@ -170,11 +172,7 @@ TEST(ViewerServer, AStillImageAfterADragHoldsNoFrameRenderedSmaller) {
   ASSERT_GT(viewer.port(), 0);
   Client c(viewer.port());
   ASSERT_TRUE(c.connected());
-  const auto converged = [](const nlohmann::json& j) {
-    return j.value("type", "") == "frame" && j.value("spp", 0) == 16 &&
-           j.value("image_scale", 0.0) == 1.0;
-  };
-  const nlohmann::json start = c.wait(converged);
+  const nlohmann::json start = c.wait(converged_full_size);
   ASSERT_FALSE(start.is_null());
   for (int i = 0; i < 5; ++i) {
     c.send(R"({"type":"orbit","dx":3,"dy":0})");
@@ -194,7 +192,7 @@ TEST(ViewerServer, AStillImageAfterADragHoldsNoFrameRenderedSmaller) {
       continue;
     }
     if (first_full.is_null() || f["camera"] != first_full["camera"]) first_full = f;
-    if (converged(f)) {
+    if (converged_full_size(f)) {
       EXPECT_EQ(first_full.value("spp", 0), 1) << "the first full-size frame: " << first_full;
       EXPECT_GE(f.value("first_sample", 0), 15) << f.dump();
       break;
